@@ -1,0 +1,53 @@
+# railbrake: `make demo` builds, installs and runs the main job; `make test` runs every test.
+# Both create .venv when it is missing and install the package (which compiles the C core).
+
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+BUILD ?= build
+JOBS ?= 2
+OUT ?= out
+SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
+
+.PHONY: demo test install ctest ctest-sanitize pytest pytest-sanitize bench clean
+
+$(VENV)/.installed: $(SOURCES)
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q '.[test]'
+	touch $@
+
+install: $(VENV)/.installed
+
+demo: install
+	$(VENV)/bin/railbrake demo --out $(OUT)
+
+test: ctest ctest-sanitize pytest pytest-sanitize
+
+# The C core on its own, as a downstream C user (FMU, HIL target) builds it.
+ctest:
+	cmake -S core -B $(BUILD)/core -DCMAKE_BUILD_TYPE=Debug >/dev/null
+	cmake --build $(BUILD)/core -j$(JOBS)
+	ctest --test-dir $(BUILD)/core --output-on-failure -j$(JOBS)
+
+ctest-sanitize:
+	cmake -S core -B $(BUILD)/core-sanitize -DRB_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug >/dev/null
+	cmake --build $(BUILD)/core-sanitize -j$(JOBS)
+	ctest --test-dir $(BUILD)/core-sanitize --output-on-failure -j$(JOBS)
+
+pytest: install
+	$(PY) -m pytest -q
+
+# The Python tests again, with the C core built under AddressSanitizer and UBSan.
+# Python itself is not instrumented, so leak detection is left to the C tests.
+pytest-sanitize: install ctest-sanitize
+	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
+	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+	RAILBRAKE_CORE_LIBRARY=$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
+	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
+
+bench: install
+	$(PY) bench/run_all.py
+
+clean:
+	rm -rf $(BUILD) $(VENV) $(OUT)

@@ -1,0 +1,83 @@
+/* Wheel-rail contact: Hertz ellipse, Kalker's linear-theory coefficients and
+ * Polach's creep-force model.
+ *
+ * Sources (see shared/reference/README.md):
+ *  - Hertz: K. L. Johnson, Contact Mechanics (1985), ch. 4, eqs. (4.39)-(4.41).
+ *  - Kalker: J. J. Kalker, Three-dimensional elastic bodies in rolling contact (1990), Table E.3.
+ *  - Polach: O. Polach, Wear 258 (2005) 992-1000, eqs. for F, eps and mu(w). */
+#ifndef RAILBRAKE_CONTACT_H
+#define RAILBRAKE_CONTACT_H
+
+#include "railbrake/rb_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Hertz contact ellipse. a: semi-axis in the rolling (x) direction, b: lateral (y). */
+typedef struct {
+    double a;               /* m */
+    double b;               /* m */
+    double p0;              /* peak pressure, Pa */
+    double normal_force;    /* N */
+    double youngs_modulus;  /* Pa, both bodies */
+    double poisson;         /* -, both bodies */
+    double shear_modulus;   /* Pa, E / (2 (1 + nu)) */
+} rb_hertz;
+
+/* Complete elliptic integrals K(e), E(e) of modulus e (0 <= e < 1) and the
+ * difference K - E computed without cancellation; by the arithmetic-geometric mean. */
+void rb_elliptic_ke(double e, double *K, double *E, double *K_minus_E);
+
+/* Hertz contact of two bodies of the same material under normal_force.
+ * rx, ry: radii of relative curvature in the rolling and lateral directions,
+ * 1/r = sum of the two bodies' curvatures (convex positive). Both must be finite and > 0. */
+rb_status rb_hertz_contact(double normal_force, double rx, double ry, double youngs_modulus,
+                           double poisson, rb_hertz *out, rb_error *err);
+
+/* Kalker coefficient of the linear theory; which: 11, 22 or 23.
+ * Linear in a/b inside Table E.3, quadratic in poisson (on 1/C), asymptotes outside. */
+rb_status rb_kalker(int which, double a_over_b, double poisson, double *out, rb_error *err);
+
+/* Polach's five parameters. */
+typedef struct {
+    double mu0;  /* maximum friction coefficient (at zero slip velocity) */
+    double A;    /* ratio of the friction at infinite slip velocity to mu0, 0..1 */
+    double B;    /* exponential friction decrease rate, s/m */
+    double kA;   /* reduction of Kalker's slope in the area of adhesion, (0, 1] */
+    double kS;   /* reduction of Kalker's slope in the area of slip, (0, 1] */
+} rb_polach_params;
+
+/* What the creep-force law needs of a contact. */
+typedef struct {
+    double a, b;           /* Hertz semi-axes, m */
+    double c11;            /* Kalker coefficient */
+    double shear_modulus;  /* Pa */
+} rb_creep_contact;
+
+rb_status rb_polach_check(const rb_polach_params *p, rb_error *err);
+rb_status rb_creep_contact_check(const rb_creep_contact *c, rb_error *err);
+
+/* F/Q for one creep (any sign; braking is negative) at train speed (m/s, >= 0).
+ * No argument checks: for inner loops once the inputs are validated. */
+double rb_polach_coefficient_fast(double creep, double speed, double normal_force,
+                                  const rb_creep_contact *c, const rb_polach_params *p);
+
+/* Checked, array form: out[i] = F/Q(creep[i], speed[i]). */
+rb_status rb_polach_coefficient(const double *creep, const double *speed, size_t n,
+                                double normal_force, const rb_creep_contact *c,
+                                const rb_polach_params *p, double *out, rb_error *err);
+
+/* Maximum of F/Q over creep in (0, 1] at one speed, and the creep where it occurs. */
+rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_contact *c,
+                         const rb_polach_params *p, double *peak_coefficient,
+                         double *peak_creep, rb_error *err);
+
+/* Rail conditioning by the axles ahead (heavy rain): factor on mu0 for the axle with
+ * index axle (0 = leading): 1 - (1 - leading_factor) * exp(-axle / recovery_axles). */
+double rb_conditioning_factor(double axle, double leading_factor, double recovery_axles);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

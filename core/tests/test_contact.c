@@ -1,0 +1,123 @@
+/* Contact laws against analytic references and limiting cases. */
+#include "rb_test.h"
+#include "railbrake/rb_contact.h"
+
+#include <math.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+static void test_elliptic_integrals(void)
+{
+    /* Abramowitz & Stegun Table 17.1, modulus k = sin 45 deg. */
+    double K, E, KmE;
+    rb_elliptic_ke(sqrt(0.5), &K, &E, &KmE);
+    CHECK_CLOSE(K, 1.8540746773013719, 1e-13, 0);
+    CHECK_CLOSE(E, 1.3506438810476755, 1e-13, 0);
+    CHECK_CLOSE(KmE, K - E, 1e-13, 0);
+    rb_elliptic_ke(0.0, &K, &E, &KmE);
+    CHECK_CLOSE(K, M_PI / 2, 1e-15, 0);
+    CHECK_CLOSE(E, M_PI / 2, 1e-15, 0);
+}
+
+static void test_hertz_sphere(void)
+{
+    /* Equal curvatures: a = b = (3 P R / (4 E*))^(1/3), Johnson eq. (4.22). */
+    rb_hertz h;
+    double P = 80e3, R = 0.4, E = 2.1e11, nu = 0.3;
+    CHECK(rb_hertz_contact(P, R, R, E, nu, &h, NULL) == RB_OK);
+    double e_star = E / (2 * (1 - nu * nu));
+    double a = cbrt(3 * P * R / (4 * e_star));
+    CHECK_CLOSE(h.a, a, 1e-10, 0);
+    CHECK_CLOSE(h.b, a, 1e-10, 0);
+    CHECK_CLOSE(h.p0, 3 * P / (2 * M_PI * a * a), 1e-10, 0);
+}
+
+static void test_hertz_orientation(void)
+{
+    /* Swapping rx and ry swaps a and b. */
+    rb_hertz h1, h2;
+    CHECK(rb_hertz_contact(83e3, 0.46, 0.3, 2.1e11, 0.3, &h1, NULL) == RB_OK);
+    CHECK(rb_hertz_contact(83e3, 0.3, 0.46, 2.1e11, 0.3, &h2, NULL) == RB_OK);
+    CHECK(h1.a > h1.b);
+    CHECK_CLOSE(h1.a, h2.b, 1e-12, 0);
+    CHECK_CLOSE(h1.b, h2.a, 1e-12, 0);
+}
+
+static void test_hertz_bad_input(void)
+{
+    rb_hertz h;
+    rb_error err;
+    CHECK(rb_hertz_contact(-1.0, 0.46, 0.3, 2.1e11, 0.3, &h, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "normal_force") != NULL);
+    CHECK(rb_hertz_contact(1e4, 0.46, 0.3, 2.1e11, 0.5, &h, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "poisson") != NULL);
+    CHECK(rb_hertz_contact(1e4, INFINITY, 0.3, 2.1e11, 0.3, &h, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "rx") != NULL);
+    CHECK(rb_hertz_contact(1e4, 0.46, NAN, 2.1e11, 0.3, &h, &err) == RB_EINVAL);
+}
+
+static void test_kalker(void)
+{
+    double c;
+    CHECK(rb_kalker(11, 1.0, 0.25, &c, NULL) == RB_OK);
+    CHECK_CLOSE(c, 4.12, 1e-12, 0);
+    CHECK(rb_kalker(23, 0.5, 0.5, &c, NULL) == RB_OK);
+    CHECK_CLOSE(c, 1.07, 1e-12, 0);
+    /* Asymptote a/b -> 0: C11 -> pi^2 / (4 (1 - nu)). */
+    CHECK(rb_kalker(11, 1e-9, 0.25, &c, NULL) == RB_OK);
+    CHECK_CLOSE(c, M_PI * M_PI / 3.0, 1e-6, 0);
+    /* Continuous at the table edges. */
+    double inside, outside;
+    rb_kalker(22, 10.0 - 1e-9, 0.3, &inside, NULL);
+    rb_kalker(22, 10.0 + 1e-9, 0.3, &outside, NULL);
+    CHECK_CLOSE(inside, outside, 1e-6, 0);
+    rb_error err;
+    CHECK(rb_kalker(12, 1.0, 0.3, &c, &err) == RB_EINVAL);
+    CHECK(rb_kalker(11, -1.0, 0.3, &c, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "a_over_b") != NULL);
+}
+
+static void test_polach(void)
+{
+    rb_creep_contact c = {6e-3, 4e-3, 4.0, 8.1e10};
+    rb_polach_params linear = {0.5, 1.0, 0.0, 1.0, 1.0};
+    double Q = 8e4, s = 1e-7;
+    /* kA = kS = 1, constant mu: Kalker's linear slope G a b c11. */
+    double f = rb_polach_coefficient_fast(s, 10.0, Q, &c, &linear) * Q;
+    CHECK_CLOSE(f / s, c.shear_modulus * c.a * c.b * c.c11, 1e-6, 0);
+    /* Zero creep, antisymmetry, locked wheel, standstill. */
+    rb_polach_params dry = {0.55, 0.4, 0.6, 1.0, 0.4};
+    CHECK(rb_polach_coefficient_fast(0.0, 30.0, Q, &c, &dry) == 0.0);
+    CHECK_CLOSE(rb_polach_coefficient_fast(-0.02, 30.0, Q, &c, &dry),
+                -rb_polach_coefficient_fast(0.02, 30.0, Q, &c, &dry), 1e-15, 0);
+    double locked = rb_polach_coefficient_fast(-1.0, 80.0, Q, &c, &dry);
+    CHECK(isfinite(locked) && locked < 0.0 && locked > -dry.mu0);
+    CHECK(isfinite(rb_polach_coefficient_fast(0.05, 0.0, Q, &c, &dry)));
+
+    double peak, at;
+    CHECK(rb_polach_peak(8.33, Q, &c, &dry, &peak, &at, NULL) == RB_OK);
+    CHECK(peak > rb_polach_coefficient_fast(0.5 * at, 8.33, Q, &c, &dry));
+    CHECK(peak >= rb_polach_coefficient_fast(2.0 * at, 8.33, Q, &c, &dry));
+
+    rb_error err;
+    double creep_nan = NAN, speed = 10.0, out;
+    CHECK(rb_polach_coefficient(&creep_nan, &speed, 1, Q, &c, &dry, &out, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "creep[0]") != NULL);
+    rb_polach_params bad = dry;
+    bad.kS = 0.0;
+    CHECK(rb_polach_coefficient(&s, &speed, 1, Q, &c, &bad, &out, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "kS") != NULL);
+}
+
+int main(void)
+{
+    test_elliptic_integrals();
+    test_hertz_sphere();
+    test_hertz_orientation();
+    test_hertz_bad_input();
+    test_kalker();
+    test_polach();
+    return rb_test_summary("test_contact");
+}

@@ -1,0 +1,23 @@
+"""Adhesion conditions, peak adhesion and the fit of Polach's parameters to measurements."""
+
+from railbrake.adhesion.conditions import (
+    AXLES_PER_CAR,
+    AdhesionCondition,
+    CreepCurve,
+    Peak,
+    RailConditioning,
+    car_axles,
+    car_of_axle,
+    conditions,
+    creep_curves,
+    load_condition,
+    peak_adhesion,
+    preset_names,
+)
+from railbrake.adhesion.fit import PolachFit, identify_polach
+
+__all__ = [
+    "AXLES_PER_CAR", "AdhesionCondition", "CreepCurve", "Peak", "PolachFit", "RailConditioning",
+    "car_axles", "car_of_axle", "conditions", "creep_curves", "identify_polach", "load_condition",
+    "peak_adhesion", "preset_names",
+]

@@ -1,0 +1,208 @@
+"""Adhesion conditions (presets as data files), peak adhesion and the Polach parameter fit.
+
+A *condition* is Polach's five parameters plus, optionally, rail conditioning by the axles
+ahead (heavy rain: the leading wheels clean the rail for those behind). Wherever a condition
+is accepted, so are a preset name, a path to a preset file, a :class:`PolachParams`, or a
+mapping with the five parameters.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from importlib import resources
+from pathlib import Path
+from typing import Mapping, Union
+
+import numpy as np
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from railbrake import _core
+from railbrake.contact import (
+    HertzContact,
+    PolachParams,
+    default_contact,
+    polach_coefficient,
+    polach_peak,
+)
+from railbrake.errors import InputError
+
+AXLES_PER_CAR = 4
+SCHEMA = "railbrake.adhesion/1"
+
+
+@dataclass(frozen=True)
+class RailConditioning:
+    """mu0 factor for axle n (0 = leading): 1 - (1 - leading_factor) exp(-n / recovery_axles)."""
+
+    leading_factor: float
+    recovery_axles: float
+
+    def factor(self, axle: float) -> float:
+        return _core.rb_conditioning_factor(float(axle), self.leading_factor, self.recovery_axles)
+
+
+@dataclass(frozen=True)
+class AdhesionCondition:
+    name: str
+    title: str
+    params: PolachParams
+    conditioning: RailConditioning | None = None
+    source: str = "user parameters"
+    targets: tuple = ()
+
+    def params_at_axle(self, axle: int = 0) -> PolachParams:
+        """Polach parameters seen by the given axle (counted from the front of the train)."""
+        if axle < 0:
+            raise InputError(f"axle = {axle}: must be >= 0 (0 is the leading axle)")
+        if self.conditioning is None:
+            return self.params
+        return replace(self.params, mu0=self.params.mu0 * self.conditioning.factor(axle))
+
+
+# ------------------------------------------------------------------ preset files
+
+class _ParamsModel(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    mu0: float
+    A: float
+    B: float
+    kA: float
+    kS: float
+
+
+class _ConditioningModel(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    leading_factor: float = Field(gt=0.0, le=1.0)
+    recovery_axles: float = Field(gt=0.0)
+
+
+class _TargetModel(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    speed_kmh: float = Field(ge=0.0)
+    peak: float = Field(gt=0.0)
+    rel_tolerance: float = Field(gt=0.0)
+    source: str
+    peak_creep: float | None = None
+    car: int | None = Field(default=None, ge=1)
+
+
+class _ConditionFile(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    schema_: str = Field(alias="schema")
+    name: str
+    title: str
+    params: _ParamsModel
+    conditioning: _ConditioningModel | None = None
+    source: str
+    targets: list[_TargetModel] = []
+
+
+def _preset_dir():
+    return resources.files("railbrake") / "data" / "adhesion"
+
+
+def preset_names() -> list[str]:
+    return sorted(p.name[:-5] for p in _preset_dir().iterdir() if p.name.endswith(".yaml"))
+
+
+def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
+    try:
+        raw = yaml.safe_load(text)
+        model = _ConditionFile.model_validate(raw)
+    except yaml.YAMLError as exc:
+        raise InputError(f"{origin}: not valid YAML: {exc}") from None
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        key = ".".join(str(p) for p in first["loc"])
+        raise InputError(f"{origin}: {key}: {first['msg']}") from None
+    if model.schema_ != SCHEMA:
+        raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
+    cond = model.conditioning
+    return AdhesionCondition(
+        name=model.name, title=model.title, params=PolachParams(**model.params.model_dump()),
+        conditioning=RailConditioning(**cond.model_dump()) if cond else None,
+        source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets))
+
+
+ConditionLike = Union[str, Path, PolachParams, Mapping, AdhesionCondition]
+
+
+def load_condition(condition: ConditionLike) -> AdhesionCondition:
+    """A preset name, a preset file, PolachParams, a mapping of the five parameters, or a condition."""
+    if isinstance(condition, AdhesionCondition):
+        return condition
+    if isinstance(condition, PolachParams):
+        return AdhesionCondition("user", "User parameters", condition)
+    if isinstance(condition, Mapping):
+        missing = {"mu0", "A", "B", "kA", "kS"} - set(condition)
+        if missing:
+            raise InputError(f"condition = {dict(condition)}: missing {sorted(missing)}")
+        return load_condition(PolachParams(**{k: float(condition[k]) for k in ("mu0", "A", "B", "kA", "kS")}))
+    name = str(condition)
+    if name in preset_names():
+        text = (_preset_dir() / f"{name}.yaml").read_text()
+        return _parse_condition_file(text, f"preset {name}")
+    path = Path(name)
+    if path.suffix in (".yaml", ".yml") and path.is_file():
+        return _parse_condition_file(path.read_text(), str(path))
+    raise InputError(f"condition = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
+
+
+def conditions() -> list[AdhesionCondition]:
+    return [load_condition(n) for n in preset_names()]
+
+
+# ------------------------------------------------------------------ peaks and curves
+
+@dataclass(frozen=True)
+class Peak:
+    coefficient: float  # maximum of F/Q over creep
+    creep: float  # creep (fraction) where it occurs
+
+
+def _contact(contact: HertzContact | None) -> HertzContact:
+    return default_contact() if contact is None else contact
+
+
+def peak_adhesion(condition: ConditionLike, speed: float, axle: int = 0,
+                  contact: HertzContact | None = None) -> Peak:
+    """Maximum of F/Q over creep at `speed` (m/s) for the given axle (0 = leading axle).
+
+    contact=None: the default high-speed wheelset (railbrake.contact.default_contact).
+    """
+    contact = _contact(contact)
+    params = load_condition(condition).params_at_axle(axle)
+    coefficient, creep = polach_peak(speed, contact.normal_force, contact, params)
+    return Peak(coefficient, creep)
+
+
+@dataclass(frozen=True)
+class CreepCurve:
+    speed: float  # m/s
+    creep: np.ndarray
+    coefficient: np.ndarray
+    peak: Peak
+
+
+def creep_curves(condition: ConditionLike, speeds, axle: int = 0,
+                 contact: HertzContact | None = None, creep=None) -> list[CreepCurve]:
+    """Creep-force curves F/Q(creep) at each speed (m/s); creep defaults to 0..40 %."""
+    contact = _contact(contact)
+    params = load_condition(condition).params_at_axle(axle)
+    creep = np.linspace(0.0, 0.4, 401) if creep is None else np.asarray(creep, dtype=float)
+    curves = []
+    for v in speeds:
+        coefficient = polach_coefficient(creep, v, contact.normal_force, contact, params)
+        peak = polach_peak(v, contact.normal_force, contact, params)
+        curves.append(CreepCurve(float(v), creep, coefficient, Peak(*peak)))
+    return curves
+
+
+def car_of_axle(axle: int, axles_per_car: int = AXLES_PER_CAR) -> int:
+    return axle // axles_per_car + 1
+
+
+def car_axles(car: int, axles_per_car: int = AXLES_PER_CAR) -> range:
+    return range((car - 1) * axles_per_car, car * axles_per_car)

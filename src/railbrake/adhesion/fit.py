@@ -1,0 +1,97 @@
+"""Fit of Polach's five parameters to measured creep-force curves (bounded least squares).
+
+The model is the C core's Polach law; scipy.optimize.least_squares does the fitting, and the
+parameter uncertainty comes from the Jacobian at the optimum (Gauss-Newton covariance).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from railbrake.contact import HertzContact, PolachParams, default_contact, polach_coefficient
+from railbrake.errors import InputError
+
+PARAMETER_NAMES = ("mu0", "A", "B", "kA", "kS")
+LOWER = np.array([1e-3, 0.0, 0.0, 1e-3, 1e-3])
+UPPER = np.array([1.5, 1.0, 20.0, 1.0, 1.0])
+# Starting points: Polach's dry and wet sets (2005, Table 2) and a low-adhesion set.
+STARTS = ((0.55, 0.4, 0.6, 1.0, 0.4), (0.30, 0.4, 0.2, 0.3, 0.1), (0.08, 0.4, 0.2, 0.3, 0.1))
+MIN_POINTS = 10
+MAX_CONDITION_NUMBER = 1e10
+
+
+@dataclass(frozen=True)
+class PolachFit:
+    params: PolachParams
+    std: dict  # one standard deviation of each parameter
+    residuals: np.ndarray  # model - measured F/Q at each point
+    rms: float
+    covariance: np.ndarray
+
+
+def _check_data(creep, coefficient, speed):
+    creep = np.asarray(creep, dtype=float).ravel()
+    coefficient = np.asarray(coefficient, dtype=float).ravel()
+    speed = np.broadcast_to(np.asarray(speed, dtype=float), creep.shape).astype(float)
+    if coefficient.shape != creep.shape:
+        raise InputError(f"coefficient: {coefficient.size} values for {creep.size} creep values")
+    for name, values in (("creep", creep), ("coefficient", coefficient), ("speed", speed)):
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            raise InputError(f"{name}[{bad[0]}] = {values[bad[0]]}: must be a finite number")
+    if np.any(speed < 0):
+        i = int(np.flatnonzero(speed < 0)[0])
+        raise InputError(f"speed[{i}] = {speed[i]}: must be >= 0 (m/s)")
+    if creep.size < MIN_POINTS:
+        raise InputError(f"{creep.size} points: at least {MIN_POINTS} are needed to determine "
+                         "5 parameters and their uncertainty")
+    return creep, coefficient, speed
+
+
+def _has_peak(creep, coefficient, speed) -> bool:
+    """True if at some speed |F/Q| reaches a maximum and at least two points lie beyond it."""
+    for v in np.unique(speed):
+        at_v = speed == v
+        order = np.argsort(np.abs(creep[at_v]))
+        values = np.abs(coefficient[at_v])[order]
+        if values.size >= 4 and np.argmax(values) <= values.size - 3:
+            return True
+    return False
+
+
+def identify_polach(creep, coefficient, speed, contact: HertzContact | None = None,
+                    normal_force: float | None = None) -> PolachFit:
+    """Fit (mu0, A, B, kA, kS) to measured F/Q against creep at one or several speeds (m/s).
+
+    Refuses data that cannot determine the parameters: fewer than 10 points, curves that do
+    not pass their peak, or a Jacobian so ill-conditioned that some combination is free.
+    """
+    creep, coefficient, speed = _check_data(creep, coefficient, speed)
+    if not _has_peak(creep, coefficient, speed):
+        raise InputError("no peak: at every speed the measured |F/Q| still rises at the largest "
+                         "creep, so mu0, A, B and kS cannot be determined; measure beyond the peak")
+    contact = default_contact() if contact is None else contact
+    q = contact.normal_force if normal_force is None else float(normal_force)
+
+    def residual(x):
+        return polach_coefficient(creep, speed, q, contact, PolachParams(*x)) - coefficient
+
+    best = min((least_squares(residual, start, bounds=(LOWER, UPPER), x_scale="jac")
+                for start in STARTS), key=lambda r: r.cost)
+    jac = best.jac
+    jtj = jac.T @ jac
+    if np.linalg.cond(jtj) > MAX_CONDITION_NUMBER:
+        _, vectors = np.linalg.eigh(jtj)
+        weakest = vectors[:, 0]
+        combo = " + ".join(f"{w:.2f}*{n}" for w, n in zip(weakest, PARAMETER_NAMES) if abs(w) > 0.1)
+        raise InputError(f"the data do not determine the parameters: the combination {combo} "
+                         "is free; add speeds or points beyond the peak")
+    dof = max(creep.size - len(PARAMETER_NAMES), 1)
+    covariance = np.linalg.inv(jtj) * (2.0 * best.cost / dof)
+    std = dict(zip(PARAMETER_NAMES, np.sqrt(np.diag(covariance))))
+    residuals = best.fun
+    return PolachFit(PolachParams(*best.x), std, residuals,
+                     float(np.sqrt(np.mean(residuals ** 2))), covariance)

@@ -1,0 +1,21 @@
+"""The ``railbrake`` command line. Each concern registers its commands in its own module."""
+
+from __future__ import annotations
+
+import typer
+
+from railbrake.cli import adhesion, demo
+
+app = typer.Typer(
+    name="railbrake",
+    help="Design and test electro-pneumatic train brakes with wheel-slide protection.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+app.add_typer(adhesion.app, name="adhesion")
+demo.register(app)
+
+
+def main() -> None:
+    app()
