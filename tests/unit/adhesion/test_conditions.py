@@ -1,0 +1,122 @@
+"""Adhesion presets against their published targets (shared/reference/README.md, section 1)."""
+
+import numpy as np
+import pytest
+
+from railbrake.adhesion import (
+    car_axles,
+    conditions,
+    load_condition,
+    peak_adhesion,
+    preset_names,
+)
+from railbrake.contact import PolachParams, default_contact, polach_coefficient
+from railbrake.errors import InputError
+from railbrake.units import kmh_to_ms
+
+PRESETS = ["dry-high", "dry-medium", "dry-contaminated", "wet", "heavy-rain", "oil-film", "leaves"]
+
+
+def car_mean_peak(condition, car, v_kmh):
+    return np.mean([peak_adhesion(condition, kmh_to_ms(v_kmh), axle=a).coefficient for a in car_axles(car)])
+
+
+def test_all_presets_exist_and_name_a_source():
+    assert sorted(preset_names()) == sorted(PRESETS)
+    for condition in conditions():
+        assert len(condition.source) > 40
+        assert condition.targets, f"{condition.name} documents no target"
+
+
+def test_default_wheelset_is_documented_one():
+    contact = default_contact()
+    assert contact.normal_force == pytest.approx(17e3 * 9.80665 / 2)
+    assert contact.a > contact.b  # wheel radius 0.46 m > rail head radius 0.3 m
+
+
+def test_dry_preset_peaks_near_044_at_4_percent_at_30_kmh():
+    """Polach (2005) dry set on the default wheelset."""
+    peak = peak_adhesion("dry-high", kmh_to_ms(30))
+    assert peak.coefficient == pytest.approx(0.44, abs=0.01)
+    assert peak.creep == pytest.approx(0.04, abs=0.005)
+
+
+def test_wet_preset_peaks_near_018_at_300_kmh():
+    assert peak_adhesion("wet", kmh_to_ms(300)).coefficient == pytest.approx(0.18, abs=0.01)
+
+
+@pytest.mark.parametrize("name", PRESETS)
+def test_documented_targets_hold(name):
+    condition = load_condition(name)
+    for target in condition.targets:
+        if target["car"]:
+            value = car_mean_peak(condition, target["car"], target["speed_kmh"])
+        else:
+            peak = peak_adhesion(condition, kmh_to_ms(target["speed_kmh"]))
+            value = peak.coefficient
+            if target["peak_creep"]:
+                assert peak.creep == pytest.approx(target["peak_creep"], rel=0.15)
+        assert value == pytest.approx(target["peak"], rel=target["rel_tolerance"])
+
+
+@pytest.mark.parametrize("name", PRESETS)
+def test_peaks_fall_with_speed(name):
+    peaks = [peak_adhesion(name, kmh_to_ms(v), axle=20).coefficient for v in (10, 50, 100, 200, 300, 350)]
+    assert np.all(np.diff(peaks) < 0)
+
+
+@pytest.mark.parametrize("name", PRESETS)
+def test_locked_wheel_brakes_less_than_the_peak(name):
+    """What wheel-slide protection relies on: past the peak the creep force falls."""
+    contact = default_contact()
+    for axle in (0, 12, 60):
+        params = load_condition(name).params_at_axle(axle)
+        for v_kmh in (100, 200, 300):
+            peak = peak_adhesion(name, kmh_to_ms(v_kmh), axle=axle).coefficient
+            locked = -polach_coefficient(-1.0, kmh_to_ms(v_kmh), contact.normal_force, contact, params)
+            assert locked < 0.9 * peak
+
+
+def test_heavy_rain_conditioning_along_the_train():
+    """Shinkansen heavy rain at 300 km/h: ~0.02 on the front car, ~0.05 on car 4 [P]."""
+    assert car_mean_peak("heavy-rain", 1, 300) == pytest.approx(0.02, rel=0.2)
+    assert car_mean_peak("heavy-rain", 4, 300) == pytest.approx(0.05, rel=0.2)
+    # Parametric in the axle: adhesion recovers with each axle passed, for any train length.
+    peaks = [peak_adhesion("heavy-rain", kmh_to_ms(300), axle=a).coefficient for a in range(0, 128, 4)]
+    assert np.all(np.diff(peaks) >= 0)
+    assert peaks[-1] == pytest.approx(peaks[-2], rel=1e-3)  # saturates far back
+
+
+@pytest.mark.parametrize("v_kmh", [100, 200, 300])
+def test_heavy_rain_train_mean_near_shinkansen_design_curve(v_kmh):
+    """8-car mean within 30 % of 13.6/(v+85) [P]; the file states the deviation per speed."""
+    train = np.mean([car_mean_peak("heavy-rain", car, v_kmh) for car in range(1, 9)])
+    assert train == pytest.approx(13.6 / (v_kmh + 85), rel=0.3)
+
+
+def test_user_parameters_accepted_wherever_a_condition_is():
+    params = {"mu0": 0.3, "A": 0.4, "B": 0.2, "kA": 0.3, "kS": 0.1}
+    from_dict = peak_adhesion(params, 50.0)
+    from_params = peak_adhesion(PolachParams(**params), 50.0)
+    from_preset = peak_adhesion("wet", 50.0)
+    assert from_dict == from_params == from_preset
+
+
+def test_user_condition_file(tmp_path):
+    text = (tmp_path / "c.yaml")
+    text.write_text("schema: railbrake.adhesion/1\nname: mine\ntitle: Mine\nsource: measured on site\n"
+                    "params: {mu0: 0.2, A: 0.4, B: 0.2, kA: 0.3, kS: 0.1}\n")
+    assert load_condition(str(text)).params.mu0 == 0.2
+    text.write_text("schema: railbrake.adhesion/1\nname: mine\ntitle: Mine\nsource: x\n"
+                    "params: {mu0: 0.2, A: 0.4, B: 0.2, kA: 0.3, kS: 0.1, kZ: 1}\n")
+    with pytest.raises(InputError, match="params.kZ"):
+        load_condition(str(text))
+
+
+def test_unknown_condition_and_bad_axle_are_named():
+    with pytest.raises(InputError, match="condition = 'sand'"):
+        peak_adhesion("sand", 10.0)
+    with pytest.raises(InputError, match="axle = -1"):
+        peak_adhesion("wet", 10.0, axle=-1)
+    with pytest.raises(InputError, match="missing"):
+        peak_adhesion({"mu0": 0.3}, 10.0)
