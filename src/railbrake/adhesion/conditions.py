@@ -8,17 +8,16 @@ mapping with the five parameters.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from typing import Mapping, Union
 
 import numpy as np
-import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import _core
+from railbrake.config import parse_yaml
 from railbrake.contact import (
     HertzContact,
     PolachParams,
@@ -108,15 +107,7 @@ def preset_names() -> list[str]:
 
 
 def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
-    try:
-        raw = yaml.safe_load(text)
-        model = _ConditionFile.model_validate(raw)
-    except yaml.YAMLError as exc:
-        raise InputError(f"{origin}: not valid YAML: {exc}") from None
-    except ValidationError as exc:
-        first = exc.errors()[0]
-        key = ".".join(str(p) for p in first["loc"])
-        raise InputError(f"{origin}: {key}: {first['msg']}") from None
+    model = parse_yaml(text, _ConditionFile, origin)
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     cond = model.conditioning
