@@ -64,6 +64,21 @@ static void put_header(writer *w, const rb_frame_header *h, rb_frame_type type, 
     put_u16(w, 0);  /* reserved */
 }
 
+/* Checks counts and capacity, then writes the header. */
+static rb_status begin_frame(writer *w, const rb_frame_header *h, rb_frame_type type,
+                             size_t (*frame_size)(int, int), uint8_t *buf, size_t capacity, rb_error *err)
+{
+    if (!buf) return rb_fail(err, RB_EINVAL, "buffer must not be NULL");
+    rb_status s = check_counts(h, err);
+    if (s) return s;
+    size_t size = frame_size(h->n_cars, h->n_axles);
+    if (capacity < size) return rb_fail(err, RB_ESIZE, "capacity = %zu: the frame needs %zu bytes", capacity, size);
+    w->p = buf;
+    w->at = 0;
+    put_header(w, h, type, (uint16_t)(size - RB_FRAME_HEADER_SIZE - RB_FRAME_CRC_SIZE));
+    return RB_OK;
+}
+
 static void put_crc(writer *w)
 {
     put_u32(w, rb_crc32(w->p, w->at));
@@ -72,13 +87,10 @@ static void put_crc(writer *w)
 rb_status rb_plant_frame_encode(const rb_plant_frame *f, uint8_t *buf, size_t capacity,
                                 size_t *written, rb_error *err)
 {
-    if (!f || !buf) return rb_fail(err, RB_EINVAL, "frame and buffer must not be NULL");
-    rb_status s = check_counts(&f->header, err);
+    if (!f) return rb_fail(err, RB_EINVAL, "frame must not be NULL");
+    writer w;
+    rb_status s = begin_frame(&w, &f->header, RB_FRAME_PLANT, rb_plant_frame_size, buf, capacity, err);
     if (s) return s;
-    size_t size = rb_plant_frame_size(f->header.n_cars, f->header.n_axles);
-    if (capacity < size) return rb_fail(err, RB_ESIZE, "capacity = %zu: the frame needs %zu bytes", capacity, size);
-    writer w = {buf, 0};
-    put_header(&w, &f->header, RB_FRAME_PLANT, (uint16_t)(size - RB_FRAME_HEADER_SIZE - RB_FRAME_CRC_SIZE));
     put_f32(&w, f->train_speed);
     put_f32(&w, f->position);
     put_f32(&w, f->main_reservoir_pressure);
@@ -93,13 +105,10 @@ rb_status rb_plant_frame_encode(const rb_plant_frame *f, uint8_t *buf, size_t ca
 rb_status rb_bcu_frame_encode(const rb_bcu_frame *f, uint8_t *buf, size_t capacity,
                               size_t *written, rb_error *err)
 {
-    if (!f || !buf) return rb_fail(err, RB_EINVAL, "frame and buffer must not be NULL");
-    rb_status s = check_counts(&f->header, err);
+    if (!f) return rb_fail(err, RB_EINVAL, "frame must not be NULL");
+    writer w;
+    rb_status s = begin_frame(&w, &f->header, RB_FRAME_BCU, rb_bcu_frame_size, buf, capacity, err);
     if (s) return s;
-    size_t size = rb_bcu_frame_size(f->header.n_cars, f->header.n_axles);
-    if (capacity < size) return rb_fail(err, RB_ESIZE, "capacity = %zu: the frame needs %zu bytes", capacity, size);
-    writer w = {buf, 0};
-    put_header(&w, &f->header, RB_FRAME_BCU, (uint16_t)(size - RB_FRAME_HEADER_SIZE - RB_FRAME_CRC_SIZE));
     put_f32(&w, f->brake_demand);
     for (int i = 0; i < f->header.n_cars; ++i) put_f32(&w, f->pressure_demand[i]);
     for (int i = 0; i < f->header.n_axles; ++i) put_u8(&w, f->hold[i]);
