@@ -1,0 +1,118 @@
+/* Brake control unit (BCU) logic, separate from the plant: brake demand -> EP pressure demand per
+ * car (load-weighed), ED/pneumatic blending, and wheel-slide protection (WSP) behind a plug-in
+ * interface. It reads rb_plant_outputs (what a real BCU measures) and writes rb_plant_inputs.
+ *
+ * WSP defaults (shared/reference/README.md, section 5): reference speed from the fastest axle with
+ * a limited rate of change; detection on speed difference (km/h plus a percentage), wheel
+ * deceleration and slip; vent / hold / re-apply states; a safety timer on continuous venting.
+ */
+#ifndef RAILBRAKE_BCU_H
+#define RAILBRAKE_BCU_H
+
+#include "railbrake/rb_plant.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- the WSP plug-in interface */
+
+typedef struct {
+    double time;                          /* s */
+    double cycle;                         /* s, time since the previous call */
+    int n_axles;
+    double wheel_speed[RB_MAX_AXLES];     /* m/s, measured; < 0: sensor lost */
+    double cylinder[RB_MAX_AXLES];        /* Pa */
+    double demand[RB_MAX_AXLES];          /* Pa, EP pressure demand of the axle's car */
+    double atmosphere;                    /* Pa */
+} rb_wsp_inputs;
+
+typedef struct {
+    uint8_t hold[RB_MAX_AXLES];           /* 1: close the hold valve */
+    uint8_t vent[RB_MAX_AXLES];           /* 1: open the vent valve */
+    uint8_t active[RB_MAX_AXLES];         /* 1: the axle is under WSP control (ED is cut on its car) */
+} rb_wsp_commands;
+
+/* A WSP algorithm: called every BCU cycle. context: the user's (or the default's) data. */
+typedef void (*rb_wsp_function)(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out);
+
+/* ---- the default WSP */
+
+typedef enum { RB_WSP_APPLY = 0, RB_WSP_VENT = 1, RB_WSP_HOLD = 2, RB_WSP_INHIBITED = 3, RB_WSP_ISOLATED = 4 } rb_wsp_mode;
+
+typedef struct {
+    double ref_decel_max;      /* m/s^2, fastest fall of the reference speed */
+    double ref_accel_max;      /* m/s^2, fastest rise */
+    double speed_threshold;    /* m/s, speed difference that starts venting ... */
+    double slip_threshold;     /* ... plus this fraction of the reference speed */
+    double decel_threshold;    /* m/s^2, wheel deceleration that starts venting */
+    double reaccel_threshold;  /* m/s^2, wheel acceleration that ends venting (hold) */
+    double release_fraction;   /* speed difference / its threshold below which the brake re-applies */
+    double filter_time;        /* s, wheel acceleration filter */
+    double safety_time;        /* s, longest continuous venting (commanded or seen at the cylinder) */
+    double min_speed;          /* m/s, WSP inactive below */
+} rb_wsp_params;
+
+typedef struct {
+    rb_wsp_params p;
+    double reference;                     /* m/s */
+    int initialised;
+    int mode[RB_MAX_AXLES];               /* rb_wsp_mode */
+    double last_speed[RB_MAX_AXLES];
+    double accel[RB_MAX_AXLES];           /* m/s^2, filtered */
+    double vent_time[RB_MAX_AXLES];       /* s of continuous commanded venting */
+    double low_time[RB_MAX_AXLES];        /* s of cylinder far below demand without a command */
+    int trips;
+} rb_wsp_default;
+
+void rb_wsp_default_params(rb_wsp_params *p);
+void rb_wsp_default_reset(rb_wsp_default *w, const rb_wsp_params *p);
+/* The default algorithm; context: an rb_wsp_default. */
+void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out);
+
+/* ---- the BCU */
+
+typedef struct {
+    int n_cars;
+    double cycle;                         /* s, BCU cycle (10 ms typical) */
+    double atmosphere;                    /* Pa */
+    double service_decel;                 /* m/s^2 at full service demand */
+    double emergency_decel;               /* m/s^2 */
+    int ed_in_emergency;                  /* 0: pneumatic only in emergency */
+    double car_mass[RB_MAX_CARS];         /* kg, load-weighed (with rotating mass) */
+    double pressure_offset[RB_MAX_CARS];  /* Pa abs, demand at zero brake force */
+    double pressure_gain[RB_MAX_CARS];    /* Pa per N of pneumatic brake force of the car */
+    double pressure_max[RB_MAX_CARS];     /* Pa abs */
+    int motor[RB_MAX_CARS];
+    int wsp_enabled;
+    rb_wsp_function wsp;                  /* NULL: the default WSP */
+    void *wsp_context;
+} rb_bcu_params;
+
+typedef struct {
+    double emergency;                     /* 1: emergency brake */
+    double service;                       /* 0..1 of full service */
+} rb_brake_demand;
+
+typedef struct {
+    double next_cycle;                    /* s, time of the next BCU cycle */
+    double last_cycle;                    /* s, time of the previous one */
+    rb_plant_inputs command;              /* held between cycles */
+    rb_wsp_inputs wsp_in;
+    rb_wsp_commands wsp;
+    rb_wsp_default wsp_default;
+} rb_bcu_state;
+
+rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err);
+rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_state *s, rb_error *err);
+/* Linear demand -> pressure map of each car from the plant's own brake law at nominal pad
+ * friction (load-weighed by the car's mass): pressure_offset, pressure_gain, pressure_max. */
+void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_bcu_params *p);
+/* Runs the BCU if a cycle is due at out->time and writes the plant's inputs (held otherwise). */
+void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *demand,
+                 const rb_plant_outputs *out, rb_plant_inputs *in);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,238 @@
+/* Whole-train brake plant for a fixed 1 ms step (real-time reduced model).
+ *
+ * Fixed-size state, no allocation, no I/O, no global state: rb_plant_init / rb_plant_step /
+ * rb_plant_get_outputs can be called from an FMU or a paced real-time loop. The brake control
+ * unit (rb_bcu.h) is separate: it reads rb_plant_outputs and writes rb_plant_inputs.
+ *
+ * Model (docs/simulation.md):
+ *  - Air: isothermal lumped volumes (p = m R T / V) linked by orifices; each link moves
+ *    dm = 1 / (1/(dt*|q|) + 1/dm_eq) in a step, where dm_eq would equalise the two nodes
+ *    (volumes divided by their number of links): explicit when the link is slow, never
+ *    overshooting when it is stiff. Every link takes from one node what it gives the other, so
+ *    air mass is conserved to round-off (vented and compressor air are booked).
+ *  - Per car: supply reservoir fed from the main-reservoir pipe through a check valve and a
+ *    choke; EP valve (first-order lag on the pressure demand, inlet/exhaust ports opening in
+ *    proportion to the error) filling a pilot volume; relay valve (supply/exhaust ports opening
+ *    in proportion to pilot minus output pressure); per axle a WSP hold valve (output -> cylinder)
+ *    and vent valve (cylinder -> atmosphere), each switching after a response delay.
+ *  - Wheelsets: J dw/dt = -F r - T_brake - T_ed, F = Q f(creep) from Polach with rail
+ *    conditioning by axle index and track zones; the slip velocity is advanced linearly
+ *    implicitly with the secant creep stiffness (stable at 1 ms down to walking speed); a wheel
+ *    whose speed would change sign is locked (static pad friction).
+ *  - Cars: one mass per car (plus rotating mass), couplers, running resistance; symplectic Euler.
+ */
+#ifndef RAILBRAKE_PLANT_H
+#define RAILBRAKE_PLANT_H
+
+#include <stdint.h>
+
+#include "railbrake/rb_common.h"
+#include "railbrake/rb_contact.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RB_MAX_CARS 16
+#define RB_AXLES_PER_CAR 4
+#define RB_MAX_AXLES (RB_MAX_CARS * RB_AXLES_PER_CAR)
+#define RB_MAX_CONDITIONS 4
+#define RB_MAX_ZONES 8
+#define RB_MAX_FAULTS 16
+#define RB_ED_TABLE 8
+
+/* ---- parameters (SI units, absolute pressures) */
+
+/* Foundation brake of one axle: caliper and discs (EN 14531 cylinder force). */
+typedef struct {
+    double cylinder_area;     /* m^2 */
+    double spring_force;      /* N, return spring (subtracted) */
+    double lever_ratio;       /* - */
+    double efficiency;        /* - */
+    double discs;             /* discs per axle (each with 2 pads) */
+    double disc_radius;       /* m, mean friction radius */
+    double pad_friction;      /* - , at high speed */
+    double pad_friction_low;  /* - , at standstill (linear rise below pad_friction_speed) */
+    double pad_friction_speed;/* m/s of the disc at the friction radius */
+} rb_plant_brake;
+
+/* Maximum ED brake force over speed (whole car), linear between table points. */
+typedef struct {
+    int n;
+    double speed[RB_ED_TABLE];  /* m/s, increasing */
+    double force[RB_ED_TABLE];  /* N */
+} rb_plant_ed;
+
+typedef struct {
+    double mass;              /* kg, with load */
+    double rotating_mass;     /* kg, equivalent mass of rotating parts other than the wheelsets */
+    double length;            /* m, over couplers */
+    double axle_position[RB_AXLES_PER_CAR]; /* m from the car's front end */
+    double wheel_radius;      /* m */
+    double wheelset_inertia;  /* kg m^2, with discs (and motor, referred to the axle) */
+    rb_creep_contact contact; /* Hertz/Kalker data of one wheel */
+    rb_plant_brake brake;
+    int motor;                /* 1: ED brake available */
+    rb_plant_ed ed;
+    /* pneumatics */
+    double supply_volume, pilot_volume, relay_volume, cylinder_volume, pipe_volume; /* m^3 */
+    double charge_area;       /* m^2, check valve + choke from the MR pipe to the supply reservoir */
+    double ep_area;           /* m^2, EP valve inlet and exhaust ports */
+    double ep_tau;            /* s, EP valve response (first-order lag of the demand) */
+    double ep_band;           /* Pa, error at which the EP ports are fully open */
+    double relay_supply_area, relay_exhaust_area; /* m^2 */
+    double relay_band;        /* Pa */
+    double hold_area, vent_area; /* m^2, WSP valves per axle */
+    double valve_delay;       /* s, WSP valve response delay */
+    double pipe_area;         /* m^2, MR pipe link to the next car */
+} rb_plant_car;
+
+typedef struct {
+    rb_polach_params polach;
+    double leading_factor;    /* rail conditioning: mu0 factor on the leading axle (1: none) */
+    double recovery_axles;    /* axles over which conditioning recovers (<= 0: none) */
+} rb_plant_condition;
+
+/* Track zone: axles between x_start and x_end (m along the track) see condition `condition`. */
+typedef struct {
+    double x_start, x_end;
+    int condition;
+} rb_track_zone;
+
+typedef enum {
+    RB_FAULT_HOLD_STUCK_OPEN = 0,
+    RB_FAULT_HOLD_STUCK_CLOSED,
+    RB_FAULT_VENT_STUCK_OPEN,
+    RB_FAULT_VENT_STUCK_CLOSED,
+    RB_FAULT_SENSOR_LOST,
+    RB_FAULT_SENSOR_NOISY,    /* value: standard deviation, m/s */
+    RB_FAULT_CYLINDER_LEAK,   /* value: leak area, m^2 */
+    RB_FAULT_EP_VALVE,        /* EP valve ports close: pilot pressure frozen */
+    RB_FAULT_ED_LOST,
+    RB_FAULT_CAR_ISOLATED,    /* isolating cock: relay output cut off, cylinders vented */
+    RB_FAULT_COMPRESSOR_OFF,
+    RB_FAULT_KINDS
+} rb_fault_kind;
+
+typedef struct {
+    int kind;                 /* rb_fault_kind */
+    int car;                  /* 0-based */
+    int axle;                 /* 0..3 within the car; -1: every axle of the car */
+    double start_time;        /* s */
+    double value;
+} rb_fault;
+
+typedef struct {
+    int n_cars;
+    double dt;                /* s, 1e-3 nominal */
+    double temperature;       /* K, air (isothermal model) */
+    double atmosphere;        /* Pa */
+    double discharge_coefficient, critical_ratio;
+    rb_plant_car car[RB_MAX_CARS];
+    /* couplers (between car i and i+1) */
+    double coupler_stiffness, coupler_damping, coupler_slack; /* N/m, N s/m, m */
+    /* running resistance of the whole train: A + B v + C v^2 (N), shared by mass */
+    double resistance_a, resistance_b, resistance_c;
+    /* air supply */
+    int compressor_car;
+    double main_reservoir_volume, main_reservoir_area; /* m^3; m^2 link to the MR pipe */
+    double compressor_flow;   /* kg/s when running */
+    double governor_on, governor_off; /* Pa: starts below on, stops above off */
+    double initial_pressure;  /* Pa, MR, pipe and supply reservoirs at t = 0 */
+    double initial_speed;     /* m/s */
+    /* adhesion */
+    int n_conditions;
+    rb_plant_condition condition[RB_MAX_CONDITIONS]; /* condition[0]: everywhere outside zones */
+    int n_zones;
+    rb_track_zone zone[RB_MAX_ZONES];
+    double creep_speed_min;   /* m/s, creep = slip velocity / max(v, this) */
+    /* faults */
+    int n_faults;
+    rb_fault fault[RB_MAX_FAULTS];
+    uint64_t noise_seed;
+} rb_plant_params;
+
+/* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
+
+typedef struct {
+    double pressure_demand[RB_MAX_CARS]; /* Pa absolute, EP valve demand per car */
+    double ed_demand[RB_MAX_CARS];       /* N, ED brake force demand per car (>= 0) */
+    uint8_t hold[RB_MAX_AXLES];          /* 1: hold valve closed */
+    uint8_t vent[RB_MAX_AXLES];          /* 1: vent valve open */
+} rb_plant_inputs;
+
+typedef struct {
+    double time;
+    double speed;                 /* m/s, leading car */
+    double position;              /* m, leading car front */
+    double deceleration;          /* m/s^2, leading car */
+    double main_reservoir;        /* Pa */
+    double pipe_end;              /* Pa, MR pipe at the last car */
+    int compressor_on;
+    double wheel_speed[RB_MAX_AXLES];    /* m/s peripheral, true */
+    double wheel_speed_measured[RB_MAX_AXLES]; /* m/s, sensor; < 0: sensor lost */
+    double slip[RB_MAX_AXLES];           /* (w r - v) / v, braking negative */
+    double adhesion[RB_MAX_AXLES];       /* F/Q used, braking negative */
+    double cylinder[RB_MAX_AXLES];       /* Pa */
+    uint8_t hold[RB_MAX_AXLES], vent[RB_MAX_AXLES]; /* actual valve states */
+    double supply[RB_MAX_CARS], pilot[RB_MAX_CARS], relay[RB_MAX_CARS]; /* Pa */
+    double ed_force[RB_MAX_CARS];        /* N, achieved */
+    double car_speed[RB_MAX_CARS];
+    double air_in_system;         /* kg in every volume */
+    double air_vented;            /* kg to the atmosphere since t = 0 */
+    double air_compressed;        /* kg delivered by the compressor since t = 0 */
+} rb_plant_outputs;
+
+/* ---- state (fixed size; plain data, may be copied) */
+
+typedef struct {
+    int64_t step;
+    double time;
+    /* air masses, kg */
+    double m_mr;
+    double m_pipe[RB_MAX_CARS], m_supply[RB_MAX_CARS], m_pilot[RB_MAX_CARS], m_relay[RB_MAX_CARS];
+    double m_cyl[RB_MAX_AXLES];
+    double m_vented, m_compressed;
+    int compressor_on;
+    double ep_demand_lag[RB_MAX_CARS];   /* Pa, EP valve's lagged demand */
+    /* WSP valves: actual state and the command waiting for the response delay */
+    uint8_t hold[RB_MAX_AXLES], vent[RB_MAX_AXLES];
+    uint8_t hold_pending[RB_MAX_AXLES], vent_pending[RB_MAX_AXLES];
+    double hold_timer[RB_MAX_AXLES], vent_timer[RB_MAX_AXLES];
+    uint8_t hold_effective[RB_MAX_AXLES], vent_effective[RB_MAX_AXLES]; /* with stuck faults */
+    /* mechanics */
+    double x[RB_MAX_CARS], v[RB_MAX_CARS], a[RB_MAX_CARS];
+    double omega[RB_MAX_AXLES];
+    double force[RB_MAX_AXLES], coefficient[RB_MAX_AXLES];
+    double ed_force[RB_MAX_CARS];
+    /* adhesion: zone seen by each axle, cached Polach parameters */
+    int zone_of[RB_MAX_AXLES];
+    rb_polach_params polach[RB_MAX_AXLES];
+    /* faults */
+    uint64_t rng;
+    double noise[RB_MAX_AXLES];          /* m/s added to the measured wheel speed */
+    uint8_t sensor_lost[RB_MAX_AXLES];
+    double m_initial;
+} rb_plant_state;
+
+/* Checks every parameter; the message names the field, its value and the allowed range. */
+rb_status rb_plant_check(const rb_plant_params *p, rb_error *err);
+/* Checks p and sets the state at t = 0: charged reservoirs, released brakes, rolling wheels. */
+rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *err);
+/* Advances one step of p->dt. No checks, no allocation. */
+void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in);
+void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
+/* Air mass in every volume of the plant, kg. */
+double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
+/* Brake torque of one axle at cylinder pressure p_cyl and disc friction speed (N m). */
+double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double atmosphere,
+                                  double wheel_speed);
+/* Peak adhesion available to axle (global index from the front) at the present state. */
+double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s, int axle);
+size_t rb_plant_params_size(void);
+size_t rb_plant_state_size(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,80 @@
+/* A whole scenario in C: BCU + plant at a fixed step, a decimated time series written into a
+ * caller-provided array, and the key performance indicators (KPIs). Runs in chunks so a caller
+ * can show progress; the state is one fixed-size struct (no allocation). */
+#ifndef RAILBRAKE_RUN_H
+#define RAILBRAKE_RUN_H
+
+#include "railbrake/rb_bcu.h"
+#include "railbrake/rb_plant.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RB_MAX_DEMAND_STEPS 16
+
+typedef struct {
+    int n_demand;                               /* brake demand, a step function of time */
+    double demand_time[RB_MAX_DEMAND_STEPS];    /* s, increasing */
+    double demand_service[RB_MAX_DEMAND_STEPS]; /* 0..1 of full service */
+    double demand_emergency[RB_MAX_DEMAND_STEPS]; /* 1: emergency */
+    double max_time;                            /* s, the run ends here at the latest */
+    double stop_speed;                          /* m/s, the run ends when the train is below */
+    double record_interval;                     /* s, time-series decimation */
+    double adhesion_interval;                   /* s, sampling of the available peak adhesion */
+} rb_scenario;
+
+typedef struct {
+    double stopping_distance_m;   /* from the first brake demand to the stop */
+    double stopping_time_s;
+    double mean_deceleration;     /* m/s^2, initial speed / stopping time */
+    double max_slip;              /* largest |slip| while the train runs above 10 km/h */
+    double wheel_lock_events;     /* axle below 10 % of the train speed above 10 km/h, per episode */
+    double max_lock_duration_s;
+    double air_consumed_kg;       /* vented to the atmosphere */
+    double adhesion_utilisation;  /* mean rail deceleration / (g * mean available peak adhesion) */
+    double safety_timer_trips;
+    double air_balance_error;     /* |in volumes + vented - compressed - initial| / initial */
+    double stopped;               /* 1 if the train stopped before max_time */
+} rb_kpis;
+
+typedef struct {
+    rb_plant_state plant;
+    rb_bcu_state bcu;
+    rb_plant_outputs out;
+    rb_plant_inputs in;
+    int braking, finished, stopped;
+    double brake_time, brake_position, brake_speed;
+    double next_record, next_adhesion;
+    double rail_decel_sum, rail_decel_time;      /* time integral of the rail deceleration */
+    double peak_sum; long peak_samples;
+    double max_slip, max_lock;
+    double lock_time[RB_MAX_AXLES];
+    int lock_events;
+    size_t rows;
+} rb_run_state;
+
+rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
+                      const rb_scenario *scenario, rb_run_state *run, rb_error *err);
+/* Runs until time t_until, the stop or max_time, writing rows of rb_run_channel_count(n_cars)
+ * values into series (max_rows rows). *finished = 1 when the run is over. */
+rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_scenario *scenario,
+                         rb_run_state *run, double t_until, double *series, size_t max_rows, int *finished,
+                         rb_error *err);
+void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *run, rb_kpis *k);
+size_t rb_run_state_size(void);
+
+/* Time-series layout: number of channels, and the name and SI unit of channel `index`. */
+int rb_run_channel_count(int n_cars);
+rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
+                              size_t unit_size, rb_error *err);
+
+/* The plant alone at its fixed step with constant inputs (brakes at pressure_demand): wall-clock
+ * time per step, mean and 99th percentile (microseconds). */
+rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, long steps,
+                         double *step_us_mean, double *step_us_p99, rb_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,103 @@
+/* Brake control unit: demand -> EP pressure per car, ED blending, WSP plug-in. */
+#include "railbrake/rb_bcu.h"
+
+#include <string.h>
+
+rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err)
+{
+    rb_status s;
+    if (!p) return rb_fail(err, RB_EINVAL, "bcu = NULL: BCU parameters are required");
+    if (p->n_cars < 1 || p->n_cars > RB_MAX_CARS)
+        return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must be in [1, %d]", p->n_cars, RB_MAX_CARS);
+    if ((s = rb_check_range(err, "bcu.cycle", p->cycle, 1e-4, 0.1))) return s;
+    if ((s = rb_check_range(err, "bcu.service_decel", p->service_decel, 0.0, 3.0))) return s;
+    if ((s = rb_check_range(err, "bcu.emergency_decel", p->emergency_decel, 0.0, 3.0))) return s;
+    for (int c = 0; c < p->n_cars; ++c) {
+        if ((s = rb_check_positive(err, "bcu.car_mass", p->car_mass[c]))) return s;
+        if ((s = rb_check_nonnegative(err, "bcu.pressure_gain", p->pressure_gain[c]))) return s;
+        if ((s = rb_check_range(err, "bcu.pressure_max", p->pressure_max[c], p->atmosphere, 2e6))) return s;
+    }
+    return RB_OK;
+}
+
+rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_state *s, rb_error *err)
+{
+    rb_status st;
+    if ((st = rb_bcu_check(p, err))) return st;
+    if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a BCU state is required");
+    memset(s, 0, sizeof *s);
+    rb_wsp_params defaults;
+    rb_wsp_default_params(&defaults);
+    rb_wsp_default_reset(&s->wsp_default, wsp ? wsp : &defaults);
+    for (int c = 0; c < RB_MAX_CARS; ++c) s->command.pressure_demand[c] = p->atmosphere;
+    return RB_OK;
+}
+
+void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_bcu_params *p)
+{
+    const double high_speed = 50.0;  /* m/s: nominal pad friction */
+    for (int c = 0; c < plant->n_cars; ++c) {
+        const rb_plant_car *car = &plant->car[c];
+        double p1 = plant->atmosphere + 2e5, p2 = plant->atmosphere + 4e5;
+        double f1 = RB_AXLES_PER_CAR * rb_plant_axle_brake_torque(car, p1, plant->atmosphere, high_speed) / car->wheel_radius;
+        double f2 = RB_AXLES_PER_CAR * rb_plant_axle_brake_torque(car, p2, plant->atmosphere, high_speed) / car->wheel_radius;
+        p->pressure_gain[c] = (p2 - p1) / (f2 - f1);
+        p->pressure_offset[c] = p1 - p->pressure_gain[c] * f1;
+        p->pressure_max[c] = pressure_max;
+        p->car_mass[c] = car->mass + car->rotating_mass
+                         + RB_AXLES_PER_CAR * car->wheelset_inertia / (car->wheel_radius * car->wheel_radius);
+        p->motor[c] = car->motor;
+    }
+}
+
+static double car_pressure(const rb_bcu_params *p, int c, double force)
+{
+    if (force <= 0.0) return p->atmosphere;
+    double pressure = p->pressure_offset[c] + p->pressure_gain[c] * force;
+    return pressure < p->pressure_max[c] ? pressure : p->pressure_max[c];
+}
+
+static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *d,
+                      const rb_plant_outputs *out)
+{
+    int emergency = d->emergency > 0.5;
+    double decel = emergency ? p->emergency_decel : d->service * p->service_decel;
+    rb_wsp_inputs *w = &s->wsp_in;
+    w->time = out->time;
+    w->cycle = out->time - s->last_cycle;
+    w->n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    w->atmosphere = p->atmosphere;
+    for (int c = 0; c < p->n_cars; ++c) {
+        int wsp_active = 0;
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) wsp_active |= s->wsp.active[c * RB_AXLES_PER_CAR + k];
+        double needed = decel * p->car_mass[c];
+        int ed_allowed = p->motor[c] && (!emergency || p->ed_in_emergency) && !wsp_active;
+        s->command.ed_demand[c] = ed_allowed ? needed : 0.0;
+        double ed = ed_allowed ? out->ed_force[c] : 0.0;
+        s->command.pressure_demand[c] = car_pressure(p, c, needed - ed);
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            w->wheel_speed[a] = out->wheel_speed_measured[a];
+            w->cylinder[a] = out->cylinder[a];
+            w->demand[a] = s->command.pressure_demand[c];
+        }
+    }
+    memset(&s->wsp, 0, sizeof s->wsp);
+    if (p->wsp_enabled) {
+        if (p->wsp) p->wsp(p->wsp_context, w, &s->wsp);
+        else rb_wsp_default_step(&s->wsp_default, w, &s->wsp);
+    }
+    memcpy(s->command.hold, s->wsp.hold, sizeof s->command.hold);
+    memcpy(s->command.vent, s->wsp.vent, sizeof s->command.vent);
+    s->last_cycle = out->time;
+}
+
+void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *demand,
+                 const rb_plant_outputs *out, rb_plant_inputs *in)
+{
+    if (out->time >= s->next_cycle - 1e-9) {
+        run_cycle(p, s, demand, out);
+        s->next_cycle += p->cycle;
+    }
+    *in = s->command;
+}

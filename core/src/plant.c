@@ -1,0 +1,259 @@
+/* Whole-train plant: parameter checks, initial state, outputs (the step is in plant_step.c). */
+#include "plant_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define RB_G 9.80665
+
+size_t rb_plant_params_size(void) { return sizeof(rb_plant_params); }
+size_t rb_plant_state_size(void) { return sizeof(rb_plant_state); }
+
+/* Checks a field of car i, naming it car[i].field in the message. */
+#define CHECK_CAR(check, field, ...)                                          \
+    do {                                                                      \
+        snprintf(name, sizeof name, "car[%d].%s", i, #field);                 \
+        if ((s = check(err, name, c->field, ##__VA_ARGS__))) return s;        \
+    } while (0)
+
+static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
+{
+    char name[64];
+    rb_status s;
+    CHECK_CAR(rb_check_range, mass, 1e3, 1e6);
+    CHECK_CAR(rb_check_nonnegative, rotating_mass);
+    CHECK_CAR(rb_check_range, length, 1.0, 100.0);
+    CHECK_CAR(rb_check_range, wheel_radius, 0.2, 1.0);
+    CHECK_CAR(rb_check_positive, wheelset_inertia);
+    CHECK_CAR(rb_check_positive, brake.cylinder_area);
+    CHECK_CAR(rb_check_nonnegative, brake.spring_force);
+    CHECK_CAR(rb_check_positive, brake.lever_ratio);
+    CHECK_CAR(rb_check_range, brake.efficiency, 0.0, 1.0);
+    CHECK_CAR(rb_check_range, brake.discs, 0.0, 8.0);
+    CHECK_CAR(rb_check_positive, brake.disc_radius);
+    CHECK_CAR(rb_check_range, brake.pad_friction, 0.0, 1.0);
+    CHECK_CAR(rb_check_range, brake.pad_friction_low, 0.0, 1.0);
+    CHECK_CAR(rb_check_positive, brake.pad_friction_speed);
+    CHECK_CAR(rb_check_positive, supply_volume);
+    CHECK_CAR(rb_check_positive, pilot_volume);
+    CHECK_CAR(rb_check_positive, relay_volume);
+    CHECK_CAR(rb_check_positive, cylinder_volume);
+    CHECK_CAR(rb_check_positive, pipe_volume);
+    CHECK_CAR(rb_check_nonnegative, charge_area);
+    CHECK_CAR(rb_check_nonnegative, ep_area);
+    CHECK_CAR(rb_check_positive, ep_tau);
+    CHECK_CAR(rb_check_positive, ep_band);
+    CHECK_CAR(rb_check_nonnegative, relay_supply_area);
+    CHECK_CAR(rb_check_nonnegative, relay_exhaust_area);
+    CHECK_CAR(rb_check_positive, relay_band);
+    CHECK_CAR(rb_check_nonnegative, hold_area);
+    CHECK_CAR(rb_check_nonnegative, vent_area);
+    CHECK_CAR(rb_check_range, valve_delay, 0.0, 1.0);
+    CHECK_CAR(rb_check_nonnegative, pipe_area);
+    for (int k = 0; k < RB_AXLES_PER_CAR; ++k)
+        if (!(c->axle_position[k] >= 0.0 && c->axle_position[k] <= c->length))
+            return rb_fail(err, RB_EINVAL, "car[%d].axle_position[%d] = %g: must be in [0, length = %g] m",
+                           i, k, c->axle_position[k], c->length);
+    if (rb_creep_contact_check(&c->contact, err)) return RB_EINVAL;
+    if (c->ed.n < 0 || c->ed.n > RB_ED_TABLE)
+        return rb_fail(err, RB_EINVAL, "car[%d].ed.n = %d: must be in [0, %d]", i, c->ed.n, RB_ED_TABLE);
+    for (int k = 1; k < c->ed.n; ++k)
+        if (!(c->ed.speed[k] > c->ed.speed[k - 1]))
+            return rb_fail(err, RB_EINVAL, "car[%d].ed.speed[%d] = %g: speeds must increase", i, k, c->ed.speed[k]);
+    return RB_OK;
+}
+
+static rb_status check_faults(const rb_plant_params *p, rb_error *err)
+{
+    if (p->n_faults < 0 || p->n_faults > RB_MAX_FAULTS)
+        return rb_fail(err, RB_EINVAL, "n_faults = %d: must be in [0, %d]", p->n_faults, RB_MAX_FAULTS);
+    for (int i = 0; i < p->n_faults; ++i) {
+        const rb_fault *f = &p->fault[i];
+        if (f->kind < 0 || f->kind >= RB_FAULT_KINDS)
+            return rb_fail(err, RB_EINVAL, "fault[%d].kind = %d: must be in [0, %d]", i, f->kind, RB_FAULT_KINDS - 1);
+        if (f->car < 0 || f->car >= p->n_cars)
+            return rb_fail(err, RB_EINVAL, "fault[%d].car = %d: the train has cars 0..%d", i, f->car, p->n_cars - 1);
+        if (f->axle < -1 || f->axle >= RB_AXLES_PER_CAR)
+            return rb_fail(err, RB_EINVAL, "fault[%d].axle = %d: must be -1 (all) or 0..%d", i, f->axle,
+                           RB_AXLES_PER_CAR - 1);
+        if (!isfinite(f->start_time) || f->start_time < 0.0)
+            return rb_fail(err, RB_EINVAL, "fault[%d].start_time = %g: must be finite and >= 0 s", i, f->start_time);
+        if (!isfinite(f->value) || f->value < 0.0)
+            return rb_fail(err, RB_EINVAL, "fault[%d].value = %g: must be finite and >= 0", i, f->value);
+    }
+    return RB_OK;
+}
+
+static rb_status check_adhesion(const rb_plant_params *p, rb_error *err)
+{
+    rb_status s;
+    if (p->n_conditions < 1 || p->n_conditions > RB_MAX_CONDITIONS)
+        return rb_fail(err, RB_EINVAL, "n_conditions = %d: must be in [1, %d]", p->n_conditions, RB_MAX_CONDITIONS);
+    for (int i = 0; i < p->n_conditions; ++i) {
+        if ((s = rb_polach_check(&p->condition[i].polach, err))) return s;
+        if ((s = rb_check_range(err, "condition.leading_factor", p->condition[i].leading_factor, 1e-3, 1.0)))
+            return s;
+    }
+    if (p->n_zones < 0 || p->n_zones > RB_MAX_ZONES)
+        return rb_fail(err, RB_EINVAL, "n_zones = %d: must be in [0, %d]", p->n_zones, RB_MAX_ZONES);
+    for (int i = 0; i < p->n_zones; ++i) {
+        const rb_track_zone *z = &p->zone[i];
+        if (!(z->x_end > z->x_start))
+            return rb_fail(err, RB_EINVAL, "zone[%d]: x_end = %g must exceed x_start = %g m", i, z->x_end, z->x_start);
+        if (z->condition < 0 || z->condition >= p->n_conditions)
+            return rb_fail(err, RB_EINVAL, "zone[%d].condition = %d: must be in [0, %d]", i, z->condition,
+                           p->n_conditions - 1);
+    }
+    return rb_check_positive(err, "creep_speed_min", p->creep_speed_min);
+}
+
+rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
+{
+    rb_status s;
+    if (!p) return rb_fail(err, RB_EINVAL, "params = NULL: plant parameters are required");
+    if (p->n_cars < 1 || p->n_cars > RB_MAX_CARS)
+        return rb_fail(err, RB_EINVAL, "n_cars = %d: must be in [1, %d]", p->n_cars, RB_MAX_CARS);
+    if ((s = rb_check_range(err, "dt", p->dt, 1e-5, 0.01))) return s;
+    if ((s = rb_check_range(err, "temperature", p->temperature, 200.0, 400.0))) return s;
+    if ((s = rb_check_range(err, "atmosphere", p->atmosphere, 5e4, 1.2e5))) return s;
+    if ((s = rb_check_range(err, "discharge_coefficient", p->discharge_coefficient, 0.01, 1.0))) return s;
+    if ((s = rb_check_range(err, "critical_ratio", p->critical_ratio, 0.0, 0.99))) return s;
+    for (int i = 0; i < p->n_cars; ++i)
+        if ((s = check_car(&p->car[i], i, err))) return s;
+    if ((s = rb_check_nonnegative(err, "coupler_stiffness", p->coupler_stiffness))) return s;
+    if ((s = rb_check_nonnegative(err, "coupler_damping", p->coupler_damping))) return s;
+    if ((s = rb_check_nonnegative(err, "coupler_slack", p->coupler_slack))) return s;
+    if ((s = rb_check_nonnegative(err, "resistance_a", p->resistance_a))) return s;
+    if ((s = rb_check_nonnegative(err, "resistance_b", p->resistance_b))) return s;
+    if ((s = rb_check_nonnegative(err, "resistance_c", p->resistance_c))) return s;
+    if (p->compressor_car < 0 || p->compressor_car >= p->n_cars)
+        return rb_fail(err, RB_EINVAL, "compressor_car = %d: must be in [0, %d]", p->compressor_car, p->n_cars - 1);
+    if ((s = rb_check_positive(err, "main_reservoir_volume", p->main_reservoir_volume))) return s;
+    if ((s = rb_check_positive(err, "main_reservoir_area", p->main_reservoir_area))) return s;
+    if ((s = rb_check_nonnegative(err, "compressor_flow", p->compressor_flow))) return s;
+    if ((s = rb_check_range(err, "initial_pressure", p->initial_pressure, p->atmosphere, 2e6))) return s;
+    if ((s = rb_check_range(err, "governor_on", p->governor_on, p->atmosphere, 2e6))) return s;
+    if ((s = rb_check_range(err, "governor_off", p->governor_off, p->governor_on, 2e6))) return s;
+    if ((s = rb_check_range(err, "initial_speed", p->initial_speed, 0.0, 150.0))) return s;
+    if ((s = check_adhesion(p, err))) return s;
+    return check_faults(p, err);
+}
+
+/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning. */
+static rb_polach_params condition_at_axle(const rb_plant_condition *c, int axle)
+{
+    rb_polach_params q = c->polach;
+    if (c->recovery_axles > 0.0)
+        q.mu0 *= rb_conditioning_factor((double)axle, c->leading_factor, c->recovery_axles);
+    return q;
+}
+
+int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x)
+{
+    int condition = 0;
+    for (int z = 0; z < p->n_zones; ++z)
+        if (x >= p->zone[z].x_start && x < p->zone[z].x_end) condition = p->zone[z].condition;
+    if (condition != s->zone_of[axle]) {
+        s->zone_of[axle] = condition;
+        s->polach[axle] = condition_at_axle(&p->condition[condition], axle);
+    }
+    return condition;
+}
+
+rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *err)
+{
+    rb_status st;
+    if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a state is required");
+    if ((st = rb_plant_check(p, err))) return st;
+    memset(s, 0, sizeof *s);
+    double rt = 287.05 * p->temperature;
+    double pos = 0.0;
+    s->m_mr = p->initial_pressure * p->main_reservoir_volume / rt;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        s->m_pipe[c] = p->initial_pressure * car->pipe_volume / rt;
+        s->m_supply[c] = p->initial_pressure * car->supply_volume / rt;
+        s->m_pilot[c] = p->atmosphere * car->pilot_volume / rt;
+        s->m_relay[c] = p->atmosphere * car->relay_volume / rt;
+        s->ep_demand_lag[c] = p->atmosphere;
+        s->x[c] = -pos;
+        s->v[c] = p->initial_speed;
+        pos += car->length;
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            s->m_cyl[a] = p->atmosphere * car->cylinder_volume / rt;
+            s->omega[a] = p->initial_speed / car->wheel_radius;
+            s->zone_of[a] = -1;
+            rb_plant_zone_update(p, s, a, s->x[c] - car->axle_position[k]);
+        }
+    }
+    s->compressor_on = p->initial_pressure < p->governor_on;
+    s->rng = p->noise_seed ? p->noise_seed : 0x9E3779B97F4A7C15ULL;
+    s->m_initial = rb_plant_air_mass(p, s);
+    return RB_OK;
+}
+
+double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s)
+{
+    double m = s->m_mr;
+    for (int c = 0; c < p->n_cars; ++c) {
+        m += s->m_pipe[c] + s->m_supply[c] + s->m_pilot[c] + s->m_relay[c];
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) m += s->m_cyl[c * RB_AXLES_PER_CAR + k];
+    }
+    return m;
+}
+
+double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double atmosphere, double wheel_speed)
+{
+    const rb_plant_brake *b = &c->brake;
+    double disc_speed = wheel_speed / c->wheel_radius * b->disc_radius;
+    return 2.0 * b->discs * b->disc_radius * rb_pending_pad_friction(b, disc_speed)
+           * rb_pending_pad_force(b, p_cyl, atmosphere);
+}
+
+double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s, int axle)
+{
+    const rb_plant_car *car = &p->car[axle / RB_AXLES_PER_CAR];
+    double peak = 0.0, wheel_load = car->mass * RB_G / (2.0 * RB_AXLES_PER_CAR);
+    double v = s->v[axle / RB_AXLES_PER_CAR];
+    if (rb_polach_peak(v > 0.0 ? v : 0.0, wheel_load, &car->contact, &s->polach[axle], &peak, NULL, NULL))
+        return 0.0;
+    return peak;
+}
+
+void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
+{
+    double rt = 287.05 * p->temperature;
+    memset(out, 0, sizeof *out);
+    out->time = s->time;
+    out->speed = s->v[0];
+    out->position = s->x[0];
+    out->deceleration = -s->a[0];
+    out->main_reservoir = s->m_mr * rt / p->main_reservoir_volume;
+    out->pipe_end = s->m_pipe[p->n_cars - 1] * rt / p->car[p->n_cars - 1].pipe_volume;
+    out->compressor_on = s->compressor_on;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        out->supply[c] = s->m_supply[c] * rt / car->supply_volume;
+        out->pilot[c] = s->m_pilot[c] * rt / car->pilot_volume;
+        out->relay[c] = s->m_relay[c] * rt / car->relay_volume;
+        out->ed_force[c] = s->ed_force[c];
+        out->car_speed[c] = s->v[c];
+        double vr = s->v[c] > p->creep_speed_min ? s->v[c] : p->creep_speed_min;
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            double w = s->omega[a] * car->wheel_radius;
+            out->wheel_speed[a] = w;
+            out->wheel_speed_measured[a] = s->sensor_lost[a] ? -1.0 : w + s->noise[a];
+            out->slip[a] = (w - s->v[c]) / vr;
+            out->adhesion[a] = s->coefficient[a];
+            out->cylinder[a] = s->m_cyl[a] * rt / car->cylinder_volume;
+            out->hold[a] = s->hold_effective[a];
+            out->vent[a] = s->vent_effective[a];
+        }
+    }
+    out->air_in_system = rb_plant_air_mass(p, s);
+    out->air_vented = s->m_vented;
+    out->air_compressed = s->m_compressed;
+}

@@ -1,0 +1,252 @@
+/* One fixed step of the whole-train plant: faults, air system, wheelsets, cars. */
+#include "plant_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+#define RB_G 9.80665
+#define RB_R_AIR 287.05
+
+/* Faults in force at this step, per axle and per car. */
+typedef struct {
+    signed char hold[RB_MAX_AXLES];   /* -1: as commanded, 0: stuck open, 1: stuck closed */
+    signed char vent[RB_MAX_AXLES];   /* -1: as commanded, 0: stuck closed, 1: stuck open */
+    double leak[RB_MAX_AXLES];        /* m^2 */
+    double noise_sd[RB_MAX_AXLES];    /* m/s */
+    uint8_t ep_failed[RB_MAX_CARS], ed_lost[RB_MAX_CARS], isolated[RB_MAX_CARS];
+    int compressor_off;
+} active_faults;
+
+static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, active_faults *f)
+{
+    memset(f, 0, sizeof *f);
+    memset(f->hold, -1, sizeof f->hold);
+    memset(f->vent, -1, sizeof f->vent);
+    for (int i = 0; i < p->n_faults; ++i) {
+        const rb_fault *q = &p->fault[i];
+        if (s->time < q->start_time) continue;
+        int first = q->car * RB_AXLES_PER_CAR + (q->axle < 0 ? 0 : q->axle);
+        int last = q->axle < 0 ? first + RB_AXLES_PER_CAR : first + 1;
+        for (int a = first; a < last; ++a) {
+            switch (q->kind) {
+            case RB_FAULT_HOLD_STUCK_OPEN: f->hold[a] = 0; break;
+            case RB_FAULT_HOLD_STUCK_CLOSED: f->hold[a] = 1; break;
+            case RB_FAULT_VENT_STUCK_OPEN: f->vent[a] = 1; break;
+            case RB_FAULT_VENT_STUCK_CLOSED: f->vent[a] = 0; break;
+            case RB_FAULT_SENSOR_LOST: f->noise_sd[a] = -1.0; break;
+            case RB_FAULT_SENSOR_NOISY: if (f->noise_sd[a] >= 0.0) f->noise_sd[a] = q->value; break;
+            case RB_FAULT_CYLINDER_LEAK: f->leak[a] += q->value; break;
+            default: break;
+            }
+        }
+        if (q->kind == RB_FAULT_EP_VALVE) f->ep_failed[q->car] = 1;
+        if (q->kind == RB_FAULT_ED_LOST) f->ed_lost[q->car] = 1;
+        if (q->kind == RB_FAULT_CAR_ISOLATED) f->isolated[q->car] = 1;
+        if (q->kind == RB_FAULT_COMPRESSOR_OFF) f->compressor_off = 1;
+    }
+}
+
+/* Deterministic noise: xorshift64*, Gaussian by Box-Muller. */
+static double uniform01(uint64_t *x)
+{
+    *x ^= *x >> 12; *x ^= *x << 25; *x ^= *x >> 27;
+    return ((*x * 0x2545F4914F6CDD1DULL) >> 11) * (1.0 / 9007199254740992.0) + 1e-300;
+}
+
+static double gaussian(uint64_t *x)
+{
+    double u1 = uniform01(x), u2 = uniform01(x);
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
+/* ------------------------------------------------------------------ air */
+
+typedef struct {
+    double dt, rt, T, patm, cd, b;
+    double vented;
+} air_ctx;
+
+/* Moves air from node i to node j (j = NULL: atmosphere) through an orifice of `area`;
+ * n_i, n_j: number of links of each node (see rb_plant.h on the stiff-link limit). */
+static void transfer(air_ctx *x, double *mi, double vi, double ni, double *mj, double vj, double nj,
+                     double area)
+{
+    if (area <= 0.0) return;
+    double pi = *mi * x->rt / vi, pj = mj ? *mj * x->rt / vj : x->patm;
+    double q = rb_orifice_mass_flow_fast(pi, x->T, pj, x->T, area, x->cd, x->b);
+    if (q == 0.0 || pi == pj) return;
+    double equalise = fabs(pi - pj) / (x->rt * (ni / vi + (mj ? nj / vj : 0.0)));
+    double dm = 1.0 / (1.0 / (x->dt * fabs(q)) + 1.0 / equalise);
+    if (q < 0.0) dm = -dm;
+    *mi -= dm;
+    if (mj) *mj += dm;
+    else x->vented += dm;
+}
+
+static double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
+
+/* Valve switching after the response delay; a stuck valve ignores its command. */
+static uint8_t valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *timer, double delay,
+                     double dt, signed char stuck)
+{
+    if (cmd != *pending) { *pending = cmd; *timer = delay; }
+    if (*actual != *pending) {
+        *timer -= dt;
+        if (*timer <= 0.0) *actual = *pending;
+    }
+    return stuck >= 0 ? (uint8_t)stuck : *actual;
+}
+
+static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                     const active_faults *f, uint8_t *hold_eff, uint8_t *vent_eff)
+{
+    air_ctx x = {p->dt, RB_R_AIR * p->temperature, p->temperature, p->atmosphere,
+                 p->discharge_coefficient, p->critical_ratio, 0.0};
+    double rt = x.rt;
+    /* compressor with on/off governor */
+    double p_mr = s->m_mr * rt / p->main_reservoir_volume;
+    if (p_mr < p->governor_on) s->compressor_on = 1;
+    if (p_mr > p->governor_off) s->compressor_on = 0;
+    if (s->compressor_on && !f->compressor_off) {
+        s->m_mr += p->compressor_flow * p->dt;
+        s->m_compressed += p->compressor_flow * p->dt;
+    }
+    int last = p->n_cars - 1;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        double pipe_links = 1.0 + (c > 0) + (c < last) + (c == p->compressor_car);
+        if (c == p->compressor_car)
+            transfer(&x, &s->m_mr, p->main_reservoir_volume, 1.0, &s->m_pipe[c], car->pipe_volume,
+                     pipe_links, p->main_reservoir_area);
+        if (c < last)
+            transfer(&x, &s->m_pipe[c], car->pipe_volume, pipe_links, &s->m_pipe[c + 1],
+                     p->car[c + 1].pipe_volume, 1.0 + 1.0 + (c + 1 < last) + (c + 1 == p->compressor_car),
+                     car->pipe_area);
+        /* check valve and choke: only towards the supply reservoir */
+        if (s->m_pipe[c] / car->pipe_volume > s->m_supply[c] / car->supply_volume)
+            transfer(&x, &s->m_pipe[c], car->pipe_volume, pipe_links, &s->m_supply[c], car->supply_volume,
+                     3.0, car->charge_area);
+        /* EP valve: lagged demand, ports open in proportion to the error */
+        double demand = in->pressure_demand[c] > p->atmosphere ? in->pressure_demand[c] : p->atmosphere;
+        s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * p->dt / (car->ep_tau + p->dt);
+        double p_pilot = s->m_pilot[c] * rt / car->pilot_volume;
+        if (!f->ep_failed[c]) {
+            double e = (s->ep_demand_lag[c] - p_pilot) / car->ep_band;
+            transfer(&x, &s->m_supply[c], car->supply_volume, 3.0, &s->m_pilot[c], car->pilot_volume, 2.0,
+                     car->ep_area * clamp01(e));
+            transfer(&x, &s->m_pilot[c], car->pilot_volume, 2.0, NULL, 0.0, 0.0, car->ep_area * clamp01(-e));
+            p_pilot = s->m_pilot[c] * rt / car->pilot_volume;
+        }
+        /* relay valve: output follows the pilot; an isolated car is cut off and vented */
+        double target = f->isolated[c] ? p->atmosphere : p_pilot;
+        double e = (target - s->m_relay[c] * rt / car->relay_volume) / car->relay_band;
+        double relay_links = 2.0 + RB_AXLES_PER_CAR;
+        transfer(&x, &s->m_supply[c], car->supply_volume, 3.0, &s->m_relay[c], car->relay_volume, relay_links,
+                 f->isolated[c] ? 0.0 : car->relay_supply_area * clamp01(e));
+        transfer(&x, &s->m_relay[c], car->relay_volume, relay_links, NULL, 0.0, 0.0,
+                 car->relay_exhaust_area * (f->isolated[c] ? 1.0 : clamp01(-e)));
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            hold_eff[a] = valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a],
+                                car->valve_delay, p->dt, f->hold[a]);
+            vent_eff[a] = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a],
+                                car->valve_delay, p->dt, f->vent[a]);
+            if (!hold_eff[a])
+                transfer(&x, &s->m_relay[c], car->relay_volume, relay_links, &s->m_cyl[a], car->cylinder_volume,
+                         3.0, car->hold_area);
+            if (vent_eff[a])
+                transfer(&x, &s->m_cyl[a], car->cylinder_volume, 3.0, NULL, 0.0, 0.0, car->vent_area);
+            transfer(&x, &s->m_cyl[a], car->cylinder_volume, 3.0, NULL, 0.0, 0.0, f->leak[a]);
+        }
+    }
+    s->m_vented += x.vented;
+}
+
+/* ------------------------------------------------------------------ mechanics */
+
+/* Advances the wheelsets of car c; returns the sum of their rail forces on the car (N). */
+static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c, double other_force,
+                             double mass, const active_faults *f)
+{
+    const rb_plant_car *car = &p->car[c];
+    double rt = RB_R_AIR * p->temperature, dt = p->dt, r = car->wheel_radius, J = car->wheelset_inertia;
+    double v = s->v[c], vr = v > p->creep_speed_min ? v : p->creep_speed_min;
+    double axle_load = car->mass * RB_G / RB_AXLES_PER_CAR, wheel_load = 0.5 * axle_load;
+    double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * r;
+    double old_sum = 0.0, new_sum = 0.0;
+    for (int k = 0; k < RB_AXLES_PER_CAR; ++k) old_sum += s->force[c * RB_AXLES_PER_CAR + k];
+    for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+        int a = c * RB_AXLES_PER_CAR + k;
+        rb_plant_zone_update(p, s, a, s->x[c] - car->axle_position[k]);
+        double w = s->omega[a] * r - v;
+        double creep = w / vr;
+        double probe = fabs(creep) > 1e-7 ? creep : -1e-7;
+        double f_probe = rb_polach_coefficient_fast(probe, v, wheel_load, &car->contact, &s->polach[a]);
+        double stiffness = axle_load * (f_probe / probe) / vr;   /* secant, N per m/s of slip velocity */
+        double torque = rb_plant_axle_brake_torque(car, s->m_cyl[a] * rt / car->cylinder_volume,
+                                                   p->atmosphere, s->omega[a] * r) + ed_axle;
+        /* slip velocity, linearly implicit in this axle's own rail force */
+        double others = other_force + old_sum - s->force[a];
+        double w_new = (w + dt * (-r * torque / J - others / mass))
+                       / (1.0 + dt * stiffness * (r * r / J + 1.0 / mass));
+        double force = stiffness * w_new;
+        double omega = s->omega[a] + dt * (-force * r - torque) / J;
+        if (omega < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
+            omega = 0.0;
+            force = axle_load * rb_polach_coefficient_fast(-v / vr, v, wheel_load, &car->contact, &s->polach[a]);
+        }
+        s->omega[a] = omega;
+        s->force[a] = force;
+        s->coefficient[a] = force / axle_load;
+        new_sum += force;
+    }
+    return new_sum;
+}
+
+static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                           const active_faults *f)
+{
+    double total_mass = 0.0, coupler[RB_MAX_CARS + 1] = {0.0};
+    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].mass;
+    for (int c = 0; c + 1 < p->n_cars; ++c)  /* tension positive */
+        coupler[c + 1] = rb_pending_coupler_force(p->coupler_stiffness, p->coupler_damping, p->coupler_slack,
+                                                  s->x[c] - s->x[c + 1] - p->car[c].length, s->v[c] - s->v[c + 1]);
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        double v = s->v[c];
+        double ed_max = car->motor && !f->ed_lost[c] && v > 0.0 ? rb_pending_ed_force_max(&car->ed, v) : 0.0;
+        double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
+        s->ed_force[c] = ed < ed_max ? ed : ed_max;
+        double resistance = v > 0.0 ? rb_pending_running_resistance(p->resistance_a, p->resistance_b,
+                                                                     p->resistance_c, v) * car->mass / total_mass
+                                    : 0.0;
+        double mass = car->mass + car->rotating_mass;
+        double other = coupler[c + 1] - coupler[c] - resistance;
+        double rail = step_wheelsets(p, s, c, other, mass, f);
+        s->a[c] = (rail + other) / mass;
+    }
+    for (int c = 0; c < p->n_cars; ++c) {
+        s->v[c] += p->dt * s->a[c];
+        if (s->v[c] < 0.0) s->v[c] = 0.0;   /* brakes hold a stopped train */
+        s->x[c] += p->dt * s->v[c];
+    }
+}
+
+static void update_sensors(const rb_plant_params *p, rb_plant_state *s, const active_faults *f)
+{
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
+        s->sensor_lost[a] = f->noise_sd[a] < 0.0;
+        s->noise[a] = f->noise_sd[a] > 0.0 ? f->noise_sd[a] * gaussian(&s->rng) : 0.0;
+    }
+}
+
+void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+{
+    active_faults f;
+    gather_faults(p, s, &f);
+    step_air(p, s, in, &f, s->hold_effective, s->vent_effective);
+    step_mechanics(p, s, in, &f);
+    update_sensors(p, s, &f);
+    s->step += 1;
+    s->time = (double)s->step * p->dt;
+}

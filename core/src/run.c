@@ -1,0 +1,259 @@
+/* Scenario runner: BCU + plant, decimated time series, KPIs; and the plant benchmark. */
+#define _POSIX_C_SOURCE 199309L
+#include "railbrake/rb_run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#define RB_G 9.80665
+#define LOCK_SPEED (10.0 / 3.6)   /* m/s: locks count above 10 km/h */
+
+size_t rb_run_state_size(void) { return sizeof(rb_run_state); }
+
+enum { GLOBAL_CHANNELS = 9, CAR_CHANNELS = 4, AXLE_CHANNELS = 6 };
+static const char *global_names[GLOBAL_CHANNELS][2] = {
+    {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
+    {"demand_deceleration", "m/s^2"}, {"main_reservoir", "Pa"}, {"pipe_end", "Pa"},
+    {"compressor_on", "1"}, {"air_vented", "kg"}};
+static const char *car_names[CAR_CHANNELS][2] = {
+    {"supply", "Pa"}, {"pilot", "Pa"}, {"relay", "Pa"}, {"ed_force", "N"}};
+static const char *axle_names[AXLE_CHANNELS][2] = {
+    {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"},
+    {"adhesion", "1"}};
+
+int rb_run_channel_count(int n_cars)
+{
+    return GLOBAL_CHANNELS + n_cars * (CAR_CHANNELS + RB_AXLES_PER_CAR * AXLE_CHANNELS);
+}
+
+rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
+                              size_t unit_size, rb_error *err)
+{
+    if (index < 0 || index >= rb_run_channel_count(n_cars))
+        return rb_fail(err, RB_EINVAL, "index = %d: must be in [0, %d]", index, rb_run_channel_count(n_cars) - 1);
+    const char *const *entry;
+    if (index < GLOBAL_CHANNELS) {
+        entry = global_names[index];
+        snprintf(name, name_size, "%s", entry[0]);
+    } else if ((index -= GLOBAL_CHANNELS) < n_cars * CAR_CHANNELS) {
+        entry = car_names[index / n_cars];
+        snprintf(name, name_size, "%s_c%d", entry[0], index % n_cars + 1);
+    } else {
+        index -= n_cars * CAR_CHANNELS;
+        int n_axles = n_cars * RB_AXLES_PER_CAR, axle = index % n_axles;
+        entry = axle_names[index / n_axles];
+        snprintf(name, name_size, "%s_c%da%d", entry[0], axle / RB_AXLES_PER_CAR + 1, axle % RB_AXLES_PER_CAR + 1);
+    }
+    snprintf(unit, unit_size, "%s", entry[1]);
+    return RB_OK;
+}
+
+static rb_brake_demand demand_at(const rb_scenario *sc, double t)
+{
+    rb_brake_demand d = {0.0, 0.0};
+    for (int i = 0; i < sc->n_demand && sc->demand_time[i] <= t + 1e-12; ++i) {
+        d.service = sc->demand_service[i];
+        d.emergency = sc->demand_emergency[i];
+    }
+    return d;
+}
+
+static rb_status check_scenario(const rb_scenario *sc, rb_error *err)
+{
+    rb_status s;
+    if (sc->n_demand < 1 || sc->n_demand > RB_MAX_DEMAND_STEPS)
+        return rb_fail(err, RB_EINVAL, "n_demand = %d: must be in [1, %d]", sc->n_demand, RB_MAX_DEMAND_STEPS);
+    for (int i = 0; i < sc->n_demand; ++i) {
+        if ((s = rb_check_nonnegative(err, "demand_time", sc->demand_time[i]))) return s;
+        if (i > 0 && !(sc->demand_time[i] > sc->demand_time[i - 1]))
+            return rb_fail(err, RB_EINVAL, "demand_time[%d] = %g: times must increase", i, sc->demand_time[i]);
+        if ((s = rb_check_range(err, "demand_service", sc->demand_service[i], 0.0, 1.0))) return s;
+    }
+    if ((s = rb_check_range(err, "max_time", sc->max_time, 0.0, 3600.0))) return s;
+    if ((s = rb_check_nonnegative(err, "stop_speed", sc->stop_speed))) return s;
+    if ((s = rb_check_positive(err, "record_interval", sc->record_interval))) return s;
+    return rb_check_positive(err, "adhesion_interval", sc->adhesion_interval);
+}
+
+rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
+                      const rb_scenario *scenario, rb_run_state *run, rb_error *err)
+{
+    rb_status s;
+    if (!run || !scenario) return rb_fail(err, RB_EINVAL, "run and scenario must not be NULL");
+    if ((s = check_scenario(scenario, err))) return s;
+    memset(run, 0, sizeof *run);
+    if ((s = rb_plant_init(plant, &run->plant, err))) return s;
+    if ((s = rb_bcu_init(bcu, wsp, &run->bcu, err))) return s;
+    if (bcu->n_cars != plant->n_cars)
+        return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must equal the plant's n_cars = %d", bcu->n_cars, plant->n_cars);
+    rb_plant_get_outputs(plant, &run->plant, &run->out);
+    return RB_OK;
+}
+
+static void record(const rb_plant_params *p, rb_run_state *r, const rb_bcu_params *bcu,
+                   const rb_scenario *sc, double *row)
+{
+    const rb_plant_outputs *o = &r->out;
+    int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
+    rb_brake_demand d = demand_at(sc, o->time);
+    double g[GLOBAL_CHANNELS] = {o->time, o->speed, o->position, o->deceleration,
+                                 d.emergency > 0.5 ? bcu->emergency_decel : d.service * bcu->service_decel,
+                                 o->main_reservoir, o->pipe_end, (double)o->compressor_on, o->air_vented};
+    memcpy(row, g, sizeof g);
+    row += GLOBAL_CHANNELS;
+    for (int c = 0; c < n; ++c) {
+        row[c] = o->supply[c];
+        row[n + c] = o->pilot[c];
+        row[2 * n + c] = o->relay[c];
+        row[3 * n + c] = o->ed_force[c];
+    }
+    row += CAR_CHANNELS * n;
+    for (int a = 0; a < na; ++a) {
+        row[a] = o->wheel_speed[a];
+        row[na + a] = o->slip[a];
+        row[2 * na + a] = o->cylinder[a];
+        row[3 * na + a] = o->hold[a];
+        row[4 * na + a] = o->vent[a];
+        row[5 * na + a] = o->adhesion[a];
+    }
+}
+
+static int car_isolated(const rb_plant_params *p, int car)
+{
+    for (int i = 0; i < p->n_faults; ++i)
+        if (p->fault[i].kind == RB_FAULT_CAR_ISOLATED && p->fault[i].car == car) return 1;
+    return 0;
+}
+
+/* KPI accumulation after one step. */
+static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
+{
+    const rb_plant_outputs *o = &r->out;
+    double dt = p->dt, total_mass = 0.0, rail = 0.0;
+    if (!r->braking) return;
+    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].mass;
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
+        int c = a / RB_AXLES_PER_CAR;
+        double v = o->car_speed[c];
+        rail -= r->plant.force[a];
+        if (v > LOCK_SPEED) {
+            if (fabs(o->slip[a]) > r->max_slip) r->max_slip = fabs(o->slip[a]);
+            if (o->wheel_speed[a] < 0.1 * v) {
+                if (r->lock_time[a] == 0.0) r->lock_events++;
+                r->lock_time[a] += dt;
+                if (r->lock_time[a] > r->max_lock) r->max_lock = r->lock_time[a];
+            } else {
+                r->lock_time[a] = 0.0;
+            }
+        }
+    }
+    r->rail_decel_sum += rail / total_mass * dt;
+    r->rail_decel_time += dt;
+    if (o->time >= r->next_adhesion - 1e-9 && o->speed > LOCK_SPEED) {
+        double sum = 0.0;
+        int n = 0;
+        for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
+            if (!car_isolated(p, a / RB_AXLES_PER_CAR)) { sum += rb_plant_peak_adhesion(p, &r->plant, a); ++n; }
+        if (n > 0) { r->peak_sum += sum / n; r->peak_samples++; }
+        r->next_adhesion += sc->adhesion_interval;
+    }
+}
+
+rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_scenario *sc,
+                         rb_run_state *r, double t_until, double *series, size_t max_rows, int *finished,
+                         rb_error *err)
+{
+    int nch = rb_run_channel_count(plant->n_cars);
+    while (!r->finished && r->out.time < t_until - 1e-9) {
+        if (r->out.time >= r->next_record - 1e-9) {
+            if (r->rows >= max_rows)
+                return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
+            record(plant, r, bcu, sc, series + r->rows * (size_t)nch);
+            r->rows++;
+            r->next_record += sc->record_interval;
+        }
+        rb_brake_demand d = demand_at(sc, r->out.time);
+        if (!r->braking && (d.emergency > 0.5 || d.service > 0.0)) {
+            r->braking = 1;
+            r->brake_time = r->out.time;
+            r->brake_position = r->out.position;
+            r->brake_speed = r->out.speed;
+            r->next_adhesion = r->out.time;
+        }
+        rb_bcu_step(bcu, &r->bcu, &d, &r->out, &r->in);
+        rb_plant_step(plant, &r->plant, &r->in);
+        rb_plant_get_outputs(plant, &r->plant, &r->out);
+        accumulate(plant, sc, r);
+        r->stopped = r->braking && r->out.speed <= sc->stop_speed;
+        if (r->stopped || r->out.time >= sc->max_time - 1e-9) {
+            r->finished = 1;
+            if (r->rows < max_rows) {
+                record(plant, r, bcu, sc, series + r->rows * (size_t)nch);
+                r->rows++;
+            }
+        }
+    }
+    if (finished) *finished = r->finished;
+    return RB_OK;
+}
+
+void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k)
+{
+    const rb_plant_outputs *o = &r->out;
+    memset(k, 0, sizeof *k);
+    k->stopped = r->stopped;
+    if (r->braking) {
+        k->stopping_distance_m = o->position - r->brake_position;
+        k->stopping_time_s = o->time - r->brake_time;
+        k->mean_deceleration = k->stopping_time_s > 0.0 ? (r->brake_speed - o->speed) / k->stopping_time_s : 0.0;
+    }
+    k->max_slip = r->max_slip;
+    k->wheel_lock_events = r->lock_events;
+    k->max_lock_duration_s = r->max_lock;
+    k->air_consumed_kg = o->air_vented;
+    double peak = r->peak_samples ? r->peak_sum / r->peak_samples : 0.0;
+    double rail = r->rail_decel_time > 0.0 ? r->rail_decel_sum / r->rail_decel_time : 0.0;
+    k->adhesion_utilisation = peak > 0.0 ? rail / (RB_G * peak) : 0.0;
+    k->safety_timer_trips = r->bcu.wsp_default.trips;
+    double m0 = r->plant.m_initial;
+    k->air_balance_error = fabs(o->air_in_system + o->air_vented - o->air_compressed - m0) / m0;
+    (void)plant;
+}
+
+static double now_us(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec * 1e6 + t.tv_nsec * 1e-3;
+}
+
+rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, long steps,
+                         double *step_us_mean, double *step_us_p99, rb_error *err)
+{
+    enum { BINS = 4000 };          /* 0.05 us bins up to 200 us */
+    long histogram[BINS + 1] = {0};
+    rb_plant_state s;
+    rb_plant_inputs in;
+    rb_status st;
+    if (steps < 1) return rb_fail(err, RB_EINVAL, "steps = %ld: must be >= 1", steps);
+    if ((st = rb_plant_init(plant, &s, err))) return st;
+    memset(&in, 0, sizeof in);
+    for (int c = 0; c < RB_MAX_CARS; ++c) in.pressure_demand[c] = pressure_demand;
+    double total = 0.0;
+    for (long i = 0; i < steps; ++i) {
+        double t0 = now_us();
+        rb_plant_step(plant, &s, &in);
+        double us = now_us() - t0;
+        total += us;
+        int bin = (int)(us / 0.05);
+        histogram[bin < BINS ? bin : BINS]++;
+    }
+    long target = (long)ceil(0.99 * steps), count = 0;
+    int bin = 0;
+    for (; bin <= BINS && (count += histogram[bin]) < target; ++bin) {}
+    *step_us_mean = total / steps;
+    *step_us_p99 = (bin + 1) * 0.05;
+    return RB_OK;
+}

@@ -1,0 +1,145 @@
+/* Whole-train plant: limiting cases against closed forms, air-mass conservation, determinism. */
+#include "rb_test.h"
+#include "railbrake/rb_run.h"
+
+#include <math.h>
+#include <string.h>
+
+#define G 9.80665
+
+/* A plausible high-speed car (values as in docs/simulation.md). */
+static void fill_car(rb_plant_car *c)
+{
+    memset(c, 0, sizeof *c);
+    c->mass = 50e3;
+    c->rotating_mass = 1.5e3;
+    c->length = 25.0;
+    c->axle_position[0] = 3.0; c->axle_position[1] = 5.5;
+    c->axle_position[2] = 19.5; c->axle_position[3] = 22.0;
+    c->wheel_radius = 0.43;
+    c->wheelset_inertia = 120.0;
+    c->contact = (rb_creep_contact){6.0e-3, 5.0e-3, 4.5, 8.1e10};
+    c->brake = (rb_plant_brake){0.0314, 1500.0, 3.0, 0.92, 3.0, 0.247, 0.35, 0.40, 5.0};
+    c->supply_volume = 0.1; c->pilot_volume = 0.5e-3; c->relay_volume = 1.0e-3;
+    c->cylinder_volume = 1.5e-3; c->pipe_volume = 0.0123;
+    c->charge_area = 7e-6; c->ep_area = 3e-6; c->ep_tau = 0.1; c->ep_band = 0.1e5;
+    c->relay_supply_area = 20e-6; c->relay_exhaust_area = 20e-6; c->relay_band = 0.1e5;
+    c->hold_area = 20e-6; c->vent_area = 20e-6; c->valve_delay = 0.015; c->pipe_area = 100e-6;
+}
+
+static void fill_plant(rb_plant_params *p, int n_cars, double speed)
+{
+    memset(p, 0, sizeof *p);
+    p->n_cars = n_cars; p->dt = 1e-3; p->temperature = 293.15; p->atmosphere = 1.01325e5;
+    p->discharge_coefficient = 0.8; p->critical_ratio = 0.528;
+    for (int i = 0; i < n_cars; ++i) fill_car(&p->car[i]);
+    p->coupler_stiffness = 1e7; p->coupler_damping = 2e5; p->coupler_slack = 0.005;
+    p->main_reservoir_volume = 0.5; p->main_reservoir_area = 100e-6;
+    p->compressor_flow = 0.03; p->governor_on = 8.5e5; p->governor_off = 10e5;
+    p->initial_pressure = 9.5e5; p->initial_speed = speed;
+    p->n_conditions = 1;
+    p->condition[0] = (rb_plant_condition){{0.55, 0.40, 0.60, 1.0, 0.4}, 1.0, 0.0};  /* Polach dry */
+    p->creep_speed_min = 1.0;
+}
+
+/* One car, brakes at a constant pressure well inside the adhesion: the train decelerates at
+ * F_brake / (m + rotating mass + 4 J / r^2) (Newton with the wheelsets rolling). */
+static void test_constant_torque_deceleration(void)
+{
+    rb_plant_params p;
+    rb_plant_state s;
+    rb_plant_inputs in;
+    fill_plant(&p, 1, 40.0);
+    p.car[0].brake.pad_friction_low = p.car[0].brake.pad_friction;   /* constant torque */
+    p.n_faults = 1;   /* no air refill effects: compressor off */
+    p.fault[0] = (rb_fault){RB_FAULT_COMPRESSOR_OFF, 0, -1, 0.0, 0.0};
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    in.pressure_demand[0] = p.atmosphere + 2.0e5;
+    for (int i = 0; i < 5000; ++i) rb_plant_step(&p, &s, &in);   /* 5 s: cylinders filled */
+    const rb_plant_car *c = &p.car[0];
+    double pc = s.m_cyl[0] * 287.05 * p.temperature / c->cylinder_volume;
+    double torque = rb_plant_axle_brake_torque(c, pc, p.atmosphere, s.omega[0] * c->wheel_radius);
+    double m_eff = c->mass + c->rotating_mass + 4 * c->wheelset_inertia / (c->wheel_radius * c->wheel_radius);
+    double expected = 4 * torque / c->wheel_radius / m_eff;
+    CHECK_CLOSE(-s.a[0], expected, 2e-3, 0);
+    CHECK_CLOSE(pc, in.pressure_demand[0], 0.02, 0);
+    CHECK(s.omega[0] * c->wheel_radius < s.v[0]);      /* small braking creep */
+    CHECK(s.v[0] > 30.0);
+}
+
+/* Air: every kilogram is in a volume, vented, or came from the compressor. */
+static void test_air_conservation(void)
+{
+    rb_plant_params p;
+    rb_plant_state s;
+    rb_plant_inputs in;
+    fill_plant(&p, 4, 60.0);
+    p.governor_on = 9.45e5;   /* the compressor cuts in during the run */
+    p.n_faults = 1;
+    p.fault[0] = (rb_fault){RB_FAULT_CYLINDER_LEAK, 1, 2, 1.0, 2e-6};
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    for (int i = 0; i < 20000; ++i) {
+        double t = i * 1e-3;
+        for (int c = 0; c < 4; ++c) in.pressure_demand[c] = p.atmosphere + (fmod(t, 4.0) < 2.0 ? 3.8e5 : 0.0);
+        for (int a = 0; a < 16; ++a) { in.vent[a] = fmod(t + a * 0.1, 1.0) < 0.2; in.hold[a] = in.vent[a]; }
+        rb_plant_step(&p, &s, &in);
+    }
+    double balance = rb_plant_air_mass(&p, &s) + s.m_vented - s.m_compressed;
+    CHECK_CLOSE(balance, s.m_initial, 1e-10, 0);
+    CHECK(s.m_vented > 0.01);
+    CHECK(s.m_compressed > 0.0);
+}
+
+/* A dry emergency stop from 250 km/h with 8 cars stops inside 3000 m without locking. */
+static void test_emergency_stop(void)
+{
+    static rb_plant_params p;
+    static rb_bcu_params b;
+    static rb_run_state r;
+    static double series[1];
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+    rb_kpis k;
+    int finished = 0;
+    fill_plant(&p, 8, 250 / 3.6);
+    memset(&b, 0, sizeof b);
+    b.n_cars = 8; b.cycle = 0.01; b.atmosphere = p.atmosphere;
+    b.service_decel = 1.0; b.emergency_decel = 1.2; b.wsp_enabled = 1;
+    rb_bcu_pressure_map(&p, p.atmosphere + 3.8e5, &b);
+    CHECK(rb_run_init(&p, &b, NULL, &sc, &r, NULL) == RB_OK);
+    CHECK(rb_run_advance(&p, &b, &sc, &r, 1e9, series, 1, &finished, NULL) == RB_OK);
+    rb_run_kpis(&p, &r, &k);
+    printf("emergency 250 dry: %.1f m, %.1f s, lock events %g, utilisation %.3f, air %.4f kg, balance %.2e\n",
+           k.stopping_distance_m, k.stopping_time_s, k.wheel_lock_events, k.adhesion_utilisation,
+           k.air_consumed_kg, k.air_balance_error);
+    CHECK(finished && k.stopped);
+    CHECK(k.stopping_distance_m < 3000.0);
+    CHECK(k.wheel_lock_events == 0);
+    CHECK(k.air_balance_error < 1e-9);
+}
+
+static void test_bad_parameters(void)
+{
+    rb_plant_params p;
+    rb_plant_state s;
+    rb_error err;
+    fill_plant(&p, 2, 10.0);
+    p.car[1].mass = -5.0;
+    CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "car[1].mass") != NULL);
+    fill_plant(&p, 2, 10.0);
+    p.n_faults = 1;
+    p.fault[0] = (rb_fault){RB_FAULT_VENT_STUCK_OPEN, 5, 0, 0.0, 0.0};
+    CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "fault[0].car = 5") != NULL);
+}
+
+int main(void)
+{
+    test_constant_torque_deceleration();
+    test_air_conservation();
+    test_emergency_stop();
+    test_bad_parameters();
+    return rb_test_summary("test_plant");
+}
