@@ -167,7 +167,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
 {
     int nch = rb_run_channel_count(plant->n_cars);
     while (!r->finished && r->out.time < t_until - 1e-9) {
-        if (r->out.time >= r->next_record - 1e-9) {
+        if (series && r->out.time >= r->next_record - 1e-9) {
             if (r->rows >= max_rows)
                 return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
             record(plant, r, bcu, sc, series + r->rows * (size_t)nch);
@@ -189,7 +189,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         r->stopped = r->braking && r->out.speed <= sc->stop_speed;
         if (r->stopped || r->out.time >= sc->max_time - 1e-9) {
             r->finished = 1;
-            if (r->rows < max_rows) {
+            if (series && r->rows < max_rows) {
                 record(plant, r, bcu, sc, series + r->rows * (size_t)nch);
                 r->rows++;
             }

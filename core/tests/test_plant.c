@@ -98,7 +98,6 @@ static void test_emergency_stop(void)
     static rb_plant_params p;
     static rb_bcu_params b;
     static rb_run_state r;
-    static double series[1];
     rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
     rb_kpis k;
     int finished = 0;
@@ -108,7 +107,7 @@ static void test_emergency_stop(void)
     b.service_decel = 1.0; b.emergency_decel = 1.2; b.wsp_enabled = 1;
     rb_bcu_pressure_map(&p, p.atmosphere + 3.8e5, &b);
     CHECK(rb_run_init(&p, &b, NULL, &sc, &r, NULL) == RB_OK);
-    CHECK(rb_run_advance(&p, &b, &sc, &r, 1e9, series, 1, &finished, NULL) == RB_OK);
+    CHECK(rb_run_advance(&p, &b, &sc, &r, 1e9, NULL, 0, &finished, NULL) == RB_OK);
     rb_run_kpis(&p, &r, &k);
     printf("emergency 250 dry: %.1f m, %.1f s, lock events %g, utilisation %.3f, air %.4f kg, balance %.2e\n",
            k.stopping_distance_m, k.stopping_time_s, k.wheel_lock_events, k.adhesion_utilisation,

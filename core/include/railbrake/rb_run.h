@@ -57,7 +57,8 @@ typedef struct {
 rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
                       const rb_scenario *scenario, rb_run_state *run, rb_error *err);
 /* Runs until time t_until, the stop or max_time, writing rows of rb_run_channel_count(n_cars)
- * values into series (max_rows rows). *finished = 1 when the run is over. */
+ * values into series (max_rows rows; series = NULL: no recording). *finished = 1 when the run
+ * is over. */
 rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_scenario *scenario,
                          rb_run_state *run, double t_until, double *series, size_t max_rows, int *finished,
                          rb_error *err);
