@@ -7,11 +7,16 @@ void rb_wsp_default_params(rb_wsp_params *p)
 {
     p->ref_decel_max = 1.6;       /* above the emergency deceleration */
     p->ref_accel_max = 0.5;
-    p->speed_threshold = 2.0 / 3.6;   /* 2 km/h ... */
-    p->slip_threshold = 0.02;         /* ... plus 2 % [T] */
-    p->decel_threshold = 3.5;         /* m/s^2 [T] */
+    /* Below the typical 2-5 km/h + a few % and 3-4 m/s^2 [T]: on wet rail the adhesion peak lies
+     * at a slip velocity of about 0.25 m/s (railbrake.adhesion heavy-rain), beyond which it falls. */
+    p->speed_threshold = 0.4;         /* m/s ... */
+    p->slip_threshold = 0.005;        /* ... plus 0.5 % */
+    p->decel_threshold = 2.5;         /* m/s^2 */
     p->reaccel_threshold = 0.3;
     p->release_fraction = 0.5;
+    p->reapply_on = 0.02;
+    p->reapply_off = 0.1;
+    p->reapply_time = 1.5;
     p->filter_time = 0.02;
     p->safety_time = 5.0;             /* 5-10 s [T] */
     p->min_speed = 1.5;
@@ -44,21 +49,35 @@ static void update_reference(rb_wsp_default *w, const rb_wsp_inputs *in)
 static int stuck_vent_suspected(const rb_wsp_inputs *in, int a)
 {
     double demand = in->demand[a] - in->atmosphere, cylinder = in->cylinder[a] - in->atmosphere;
-    return demand > 0.5e5 && cylinder < 0.3 * demand;
+    return demand > 0.5e5 && cylinder < 0.4 * demand;
 }
 
-static int next_mode(const rb_wsp_default *w, int mode, double dv, double threshold, double accel)
+static int next_mode(rb_wsp_default *w, int a, double dv, double threshold, double dt)
 {
     const rb_wsp_params *p = &w->p;
+    double accel = w->accel[a];
     int sliding = dv > threshold || -accel > p->decel_threshold;
-    switch (mode) {
+    switch (w->mode[a]) {
     case RB_WSP_APPLY: return sliding ? RB_WSP_VENT : RB_WSP_APPLY;
-    case RB_WSP_VENT: return accel > p->reaccel_threshold || dv < p->release_fraction * threshold ? RB_WSP_HOLD : RB_WSP_VENT;
+    case RB_WSP_VENT:
+        return accel > p->reaccel_threshold || dv < p->release_fraction * threshold ? RB_WSP_HOLD : RB_WSP_VENT;
     case RB_WSP_HOLD:
-        if (dv < p->release_fraction * threshold) return RB_WSP_APPLY;
+        if (dv < p->release_fraction * threshold) { w->reapply_clock[a] = 0.0; return RB_WSP_REAPPLY; }
         return sliding && accel < 0.0 ? RB_WSP_VENT : RB_WSP_HOLD;
-    default: return mode;
+    case RB_WSP_REAPPLY:
+        if (sliding) return RB_WSP_VENT;
+        w->reapply_clock[a] += dt;
+        return w->reapply_clock[a] > p->reapply_time ? RB_WSP_APPLY : RB_WSP_REAPPLY;
+    default: return w->mode[a];
     }
+}
+
+/* Hold valve closed during the off part of each re-apply pulse. */
+static int reapply_holds(const rb_wsp_default *w, int a)
+{
+    double period = w->p.reapply_on + w->p.reapply_off;
+    double phase = w->reapply_clock[a] - period * (double)(long)(w->reapply_clock[a] / period);
+    return phase >= w->p.reapply_on;
 }
 
 void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out)
@@ -83,16 +102,16 @@ void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands
         }
         if (w->mode[a] == RB_WSP_INHIBITED) continue;
         double threshold = p->speed_threshold + p->slip_threshold * w->reference;
-        w->mode[a] = w->reference < p->min_speed ? RB_WSP_APPLY
-                     : next_mode(w, w->mode[a], w->reference - v, threshold, w->accel[a]);
+        w->mode[a] = w->reference < p->min_speed ? RB_WSP_APPLY : next_mode(w, a, w->reference - v, threshold, dt);
         w->vent_time[a] = w->mode[a] == RB_WSP_VENT ? w->vent_time[a] + dt : 0.0;
         if (w->vent_time[a] > p->safety_time) {   /* a failed WSP must not remove the brake */
             w->mode[a] = RB_WSP_INHIBITED;
             w->trips++;
             continue;
         }
-        out->hold[a] = w->mode[a] == RB_WSP_VENT || w->mode[a] == RB_WSP_HOLD;
+        out->hold[a] = w->mode[a] == RB_WSP_VENT || w->mode[a] == RB_WSP_HOLD
+                       || (w->mode[a] == RB_WSP_REAPPLY && reapply_holds(w, a));
         out->vent[a] = w->mode[a] == RB_WSP_VENT;
-        out->active[a] = out->hold[a];
+        out->active[a] = w->mode[a] != RB_WSP_APPLY;
     }
 }

@@ -221,7 +221,7 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
                                                                      p->resistance_c, v) * car->mass / total_mass
                                     : 0.0;
         double mass = car->mass + car->rotating_mass;
-        double other = coupler[c + 1] - coupler[c] - resistance;
+        double other = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
         double rail = step_wheelsets(p, s, c, other, mass, f);
         s->a[c] = (rail + other) / mass;
     }

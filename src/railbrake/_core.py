@@ -97,3 +97,140 @@ rb_polach_peak = _declare("rb_polach_peak", c_int, c_double, c_double, POINTER(C
                           POINTER(PolachParamsC), c_double_p, c_double_p, _err_p)
 rb_conditioning_factor = _declare("rb_conditioning_factor", c_double, c_double, c_double, c_double)
 rb_polach_check = _declare("rb_polach_check", c_int, POINTER(PolachParamsC), _err_p)
+
+# ---------------------------------------------------------------- whole-train plant (rb_plant.h, rb_bcu.h, rb_run.h)
+
+from ctypes import c_char_p, c_long, c_uint8, c_uint64, c_void_p  # noqa: E402
+
+MAX_CARS = 16
+AXLES_PER_CAR = 4
+MAX_AXLES = MAX_CARS * AXLES_PER_CAR
+MAX_CONDITIONS = 4
+MAX_ZONES = 8
+MAX_FAULTS = 16
+ED_TABLE = 8
+MAX_DEMAND_STEPS = 16
+
+
+def _doubles(*names):
+    return [(n, c_double) for n in names]
+
+
+class PlantBrake(Structure):
+    _fields_ = _doubles("cylinder_area", "spring_force", "lever_ratio", "efficiency", "discs",
+                        "disc_radius", "pad_friction", "pad_friction_low", "pad_friction_speed")
+
+
+class PlantEd(Structure):
+    _fields_ = [("n", c_int), ("speed", c_double * ED_TABLE), ("force", c_double * ED_TABLE)]
+
+
+class PlantCar(Structure):
+    _fields_ = (_doubles("mass", "rotating_mass", "length")
+                + [("axle_position", c_double * AXLES_PER_CAR)]
+                + _doubles("wheel_radius", "wheelset_inertia")
+                + [("contact", CreepContact), ("brake", PlantBrake), ("motor", c_int), ("ed", PlantEd)]
+                + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
+                           "charge_area", "ep_area", "ep_tau", "ep_band", "relay_supply_area",
+                           "relay_exhaust_area", "relay_band", "hold_area", "vent_area", "valve_delay",
+                           "pipe_area"))
+
+
+class PlantCondition(Structure):
+    _fields_ = [("polach", PolachParamsC)] + _doubles("leading_factor", "recovery_axles")
+
+
+class TrackZone(Structure):
+    _fields_ = _doubles("x_start", "x_end") + [("condition", c_int)]
+
+
+class Fault(Structure):
+    _fields_ = [("kind", c_int), ("car", c_int), ("axle", c_int)] + _doubles("start_time", "value")
+
+
+FAULT_KINDS = ("hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
+               "sensor_lost", "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost",
+               "car_isolated", "compressor_off")
+
+
+class PlantParams(Structure):
+    _fields_ = ([("n_cars", c_int)]
+                + _doubles("dt", "temperature", "atmosphere", "discharge_coefficient", "critical_ratio")
+                + [("car", PlantCar * MAX_CARS)]
+                + _doubles("coupler_stiffness", "coupler_damping", "coupler_slack",
+                           "resistance_a", "resistance_b", "resistance_c")
+                + [("compressor_car", c_int)]
+                + _doubles("main_reservoir_volume", "main_reservoir_area", "compressor_flow",
+                           "governor_on", "governor_off", "initial_pressure", "initial_speed")
+                + [("n_conditions", c_int), ("condition", PlantCondition * MAX_CONDITIONS),
+                   ("n_zones", c_int), ("zone", TrackZone * MAX_ZONES), ("creep_speed_min", c_double),
+                   ("n_faults", c_int), ("fault", Fault * MAX_FAULTS), ("noise_seed", c_uint64)])
+
+
+class WspInputs(Structure):
+    _fields_ = (_doubles("time", "cycle") + [("n_axles", c_int)]
+                + [(n, c_double * MAX_AXLES) for n in ("wheel_speed", "cylinder", "demand")]
+                + [("atmosphere", c_double)])
+
+
+class WspCommands(Structure):
+    _fields_ = [(n, c_uint8 * MAX_AXLES) for n in ("hold", "vent", "active")]
+
+
+WSP_FUNCTION = ctypes.CFUNCTYPE(None, c_void_p, POINTER(WspInputs), POINTER(WspCommands))
+
+
+class WspParams(Structure):
+    _fields_ = _doubles("ref_decel_max", "ref_accel_max", "speed_threshold", "slip_threshold",
+                        "decel_threshold", "reaccel_threshold", "release_fraction", "reapply_on",
+                        "reapply_off", "reapply_time", "filter_time",
+                        "safety_time", "min_speed")
+
+
+class BcuParams(Structure):
+    _fields_ = ([("n_cars", c_int)]
+                + _doubles("cycle", "atmosphere", "service_decel", "emergency_decel")
+                + [("ed_in_emergency", c_int)]
+                + [(n, c_double * MAX_CARS) for n in ("car_mass", "pressure_offset", "pressure_gain",
+                                                      "pressure_max")]
+                + [("motor", c_int * MAX_CARS), ("wsp_enabled", c_int), ("wsp", WSP_FUNCTION),
+                   ("wsp_context", c_void_p)])
+
+
+class Scenario(Structure):
+    _fields_ = ([("n_demand", c_int)]
+                + [(n, c_double * MAX_DEMAND_STEPS) for n in ("demand_time", "demand_service",
+                                                              "demand_emergency")]
+                + _doubles("max_time", "stop_speed", "record_interval", "adhesion_interval"))
+
+
+KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max_slip",
+             "wheel_lock_events", "max_lock_duration_s", "air_consumed_kg", "adhesion_utilisation",
+             "safety_timer_trips", "air_balance_error", "stopped")
+
+
+class Kpis(Structure):
+    _fields_ = _doubles(*KPI_NAMES)
+
+
+rb_plant_params_size = _declare("rb_plant_params_size", c_size_t)
+rb_plant_state_size = _declare("rb_plant_state_size", c_size_t)
+rb_run_state_size = _declare("rb_run_state_size", c_size_t)
+rb_plant_check = _declare("rb_plant_check", c_int, POINTER(PlantParams), _err_p)
+rb_wsp_default_params = _declare("rb_wsp_default_params", None, POINTER(WspParams))
+rb_bcu_pressure_map = _declare("rb_bcu_pressure_map", None, POINTER(PlantParams), c_double,
+                               POINTER(BcuParams))
+rb_run_init = _declare("rb_run_init", c_int, POINTER(PlantParams), POINTER(BcuParams), POINTER(WspParams),
+                       POINTER(Scenario), c_void_p, _err_p)
+rb_run_advance = _declare("rb_run_advance", c_int, POINTER(PlantParams), POINTER(BcuParams),
+                          POINTER(Scenario), c_void_p, c_double, c_double_p, c_size_t, POINTER(c_int), _err_p)
+rb_run_kpis = _declare("rb_run_kpis", None, POINTER(PlantParams), c_void_p, POINTER(Kpis))
+rb_run_channel_count = _declare("rb_run_channel_count", c_int, c_int)
+rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
+                               c_size_t, _err_p)
+rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
+                          c_double_p, _err_p)
+
+if ctypes.sizeof(PlantParams) != rb_plant_params_size():
+    raise ImportError(f"rb_plant_params: ctypes size {ctypes.sizeof(PlantParams)} differs from the C core's "
+                      f"{rb_plant_params_size()}; src/railbrake/_core.py is out of date")

@@ -38,7 +38,14 @@ typedef void (*rb_wsp_function)(void *context, const rb_wsp_inputs *in, rb_wsp_c
 
 /* ---- the default WSP */
 
-typedef enum { RB_WSP_APPLY = 0, RB_WSP_VENT = 1, RB_WSP_HOLD = 2, RB_WSP_INHIBITED = 3, RB_WSP_ISOLATED = 4 } rb_wsp_mode;
+typedef enum {
+    RB_WSP_APPLY = 0,      /* brake as demanded */
+    RB_WSP_VENT = 1,       /* hold closed, vent open */
+    RB_WSP_HOLD = 2,       /* hold closed */
+    RB_WSP_REAPPLY = 3,    /* hold valve pulsed open: the pressure climbs back in steps */
+    RB_WSP_INHIBITED = 4,  /* safety timer tripped on commanded venting: WSP off on this axle */
+    RB_WSP_ISOLATED = 5    /* safety timer tripped on a cylinder vented without command: hold closed */
+} rb_wsp_mode;
 
 typedef struct {
     double ref_decel_max;      /* m/s^2, fastest fall of the reference speed */
@@ -48,6 +55,8 @@ typedef struct {
     double decel_threshold;    /* m/s^2, wheel deceleration that starts venting */
     double reaccel_threshold;  /* m/s^2, wheel acceleration that ends venting (hold) */
     double release_fraction;   /* speed difference / its threshold below which the brake re-applies */
+    double reapply_on, reapply_off; /* s, hold-valve pulses while re-applying */
+    double reapply_time;       /* s without a new slide before the brake is fully re-applied */
     double filter_time;        /* s, wheel acceleration filter */
     double safety_time;        /* s, longest continuous venting (commanded or seen at the cylinder) */
     double min_speed;          /* m/s, WSP inactive below */
@@ -61,6 +70,7 @@ typedef struct {
     double last_speed[RB_MAX_AXLES];
     double accel[RB_MAX_AXLES];           /* m/s^2, filtered */
     double vent_time[RB_MAX_AXLES];       /* s of continuous commanded venting */
+    double reapply_clock[RB_MAX_AXLES];   /* s since re-application started */
     double low_time[RB_MAX_AXLES];        /* s of cylinder far below demand without a command */
     int trips;
 } rb_wsp_default;

@@ -1,0 +1,220 @@
+"""Scenario files for the whole-train simulation (versioned YAML schema ``railbrake.scenario/1``).
+
+Every physical quantity carries its unit ("300 km/h", "2 s", "300 m"); a missing or unknown unit,
+an unknown key, a wrong type or a fault on a car that does not exist is an InputError naming the
+key and its line in the file. Presets live in railbrake/data/scenarios/. Schema reference:
+docs/simulation.md.
+"""
+
+from __future__ import annotations
+
+import re
+from importlib import resources
+from pathlib import Path
+from typing import Annotated, Literal
+
+import yaml
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+
+from railbrake import config
+from railbrake.errors import InputError
+
+SCHEMA = "railbrake.scenario/1"
+
+# unit -> (dimension, factor to SI)
+_UNITS = {
+    "km/h": ("speed", 1 / 3.6), "m/s": ("speed", 1.0),
+    "s": ("time", 1.0), "ms": ("time", 1e-3), "min": ("time", 60.0),
+    "m": ("length", 1.0), "km": ("length", 1e3),
+    "m/s^2": ("acceleration", 1.0), "m/s2": ("acceleration", 1.0),
+    "bar": ("pressure", 1e5), "kPa": ("pressure", 1e3), "Pa": ("pressure", 1.0),
+    "mm^2": ("area", 1e-6), "m^2": ("area", 1.0),
+}
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$")
+
+
+def _quantity(dimension: str):
+    allowed = [u for u, (d, _) in _UNITS.items() if d == dimension]
+
+    def parse(value):
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            raise ValueError(f"a unit is required ({dimension}: {', '.join(allowed)}), e.g. '{value} {allowed[0]}'")
+        if not isinstance(value, str):
+            raise ValueError(f"expected a quantity with a unit ({', '.join(allowed)})")
+        match = _QUANTITY.match(value)
+        if not match:
+            raise ValueError(f"expected '<number> <unit>' with a unit among {', '.join(allowed)}")
+        number, unit = float(match.group(1)), match.group(2)
+        if unit not in allowed:
+            raise ValueError(f"unit {unit!r} is not a {dimension} unit ({', '.join(allowed)})")
+        return number * _UNITS[unit][1]
+
+    return Annotated[float, BeforeValidator(parse)]
+
+
+Speed = _quantity("speed")
+Time = _quantity("time")
+Length = _quantity("length")
+Acceleration = _quantity("acceleration")
+Pressure = _quantity("pressure")
+Area = _quantity("area")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class Train(_Strict):
+    preset: str = "crh380al-16"
+    cars: int | None = Field(default=None, ge=1, le=16)
+
+
+class DemandStep(_Strict):
+    time: Time = Field(ge=0.0)
+    emergency: bool = False
+    service: float = Field(default=0.0, ge=0.0, le=1.0, description="fraction of full service")
+
+
+class Zone(_Strict):
+    start: Length
+    end: Length
+    condition: str
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if not self.end > self.start:
+            raise ValueError(f"end = {self.end} m must exceed start = {self.start} m")
+        return self
+
+
+class Adhesion(_Strict):
+    condition: str = "dry-medium"
+    zones: list[Zone] = Field(default_factory=list, max_length=8)
+
+
+class WspSettings(_Strict):
+    enabled: bool = True
+    speed_threshold: Speed | None = None
+    slip_threshold: float | None = Field(default=None, ge=0.0, le=0.5)
+    decel_threshold: Acceleration | None = None
+    reaccel_threshold: Acceleration | None = None
+    ref_decel_max: Acceleration | None = None
+    safety_time: Time | None = None
+    cycle: Time = 0.01
+
+
+FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
+                    "sensor_lost", "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost",
+                    "car_isolated", "compressor_off"]
+
+
+class FaultSpec(_Strict):
+    type: FaultType
+    car: int = Field(ge=1, description="1-based")
+    axle: int | None = Field(default=None, ge=1, le=4, description="1-based; omitted: every axle of the car")
+    start: Time = Field(default=0.0, ge=0.0)
+    noise: Speed | None = None
+    leak_area: Area | None = None
+
+
+class Stop(_Strict):
+    speed: Speed = 0.05
+    max_time: Time = 300.0
+
+
+class Outputs(_Strict):
+    record_interval: Time = 0.02
+
+
+class ScenarioFile(_Strict):
+    schema_: str = Field(alias="schema")
+    name: str
+    title: str = ""
+    train: Train = Field(default_factory=Train)
+    initial_speed: Speed
+    demand: list[DemandStep] = Field(min_length=1, max_length=16)
+    adhesion: Adhesion = Field(default_factory=Adhesion)
+    wsp: WspSettings = Field(default_factory=WspSettings)
+    faults: list[FaultSpec] = Field(default_factory=list, max_length=16)
+    stop: Stop = Field(default_factory=Stop)
+    outputs: Outputs = Field(default_factory=Outputs)
+    seed: int = Field(default=1, ge=0)
+    source: str = ""
+
+
+class Scenario:
+    """A validated scenario plus where each key sits in its file (for later error messages)."""
+
+    def __init__(self, spec: ScenarioFile, origin: str, lines: dict):
+        self.spec = spec
+        self.origin = origin
+        self._lines = lines
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    def where(self, *key) -> str:
+        line = config._line_of(self._lines, key) if self._lines else None
+        dotted = ".".join(str(k) for k in key)
+        return f"{self.origin}{f', line {line}' if line else ''}: {dotted}"
+
+    def cars(self, override: int | None = None) -> int:
+        from railbrake.simulation.train import load_train
+        if override is not None:
+            if not 1 <= override <= 16:
+                raise InputError(f"cars = {override}: must be in [1, 16]")
+            return override
+        if self.spec.train.cars is not None:
+            return self.spec.train.cars
+        return load_train(self.spec.train.preset).cars
+
+    def check_cars(self, n_cars: int) -> None:
+        """Faults must name cars of the train."""
+        for i, fault in enumerate(self.spec.faults):
+            if fault.car > n_cars:
+                raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: the train has cars 1..{n_cars}")
+
+
+def _preset_dir():
+    return resources.files("railbrake") / "data" / "scenarios"
+
+
+def preset_names() -> list[str]:
+    return sorted(p.name[:-5] for p in _preset_dir().iterdir() if p.name.endswith(".yaml"))
+
+
+def parse(text: str, origin: str) -> Scenario:
+    spec = config.parse_yaml(text, ScenarioFile, origin)
+    node = yaml.compose(text)
+    lines = config._line_index(node)
+    scenario = Scenario(spec, origin, lines)
+    if spec.schema_ != SCHEMA:
+        raise InputError(f"{scenario.where('schema')} = {spec.schema_!r}: expected {SCHEMA!r}")
+    from railbrake.adhesion import load_condition
+    from railbrake.simulation.train import load_train
+    for key, name in [(("adhesion", "condition"), spec.adhesion.condition)] + [
+            (("adhesion", "zones", i, "condition"), z.condition) for i, z in enumerate(spec.adhesion.zones)]:
+        try:
+            load_condition(name)
+        except InputError:
+            raise InputError(f"{scenario.where(*key)} = {name!r}: not an adhesion preset or file") from None
+    try:
+        load_train(spec.train.preset)
+    except InputError as exc:
+        raise InputError(f"{scenario.where('train', 'preset')}: {exc}") from None
+    scenario.check_cars(scenario.cars())
+    return scenario
+
+
+def load(scenario: str | Path | Scenario) -> Scenario:
+    """A preset name, a YAML file, or a Scenario."""
+    if isinstance(scenario, Scenario):
+        return scenario
+    name = str(scenario)
+    if name in preset_names():
+        return parse((_preset_dir() / f"{name}.yaml").read_text(), f"preset {name}")
+    path = Path(name)
+    if path.is_file():
+        return parse(path.read_text(), str(path))
+    raise InputError(f"scenario = {name!r}: not a preset ({', '.join(preset_names())}) nor a file")

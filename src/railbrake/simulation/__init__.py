@@ -1,0 +1,240 @@
+"""Whole-train brake simulation with wheel-slide protection (model in the loop).
+
+Python sets the parameters up (ctypes structs) and calls the C core, which runs the BCU and the
+plant at a fixed 1 ms step into a preallocated array (core/src/plant*.c, bcu*.c, run.c). The run
+goes in chunks of simulated time so a caller can show progress. Model: docs/simulation.md.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from railbrake import _core
+from railbrake.adhesion import load_condition
+from railbrake.contact import wheel_rail_contact
+from railbrake.errors import InputError
+from railbrake.scenario import Scenario, load
+from railbrake.simulation.train import TrainData, ed_force_train, load_train
+
+DT = 1e-3
+ATMOSPHERE = 1.01325e5
+CYLINDER_MAX = ATMOSPHERE + 3.8e5   # UIC distributor maximum, 3.8 bar [P]
+EMERGENCY_DECEL = 1.2               # m/s^2, below the CRH380AL's 1.35 [P]
+SERVICE_DECEL = 1.0                 # m/s^2 [T]
+CHUNK = 2.0                         # s of simulated time per C call
+
+
+@dataclass
+class Result:
+    scenario: str
+    cars: int
+    wsp: bool
+    time: np.ndarray
+    outputs: dict          # channel name -> array (SI)
+    units: dict            # channel name -> SI unit
+    kpis: dict
+
+    def axle_channels(self, quantity: str) -> list[str]:
+        return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" in n.split("_c")[-1]]
+
+    def car_channels(self, quantity: str) -> list[str]:
+        return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" not in n.split("_c")[-1]]
+
+
+# ------------------------------------------------------------------ parameters
+
+def _car(train: TrainData, index: int, n_cars: int) -> _core.PlantCar:
+    """One car's physical and pneumatic parameters (typical values [T], docs/simulation.md)."""
+    mass = train.mass_t * 1e3 / train.cars
+    r = train.wheel_radius
+    car = _core.PlantCar()
+    car.mass = mass
+    # rotating-mass factor covers wheelsets (modelled as such) and motors (added as mass)
+    car.rotating_mass = max(train.rotating_mass_factor * mass - 4 * train.wheelset_inertia / r**2, 0.0)
+    car.length = train.car_length
+    for k, x in enumerate((2.5, 5.0, train.car_length - 5.0, train.car_length - 2.5)):
+        car.axle_position[k] = x
+    car.wheel_radius = r
+    car.wheelset_inertia = train.wheelset_inertia
+    contact = wheel_rail_contact(wheel_radius=r, axle_load=mass / 4)
+    car.contact = contact.creep_contact()
+    car.brake = _core.PlantBrake(0.024, 1500.0, 3.0, 0.92, train.discs_per_axle, train.disc_radius,
+                                 train.pad_friction, train.pad_friction_low, 100 / 3.6 * train.disc_radius / r)
+    car.motor = int(index + 1 in train.motor_cars)
+    if car.motor:
+        speeds = np.linspace(0.0, 100.0, _core.ED_TABLE)
+        car.ed.n = _core.ED_TABLE
+        for i, v in enumerate(speeds):
+            car.ed.speed[i] = v
+            car.ed.force[i] = ed_force_train(v) / train.ed_train_motor_cars
+    car.supply_volume, car.pilot_volume, car.relay_volume = 0.1, 0.5e-3, 1.0e-3
+    car.cylinder_volume, car.pipe_volume = 1.5e-3, math.pi / 4 * 0.025**2 * train.car_length
+    car.charge_area, car.ep_area, car.ep_tau, car.ep_band = 7e-6, 3e-6, 0.1, 0.1e5
+    car.relay_supply_area, car.relay_exhaust_area, car.relay_band = 20e-6, 20e-6, 0.1e5
+    car.hold_area, car.vent_area, car.valve_delay, car.pipe_area = 15e-6, 40e-6, 0.015, 100e-6
+    return car
+
+
+def _condition(name: str) -> _core.PlantCondition:
+    cond = load_condition(name)
+    c = _core.PlantCondition()
+    c.polach = cond.params.to_c()
+    c.leading_factor = cond.conditioning.leading_factor if cond.conditioning else 1.0
+    c.recovery_axles = cond.conditioning.recovery_axles if cond.conditioning else 0.0
+    return c
+
+
+_FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
+
+
+def plant_params(scenario: Scenario, n_cars: int) -> _core.PlantParams:
+    spec = scenario.spec
+    train = load_train(spec.train.preset)
+    p = _core.PlantParams()
+    p.n_cars, p.dt, p.temperature, p.atmosphere = n_cars, DT, 293.15, ATMOSPHERE
+    p.discharge_coefficient, p.critical_ratio = 0.8, 0.528
+    for i in range(n_cars):
+        p.car[i] = _car(train, i, n_cars)
+    p.coupler_stiffness, p.coupler_damping, p.coupler_slack = 1e7, 2e5, 0.005
+    share = n_cars / train.resistance_cars
+    a, b, c = train.resistance_kn
+    p.resistance_a, p.resistance_b, p.resistance_c = a * 1e3 * share, b * 1e3 * 3.6 * share, c * 1e3 * 3.6**2 * share
+    p.compressor_car = 0
+    p.main_reservoir_volume, p.main_reservoir_area = 0.05 * n_cars, 100e-6
+    p.compressor_flow, p.governor_on, p.governor_off = 0.03, 8.5e5, 10.0e5
+    p.initial_pressure, p.initial_speed = 9.5e5, spec.initial_speed
+    names = [spec.adhesion.condition] + [z.condition for z in spec.adhesion.zones]
+    unique = list(dict.fromkeys(names))
+    if len(unique) > _core.MAX_CONDITIONS:
+        raise InputError(f"{scenario.where('adhesion', 'zones')}: at most {_core.MAX_CONDITIONS} conditions")
+    p.n_conditions = len(unique)
+    for i, name in enumerate(unique):
+        p.condition[i] = _condition(name)
+    p.n_zones = len(spec.adhesion.zones)
+    for i, z in enumerate(spec.adhesion.zones):
+        p.zone[i] = _core.TrackZone(z.start, z.end, unique.index(z.condition))
+    p.creep_speed_min = 1.0
+    scenario.check_cars(n_cars)
+    p.n_faults = len(spec.faults)
+    for i, f in enumerate(spec.faults):
+        value = f.noise if f.type == "sensor_noisy" else f.leak_area if f.type == "cylinder_leak" else None
+        if value is None and f.type in ("sensor_noisy", "cylinder_leak"):
+            key = "noise" if f.type == "sensor_noisy" else "leak_area"
+            raise InputError(f"{scenario.where('faults', i, 'type')}: a {f.type} fault needs {key}")
+        p.fault[i] = _core.Fault(_FAULT_INDEX[f.type], f.car - 1, -1 if f.axle is None else f.axle - 1,
+                                 f.start, value or 0.0)
+    p.noise_seed = spec.seed
+    _core.call(_core.rb_plant_check, ctypes.byref(p))
+    return p
+
+
+def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
+    w = _core.WspParams()
+    _core.rb_wsp_default_params(ctypes.byref(w))
+    if scenario is not None:
+        for key in ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold",
+                    "ref_decel_max", "safety_time"):
+            value = getattr(scenario.spec.wsp, key)
+            if value is not None:
+                setattr(w, key, value)
+    return w
+
+
+def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool) -> _core.BcuParams:
+    b = _core.BcuParams()
+    b.n_cars, b.cycle, b.atmosphere = plant.n_cars, scenario.spec.wsp.cycle, ATMOSPHERE
+    b.service_decel, b.emergency_decel, b.ed_in_emergency = SERVICE_DECEL, EMERGENCY_DECEL, 0
+    _core.rb_bcu_pressure_map(ctypes.byref(plant), CYLINDER_MAX, ctypes.byref(b))
+    b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
+    return b
+
+
+def _scenario_struct(scenario: Scenario) -> _core.Scenario:
+    spec = scenario.spec
+    s = _core.Scenario()
+    s.n_demand = len(spec.demand)
+    for i, d in enumerate(spec.demand):
+        s.demand_time[i], s.demand_service[i], s.demand_emergency[i] = d.time, d.service, float(d.emergency)
+    s.max_time, s.stop_speed = spec.stop.max_time, spec.stop.speed
+    s.record_interval, s.adhesion_interval = spec.outputs.record_interval, 0.1
+    return s
+
+
+def channels(n_cars: int) -> list[tuple[str, str]]:
+    name, unit = ctypes.create_string_buffer(64), ctypes.create_string_buffer(16)
+    out = []
+    for i in range(_core.rb_run_channel_count(n_cars)):
+        _core.call(_core.rb_run_channel_info, i, n_cars, name, 64, unit, 16)
+        out.append((name.value.decode(), unit.value.decode()))
+    return out
+
+
+# ------------------------------------------------------------------ running
+
+WspCallback = Callable[[_core.WspInputs, _core.WspCommands], None]
+
+
+def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
+        wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
+        record: bool = True) -> Result:
+    """Run a scenario (preset name, file or Scenario) in the C core.
+
+    cars: override the train's number of cars; wsp=False: no WSP (valves never commanded);
+    wsp_function(inputs, commands): a Python WSP replacing the default (prototyping; slower);
+    progress(t, v): called after each chunk of simulated time with the time and speed (SI).
+    """
+    sc = load(scenario)
+    n_cars = sc.cars(cars)
+    plant = plant_params(sc, n_cars)
+    bcu = bcu_params(plant, sc, wsp)
+    callback = None
+    if wsp_function is not None:
+        def _adapter(_context, inputs, commands):
+            wsp_function(inputs.contents, commands.contents)
+        callback = _core.WSP_FUNCTION(_adapter)
+        bcu.wsp = callback
+    wspp = wsp_params(sc)
+    spec = _scenario_struct(sc)
+    state = ctypes.create_string_buffer(_core.rb_run_state_size())
+    _core.call(_core.rb_run_init, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(wspp),
+               ctypes.byref(spec), state)
+    names = channels(n_cars)
+    rows = int(math.ceil(sc.spec.stop.max_time / sc.spec.outputs.record_interval)) + 3 if record else 0
+    series = np.zeros((rows, len(names)))
+    finished = ctypes.c_int(0)
+    t = 0.0
+    while not finished.value:
+        t += CHUNK
+        _core.call(_core.rb_run_advance, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(spec), state,
+                   t, _core.ptr(series) if record else None, rows, ctypes.byref(finished))
+        if progress is not None:
+            row = min(int(t / sc.spec.outputs.record_interval), rows - 1)
+            progress(min(t, sc.spec.stop.max_time), float(series[row, 1]) if record else math.nan)
+    kpis = _core.Kpis()
+    _core.rb_run_kpis(ctypes.byref(plant), state, ctypes.byref(kpis))
+    n_rows = int(np.count_nonzero(series[:, 0])) + 1 if record else 0
+    series = series[:n_rows]
+    outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
+    result = {k: getattr(kpis, k) for k in _core.KPI_NAMES}
+    for k in ("wheel_lock_events", "safety_timer_trips"):
+        result[k] = int(result[k])
+    result["stopped"] = bool(result["stopped"])
+    return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
+                  dict(names), result)
+
+
+def bench(cars: int = 16, steps: int = 20000) -> dict:
+    """The plant alone at 1 ms with the brakes applied on dry rail: timing measured in C."""
+    sc = load("emergency-250-dry")
+    plant = plant_params(sc, cars)
+    mean, p99 = ctypes.c_double(), ctypes.c_double()
+    _core.call(_core.rb_plant_bench, ctypes.byref(plant), CYLINDER_MAX, steps, ctypes.byref(mean),
+               ctypes.byref(p99))
+    return {"cars": cars, "realtime_factor": DT * 1e6 / mean.value,
+            "step_us_mean": mean.value, "step_us_p99": p99.value}
+
