@@ -73,6 +73,7 @@ static void transfer(air_ctx *x, double *mi, double vi, double ni, double *mj, d
 {
     if (area <= 0.0) return;
     double pi = *mi * x->rt / vi, pj = mj ? *mj * x->rt / vj : x->patm;
+    if (fabs(pi - pj) < 0.01) return;   /* balanced to 0.01 Pa: nothing worth moving */
     double q = rb_orifice_mass_flow_fast(pi, x->T, pj, x->T, area, x->cd, x->b);
     if (q == 0.0 || pi == pj) return;
     double equalise = fabs(pi - pj) / (x->rt * (ni / vi + (mj ? nj / vj : 0.0)));

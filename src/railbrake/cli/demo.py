@@ -6,15 +6,13 @@ from pathlib import Path
 
 import typer
 
-from railbrake.cli import adhesion as adhesion_cli
+from railbrake.cli import simulation as simulation_cli
 
 
 def register(app: typer.Typer) -> None:
     @app.command("demo")
-    def demo(out: Path = typer.Option(Path("out"), help="Folder for the plots.")):
-        """Heavy-rain creep-force curves on the leading and the fourth car, with plots."""
-        out.mkdir(parents=True, exist_ok=True)
-        adhesion_cli.list_conditions(json=False)
-        for axle in (0, 12):
-            adhesion_cli.curves(condition="heavy-rain", speed_kmh="20,60,160,300", axle=axle,
-                                plot=out / f"adhesion-heavy-rain-axle{axle}.png", json=False)
+    def demo(out: Path = typer.Option(Path("out"), help="Folder for the outputs and plots.")):
+        """16-car emergency brake from 300 km/h in heavy rain with WSP: KPIs, time series, plots."""
+        result = simulation_cli.run_scenario(simulation_cli.DEFAULT_SCENARIO, None, True, out, quiet=False)
+        simulation_cli.print_kpis(result)
+        typer.echo(f"outputs: {out}/")
