@@ -1,0 +1,40 @@
+"""`railbrake run` and `railbrake bench` from the command line."""
+
+import json
+
+import pyarrow.parquet as pq
+from typer.testing import CliRunner
+
+from railbrake.cli import app
+
+
+def test_run_writes_parquet_with_units_kpis_and_plots(tmp_path):
+    result = CliRunner().invoke(app, ["run", "emergency-250-dry", "--cars", "2", "--out", str(tmp_path), "--json"])
+    assert result.exit_code == 0, result.output
+    kpis = json.loads(result.output)
+    assert kpis["stopping_distance_m"] < 3000.0
+    assert json.loads((tmp_path / "kpis.json").read_text()) == kpis
+    table = pq.read_table(tmp_path / "timeseries.parquet")
+    assert table.schema.field("cylinder_c2a4").metadata[b"unit"] == b"Pa"
+    assert table.schema.field("speed").metadata[b"unit"] == b"m/s"
+    for plot in ("speed_distance", "cylinder_pressure", "slip", "valves", "reservoirs"):
+        assert (tmp_path / f"{plot}.png").stat().st_size > 1000
+
+
+def test_no_wsp_flag_turns_the_wsp_off():
+    result = CliRunner().invoke(app, ["run", "emergency-300-leaves-patch", "--cars", "1", "--no-wsp", "--json"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.output)["air_consumed_kg"] == 0.0
+
+
+def test_bench_json():
+    result = CliRunner().invoke(app, ["bench", "--cars", "2", "--steps", "1000", "--json"])
+    assert result.exit_code == 0, result.output
+    figures = json.loads(result.output)
+    assert figures["cars"] == 2 and figures["realtime_factor"] > 1.0
+
+
+def test_unknown_scenario_exits_non_zero():
+    result = CliRunner().invoke(app, ["run", "no-such-scenario"])
+    assert result.exit_code == 2
+    assert "no-such-scenario" in result.output
