@@ -35,6 +35,7 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
     CHECK_CAR(rb_check_range, brake.pad_friction, 0.0, 1.0);
     CHECK_CAR(rb_check_range, brake.pad_friction_low, 0.0, 1.0);
     CHECK_CAR(rb_check_positive, brake.pad_friction_speed);
+    CHECK_CAR(rb_check_positive, ed_tau);
     CHECK_CAR(rb_check_positive, supply_volume);
     CHECK_CAR(rb_check_positive, pilot_volume);
     CHECK_CAR(rb_check_positive, relay_volume);

@@ -217,7 +217,8 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
         double v = s->v[c];
         double ed_max = car->motor && !f->ed_lost[c] && v > 0.0 ? rb_pending_ed_force_max(&car->ed, v) : 0.0;
         double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
-        s->ed_force[c] = ed < ed_max ? ed : ed_max;
+        double ed_target = ed < ed_max ? ed : ed_max;
+        s->ed_force[c] += (ed_target - s->ed_force[c]) * p->dt / (car->ed_tau + p->dt);
         double resistance = v > 0.0 ? rb_pending_running_resistance(p->resistance_a, p->resistance_b,
                                                                      p->resistance_c, v) * car->mass / total_mass
                                     : 0.0;

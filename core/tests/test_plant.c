@@ -20,6 +20,7 @@ static void fill_car(rb_plant_car *c)
     c->wheelset_inertia = 120.0;
     c->contact = (rb_creep_contact){6.0e-3, 5.0e-3, 4.5, 8.1e10};
     c->brake = (rb_plant_brake){0.0314, 1500.0, 3.0, 0.92, 3.0, 0.247, 0.35, 0.40, 5.0};
+    c->ed_tau = 0.3;
     c->supply_volume = 0.1; c->pilot_volume = 0.5e-3; c->relay_volume = 1.0e-3;
     c->cylinder_volume = 1.5e-3; c->pipe_volume = 0.0123;
     c->charge_area = 7e-6; c->ep_area = 3e-6; c->ep_tau = 0.1; c->ep_band = 0.1e5;

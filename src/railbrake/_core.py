@@ -129,7 +129,7 @@ class PlantCar(Structure):
     _fields_ = (_doubles("mass", "rotating_mass", "length")
                 + [("axle_position", c_double * AXLES_PER_CAR)]
                 + _doubles("wheel_radius", "wheelset_inertia")
-                + [("contact", CreepContact), ("brake", PlantBrake), ("motor", c_int), ("ed", PlantEd)]
+                + [("contact", CreepContact), ("brake", PlantBrake), ("motor", c_int), ("ed", PlantEd), ("ed_tau", c_double)]
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
                            "charge_area", "ep_area", "ep_tau", "ep_band", "relay_supply_area",
                            "relay_exhaust_area", "relay_band", "hold_area", "vent_area", "valve_delay",

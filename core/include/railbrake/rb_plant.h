@@ -74,6 +74,7 @@ typedef struct {
     rb_plant_brake brake;
     int motor;                /* 1: ED brake available */
     rb_plant_ed ed;
+    double ed_tau;            /* s, ED force response (first-order lag) */
     /* pneumatics */
     double supply_volume, pilot_volume, relay_volume, cylinder_volume, pipe_volume; /* m^3 */
     double charge_area;       /* m^2, check valve + choke from the MR pipe to the supply reservoir */

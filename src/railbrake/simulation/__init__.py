@@ -72,6 +72,7 @@ def _car(train: TrainData, index: int, n_cars: int) -> _core.PlantCar:
         for i, v in enumerate(speeds):
             car.ed.speed[i] = v
             car.ed.force[i] = ed_force_train(v) / train.ed_train_motor_cars
+    car.ed_tau = 0.3   # s [T]
     car.supply_volume, car.pilot_volume, car.relay_volume = 0.1, 0.5e-3, 1.0e-3
     car.cylinder_volume, car.pipe_volume = 1.5e-3, math.pi / 4 * 0.025**2 * train.car_length
     car.charge_area, car.ep_area, car.ep_tau, car.ep_band = 7e-6, 3e-6, 0.1, 0.1e5

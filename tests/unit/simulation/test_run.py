@@ -8,7 +8,7 @@ no wheel lock, safety timer on continuous venting [T] (section 5).
 import numpy as np
 import pytest
 
-from railbrake import _core, simulation
+from railbrake import _core, scenario, simulation
 
 ATM = 1.01325e5
 
@@ -113,3 +113,31 @@ def test_channel_layout_names_every_axle():
     names = [n for n, _ in simulation.channels(2)]
     assert len(names) == _core.rb_run_channel_count(2)
     assert "cylinder_c2a4" in names and "supply_c2" in names
+
+
+def _gauge_bar(result, name, t):
+    return (result.outputs[name][np.searchsorted(result.time, t)] - ATM) / 1e5
+
+
+def test_service_brake_blends_ed_and_pneumatic():
+    """Motor cars brake electrodynamically first; the pneumatic brake tops them up."""
+    r = simulation.run("service-200-wet")
+    assert r.outputs["ed_force_c2"][np.searchsorted(r.time, 20.0)] > 30e3
+    assert r.outputs["ed_force_c1"].max() == 0.0   # trailer
+    assert _gauge_bar(r, "cylinder_c2a1", 20.0) < 0.7 * _gauge_bar(r, "cylinder_c1a1", 20.0)
+    assert r.kpis["mean_deceleration"] == pytest.approx(1.0, rel=0.1)
+
+
+def test_lost_ed_brake_is_replaced_by_the_pneumatic_brake():
+    source = """schema: railbrake.scenario/1
+name: ed-lost
+train: {preset: crh380a-8}
+initial_speed: 200 km/h
+demand: [{time: 0 s, service: 1.0}]
+adhesion: {condition: wet}
+faults: [{type: ed_lost, car: 2, start: 0 s}]
+"""
+    r = simulation.run(scenario.parse(source, "ed-lost"))
+    assert r.outputs["ed_force_c2"].max() == 0.0
+    assert r.outputs["ed_force_c3"].max() > 30e3
+    assert _gauge_bar(r, "cylinder_c2a1", 20.0) == pytest.approx(_gauge_bar(r, "cylinder_c1a1", 20.0), rel=0.02)
