@@ -141,3 +141,47 @@ faults: [{type: ed_lost, car: 2, start: 0 s}]
     assert r.outputs["ed_force_c2"].max() == 0.0
     assert r.outputs["ed_force_c3"].max() > 30e3
     assert _gauge_bar(r, "cylinder_c2a1", 20.0) == pytest.approx(_gauge_bar(r, "cylinder_c1a1", 20.0), rel=0.02)
+
+
+@pytest.mark.parametrize("name", ["emergency-250-dry", "service-200-wet", "emergency-300-leaves-patch",
+                                  "fault-vent-valve-stuck"])
+def test_every_preset_is_stable_at_1_ms(name):
+    r = simulation.run(name, cars=4)
+    assert r.kpis["stopped"]
+    assert all(np.all(np.isfinite(v)) for v in r.outputs.values())
+    speed = r.outputs["speed"]
+    assert np.all(np.diff(speed) <= 1e-9)   # braking never speeds the train up
+    assert r.kpis["air_balance_error"] < 1e-9
+
+
+def _run_with_faults(faults: str, cars: int = 2):
+    source = f"""schema: railbrake.scenario/1
+name: faults
+train: {{preset: crh380a-8, cars: {cars}}}
+initial_speed: 250 km/h
+demand: [{{time: 0 s, emergency: true}}]
+adhesion: {{condition: wet}}
+faults: {faults}
+seed: 7
+"""
+    return simulation.run(scenario.parse(source, "faults"))
+
+
+def test_noisy_sensor_is_deterministic_and_lost_sensor_leaves_the_axle_braking():
+    faults = ("[{type: sensor_noisy, car: 1, axle: 1, start: 0 s, noise: 0.5 km/h},"
+              " {type: sensor_lost, car: 2, axle: 3, start: 1 s}]")
+    a, b = _run_with_faults(faults), _run_with_faults(faults)
+    assert a.kpis == b.kpis
+    assert a.kpis["stopped"] and a.kpis["wheel_lock_events"] == 0
+    assert a.outputs["vent_c2a3"].max() == 0.0
+
+
+def test_isolated_car_and_cylinder_leak():
+    r = _run_with_faults("[{type: car_isolated, car: 2, start: 0 s},"
+                         " {type: cylinder_leak, car: 1, axle: 4, start: 0 s, leak_area: 0.5 mm^2}]")
+    late = r.time > 10.0
+    assert np.all(r.outputs["cylinder_c2a1"][late] - ATM < 0.05e5)   # no brake on car 2
+    leak, sound = r.outputs["cylinder_c1a4"][late], r.outputs["cylinder_c1a1"][late]
+    assert np.all(leak < sound) and np.all(leak - ATM > 0.5 * (sound - ATM))   # the relay keeps it up
+    assert r.kpis["air_consumed_kg"] > 0.01
+    assert r.kpis["stopped"]
