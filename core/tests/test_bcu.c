@@ -1,0 +1,98 @@
+/* Default WSP on synthetic wheel speeds: detection, vent/hold/re-apply, safety timer. */
+#include "rb_test.h"
+#include "railbrake/rb_bcu.h"
+
+#include <string.h>
+
+static rb_wsp_inputs inputs(double t, double train, double axle0)
+{
+    rb_wsp_inputs in;
+    memset(&in, 0, sizeof in);
+    in.time = t; in.cycle = 0.01; in.n_axles = 4; in.atmosphere = 1e5;
+    for (int a = 0; a < 4; ++a) { in.wheel_speed[a] = train; in.cylinder[a] = 4e5; in.demand[a] = 4e5; }
+    in.wheel_speed[0] = axle0;
+    return in;
+}
+
+static void test_slide_cycle(void)
+{
+    rb_wsp_params p;
+    rb_wsp_default w;
+    rb_wsp_commands out;
+    rb_wsp_default_params(&p);
+    rb_wsp_default_reset(&w, &p);
+    double t = 0.0, v = 50.0, axle = 50.0;
+    rb_wsp_inputs in = inputs(t, v, axle);
+    rb_wsp_default_step(&w, &in, &out);
+    CHECK(out.vent[0] == 0 && out.hold[0] == 0);
+    /* axle 0 decelerates at 5 m/s^2 while the train does 1 m/s^2: vent within 3 cycles */
+    int vent_at = -1;
+    for (int i = 1; i < 50 && vent_at < 0; ++i) {
+        t += 0.01; v -= 0.01; axle -= 0.05;
+        in = inputs(t, v, axle);
+        rb_wsp_default_step(&w, &in, &out);
+        if (out.vent[0]) vent_at = i;
+        CHECK(out.vent[1] == 0 && out.hold[1] == 0);
+    }
+    CHECK(vent_at > 0 && vent_at <= 3);
+    CHECK(out.hold[0] == 1);
+    /* the wheel recovers at +5 m/s^2: hold, then pulsed re-application, then apply */
+    int held = 0, pulsed = 0;
+    for (int i = 0; i < 400; ++i) {
+        t += 0.01; v -= 0.01; axle = axle + 0.05 < v ? axle + 0.05 : v;
+        in = inputs(t, v, axle);
+        rb_wsp_default_step(&w, &in, &out);
+        held |= out.hold[0] && !out.vent[0];
+        pulsed += w.mode[0] == RB_WSP_REAPPLY && !out.hold[0];
+    }
+    CHECK(held);
+    CHECK(pulsed > 0);
+    CHECK(w.mode[0] == RB_WSP_APPLY);
+    CHECK(w.trips == 0);
+}
+
+static void test_safety_timer_on_continuous_venting(void)
+{
+    rb_wsp_params p;
+    rb_wsp_default w;
+    rb_wsp_commands out;
+    rb_wsp_default_params(&p);
+    rb_wsp_default_reset(&w, &p);
+    /* axle 0 stays 5 m/s below the others (a slide that never ends, e.g. a bad sensor) */
+    double vented = 0.0;
+    for (int i = 0; i < 1000; ++i) {
+        rb_wsp_inputs in = inputs(i * 0.01, 50.0, 45.0);
+        rb_wsp_default_step(&w, &in, &out);
+        vented += out.vent[0] * 0.01;
+    }
+    CHECK(w.trips == 1);
+    CHECK(w.mode[0] == RB_WSP_INHIBITED);
+    CHECK(out.vent[0] == 0 && out.hold[0] == 0);
+    CHECK_CLOSE(vented, p.safety_time, 0.01, 0.02);
+}
+
+static void test_cylinder_vented_without_command_isolates_the_axle(void)
+{
+    rb_wsp_params p;
+    rb_wsp_default w;
+    rb_wsp_commands out;
+    rb_wsp_default_params(&p);
+    rb_wsp_default_reset(&w, &p);
+    for (int i = 0; i < 700; ++i) {
+        rb_wsp_inputs in = inputs(i * 0.01, 50.0, 50.0);
+        in.cylinder[2] = 1.2e5;   /* 0.2 bar against a 3 bar demand */
+        rb_wsp_default_step(&w, &in, &out);
+    }
+    CHECK(w.trips == 1);
+    CHECK(w.mode[2] == RB_WSP_ISOLATED);
+    CHECK(out.hold[2] == 1 && out.vent[2] == 0);
+    CHECK(out.hold[0] == 0);
+}
+
+int main(void)
+{
+    test_slide_cycle();
+    test_safety_timer_on_continuous_venting();
+    test_cylinder_vented_without_command_isolates_the_axle();
+    return rb_test_summary("test_bcu");
+}
