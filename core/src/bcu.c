@@ -57,6 +57,16 @@ static double car_pressure(const rb_bcu_params *p, int c, double force)
     return pressure < p->pressure_max[c] ? pressure : p->pressure_max[c];
 }
 
+/* Valves per bogie: an axle pair is held or vented when either of its axles asks for it. */
+static void share_bogie_commands(rb_wsp_commands *c, int n_axles)
+{
+    for (int a = 0; a + 1 < n_axles; a += 2) {
+        c->hold[a] = c->hold[a + 1] = c->hold[a] | c->hold[a + 1];
+        c->vent[a] = c->vent[a + 1] = c->vent[a] | c->vent[a + 1];
+        c->active[a] = c->active[a + 1] = c->active[a] | c->active[a + 1];
+    }
+}
+
 static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *d,
                       const rb_plant_outputs *out)
 {
@@ -87,6 +97,7 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
         if (p->wsp) p->wsp(p->wsp_context, w, &s->wsp);
         else rb_wsp_default_step(&s->wsp_default, w, &s->wsp);
     }
+    if (p->wsp_per_bogie) share_bogie_commands(&s->wsp, w->n_axles);
     memcpy(s->command.hold, s->wsp.hold, sizeof s->command.hold);
     memcpy(s->command.vent, s->wsp.vent, sizeof s->command.vent);
     s->last_cycle = out->time;

@@ -193,7 +193,8 @@ class BcuParams(Structure):
                 + [("ed_in_emergency", c_int)]
                 + [(n, c_double * MAX_CARS) for n in ("car_mass", "pressure_offset", "pressure_gain",
                                                       "pressure_max")]
-                + [("motor", c_int * MAX_CARS), ("wsp_enabled", c_int), ("wsp", WSP_FUNCTION),
+                + [("motor", c_int * MAX_CARS), ("wsp_enabled", c_int), ("wsp_per_bogie", c_int),
+                   ("wsp", WSP_FUNCTION),
                    ("wsp_context", c_void_p)])
 
 

@@ -94,6 +94,7 @@ class Adhesion(_Strict):
 
 class WspSettings(_Strict):
     enabled: bool = True
+    per_bogie: bool = False   # valves per bogie (both axles share the commands) instead of per axle
     speed_threshold: Speed | None = None
     slip_threshold: float | None = Field(default=None, ge=0.0, le=0.5)
     decel_threshold: Acceleration | None = None

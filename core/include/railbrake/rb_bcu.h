@@ -95,6 +95,7 @@ typedef struct {
     double pressure_max[RB_MAX_CARS];     /* Pa abs */
     int motor[RB_MAX_CARS];
     int wsp_enabled;
+    int wsp_per_bogie;                    /* 1: both axles of a bogie share their valve commands */
     rb_wsp_function wsp;                  /* NULL: the default WSP */
     void *wsp_context;
 } rb_bcu_params;

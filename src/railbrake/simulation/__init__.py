@@ -152,6 +152,7 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool) -> _core
     b.service_decel, b.emergency_decel, b.ed_in_emergency = SERVICE_DECEL, EMERGENCY_DECEL, 0
     _core.rb_bcu_pressure_map(ctypes.byref(plant), CYLINDER_MAX, ctypes.byref(b))
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
+    b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
     return b
 
 

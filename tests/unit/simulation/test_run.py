@@ -185,3 +185,22 @@ def test_isolated_car_and_cylinder_leak():
     assert np.all(leak < sound) and np.all(leak - ATM > 0.5 * (sound - ATM))   # the relay keeps it up
     assert r.kpis["air_consumed_kg"] > 0.01
     assert r.kpis["stopped"]
+
+
+def test_wsp_per_bogie_moves_both_axles_together():
+    source = """schema: railbrake.scenario/1
+name: bogie
+train: {preset: crh380a-8, cars: 2}
+initial_speed: 300 km/h
+demand: [{time: 0 s, emergency: true}]
+adhesion: {condition: heavy-rain}
+wsp: {per_bogie: true}
+stop: {max_time: 30 s}
+"""
+    r = simulation.run(scenario.parse(source, "bogie"))
+    o = r.outputs
+    for car in (1, 2):
+        assert o[f"vent_c{car}a1"].max() == 1.0
+        # valve states are commanded together; the plant switches them after the same delay
+        assert np.array_equal(o[f"vent_c{car}a1"], o[f"vent_c{car}a2"])
+        assert np.array_equal(o[f"hold_c{car}a3"], o[f"hold_c{car}a4"])
