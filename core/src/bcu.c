@@ -7,8 +7,8 @@ rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err)
 {
     rb_status s;
     if (!p) return rb_fail(err, RB_EINVAL, "bcu = NULL: BCU parameters are required");
-    if (p->n_cars < 1 || p->n_cars > RB_MAX_CARS)
-        return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must be in [1, %d]", p->n_cars, RB_MAX_CARS);
+    if (p->n_cars < 1 || p->n_cars > RB_PLANT_MAX_CARS)
+        return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must be in [1, %d]", p->n_cars, RB_PLANT_MAX_CARS);
     if ((s = rb_check_range(err, "bcu.cycle", p->cycle, 1e-4, 0.1))) return s;
     if ((s = rb_check_range(err, "bcu.service_decel", p->service_decel, 0.0, 3.0))) return s;
     if ((s = rb_check_range(err, "bcu.emergency_decel", p->emergency_decel, 0.0, 3.0))) return s;
@@ -29,7 +29,7 @@ rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_s
     rb_wsp_params defaults;
     rb_wsp_default_params(&defaults);
     rb_wsp_default_reset(&s->wsp_default, wsp ? wsp : &defaults);
-    for (int c = 0; c < RB_MAX_CARS; ++c) s->command.pressure_demand[c] = p->atmosphere;
+    for (int c = 0; c < RB_PLANT_MAX_CARS; ++c) s->command.pressure_demand[c] = p->atmosphere;
     return RB_OK;
 }
 

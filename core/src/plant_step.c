@@ -9,11 +9,11 @@
 
 /* Faults in force at this step, per axle and per car. */
 typedef struct {
-    signed char hold[RB_MAX_AXLES];   /* -1: as commanded, 0: stuck open, 1: stuck closed */
-    signed char vent[RB_MAX_AXLES];   /* -1: as commanded, 0: stuck closed, 1: stuck open */
-    double leak[RB_MAX_AXLES];        /* m^2 */
-    double noise_sd[RB_MAX_AXLES];    /* m/s */
-    uint8_t ep_failed[RB_MAX_CARS], ed_lost[RB_MAX_CARS], isolated[RB_MAX_CARS];
+    signed char hold[RB_PLANT_MAX_AXLES];   /* -1: as commanded, 0: stuck open, 1: stuck closed */
+    signed char vent[RB_PLANT_MAX_AXLES];   /* -1: as commanded, 0: stuck closed, 1: stuck open */
+    double leak[RB_PLANT_MAX_AXLES];        /* m^2 */
+    double noise_sd[RB_PLANT_MAX_AXLES];    /* m/s */
+    uint8_t ep_failed[RB_PLANT_MAX_CARS], ed_lost[RB_PLANT_MAX_CARS], isolated[RB_PLANT_MAX_CARS];
     int compressor_off;
 } active_faults;
 
@@ -207,7 +207,7 @@ static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c,
 static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                            const active_faults *f)
 {
-    double total_mass = 0.0, coupler[RB_MAX_CARS + 1] = {0.0};
+    double total_mass = 0.0, coupler[RB_PLANT_MAX_CARS + 1] = {0.0};
     for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].mass;
     for (int c = 0; c + 1 < p->n_cars; ++c)  /* tension positive */
         coupler[c + 1] = rb_pending_coupler_force(p->coupler_stiffness, p->coupler_damping, p->coupler_slack,

@@ -240,7 +240,7 @@ rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, l
     if (steps < 1) return rb_fail(err, RB_EINVAL, "steps = %ld: must be >= 1", steps);
     if ((st = rb_plant_init(plant, &s, err))) return st;
     memset(&in, 0, sizeof in);
-    for (int c = 0; c < RB_MAX_CARS; ++c) in.pressure_demand[c] = pressure_demand;
+    for (int c = 0; c < RB_PLANT_MAX_CARS; ++c) in.pressure_demand[c] = pressure_demand;
     double total = 0.0;
     for (long i = 0; i < steps; ++i) {
         double t0 = now_us();

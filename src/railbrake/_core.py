@@ -102,9 +102,9 @@ rb_polach_check = _declare("rb_polach_check", c_int, POINTER(PolachParamsC), _er
 
 from ctypes import c_char_p, c_long, c_uint8, c_uint64, c_void_p  # noqa: E402
 
-MAX_CARS = 16
+PLANT_MAX_CARS = 16
 AXLES_PER_CAR = 4
-MAX_AXLES = MAX_CARS * AXLES_PER_CAR
+PLANT_MAX_AXLES = PLANT_MAX_CARS * AXLES_PER_CAR
 MAX_CONDITIONS = 4
 MAX_ZONES = 8
 MAX_FAULTS = 16
@@ -156,7 +156,7 @@ FAULT_KINDS = ("hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_
 class PlantParams(Structure):
     _fields_ = ([("n_cars", c_int)]
                 + _doubles("dt", "temperature", "atmosphere", "discharge_coefficient", "critical_ratio")
-                + [("car", PlantCar * MAX_CARS)]
+                + [("car", PlantCar * PLANT_MAX_CARS)]
                 + _doubles("coupler_stiffness", "coupler_damping", "coupler_slack",
                            "resistance_a", "resistance_b", "resistance_c")
                 + [("compressor_car", c_int)]
@@ -169,12 +169,12 @@ class PlantParams(Structure):
 
 class WspInputs(Structure):
     _fields_ = (_doubles("time", "cycle") + [("n_axles", c_int)]
-                + [(n, c_double * MAX_AXLES) for n in ("wheel_speed", "cylinder", "demand")]
+                + [(n, c_double * PLANT_MAX_AXLES) for n in ("wheel_speed", "cylinder", "demand")]
                 + [("atmosphere", c_double)])
 
 
 class WspCommands(Structure):
-    _fields_ = [(n, c_uint8 * MAX_AXLES) for n in ("hold", "vent", "active")]
+    _fields_ = [(n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent", "active")]
 
 
 WSP_FUNCTION = ctypes.CFUNCTYPE(None, c_void_p, POINTER(WspInputs), POINTER(WspCommands))
@@ -191,9 +191,9 @@ class BcuParams(Structure):
     _fields_ = ([("n_cars", c_int)]
                 + _doubles("cycle", "atmosphere", "service_decel", "emergency_decel")
                 + [("ed_in_emergency", c_int)]
-                + [(n, c_double * MAX_CARS) for n in ("car_mass", "pressure_offset", "pressure_gain",
+                + [(n, c_double * PLANT_MAX_CARS) for n in ("car_mass", "pressure_offset", "pressure_gain",
                                                       "pressure_max")]
-                + [("motor", c_int * MAX_CARS), ("wsp_enabled", c_int), ("wsp_per_bogie", c_int),
+                + [("motor", c_int * PLANT_MAX_CARS), ("wsp_enabled", c_int), ("wsp_per_bogie", c_int),
                    ("wsp", WSP_FUNCTION),
                    ("wsp_context", c_void_p)])
 

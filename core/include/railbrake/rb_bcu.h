@@ -21,16 +21,16 @@ typedef struct {
     double time;                          /* s */
     double cycle;                         /* s, time since the previous call */
     int n_axles;
-    double wheel_speed[RB_MAX_AXLES];     /* m/s, measured; < 0: sensor lost */
-    double cylinder[RB_MAX_AXLES];        /* Pa */
-    double demand[RB_MAX_AXLES];          /* Pa, EP pressure demand of the axle's car */
+    double wheel_speed[RB_PLANT_MAX_AXLES];     /* m/s, measured; < 0: sensor lost */
+    double cylinder[RB_PLANT_MAX_AXLES];        /* Pa */
+    double demand[RB_PLANT_MAX_AXLES];          /* Pa, EP pressure demand of the axle's car */
     double atmosphere;                    /* Pa */
 } rb_wsp_inputs;
 
 typedef struct {
-    uint8_t hold[RB_MAX_AXLES];           /* 1: close the hold valve */
-    uint8_t vent[RB_MAX_AXLES];           /* 1: open the vent valve */
-    uint8_t active[RB_MAX_AXLES];         /* 1: the axle is under WSP control (ED is cut on its car) */
+    uint8_t hold[RB_PLANT_MAX_AXLES];           /* 1: close the hold valve */
+    uint8_t vent[RB_PLANT_MAX_AXLES];           /* 1: open the vent valve */
+    uint8_t active[RB_PLANT_MAX_AXLES];         /* 1: the axle is under WSP control (ED is cut on its car) */
 } rb_wsp_commands;
 
 /* A WSP algorithm: called every BCU cycle. context: the user's (or the default's) data. */
@@ -66,12 +66,12 @@ typedef struct {
     rb_wsp_params p;
     double reference;                     /* m/s */
     int initialised;
-    int mode[RB_MAX_AXLES];               /* rb_wsp_mode */
-    double last_speed[RB_MAX_AXLES];
-    double accel[RB_MAX_AXLES];           /* m/s^2, filtered */
-    double vent_time[RB_MAX_AXLES];       /* s of continuous commanded venting */
-    double reapply_clock[RB_MAX_AXLES];   /* s since re-application started */
-    double low_time[RB_MAX_AXLES];        /* s of cylinder far below demand without a command */
+    int mode[RB_PLANT_MAX_AXLES];               /* rb_wsp_mode */
+    double last_speed[RB_PLANT_MAX_AXLES];
+    double accel[RB_PLANT_MAX_AXLES];           /* m/s^2, filtered */
+    double vent_time[RB_PLANT_MAX_AXLES];       /* s of continuous commanded venting */
+    double reapply_clock[RB_PLANT_MAX_AXLES];   /* s since re-application started */
+    double low_time[RB_PLANT_MAX_AXLES];        /* s of cylinder far below demand without a command */
     int trips;
 } rb_wsp_default;
 
@@ -89,11 +89,11 @@ typedef struct {
     double service_decel;                 /* m/s^2 at full service demand */
     double emergency_decel;               /* m/s^2 */
     int ed_in_emergency;                  /* 0: pneumatic only in emergency */
-    double car_mass[RB_MAX_CARS];         /* kg, load-weighed (with rotating mass) */
-    double pressure_offset[RB_MAX_CARS];  /* Pa abs, demand at zero brake force */
-    double pressure_gain[RB_MAX_CARS];    /* Pa per N of pneumatic brake force of the car */
-    double pressure_max[RB_MAX_CARS];     /* Pa abs */
-    int motor[RB_MAX_CARS];
+    double car_mass[RB_PLANT_MAX_CARS];         /* kg, load-weighed (with rotating mass) */
+    double pressure_offset[RB_PLANT_MAX_CARS];  /* Pa abs, demand at zero brake force */
+    double pressure_gain[RB_PLANT_MAX_CARS];    /* Pa per N of pneumatic brake force of the car */
+    double pressure_max[RB_PLANT_MAX_CARS];     /* Pa abs */
+    int motor[RB_PLANT_MAX_CARS];
     int wsp_enabled;
     int wsp_per_bogie;                    /* 1: both axles of a bogie share their valve commands */
     rb_wsp_function wsp;                  /* NULL: the default WSP */

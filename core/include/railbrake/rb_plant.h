@@ -33,9 +33,9 @@
 extern "C" {
 #endif
 
-#define RB_MAX_CARS 16
+#define RB_PLANT_MAX_CARS 16
 #define RB_AXLES_PER_CAR 4
-#define RB_MAX_AXLES (RB_MAX_CARS * RB_AXLES_PER_CAR)
+#define RB_PLANT_MAX_AXLES (RB_PLANT_MAX_CARS * RB_AXLES_PER_CAR)
 #define RB_MAX_CONDITIONS 4
 #define RB_MAX_ZONES 8
 #define RB_MAX_FAULTS 16
@@ -129,7 +129,7 @@ typedef struct {
     double temperature;       /* K, air (isothermal model) */
     double atmosphere;        /* Pa */
     double discharge_coefficient, critical_ratio;
-    rb_plant_car car[RB_MAX_CARS];
+    rb_plant_car car[RB_PLANT_MAX_CARS];
     /* couplers (between car i and i+1) */
     double coupler_stiffness, coupler_damping, coupler_slack; /* N/m, N s/m, m */
     /* running resistance of the whole train: A + B v + C v^2 (N), shared by mass */
@@ -156,10 +156,10 @@ typedef struct {
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
 
 typedef struct {
-    double pressure_demand[RB_MAX_CARS]; /* Pa absolute, EP valve demand per car */
-    double ed_demand[RB_MAX_CARS];       /* N, ED brake force demand per car (>= 0) */
-    uint8_t hold[RB_MAX_AXLES];          /* 1: hold valve closed */
-    uint8_t vent[RB_MAX_AXLES];          /* 1: vent valve open */
+    double pressure_demand[RB_PLANT_MAX_CARS]; /* Pa absolute, EP valve demand per car */
+    double ed_demand[RB_PLANT_MAX_CARS];       /* N, ED brake force demand per car (>= 0) */
+    uint8_t hold[RB_PLANT_MAX_AXLES];          /* 1: hold valve closed */
+    uint8_t vent[RB_PLANT_MAX_AXLES];          /* 1: vent valve open */
 } rb_plant_inputs;
 
 typedef struct {
@@ -170,15 +170,15 @@ typedef struct {
     double main_reservoir;        /* Pa */
     double pipe_end;              /* Pa, MR pipe at the last car */
     int compressor_on;
-    double wheel_speed[RB_MAX_AXLES];    /* m/s peripheral, true */
-    double wheel_speed_measured[RB_MAX_AXLES]; /* m/s, sensor; < 0: sensor lost */
-    double slip[RB_MAX_AXLES];           /* (w r - v) / v, braking negative */
-    double adhesion[RB_MAX_AXLES];       /* F/Q used, braking negative */
-    double cylinder[RB_MAX_AXLES];       /* Pa */
-    uint8_t hold[RB_MAX_AXLES], vent[RB_MAX_AXLES]; /* actual valve states */
-    double supply[RB_MAX_CARS], pilot[RB_MAX_CARS], relay[RB_MAX_CARS]; /* Pa */
-    double ed_force[RB_MAX_CARS];        /* N, achieved */
-    double car_speed[RB_MAX_CARS];
+    double wheel_speed[RB_PLANT_MAX_AXLES];    /* m/s peripheral, true */
+    double wheel_speed_measured[RB_PLANT_MAX_AXLES]; /* m/s, sensor; < 0: sensor lost */
+    double slip[RB_PLANT_MAX_AXLES];           /* (w r - v) / v, braking negative */
+    double adhesion[RB_PLANT_MAX_AXLES];       /* F/Q used, braking negative */
+    double cylinder[RB_PLANT_MAX_AXLES];       /* Pa */
+    uint8_t hold[RB_PLANT_MAX_AXLES], vent[RB_PLANT_MAX_AXLES]; /* actual valve states */
+    double supply[RB_PLANT_MAX_CARS], pilot[RB_PLANT_MAX_CARS], relay[RB_PLANT_MAX_CARS]; /* Pa */
+    double ed_force[RB_PLANT_MAX_CARS];        /* N, achieved */
+    double car_speed[RB_PLANT_MAX_CARS];
     double air_in_system;         /* kg in every volume */
     double air_vented;            /* kg to the atmosphere since t = 0 */
     double air_compressed;        /* kg delivered by the compressor since t = 0 */
@@ -191,28 +191,28 @@ typedef struct {
     double time;
     /* air masses, kg */
     double m_mr;
-    double m_pipe[RB_MAX_CARS], m_supply[RB_MAX_CARS], m_pilot[RB_MAX_CARS], m_relay[RB_MAX_CARS];
-    double m_cyl[RB_MAX_AXLES];
+    double m_pipe[RB_PLANT_MAX_CARS], m_supply[RB_PLANT_MAX_CARS], m_pilot[RB_PLANT_MAX_CARS], m_relay[RB_PLANT_MAX_CARS];
+    double m_cyl[RB_PLANT_MAX_AXLES];
     double m_vented, m_compressed;
     int compressor_on;
-    double ep_demand_lag[RB_MAX_CARS];   /* Pa, EP valve's lagged demand */
+    double ep_demand_lag[RB_PLANT_MAX_CARS];   /* Pa, EP valve's lagged demand */
     /* WSP valves: actual state and the command waiting for the response delay */
-    uint8_t hold[RB_MAX_AXLES], vent[RB_MAX_AXLES];
-    uint8_t hold_pending[RB_MAX_AXLES], vent_pending[RB_MAX_AXLES];
-    double hold_timer[RB_MAX_AXLES], vent_timer[RB_MAX_AXLES];
-    uint8_t hold_effective[RB_MAX_AXLES], vent_effective[RB_MAX_AXLES]; /* with stuck faults */
+    uint8_t hold[RB_PLANT_MAX_AXLES], vent[RB_PLANT_MAX_AXLES];
+    uint8_t hold_pending[RB_PLANT_MAX_AXLES], vent_pending[RB_PLANT_MAX_AXLES];
+    double hold_timer[RB_PLANT_MAX_AXLES], vent_timer[RB_PLANT_MAX_AXLES];
+    uint8_t hold_effective[RB_PLANT_MAX_AXLES], vent_effective[RB_PLANT_MAX_AXLES]; /* with stuck faults */
     /* mechanics */
-    double x[RB_MAX_CARS], v[RB_MAX_CARS], a[RB_MAX_CARS];
-    double omega[RB_MAX_AXLES];
-    double force[RB_MAX_AXLES], coefficient[RB_MAX_AXLES];
-    double ed_force[RB_MAX_CARS];
+    double x[RB_PLANT_MAX_CARS], v[RB_PLANT_MAX_CARS], a[RB_PLANT_MAX_CARS];
+    double omega[RB_PLANT_MAX_AXLES];
+    double force[RB_PLANT_MAX_AXLES], coefficient[RB_PLANT_MAX_AXLES];
+    double ed_force[RB_PLANT_MAX_CARS];
     /* adhesion: zone seen by each axle, cached Polach parameters */
-    int zone_of[RB_MAX_AXLES];
-    rb_polach_params polach[RB_MAX_AXLES];
+    int zone_of[RB_PLANT_MAX_AXLES];
+    rb_polach_params polach[RB_PLANT_MAX_AXLES];
     /* faults */
     uint64_t rng;
-    double noise[RB_MAX_AXLES];          /* m/s added to the measured wheel speed */
-    uint8_t sensor_lost[RB_MAX_AXLES];
+    double noise[RB_PLANT_MAX_AXLES];          /* m/s added to the measured wheel speed */
+    uint8_t sensor_lost[RB_PLANT_MAX_AXLES];
     double m_initial;
 } rb_plant_state;
 

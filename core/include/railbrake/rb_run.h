@@ -49,7 +49,7 @@ typedef struct {
     double rail_decel_sum, rail_decel_time;      /* time integral of the rail deceleration */
     double peak_sum; long peak_samples;
     double max_slip, max_lock;
-    double lock_time[RB_MAX_AXLES];
+    double lock_time[RB_PLANT_MAX_AXLES];
     int lock_events;
     size_t rows;
 } rb_run_state;
