@@ -351,3 +351,25 @@ def coupler_force(dx: float, dv: float, slack: float, stiffness: float, stiffnes
     c = _core.Coupler(slack, stiffness, stiffness_cubic, damping)
     _core.call(_core.rb_coupler_check, ctypes.byref(c))
     return _core.rb_coupler_force(ctypes.byref(c), dx, dv)
+
+
+def with_constant_pad_friction(train: Train, speed: float | None = None) -> Train:
+    """The same train with each pad's lambda frozen at its value at `speed` (m/s; default: top
+    speed); comparing the two shows what lambda(v) does to the target pressure."""
+    from dataclasses import replace
+
+    v = train.max_speed if speed is None else float(speed)
+    copy = train.to_c()
+    for k in range(copy.n_cars):
+        pad = copy.cars[k].brake.pad
+        value = _core.rb_pad_friction_at(ctypes.byref(pad), v)
+        pad.table = _core.speed_table([0.0], [value])
+    _core.call(_core.rb_train_check, ctypes.byref(copy))
+    cars = tuple(replace(car, c=copy.cars[car.index]) for car in train.cars)
+    return replace(train, cars=cars, c=copy, title=f"{train.title}, lambda frozen at {v * 3.6:.0f} km/h")
+
+
+def pad_friction_of(car: Car, speed):
+    """lambda(v) of a car's pads at speed (m/s)."""
+    pad = ctypes.byref(car.c.brake.pad)
+    return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), speed)

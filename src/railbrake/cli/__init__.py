@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, demo
+from railbrake.cli import adhesion, demo, sizing
 
 app = typer.Typer(
     name="railbrake",
@@ -15,6 +15,7 @@ app = typer.Typer(
 )
 app.add_typer(adhesion.app, name="adhesion")
 demo.register(app)
+sizing.register(app)
 
 
 def main() -> None:
