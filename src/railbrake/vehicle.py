@@ -11,7 +11,7 @@ Pressures: the YAML files give gauge pressures in bar; inside, pressures are abs
 from __future__ import annotations
 
 import ctypes
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from typing import Literal, Optional, Union
@@ -356,8 +356,6 @@ def coupler_force(dx: float, dv: float, slack: float, stiffness: float, stiffnes
 def with_constant_pad_friction(train: Train, speed: float | None = None) -> Train:
     """The same train with each pad's lambda frozen at its value at `speed` (m/s; default: top
     speed); comparing the two shows what lambda(v) does to the target pressure."""
-    from dataclasses import replace
-
     v = train.max_speed if speed is None else float(speed)
     copy = train.to_c()
     for k in range(copy.n_cars):

@@ -31,13 +31,16 @@ def test_linear_build_up_against_hand_integration():
     assert te.distance == pytest.approx(v0 * (ta + tb / 2) + v0**2 / (2 * a), rel=1e-9)
 
 
-def test_coast_down_matches_closed_form_with_a_b_c():
-    # M_eff dv/dt = -(A + B v + C v^2), D = 4AC - B^2 > 0: closed forms of t(v) and s(v)
+@pytest.mark.parametrize("gradient", [0.0, 0.012])
+def test_coast_down_matches_closed_form_with_a_b_c(gradient):
+    # M_eff dv/dt = -(A + B v + C v^2), D = 4AC - B^2 > 0: closed forms of t(v) and s(v);
+    # an uphill gradient i adds the constant m g i / sqrt(1 + i^2) to A
     train = vehicle.load_train("crh380al-16")
     A, B, C = train.c.resistance.A, train.c.resistance.B, train.c.resistance.C
+    A += train.mass * 9.80665 * gradient / math.sqrt(1 + gradient**2)
     M = train.mass + train.rotating_mass
     v0, v1 = 300 / 3.6, 100 / 3.6
-    r = sizing.coast_down(train, v0, v1)
+    r = sizing.coast_down(train, v0, v1, gradient=gradient)
     D = 4 * A * C - B * B
     atan = lambda v: math.atan((2 * C * v + B) / math.sqrt(D))  # noqa: E731
     t = 2 * M / math.sqrt(D) * (atan(v0) - atan(v1))

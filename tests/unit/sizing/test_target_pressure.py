@@ -77,3 +77,15 @@ def test_pressure_beyond_supply_is_refused_by_name():
     too_high = train.supply_pressure + 0.5e5
     with pytest.raises(InputError, match=r"p_trailer\[0\] = .* supply pressure"):
         sizing.forward_deceleration(train, [50.0], train.atmospheric_pressure + 1e5, too_high)
+
+
+@pytest.mark.parametrize("gradient", [-0.02, 0.02])
+def test_forward_check_holds_on_a_gradient(gradient):
+    # downhill the brakes must also hold the slope force, uphill the slope helps
+    train = vehicle.load_train("velaro-8")
+    level = sizing.target_pressure(train, "emergency")
+    r = sizing.target_pressure(train, "emergency", gradient=gradient)
+    achieved = sizing.forward_deceleration(train, r.speed, r.p_motor, r.p_trailer,
+                                           ed_demand=r.deceleration, gradient=gradient)
+    assert np.all(np.abs(achieved / r.deceleration - 1.0) < 0.01)
+    assert np.all((r.p_trailer > level.p_trailer) == (gradient < 0))

@@ -1,6 +1,5 @@
 """Train presets against the figures of shared/reference/README.md section 2."""
 
-import math
 from pathlib import Path
 
 import numpy as np

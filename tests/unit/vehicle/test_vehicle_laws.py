@@ -1,7 +1,5 @@
 """Vehicle laws against hand calculations (shared/reference/README.md, sections 2 and 3)."""
 
-import math
-
 import numpy as np
 import pytest
 
