@@ -103,6 +103,18 @@ static void test_wheelset_resistance_ed_coupler(void)
         CHECK_CLOSE(rb_ed_brake_force_max(&mc.ed, v[i]), expect * 1e3, 1e-12, 0);
     }
     CHECK_CLOSE(rb_ed_brake_force_max(&mc.ed, 0.0), 509.6e3, 1e-12, 0);
+    /* a table caps the branches where it is lower; scale shares the curve */
+    mc.ed.table = (rb_speed_table){2, {0.0, 100.0}, {400e3, 200e3}};
+    mc.ed.scale = 0.5;
+    CHECK_CLOSE(rb_ed_brake_force_max(&mc.ed, 50.0), 0.5 * fmin(300e3, 33033e3 / 50.0), 1e-12, 0);
+    CHECK_CLOSE(rb_ed_brake_force_max(&mc.ed, 90.0), 0.5 * 220e3, 1e-12, 0);
+    CHECK_CLOSE(rb_ed_brake_force_max(&mc.ed, 150.0), 0.5 * (42942.9e3 / 150.0 - 121e3), 1e-12, 0);
+    rb_error e2;
+    CHECK(rb_ed_curve_check(&mc.ed, &e2) == RB_OK);
+    mc.ed.scale = -1.0;
+    CHECK(rb_ed_curve_check(&mc.ed, &e2) == RB_EINVAL && strstr(e2.message, "ed.scale") != NULL);
+    mc.ed.table.n = 0;
+    mc.ed.scale = 1.0;
     mc.ed.fade_speed = 2.0;
     CHECK_CLOSE(rb_ed_brake_force_max(&mc.ed, 1.0), 0.5 * 509.6e3, 1e-12, 0);
 
