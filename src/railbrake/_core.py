@@ -98,6 +98,119 @@ rb_polach_peak = _declare("rb_polach_peak", c_int, c_double, c_double, POINTER(C
 rb_conditioning_factor = _declare("rb_conditioning_factor", c_double, c_double, c_double, c_double)
 rb_polach_check = _declare("rb_polach_check", c_int, POINTER(PolachParamsC), _err_p)
 
+# ---------------------------------------------------------------- vehicle (rb_vehicle.h)
+
+MAX_TABLE = 64
+MAX_ED_TERMS = 8
+MAX_CARS = 20
+ED_OFF, ED_MAX, ED_BLENDED = 0, 1, 2
+
+
+class SpeedTable(Structure):
+    _fields_ = [("n", c_int), ("speed", c_double * MAX_TABLE), ("value", c_double * MAX_TABLE)]
+
+
+class PadFriction(Structure):
+    _fields_ = [("table", SpeedTable)]
+
+
+class Caliper(Structure):
+    _fields_ = [(n, c_double) for n in
+                ("cylinder_area", "return_spring", "lever_ratio", "efficiency", "atmospheric_pressure")]
+
+
+class AxleBrake(Structure):
+    _fields_ = [("discs", c_int), ("mounting", c_int), ("mean_radius", c_double),
+                ("caliper", Caliper), ("pad", PadFriction)]
+
+
+class Wheelset(Structure):
+    _fields_ = [(n, c_double) for n in ("wheel_radius", "inertia", "axle_load")]
+
+
+class Resistance(Structure):
+    _fields_ = [(n, c_double) for n in ("A", "B", "C")]
+
+
+class EdCurve(Structure):
+    _fields_ = [("table", SpeedTable), ("terms", c_int), ("c0", c_double * MAX_ED_TERMS),
+                ("c1", c_double * MAX_ED_TERMS), ("c2", c_double * MAX_ED_TERMS),
+                ("scale", c_double), ("fade_speed", c_double)]
+
+
+class Coupler(Structure):
+    _fields_ = [(n, c_double) for n in ("slack", "stiffness", "stiffness_cubic", "damping")]
+
+
+class Car(Structure):
+    _fields_ = [("motor", c_int), ("axles", c_int), ("mass", c_double), ("wheelset", Wheelset),
+                ("brake", AxleBrake), ("ed", EdCurve), ("supply_pressure", c_double)]
+
+
+class TrainC(Structure):
+    _fields_ = [("n_cars", c_int), ("cars", Car * MAX_CARS), ("resistance", Resistance)]
+
+
+class BrakeCommand(Structure):
+    _fields_ = [("p_motor", SpeedTable), ("p_trailer", SpeedTable), ("ed_mode", c_int),
+                ("ed_demand", SpeedTable)]
+
+
+class StopOptions(Structure):
+    _fields_ = [("v0", c_double), ("v_end", c_double), ("gradient", c_double), ("delay", c_double),
+                ("build_up", c_double), ("equivalent_response", c_int), ("dt", c_double),
+                ("dt_out", c_double), ("t_max", c_double)]
+
+
+def speed_table(speed, value) -> SpeedTable:
+    """A SpeedTable from two equal-length sequences (at most MAX_TABLE points)."""
+    speed, value = list(speed), list(value)
+    if len(speed) != len(value) or len(speed) > MAX_TABLE:
+        raise InputError(f"table of {len(speed)} speeds and {len(value)} values: "
+                         f"needs equal lengths of at most {MAX_TABLE}")
+    table = SpeedTable()
+    table.n = len(speed)
+    for i, (v, y) in enumerate(zip(speed, value)):
+        table.speed[i], table.value[i] = float(v), float(y)
+    return table
+
+
+_size_p = POINTER(c_size_t)
+rb_speed_table_at = _declare("rb_speed_table_at", c_double, POINTER(SpeedTable), c_double)
+rb_speed_table_check = _declare("rb_speed_table_check", c_int, POINTER(SpeedTable), ctypes.c_char_p,
+                                c_double, c_double, _err_p)
+rb_pad_friction_at = _declare("rb_pad_friction_at", c_double, POINTER(PadFriction), c_double)
+rb_pad_friction_sintered = _declare("rb_pad_friction_sintered", c_int, c_double, POINTER(PadFriction),
+                                    _err_p)
+rb_caliper_check = _declare("rb_caliper_check", c_int, POINTER(Caliper), _err_p)
+rb_caliper_pad_force = _declare("rb_caliper_pad_force", c_double, POINTER(Caliper), c_double)
+rb_axle_brake_torque = _declare("rb_axle_brake_torque", c_double, POINTER(AxleBrake), c_double, c_double)
+rb_wheelset_equivalent_mass = _declare("rb_wheelset_equivalent_mass", c_double, POINTER(Wheelset))
+rb_equivalent_rotating_mass = _declare("rb_equivalent_rotating_mass", c_int, POINTER(Wheelset),
+                                       c_size_t, c_double_p, _err_p)
+rb_running_resistance = _declare("rb_running_resistance", c_double, POINTER(Resistance), c_double)
+rb_ed_brake_force_max = _declare("rb_ed_brake_force_max", c_double, POINTER(EdCurve), c_double)
+rb_coupler_force = _declare("rb_coupler_force", c_double, POINTER(Coupler), c_double, c_double)
+rb_coupler_check = _declare("rb_coupler_check", c_int, POINTER(Coupler), _err_p)
+rb_train_check = _declare("rb_train_check", c_int, POINTER(TrainC), _err_p)
+rb_train_mass = _declare("rb_train_mass", c_double, POINTER(TrainC))
+rb_train_rotating_mass = _declare("rb_train_rotating_mass", c_double, POINTER(TrainC))
+rb_train_ed_force_max = _declare("rb_train_ed_force_max", c_double, POINTER(TrainC), c_double)
+rb_train_deceleration_curve = _declare("rb_train_deceleration_curve", c_int, POINTER(TrainC),
+                                       c_double_p, c_double_p, c_double_p, c_int, c_double_p,
+                                       c_size_t, c_double, c_double_p, _err_p)
+rb_size_target_pressure = _declare("rb_size_target_pressure", c_int, POINTER(TrainC), c_double_p,
+                                   c_double_p, c_size_t, c_double, c_double_p, c_double_p,
+                                   c_double_p, c_double_p, _err_p)
+rb_stop_train = _declare("rb_stop_train", c_int, POINTER(TrainC), POINTER(BrakeCommand),
+                         POINTER(StopOptions), c_double_p, c_double_p, c_double_p, c_size_t, _size_p,
+                         c_double_p, c_double_p, _err_p)
+rb_stop_profile = _declare("rb_stop_profile", c_int, POINTER(SpeedTable), POINTER(StopOptions),
+                           c_double_p, c_double_p, c_double_p, c_size_t, _size_p, c_double_p,
+                           c_double_p, _err_p)
+rb_stop_constant = _declare("rb_stop_constant", c_int, c_double, c_double, c_double, c_double_p,
+                            c_double_p, _err_p)
+
 # ---------------------------------------------------------------- whole-train plant (rb_plant.h, rb_bcu.h, rb_run.h)
 
 from ctypes import c_char_p, c_long, c_uint8, c_uint64, c_void_p  # noqa: E402

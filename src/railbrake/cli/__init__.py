@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, demo, simulation
+from railbrake.cli import adhesion, demo, simulation, sizing
 
 app = typer.Typer(
     name="railbrake",
@@ -16,6 +16,7 @@ app = typer.Typer(
 app.add_typer(adhesion.app, name="adhesion")
 demo.register(app)
 simulation.register(app)
+sizing.register(app)
 
 
 def main() -> None:

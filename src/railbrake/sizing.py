@@ -1,0 +1,377 @@
+"""Sizing the brake: target cylinder pressure by inverse computation, and stopping distances.
+
+The laws (force balance, blending, the closed-form inverse, the EN 14531 integrator) live in C
+(``core/src/vehicle_sizing.c``, ``vehicle_stopping.c``); this module prepares the inputs, reads
+the deceleration profiles (schema ``railbrake.profile/1``) and phrases the warnings.
+
+Blending rule (``rb_car_brake_demand``): every car brakes its own translational and rotating mass
+at the demanded deceleration, less its mass share of resistance and gradient; on a motor car the
+ED brake supplies what it can (ED first), the pneumatic brake the rest. One cylinder pressure per
+car type (motor, trailer) makes the type's cars together supply their pneumatic share.
+"""
+
+from __future__ import annotations
+
+import csv
+import ctypes
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Optional, Union
+
+import numpy as np
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from railbrake import _core
+from railbrake.errors import InputError
+from railbrake.units import KMH, ms_to_kmh
+from railbrake.vehicle import Train, load_train, validation_message
+
+PROFILE_SCHEMA = "railbrake.profile/1"
+ADHESION_LIMIT = 0.15  # design limit on the adhesion an axle may demand [T]
+
+
+# ------------------------------------------------------------------ deceleration profiles
+
+class _Response(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    delay_s: float = Field(ge=0.0)
+    build_up_s: float = Field(ge=0.0)
+
+
+class _ProfileFile(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    schema_: str = Field(alias="schema")
+    name: str
+    title: str
+    source: str
+    response: _Response
+    speed_kmh: list[float] = Field(min_length=1, max_length=_core.MAX_TABLE)
+    deceleration_ms2: list[float] = Field(min_length=1, max_length=_core.MAX_TABLE)
+
+    @model_validator(mode="after")
+    def _shape(self):
+        _check_profile_points(self.speed_kmh, self.deceleration_ms2)
+        return self
+
+
+def _check_profile_points(speed_kmh, decel):
+    if len(speed_kmh) != len(decel):
+        raise ValueError(f"speed_kmh ({len(speed_kmh)} points) and deceleration_ms2 ({len(decel)}) "
+                         "differ in length")
+    if not 1 <= len(speed_kmh) <= _core.MAX_TABLE:
+        raise ValueError(f"{len(speed_kmh)} points: a profile has 1 to {_core.MAX_TABLE}")
+    for i, v in enumerate(speed_kmh):
+        if not v >= 0.0:
+            raise ValueError(f"speed_kmh[{i}] = {v}: must be >= 0")
+        if i and not v > speed_kmh[i - 1]:
+            raise ValueError(f"speed_kmh[{i}] = {v}: the profile must be monotonic in speed "
+                             f"(strictly above speed_kmh[{i - 1}] = {speed_kmh[i - 1]})")
+    for i, a in enumerate(decel):
+        if not 0.0 < a <= 5.0:
+            raise ValueError(f"deceleration_ms2[{i}] = {a}: must lie in (0, 5] m/s^2")
+
+
+@dataclass(frozen=True)
+class Profile:
+    """Demanded deceleration over speed (SI), linear between points, constant beyond the ends."""
+
+    name: str
+    title: str
+    source: str
+    speed: np.ndarray  # m/s
+    deceleration: np.ndarray  # m/s^2
+    delay: float = 0.0  # s, ta
+    build_up: float = 0.0  # s, tb
+
+    @property
+    def response_time(self) -> float:
+        """EN 14531 equivalent response time te = ta + tb/2."""
+        return self.delay + 0.5 * self.build_up
+
+    def table(self) -> _core.SpeedTable:
+        return _core.speed_table(self.speed, self.deceleration)
+
+    def at(self, speed):
+        table = self.table()
+        v = np.asarray(speed, dtype=float)
+        return np.array([_core.rb_speed_table_at(ctypes.byref(table), float(x)) for x in v.ravel()]
+                        ).reshape(v.shape)
+
+
+def make_profile(speed_kmh, deceleration_ms2, name="user", title="User profile", source="user input",
+                 delay=0.0, build_up=0.0) -> Profile:
+    """A profile from points in km/h and m/s^2; checks that the speeds increase strictly."""
+    speed_kmh, decel = [float(v) for v in speed_kmh], [float(a) for a in deceleration_ms2]
+    try:
+        _check_profile_points(speed_kmh, decel)
+    except ValueError as exc:
+        raise InputError(f"profile {name}: {exc}") from None
+    return Profile(name, title, source, np.array(speed_kmh) * KMH, np.array(decel), delay, build_up)
+
+
+def _profile_dir():
+    return resources.files("railbrake") / "data" / "profiles"
+
+
+def profile_names() -> list[str]:
+    return sorted(p.name[:-5] for p in _profile_dir().iterdir() if p.name.endswith(".yaml"))
+
+
+def _parse_profile(text: str, origin: str) -> Profile:
+    try:
+        m = _ProfileFile.model_validate(yaml.safe_load(text))
+    except yaml.YAMLError as exc:
+        raise InputError(f"{origin}: not valid YAML: {exc}") from None
+    except ValidationError as exc:
+        raise InputError(validation_message(origin, exc)) from None
+    if m.schema_ != PROFILE_SCHEMA:
+        raise InputError(f"{origin}: schema = {m.schema_!r}: expected {PROFILE_SCHEMA!r}")
+    return make_profile(m.speed_kmh, m.deceleration_ms2, m.name, m.title, " ".join(m.source.split()),
+                        m.response.delay_s, m.response.build_up_s)
+
+
+def read_profile_csv(path: Path, delay=0.0, build_up=0.0) -> Profile:
+    """CSV with columns speed_kmh, deceleration_ms2."""
+    path = Path(path)
+    with path.open(newline="") as handle:
+        reader = csv.DictReader(handle)
+        needed = {"speed_kmh", "deceleration_ms2"}
+        if not reader.fieldnames or not needed <= set(reader.fieldnames):
+            raise InputError(f"{path}: columns {reader.fieldnames}: needs {sorted(needed)}")
+        rows = []
+        for line, row in enumerate(reader, start=2):
+            try:
+                rows.append((float(row["speed_kmh"]), float(row["deceleration_ms2"])))
+            except (TypeError, ValueError):
+                raise InputError(f"{path}, line {line}: {row}: not numbers") from None
+    return make_profile([r[0] for r in rows], [r[1] for r in rows], path.stem, path.name, str(path),
+                        delay, build_up)
+
+
+ProfileLike = Union[str, Path, Profile, float]
+
+
+def load_profile(profile: ProfileLike) -> Profile:
+    """A preset name (profile_names()), a YAML or CSV file, a Profile, or a constant (m/s^2)."""
+    if isinstance(profile, Profile):
+        return profile
+    if isinstance(profile, (int, float)):
+        return make_profile([0.0], [float(profile)], "constant", f"constant {profile} m/s^2")
+    name = str(profile)
+    if name in profile_names():
+        return _parse_profile((_profile_dir() / f"{name}.yaml").read_text(), f"profile {name}")
+    path = Path(name)
+    if path.suffix == ".csv" and path.is_file():
+        return read_profile_csv(path)
+    if path.suffix in (".yaml", ".yml") and path.is_file():
+        return _parse_profile(path.read_text(), str(path))
+    raise InputError(f"profile = {name!r}: not a preset ({', '.join(profile_names())}) nor a file")
+
+
+# ------------------------------------------------------------------ target pressure
+
+@dataclass(frozen=True)
+class SizingResult:
+    speed: np.ndarray  # m/s
+    deceleration: np.ndarray  # m/s^2 demanded
+    p_motor: Optional[np.ndarray]  # Pa absolute (None: no motor car)
+    p_trailer: Optional[np.ndarray]
+    ed_force: np.ndarray  # N, whole train
+    adhesion: np.ndarray  # [speed, car]: adhesion each axle of the car demands
+    atmospheric_pressure: float
+    supply_pressure: float  # Pa absolute
+    adhesion_limit: float
+    warnings: list = field(default_factory=list)
+
+    @property
+    def adhesion_demand(self) -> np.ndarray:
+        """The largest adhesion any axle demands, per speed."""
+        return self.adhesion.max(axis=1)
+
+    def gauge_bar(self, pressure):
+        return None if pressure is None else (pressure - self.atmospheric_pressure) / 1e5
+
+
+def default_speeds(train: Train, profile: Profile, step_kmh: float = 5.0) -> np.ndarray:
+    """0 to the train's top speed every step_kmh, with the profile's break points added."""
+    grid = np.arange(0.0, ms_to_kmh(train.max_speed) + 1e-9, step_kmh) * KMH
+    points = profile.speed[profile.speed <= train.max_speed]
+    return np.unique(np.concatenate([grid, points]))
+
+
+def _ranges(speed, mask) -> str:
+    """'120-200 km/h, 300 km/h' for the speeds where mask holds."""
+    out, start = [], None
+    kmh = ms_to_kmh(np.asarray(speed))
+    for i, flag in enumerate(list(mask) + [False]):
+        if flag and start is None:
+            start = i
+        if not flag and start is not None:
+            a, b = kmh[start], kmh[i - 1]
+            out.append(f"{a:.0f} km/h" if start == i - 1 else f"{a:.0f}-{b:.0f} km/h")
+            start = None
+    return ", ".join(out)
+
+
+def _warnings(train: Train, r: SizingResult, coast: np.ndarray) -> list:
+    found = []
+    over = r.adhesion_demand > r.adhesion_limit
+    if over.any():
+        found.append(f"adhesion demand up to {r.adhesion_demand.max():.3f} exceeds the design limit "
+                     f"{r.adhesion_limit:g} at {_ranges(r.speed, over)}")
+    for kind, p in (("motor", r.p_motor), ("trailer", r.p_trailer)):
+        if p is not None and (p > r.supply_pressure).any():
+            mask = p > r.supply_pressure
+            found.append(f"{kind} cylinder pressure up to {r.gauge_bar(p.max()):.2f} bar exceeds the "
+                         f"supply {r.gauge_bar(r.supply_pressure):.2f} bar at {_ranges(r.speed, mask)}")
+    below = r.deceleration < coast
+    if below.any():
+        found.append(f"demanded deceleration below the coasting deceleration (resistance alone) "
+                     f"at {_ranges(r.speed, below)}: no brake needed there")
+    return found
+
+
+def target_pressure(train, deceleration: ProfileLike, speeds=None, gradient: float = 0.0,
+                    adhesion_limit: float = ADHESION_LIMIT) -> SizingResult:
+    """Cylinder pressure per car type giving the demanded deceleration at each speed (m/s).
+
+    train: a Train or preset name; deceleration: a profile (name, file, Profile or constant m/s^2);
+    speeds: m/s (default: 0 to the top speed every 5 km/h); gradient: rise/run, uphill positive.
+    """
+    train = load_train(train)
+    profile = load_profile(deceleration)
+    if not adhesion_limit > 0.0:
+        raise InputError(f"adhesion_limit = {adhesion_limit}: must be > 0")
+    speed = _core.as_double_array(default_speeds(train, profile) if speeds is None else speeds).ravel()
+    decel = _core.as_double_array(profile.at(speed))
+    n, cars = speed.size, len(train.cars)
+    p_motor, p_trailer, ed = np.empty(n), np.empty(n), np.empty(n)
+    adhesion = np.empty(n * cars)
+    _core.call(_core.rb_size_target_pressure, ctypes.byref(train.c), _core.ptr(speed), _core.ptr(decel),
+               n, float(gradient), _core.ptr(p_motor), _core.ptr(p_trailer), _core.ptr(ed),
+               _core.ptr(adhesion))
+    types = train.car_types()
+    result = SizingResult(speed, decel, p_motor if "motor" in types else None,
+                          p_trailer if "trailer" in types else None, ed, adhesion.reshape(n, cars),
+                          train.atmospheric_pressure, train.supply_pressure, adhesion_limit)
+    coast = forward_deceleration(train, speed, np.full(n, train.atmospheric_pressure),
+                                 np.full(n, train.atmospheric_pressure), ed_mode=_core.ED_OFF,
+                                 gradient=gradient)
+    result.warnings.extend(_warnings(train, result, coast))
+    return result
+
+
+def forward_deceleration(train, speed, p_motor, p_trailer, ed_demand=None, ed_mode=None,
+                         gradient: float = 0.0) -> np.ndarray:
+    """Train deceleration (m/s^2) at speed (m/s) with absolute cylinder pressures (Pa) per type.
+
+    ED: blended with the demanded deceleration ed_demand (m/s^2) when given, else off; ed_mode
+    overrides (_core.ED_OFF, ED_MAX, ED_BLENDED). Pressures beyond the supply are refused.
+    """
+    train = load_train(train)
+    speed = _core.as_double_array(speed).ravel()
+    n = speed.size
+    arrays = [_core.as_double_array(np.broadcast_to(x, (n,))) for x in (p_motor, p_trailer)]
+    if ed_mode is None:
+        ed_mode = _core.ED_OFF if ed_demand is None else _core.ED_BLENDED
+    demand = _core.as_double_array(np.broadcast_to(0.0 if ed_demand is None else ed_demand, (n,)))
+    out = np.empty(n)
+    _core.call(_core.rb_train_deceleration_curve, ctypes.byref(train.c), _core.ptr(speed),
+               _core.ptr(arrays[0]), _core.ptr(arrays[1]), int(ed_mode), _core.ptr(demand), n,
+               float(gradient), _core.ptr(out))
+    return out
+
+
+# ------------------------------------------------------------------ stopping distance
+
+@dataclass(frozen=True)
+class StoppingResult:
+    distance: float  # m
+    time: float  # s
+    curve_time: np.ndarray  # s
+    curve_speed: np.ndarray  # m/s
+    curve_distance: np.ndarray  # m
+    warnings: list = field(default_factory=list)
+
+
+def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max):
+    return _core.StopOptions(float(v0), float(v_end), float(gradient), float(delay), float(build_up),
+                             int(bool(equivalent)), float(dt), float(dt_out), float(t_max))
+
+
+def _run(function, first, options, t_max, dt_out) -> tuple:
+    capacity = int(t_max / dt_out) + 4
+    t, v, s = np.empty(capacity), np.empty(capacity), np.empty(capacity)
+    n, dist, time = ctypes.c_size_t(), ctypes.c_double(), ctypes.c_double()
+    _core.call(function, *first, ctypes.byref(options), _core.ptr(t), _core.ptr(v), _core.ptr(s),
+               capacity, ctypes.byref(n), ctypes.byref(dist), ctypes.byref(time))
+    k = n.value
+    return dist.value, time.value, t[:k].copy(), v[:k].copy(), s[:k].copy()
+
+
+def _pressure_command(train: Train, profile: Profile, v0: float):
+    """Target pressures over 0..v0 as tables, limited to the supply (with a warning)."""
+    speeds = np.linspace(0.0, v0, _core.MAX_TABLE)
+    sized = target_pressure(train, profile, speeds)
+    warnings = list(sized.warnings)
+    cmd = _core.BrakeCommand()
+    for kind, p in (("motor", sized.p_motor), ("trailer", sized.p_trailer)):
+        if p is None:
+            continue
+        if (p > sized.supply_pressure).any():
+            warnings.append(f"{kind} target pressure limited to the supply "
+                            f"{sized.gauge_bar(sized.supply_pressure):.2f} bar: the train decelerates "
+                            "less than the profile there")
+        setattr(cmd, f"p_{kind}", _core.speed_table(speeds, np.minimum(p, sized.supply_pressure)))
+    cmd.ed_mode = _core.ED_BLENDED
+    cmd.ed_demand = profile.table()
+    return cmd, warnings
+
+
+def stopping_distance(v0: float, train=None, profile: ProfileLike = "emergency",
+                      deceleration: Optional[float] = None, response_time: Optional[float] = None,
+                      delay: Optional[float] = None, build_up: Optional[float] = None,
+                      equivalent_response: bool = True, gradient: float = 0.0, v_end: float = 0.0,
+                      dt: float = 0.01, dt_out: float = 0.5, t_max: float = 3600.0) -> StoppingResult:
+    """Stopping distance and time from v0 (m/s), integrated in C in the EN 14531 manner.
+
+    With a train: the target pressures of `profile` (limited to the supply) and the blended ED
+    brake act on the whole train with resistance, gradient and rotary inertia. Without a train:
+    the profile's (or the constant `deceleration`'s) deceleration itself, no resistance.
+    Response: delay ta and build-up tb (default: the profile's); response_time sets te directly.
+    equivalent_response=True steps the brake on at te = ta + tb/2, False ramps it over tb.
+    """
+    prof = load_profile(profile if deceleration is None else float(deceleration))
+    ta = prof.delay if delay is None else delay
+    tb = prof.build_up if build_up is None else build_up
+    if response_time is not None:
+        ta, tb = response_time, 0.0
+    options = _options(v0, v_end, gradient, ta, tb, equivalent_response, dt, dt_out, t_max)
+    if train is None:
+        table = prof.table()
+        result = _run(_core.rb_stop_profile, (ctypes.byref(table),), options, t_max, dt_out)
+        return StoppingResult(*result)
+    train = load_train(train)
+    cmd, warnings = _pressure_command(train, prof, v0)
+    result = _run(_core.rb_stop_train, (ctypes.byref(train.c), ctypes.byref(cmd)), options, t_max, dt_out)
+    return StoppingResult(*result, warnings=warnings)
+
+
+def coast_down(train, v0: float, v_end: float, gradient: float = 0.0, dt: float = 0.05,
+               dt_out: float = 5.0, t_max: float = 2e4) -> StoppingResult:
+    """Resistance-only run-down from v0 to v_end (m/s): no brake at all."""
+    train = load_train(train)
+    options = _options(v0, v_end, gradient, 0.0, 0.0, True, dt, dt_out, t_max)
+    cmd = _core.BrakeCommand()
+    return StoppingResult(*_run(_core.rb_stop_train, (ctypes.byref(train.c), ctypes.byref(cmd)),
+                                options, t_max, dt_out))
+
+
+def stopping_distance_constant(v0: float, deceleration: float, response_time: float) -> tuple:
+    """Hand check (C): v0 te + v0^2 / (2 a) and te + v0 / a."""
+    s, t = ctypes.c_double(), ctypes.c_double()
+    _core.call(_core.rb_stop_constant, float(v0), float(deceleration), float(response_time),
+               ctypes.byref(s), ctypes.byref(t))
+    return s.value, t.value

@@ -1,0 +1,47 @@
+"""`railbrake size` and `railbrake stopping-distance`."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from railbrake.cli import app
+
+runner = CliRunner()
+
+
+def test_size_json_and_plot(tmp_path):
+    plot = tmp_path / "size.png"
+    out = runner.invoke(app, ["size", "--train", "crh380a-8", "--profile", "emergency", "--json",
+                              "--plot", str(plot)])
+    assert out.exit_code == 0, out.output
+    data = json.loads(out.stdout)
+    assert set(data) == {"speed_kmh", "target_pressure_bar", "adhesion_demand", "warnings"}
+    assert set(data["target_pressure_bar"]) == {"motor", "trailer"}
+    assert len(data["target_pressure_bar"]["trailer"]) == len(data["speed_kmh"])
+    assert 0.0 < max(data["target_pressure_bar"]["trailer"]) < 4.5
+    assert plot.stat().st_size > 10_000
+
+
+def test_size_with_a_bad_profile_csv(tmp_path):
+    csv = tmp_path / "p.csv"
+    csv.write_text("speed_kmh,deceleration_ms2\n0,1.0\n100,1.0\n90,1.0\n")
+    out = runner.invoke(app, ["size", "--profile-csv", str(csv)])
+    assert out.exit_code == 2
+    assert "speed_kmh[2] = 90.0" in out.output
+
+
+def test_stopping_distance_hand_check():
+    out = runner.invoke(app, ["stopping-distance", "--v0-kmh", "250", "--deceleration-ms2", "0.9",
+                              "--response-time-s", "2", "--json"])
+    assert out.exit_code == 0, out.output
+    data = json.loads(out.stdout)
+    v0 = 250 / 3.6
+    assert data["stopping_distance_m"] == pytest.approx(v0 * 2 + v0**2 / 1.8, rel=1e-9)
+    assert data["stopping_time_s"] == pytest.approx(2 + v0 / 0.9, rel=1e-9)
+
+
+def test_stopping_distance_train():
+    out = runner.invoke(app, ["stopping-distance", "--train", "crh380a-8", "--v0-kmh", "250", "--json"])
+    assert out.exit_code == 0, out.output
+    assert 1500 < json.loads(out.stdout)["stopping_distance_m"] < 2430  # TSI 250 km/h [T]
