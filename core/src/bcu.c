@@ -39,14 +39,14 @@ void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_b
     for (int c = 0; c < plant->n_cars; ++c) {
         const rb_plant_car *car = &plant->car[c];
         double p1 = plant->atmosphere + 2e5, p2 = plant->atmosphere + 4e5;
-        double f1 = RB_AXLES_PER_CAR * rb_plant_axle_brake_torque(car, p1, plant->atmosphere, high_speed) / car->wheel_radius;
-        double f2 = RB_AXLES_PER_CAR * rb_plant_axle_brake_torque(car, p2, plant->atmosphere, high_speed) / car->wheel_radius;
+        double r = car->vehicle.wheelset.wheel_radius;
+        double f1 = RB_AXLES_PER_CAR * rb_plant_axle_brake_torque(car, p1, high_speed) / r;
+        double f2 = RB_AXLES_PER_CAR * rb_plant_axle_brake_torque(car, p2, high_speed) / r;
         p->pressure_gain[c] = (p2 - p1) / (f2 - f1);
         p->pressure_offset[c] = p1 - p->pressure_gain[c] * f1;
         p->pressure_max[c] = pressure_max;
-        p->car_mass[c] = car->mass + car->rotating_mass
-                         + RB_AXLES_PER_CAR * car->wheelset_inertia / (car->wheel_radius * car->wheel_radius);
-        p->motor[c] = car->motor;
+        p->car_mass[c] = car->vehicle.mass + RB_AXLES_PER_CAR * rb_wheelset_equivalent_mass(&car->vehicle.wheelset);
+        p->motor[c] = car->vehicle.motor;
     }
 }
 

@@ -21,20 +21,11 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
 {
     char name[64];
     rb_status s;
-    CHECK_CAR(rb_check_range, mass, 1e3, 1e6);
-    CHECK_CAR(rb_check_nonnegative, rotating_mass);
+    if ((s = rb_car_check(&c->vehicle, err))) return s;
+    if (c->vehicle.axles != RB_AXLES_PER_CAR)
+        return rb_fail(err, RB_EINVAL, "car[%d].vehicle.axles = %d: the plant models %d axles per car", i,
+                       c->vehicle.axles, RB_AXLES_PER_CAR);
     CHECK_CAR(rb_check_range, length, 1.0, 100.0);
-    CHECK_CAR(rb_check_range, wheel_radius, 0.2, 1.0);
-    CHECK_CAR(rb_check_positive, wheelset_inertia);
-    CHECK_CAR(rb_check_positive, brake.cylinder_area);
-    CHECK_CAR(rb_check_nonnegative, brake.spring_force);
-    CHECK_CAR(rb_check_positive, brake.lever_ratio);
-    CHECK_CAR(rb_check_range, brake.efficiency, 0.0, 1.0);
-    CHECK_CAR(rb_check_range, brake.discs, 0.0, 8.0);
-    CHECK_CAR(rb_check_positive, brake.disc_radius);
-    CHECK_CAR(rb_check_range, brake.pad_friction, 0.0, 1.0);
-    CHECK_CAR(rb_check_range, brake.pad_friction_low, 0.0, 1.0);
-    CHECK_CAR(rb_check_positive, brake.pad_friction_speed);
     CHECK_CAR(rb_check_positive, ed_tau);
     CHECK_CAR(rb_check_positive, supply_volume);
     CHECK_CAR(rb_check_positive, pilot_volume);
@@ -57,11 +48,6 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
             return rb_fail(err, RB_EINVAL, "car[%d].axle_position[%d] = %g: must be in [0, length = %g] m",
                            i, k, c->axle_position[k], c->length);
     if (rb_creep_contact_check(&c->contact, err)) return RB_EINVAL;
-    if (c->ed.n < 0 || c->ed.n > RB_ED_TABLE)
-        return rb_fail(err, RB_EINVAL, "car[%d].ed.n = %d: must be in [0, %d]", i, c->ed.n, RB_ED_TABLE);
-    for (int k = 1; k < c->ed.n; ++k)
-        if (!(c->ed.speed[k] > c->ed.speed[k - 1]))
-            return rb_fail(err, RB_EINVAL, "car[%d].ed.speed[%d] = %g: speeds must increase", i, k, c->ed.speed[k]);
     return RB_OK;
 }
 
@@ -122,12 +108,8 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if ((s = rb_check_range(err, "critical_ratio", p->critical_ratio, 0.0, 0.99))) return s;
     for (int i = 0; i < p->n_cars; ++i)
         if ((s = check_car(&p->car[i], i, err))) return s;
-    if ((s = rb_check_nonnegative(err, "coupler_stiffness", p->coupler_stiffness))) return s;
-    if ((s = rb_check_nonnegative(err, "coupler_damping", p->coupler_damping))) return s;
-    if ((s = rb_check_nonnegative(err, "coupler_slack", p->coupler_slack))) return s;
-    if ((s = rb_check_nonnegative(err, "resistance_a", p->resistance_a))) return s;
-    if ((s = rb_check_nonnegative(err, "resistance_b", p->resistance_b))) return s;
-    if ((s = rb_check_nonnegative(err, "resistance_c", p->resistance_c))) return s;
+    if (p->n_cars > 1 && (s = rb_coupler_check(&p->coupler, err))) return s;
+    if ((s = rb_resistance_check(&p->resistance, err))) return s;
     if (p->compressor_car < 0 || p->compressor_car >= p->n_cars)
         return rb_fail(err, RB_EINVAL, "compressor_car = %d: must be in [0, %d]", p->compressor_car, p->n_cars - 1);
     if ((s = rb_check_positive(err, "main_reservoir_volume", p->main_reservoir_volume))) return s;
@@ -184,7 +166,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
             s->m_cyl[a] = p->atmosphere * car->cylinder_volume / rt;
-            s->omega[a] = p->initial_speed / car->wheel_radius;
+            s->omega[a] = p->initial_speed / car->vehicle.wheelset.wheel_radius;
             s->zone_of[a] = -1;
             rb_plant_zone_update(p, s, a, s->x[c] - car->axle_position[k]);
         }
@@ -205,18 +187,15 @@ double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s)
     return m;
 }
 
-double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double atmosphere, double wheel_speed)
+double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double wheel_speed)
 {
-    const rb_plant_brake *b = &c->brake;
-    double disc_speed = wheel_speed / c->wheel_radius * b->disc_radius;
-    return 2.0 * b->discs * b->disc_radius * rb_pending_pad_friction(b, disc_speed)
-           * rb_pending_pad_force(b, p_cyl, atmosphere);
+    return rb_axle_brake_torque(&c->vehicle.brake, p_cyl, wheel_speed);
 }
 
 double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s, int axle)
 {
     const rb_plant_car *car = &p->car[axle / RB_AXLES_PER_CAR];
-    double peak = 0.0, wheel_load = car->mass * RB_G / (2.0 * RB_AXLES_PER_CAR);
+    double peak = 0.0, wheel_load = 0.5 * car->vehicle.wheelset.axle_load * RB_G;
     double v = s->v[axle / RB_AXLES_PER_CAR];
     if (rb_polach_peak(v > 0.0 ? v : 0.0, wheel_load, &car->contact, &s->polach[axle], &peak, NULL, NULL))
         return 0.0;
@@ -244,7 +223,7 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
         double vr = s->v[c] > p->creep_speed_min ? s->v[c] : p->creep_speed_min;
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
-            double w = s->omega[a] * car->wheel_radius;
+            double w = s->omega[a] * car->vehicle.wheelset.wheel_radius;
             out->wheel_speed[a] = w;
             out->wheel_speed_measured[a] = s->sensor_lost[a] ? -1.0 : w + s->noise[a];
             out->slip[a] = (w - s->v[c]) / vr;

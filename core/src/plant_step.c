@@ -170,9 +170,10 @@ static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c,
                              double mass, const active_faults *f)
 {
     const rb_plant_car *car = &p->car[c];
-    double rt = RB_R_AIR * p->temperature, dt = p->dt, r = car->wheel_radius, J = car->wheelset_inertia;
+    double rt = RB_R_AIR * p->temperature, dt = p->dt;
+    double r = car->vehicle.wheelset.wheel_radius, J = car->vehicle.wheelset.inertia;
     double v = s->v[c], vr = v > p->creep_speed_min ? v : p->creep_speed_min;
-    double axle_load = car->mass * RB_G / RB_AXLES_PER_CAR, wheel_load = 0.5 * axle_load;
+    double axle_load = car->vehicle.wheelset.axle_load * RB_G, wheel_load = 0.5 * axle_load;
     double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * r;
     double old_sum = 0.0, new_sum = 0.0;
     for (int k = 0; k < RB_AXLES_PER_CAR; ++k) old_sum += s->force[c * RB_AXLES_PER_CAR + k];
@@ -184,8 +185,8 @@ static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c,
         double probe = fabs(creep) > 1e-7 ? creep : -1e-7;
         double f_probe = rb_polach_coefficient_fast(probe, v, wheel_load, &car->contact, &s->polach[a]);
         double stiffness = axle_load * (f_probe / probe) / vr;   /* secant, N per m/s of slip velocity */
-        double torque = rb_plant_axle_brake_torque(car, s->m_cyl[a] * rt / car->cylinder_volume,
-                                                   p->atmosphere, s->omega[a] * r) + ed_axle;
+        double torque = rb_plant_axle_brake_torque(car, s->m_cyl[a] * rt / car->cylinder_volume, s->omega[a] * r)
+                        + ed_axle;
         /* slip velocity, linearly implicit in this axle's own rail force */
         double others = other_force + old_sum - s->force[a];
         double w_new = (w + dt * (-r * torque / J - others / mass))
@@ -208,21 +209,19 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
                            const active_faults *f)
 {
     double total_mass = 0.0, coupler[RB_PLANT_MAX_CARS + 1] = {0.0};
-    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].mass;
+    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
     for (int c = 0; c + 1 < p->n_cars; ++c)  /* tension positive */
-        coupler[c + 1] = rb_pending_coupler_force(p->coupler_stiffness, p->coupler_damping, p->coupler_slack,
-                                                  s->x[c] - s->x[c + 1] - p->car[c].length, s->v[c] - s->v[c + 1]);
+        coupler[c + 1] = rb_coupler_force(&p->coupler, s->x[c] - s->x[c + 1] - p->car[c].length,
+                                          s->v[c] - s->v[c + 1]);
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
         double v = s->v[c];
-        double ed_max = car->motor && !f->ed_lost[c] && v > 0.0 ? rb_pending_ed_force_max(&car->ed, v) : 0.0;
+        double ed_max = car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
         double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
         double ed_target = ed < ed_max ? ed : ed_max;
         s->ed_force[c] += (ed_target - s->ed_force[c]) * p->dt / (car->ed_tau + p->dt);
-        double resistance = v > 0.0 ? rb_pending_running_resistance(p->resistance_a, p->resistance_b,
-                                                                     p->resistance_c, v) * car->mass / total_mass
-                                    : 0.0;
-        double mass = car->mass + car->rotating_mass;
+        double mass = car->vehicle.mass;
+        double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * mass / total_mass : 0.0;
         double other = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
         double rail = step_wheelsets(p, s, c, other, mass, f);
         s->a[c] = (rail + other) / mass;

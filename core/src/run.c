@@ -133,7 +133,7 @@ static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_s
     const rb_plant_outputs *o = &r->out;
     double dt = p->dt, total_mass = 0.0, rail = 0.0;
     if (!r->braking) return;
-    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].mass;
+    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
         int c = a / RB_AXLES_PER_CAR;
         double v = o->car_speed[c];

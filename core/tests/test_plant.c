@@ -11,15 +11,20 @@
 static void fill_car(rb_plant_car *c)
 {
     memset(c, 0, sizeof *c);
-    c->mass = 50e3;
-    c->rotating_mass = 1.5e3;
+    rb_car *v = &c->vehicle;
+    v->motor = 0;
+    v->axles = 4;
+    v->mass = 50e3;
+    v->wheelset = (rb_wheelset){0.43, 120.0, 50e3 / 4};
+    v->brake.discs = 3;
+    v->brake.mean_radius = 0.247;
+    v->brake.caliper = (rb_caliper){0.0314, 1500.0, 3.0, 0.92, 1.01325e5};
+    rb_pad_friction_sintered(0.42, &v->brake.pad, NULL);
+    v->supply_pressure = 1.01325e5 + 4.5e5;
     c->length = 25.0;
     c->axle_position[0] = 3.0; c->axle_position[1] = 5.5;
     c->axle_position[2] = 19.5; c->axle_position[3] = 22.0;
-    c->wheel_radius = 0.43;
-    c->wheelset_inertia = 120.0;
     c->contact = (rb_creep_contact){6.0e-3, 5.0e-3, 4.5, 8.1e10};
-    c->brake = (rb_plant_brake){0.0314, 1500.0, 3.0, 0.92, 3.0, 0.247, 0.35, 0.40, 5.0};
     c->ed_tau = 0.3;
     c->supply_volume = 0.1; c->pilot_volume = 0.5e-3; c->relay_volume = 1.0e-3;
     c->cylinder_volume = 1.5e-3; c->pipe_volume = 0.0123;
@@ -34,7 +39,7 @@ static void fill_plant(rb_plant_params *p, int n_cars, double speed)
     p->n_cars = n_cars; p->dt = 1e-3; p->temperature = 293.15; p->atmosphere = 1.01325e5;
     p->discharge_coefficient = 0.8; p->critical_ratio = 0.528;
     for (int i = 0; i < n_cars; ++i) fill_car(&p->car[i]);
-    p->coupler_stiffness = 1e7; p->coupler_damping = 2e5; p->coupler_slack = 0.005;
+    p->coupler = (rb_coupler){0.01, 1e7, 0.0, 2e5};
     p->main_reservoir_volume = 0.5; p->main_reservoir_area = 100e-6;
     p->compressor_flow = 0.03; p->governor_on = 8.5e5; p->governor_off = 10e5;
     p->initial_pressure = 9.5e5; p->initial_speed = speed;
@@ -51,7 +56,8 @@ static void test_constant_torque_deceleration(void)
     rb_plant_state s;
     rb_plant_inputs in;
     fill_plant(&p, 1, 40.0);
-    p.car[0].brake.pad_friction_low = p.car[0].brake.pad_friction;   /* constant torque */
+    p.car[0].vehicle.brake.pad.table.n = 1;   /* constant pad friction: constant torque */
+    p.car[0].vehicle.brake.pad.table.value[0] = 0.35;
     p.n_faults = 1;   /* no air refill effects: compressor off */
     p.fault[0] = (rb_fault){RB_FAULT_COMPRESSOR_OFF, 0, -1, 0.0, 0.0};
     CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
@@ -60,12 +66,15 @@ static void test_constant_torque_deceleration(void)
     for (int i = 0; i < 5000; ++i) rb_plant_step(&p, &s, &in);   /* 5 s: cylinders filled */
     const rb_plant_car *c = &p.car[0];
     double pc = s.m_cyl[0] * 287.05 * p.temperature / c->cylinder_volume;
-    double torque = rb_plant_axle_brake_torque(c, pc, p.atmosphere, s.omega[0] * c->wheel_radius);
-    double m_eff = c->mass + c->rotating_mass + 4 * c->wheelset_inertia / (c->wheel_radius * c->wheel_radius);
-    double expected = 4 * torque / c->wheel_radius / m_eff;
+    double r = c->vehicle.wheelset.wheel_radius, J = c->vehicle.wheelset.inertia;
+    /* EN 14531 by hand: 3 discs x 2 pads x R x 0.35 x ((p - p_atm) A - F_s) i eta */
+    double torque = 3 * 2 * 0.247 * 0.35 * ((pc - p.atmosphere) * 0.0314 - 1500.0) * 3.0 * 0.92;
+    CHECK_CLOSE(rb_plant_axle_brake_torque(c, pc, 40.0), torque, 1e-12, 0);
+    double m_eff = c->vehicle.mass + 4 * J / (r * r);
+    double expected = 4 * torque / r / m_eff;
     CHECK_CLOSE(-s.a[0], expected, 2e-3, 0);
     CHECK_CLOSE(pc, in.pressure_demand[0], 0.02, 0);
-    CHECK(s.omega[0] * c->wheel_radius < s.v[0]);      /* small braking creep */
+    CHECK(s.omega[0] * r < s.v[0]);      /* small braking creep */
     CHECK(s.v[0] > 30.0);
 }
 
@@ -125,9 +134,9 @@ static void test_bad_parameters(void)
     rb_plant_state s;
     rb_error err;
     fill_plant(&p, 2, 10.0);
-    p.car[1].mass = -5.0;
+    p.car[1].length = -5.0;
     CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
-    CHECK(strstr(err.message, "car[1].mass") != NULL);
+    CHECK(strstr(err.message, "car[1].length") != NULL);
     fill_plant(&p, 2, 10.0);
     p.n_faults = 1;
     p.fault[0] = (rb_fault){RB_FAULT_VENT_STUCK_OPEN, 5, 0, 0.0, 0.0};

@@ -221,7 +221,6 @@ PLANT_MAX_AXLES = PLANT_MAX_CARS * AXLES_PER_CAR
 MAX_CONDITIONS = 4
 MAX_ZONES = 8
 MAX_FAULTS = 16
-ED_TABLE = 8
 MAX_DEMAND_STEPS = 16
 
 
@@ -229,20 +228,9 @@ def _doubles(*names):
     return [(n, c_double) for n in names]
 
 
-class PlantBrake(Structure):
-    _fields_ = _doubles("cylinder_area", "spring_force", "lever_ratio", "efficiency", "discs",
-                        "disc_radius", "pad_friction", "pad_friction_low", "pad_friction_speed")
-
-
-class PlantEd(Structure):
-    _fields_ = [("n", c_int), ("speed", c_double * ED_TABLE), ("force", c_double * ED_TABLE)]
-
-
 class PlantCar(Structure):
-    _fields_ = (_doubles("mass", "rotating_mass", "length")
-                + [("axle_position", c_double * AXLES_PER_CAR)]
-                + _doubles("wheel_radius", "wheelset_inertia")
-                + [("contact", CreepContact), ("brake", PlantBrake), ("motor", c_int), ("ed", PlantEd), ("ed_tau", c_double)]
+    _fields_ = ([("vehicle", Car), ("length", c_double), ("axle_position", c_double * AXLES_PER_CAR),
+                 ("contact", CreepContact), ("ed_tau", c_double)]
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
                            "charge_area", "ep_area", "ep_tau", "ep_band", "relay_supply_area",
                            "relay_exhaust_area", "relay_band", "hold_area", "vent_area", "valve_delay",
@@ -269,9 +257,7 @@ FAULT_KINDS = ("hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_
 class PlantParams(Structure):
     _fields_ = ([("n_cars", c_int)]
                 + _doubles("dt", "temperature", "atmosphere", "discharge_coefficient", "critical_ratio")
-                + [("car", PlantCar * PLANT_MAX_CARS)]
-                + _doubles("coupler_stiffness", "coupler_damping", "coupler_slack",
-                           "resistance_a", "resistance_b", "resistance_c")
+                + [("car", PlantCar * PLANT_MAX_CARS), ("coupler", Coupler), ("resistance", Resistance)]
                 + [("compressor_car", c_int)]
                 + _doubles("main_reservoir_volume", "main_reservoir_area", "compressor_flow",
                            "governor_on", "governor_off", "initial_pressure", "initial_speed")

@@ -65,7 +65,7 @@ class _Strict(BaseModel):
 
 
 class Train(_Strict):
-    preset: str = "crh380al-16"
+    preset: str = "crh380al-16"   # railbrake.vehicle preset name or train YAML file
     cars: int | None = Field(default=None, ge=1, le=16)
 
 
@@ -161,14 +161,14 @@ class Scenario:
         return f"{self.origin}{f', line {line}' if line else ''}: {dotted}"
 
     def cars(self, override: int | None = None) -> int:
-        from railbrake.simulation.train import load_train
+        from railbrake.vehicle import load_train
         if override is not None:
             if not 1 <= override <= 16:
                 raise InputError(f"cars = {override}: must be in [1, 16]")
             return override
         if self.spec.train.cars is not None:
             return self.spec.train.cars
-        return load_train(self.spec.train.preset).cars
+        return len(load_train(self.spec.train.preset).cars)
 
     def check_cars(self, n_cars: int) -> None:
         """Faults must name cars of the train."""
@@ -193,7 +193,7 @@ def parse(text: str, origin: str) -> Scenario:
     if spec.schema_ != SCHEMA:
         raise InputError(f"{scenario.where('schema')} = {spec.schema_!r}: expected {SCHEMA!r}")
     from railbrake.adhesion import load_condition
-    from railbrake.simulation.train import load_train
+    from railbrake.vehicle import load_train
     for key, name in [(("adhesion", "condition"), spec.adhesion.condition)] + [
             (("adhesion", "zones", i, "condition"), z.condition) for i, z in enumerate(spec.adhesion.zones)]:
         try:

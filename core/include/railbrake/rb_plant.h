@@ -19,7 +19,7 @@
  *    conditioning by axle index and track zones; the slip velocity is advanced linearly
  *    implicitly with the secant creep stiffness (stable at 1 ms down to walking speed); a wheel
  *    whose speed would change sign is locked (static pad friction).
- *  - Cars: one mass per car (plus rotating mass), couplers, running resistance; symplectic Euler.
+ *  - Cars: one mass per car, couplers, running resistance (rb_vehicle.h laws); symplectic Euler.
  */
 #ifndef RAILBRAKE_PLANT_H
 #define RAILBRAKE_PLANT_H
@@ -28,6 +28,7 @@
 
 #include "railbrake/rb_common.h"
 #include "railbrake/rb_contact.h"
+#include "railbrake/rb_vehicle.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -39,41 +40,14 @@ extern "C" {
 #define RB_MAX_CONDITIONS 4
 #define RB_MAX_ZONES 8
 #define RB_MAX_FAULTS 16
-#define RB_ED_TABLE 8
 
 /* ---- parameters (SI units, absolute pressures) */
 
-/* Foundation brake of one axle: caliper and discs (EN 14531 cylinder force). */
 typedef struct {
-    double cylinder_area;     /* m^2 */
-    double spring_force;      /* N, return spring (subtracted) */
-    double lever_ratio;       /* - */
-    double efficiency;        /* - */
-    double discs;             /* discs per axle (each with 2 pads) */
-    double disc_radius;       /* m, mean friction radius */
-    double pad_friction;      /* - , at high speed */
-    double pad_friction_low;  /* - , at standstill (linear rise below pad_friction_speed) */
-    double pad_friction_speed;/* m/s of the disc at the friction radius */
-} rb_plant_brake;
-
-/* Maximum ED brake force over speed (whole car), linear between table points. */
-typedef struct {
-    int n;
-    double speed[RB_ED_TABLE];  /* m/s, increasing */
-    double force[RB_ED_TABLE];  /* N */
-} rb_plant_ed;
-
-typedef struct {
-    double mass;              /* kg, with load */
-    double rotating_mass;     /* kg, equivalent mass of rotating parts other than the wheelsets */
+    rb_car vehicle;           /* mass, wheelset, foundation brake, ED curve (rb_vehicle.h); 4 axles */
     double length;            /* m, over couplers */
     double axle_position[RB_AXLES_PER_CAR]; /* m from the car's front end */
-    double wheel_radius;      /* m */
-    double wheelset_inertia;  /* kg m^2, with discs (and motor, referred to the axle) */
     rb_creep_contact contact; /* Hertz/Kalker data of one wheel */
-    rb_plant_brake brake;
-    int motor;                /* 1: ED brake available */
-    rb_plant_ed ed;
     double ed_tau;            /* s, ED force response (first-order lag) */
     /* pneumatics */
     double supply_volume, pilot_volume, relay_volume, cylinder_volume, pipe_volume; /* m^3 */
@@ -130,10 +104,8 @@ typedef struct {
     double atmosphere;        /* Pa */
     double discharge_coefficient, critical_ratio;
     rb_plant_car car[RB_PLANT_MAX_CARS];
-    /* couplers (between car i and i+1) */
-    double coupler_stiffness, coupler_damping, coupler_slack; /* N/m, N s/m, m */
-    /* running resistance of the whole train: A + B v + C v^2 (N), shared by mass */
-    double resistance_a, resistance_b, resistance_c;
+    rb_coupler coupler;       /* between car i and i+1 */
+    rb_resistance resistance; /* whole train, shared by mass */
     /* air supply */
     int compressor_car;
     double main_reservoir_volume, main_reservoir_area; /* m^3; m^2 link to the MR pipe */
@@ -225,9 +197,8 @@ void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_i
 void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
 /* Air mass in every volume of the plant, kg. */
 double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
-/* Brake torque of one axle at cylinder pressure p_cyl and disc friction speed (N m). */
-double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double atmosphere,
-                                  double wheel_speed);
+/* Brake torque of one axle at cylinder pressure p_cyl and wheel peripheral speed (N m). */
+double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double wheel_speed);
 /* Peak adhesion available to axle (global index from the front) at the present state. */
 double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s, int axle);
 size_t rb_plant_params_size(void);

@@ -19,11 +19,10 @@ from railbrake.adhesion import load_condition
 from railbrake.contact import wheel_rail_contact
 from railbrake.errors import InputError
 from railbrake.scenario import Scenario, load
-from railbrake.simulation.train import TrainData, ed_force_train, load_train
+from railbrake.vehicle import load_train
 
 DT = 1e-3
 ATMOSPHERE = 1.01325e5
-CYLINDER_MAX = ATMOSPHERE + 3.8e5   # UIC distributor maximum, 3.8 bar [P]
 EMERGENCY_DECEL = 1.2               # m/s^2, below the CRH380AL's 1.35 [P]
 SERVICE_DECEL = 1.0                 # m/s^2 [T]
 CHUNK = 2.0                         # s of simulated time per C call
@@ -48,37 +47,37 @@ class Result:
 
 # ------------------------------------------------------------------ parameters
 
-def _car(train: TrainData, index: int, n_cars: int) -> _core.PlantCar:
-    """One car's physical and pneumatic parameters (typical values [T], docs/simulation.md)."""
-    mass = train.mass_t * 1e3 / train.cars
-    r = train.wheel_radius
+CAR_LENGTH = 25.0   # m over couplers [T]
+
+
+def _car(train, index: int) -> _core.PlantCar:
+    """Car `index` of the train (the formation repeats when more cars are asked for) with the
+    plant's own data: geometry, contact and pneumatics (typical values [T], docs/simulation.md)."""
+    vehicle = train.cars[index % len(train.cars)].c
     car = _core.PlantCar()
-    car.mass = mass
-    # rotating-mass factor covers wheelsets (modelled as such) and motors (added as mass)
-    car.rotating_mass = max(train.rotating_mass_factor * mass - 4 * train.wheelset_inertia / r**2, 0.0)
-    car.length = train.car_length
-    for k, x in enumerate((2.5, 5.0, train.car_length - 5.0, train.car_length - 2.5)):
+    ctypes.pointer(car.vehicle)[0] = vehicle
+    car.length = CAR_LENGTH
+    for k, x in enumerate((2.5, 5.0, CAR_LENGTH - 5.0, CAR_LENGTH - 2.5)):
         car.axle_position[k] = x
-    car.wheel_radius = r
-    car.wheelset_inertia = train.wheelset_inertia
-    contact = wheel_rail_contact(wheel_radius=r, axle_load=mass / 4)
-    car.contact = contact.creep_contact()
-    car.brake = _core.PlantBrake(0.024, 1500.0, 3.0, 0.92, train.discs_per_axle, train.disc_radius,
-                                 train.pad_friction, train.pad_friction_low, 100 / 3.6 * train.disc_radius / r)
-    car.motor = int(index + 1 in train.motor_cars)
-    if car.motor:
-        speeds = np.linspace(0.0, 100.0, _core.ED_TABLE)
-        car.ed.n = _core.ED_TABLE
-        for i, v in enumerate(speeds):
-            car.ed.speed[i] = v
-            car.ed.force[i] = ed_force_train(v) / train.ed_train_motor_cars
+    w = vehicle.wheelset
+    car.contact = wheel_rail_contact(wheel_radius=w.wheel_radius, axle_load=w.axle_load).creep_contact()
     car.ed_tau = 0.3   # s [T]
     car.supply_volume, car.pilot_volume, car.relay_volume = 0.1, 0.5e-3, 1.0e-3
-    car.cylinder_volume, car.pipe_volume = 1.5e-3, math.pi / 4 * 0.025**2 * train.car_length
+    car.cylinder_volume, car.pipe_volume = 1.5e-3, math.pi / 4 * 0.025**2 * CAR_LENGTH
     car.charge_area, car.ep_area, car.ep_tau, car.ep_band = 7e-6, 3e-6, 0.1, 0.1e5
     car.relay_supply_area, car.relay_exhaust_area, car.relay_band = 20e-6, 20e-6, 0.1e5
     car.hold_area, car.vent_area, car.valve_delay, car.pipe_area = 15e-6, 40e-6, 0.015, 100e-6
     return car
+
+
+def _resistance(train, n_cars: int) -> _core.Resistance:
+    """The train's resistance for n_cars: A and B scale with the mass, C (air) with
+    0.2 + 0.8 n/N (head and tail unchanged) [T]."""
+    r, n = train.c.resistance, len(train.cars)
+    if n_cars == n:
+        return _core.Resistance(r.A, r.B, r.C)
+    mass_ratio = sum(train.cars[i % n].c.mass for i in range(n_cars)) / train.mass
+    return _core.Resistance(r.A * mass_ratio, r.B * mass_ratio, r.C * (0.2 + 0.8 * n_cars / n))
 
 
 def _condition(name: str) -> _core.PlantCondition:
@@ -100,11 +99,9 @@ def plant_params(scenario: Scenario, n_cars: int) -> _core.PlantParams:
     p.n_cars, p.dt, p.temperature, p.atmosphere = n_cars, DT, 293.15, ATMOSPHERE
     p.discharge_coefficient, p.critical_ratio = 0.8, 0.528
     for i in range(n_cars):
-        p.car[i] = _car(train, i, n_cars)
-    p.coupler_stiffness, p.coupler_damping, p.coupler_slack = 1e7, 2e5, 0.005
-    share = n_cars / train.resistance_cars
-    a, b, c = train.resistance_kn
-    p.resistance_a, p.resistance_b, p.resistance_c = a * 1e3 * share, b * 1e3 * 3.6 * share, c * 1e3 * 3.6**2 * share
+        p.car[i] = _car(train, i)
+    p.coupler = _core.Coupler(0.01, 1e7, 0.0, 2e5)   # slack m, N/m, N/m^3, N s/m [T]
+    p.resistance = _resistance(train, n_cars)
     p.compressor_car = 0
     p.main_reservoir_volume, p.main_reservoir_area = 0.05 * n_cars, 100e-6
     p.compressor_flow, p.governor_on, p.governor_off = 0.03, 8.5e5, 10.0e5
@@ -150,7 +147,8 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool) -> _core
     b = _core.BcuParams()
     b.n_cars, b.cycle, b.atmosphere = plant.n_cars, scenario.spec.wsp.cycle, ATMOSPHERE
     b.service_decel, b.emergency_decel, b.ed_in_emergency = SERVICE_DECEL, EMERGENCY_DECEL, 0
-    _core.rb_bcu_pressure_map(ctypes.byref(plant), CYLINDER_MAX, ctypes.byref(b))
+    supply = min(plant.car[i].vehicle.supply_pressure for i in range(plant.n_cars))
+    _core.rb_bcu_pressure_map(ctypes.byref(plant), supply, ctypes.byref(b))
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
     return b
@@ -235,7 +233,8 @@ def bench(cars: int = 16, steps: int = 20000) -> dict:
     sc = load("emergency-250-dry")
     plant = plant_params(sc, cars)
     mean, p99 = ctypes.c_double(), ctypes.c_double()
-    _core.call(_core.rb_plant_bench, ctypes.byref(plant), CYLINDER_MAX, steps, ctypes.byref(mean),
+    supply = plant.car[0].vehicle.supply_pressure
+    _core.call(_core.rb_plant_bench, ctypes.byref(plant), supply, steps, ctypes.byref(mean),
                ctypes.byref(p99))
     return {"cars": cars, "realtime_factor": DT * 1e6 / mean.value,
             "step_us_mean": mean.value, "step_us_p99": p99.value}

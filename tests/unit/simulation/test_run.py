@@ -140,7 +140,10 @@ faults: [{type: ed_lost, car: 2, start: 0 s}]
     r = simulation.run(scenario.parse(source, "ed-lost"))
     assert r.outputs["ed_force_c2"].max() == 0.0
     assert r.outputs["ed_force_c3"].max() > 30e3
-    assert _gauge_bar(r, "cylinder_c2a1", 20.0) == pytest.approx(_gauge_bar(r, "cylinder_c1a1", 20.0), rel=0.02)
+    # car 2 brakes pneumatically as hard as its twin car 3 brakes with ED plus air
+    i = np.searchsorted(r.time, 20.0)
+    assert r.outputs["adhesion_c2a1"][i] == pytest.approx(r.outputs["adhesion_c3a1"][i], rel=0.03)
+    assert _gauge_bar(r, "cylinder_c2a1", 20.0) > 2 * _gauge_bar(r, "cylinder_c3a1", 20.0)
 
 
 @pytest.mark.parametrize("name", ["emergency-250-dry", "service-200-wet", "emergency-300-leaves-patch",
