@@ -67,17 +67,19 @@ typedef struct {
 } air_ctx;
 
 /* Moves air from node i to node j (j = NULL: atmosphere) through an orifice of `area`;
- * n_i, n_j: number of links of each node (see rb_plant.h on the stiff-link limit). */
-static void transfer(air_ctx *x, double *mi, double vi, double ni, double *mj, double vj, double nj,
+ * k = R T / V turns a node's mass into its pressure; n_i, n_j: number of links of each node
+ * (see rb_plant.h on the stiff-link limit). */
+static void transfer(air_ctx *x, double *mi, double ki, double ni, double *mj, double kj, double nj,
                      double area)
 {
     if (area <= 0.0) return;
-    double pi = *mi * x->rt / vi, pj = mj ? *mj * x->rt / vj : x->patm;
+    double pi = *mi * ki, pj = mj ? *mj * kj : x->patm;
     if (fabs(pi - pj) < 0.01) return;   /* balanced to 0.01 Pa: nothing worth moving */
     double q = rb_orifice_mass_flow_fast(pi, x->T, pj, x->T, area, x->cd, x->b);
-    if (q == 0.0 || pi == pj) return;
-    double equalise = fabs(pi - pj) / (x->rt * (ni / vi + (mj ? nj / vj : 0.0)));
-    double dm = 1.0 / (1.0 / (x->dt * fabs(q)) + 1.0 / equalise);
+    if (q == 0.0) return;
+    double flow = x->dt * fabs(q);
+    double equalise = fabs(pi - pj) / (ni * ki + (mj ? nj * kj : 0.0));
+    double dm = flow * equalise / (flow + equalise);
     if (q < 0.0) dm = -dm;
     *mi -= dm;
     if (mj) *mj += dm;
@@ -113,38 +115,38 @@ static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant
         s->m_compressed += p->compressor_flow * p->dt;
     }
     int last = p->n_cars - 1;
+    double k_mr = rt / p->main_reservoir_volume, k_next_pipe = rt / p->car[0].pipe_volume;
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
+        double k_pipe = k_next_pipe, k_supply = rt / car->supply_volume, k_pilot = rt / car->pilot_volume;
+        double k_relay = rt / car->relay_volume, k_cyl = rt / car->cylinder_volume;
+        if (c < last) k_next_pipe = rt / p->car[c + 1].pipe_volume;
         double pipe_links = 1.0 + (c > 0) + (c < last) + (c == p->compressor_car);
         if (c == p->compressor_car)
-            transfer(&x, &s->m_mr, p->main_reservoir_volume, 1.0, &s->m_pipe[c], car->pipe_volume,
-                     pipe_links, p->main_reservoir_area);
+            transfer(&x, &s->m_mr, k_mr, 1.0, &s->m_pipe[c], k_pipe, pipe_links, p->main_reservoir_area);
         if (c < last)
-            transfer(&x, &s->m_pipe[c], car->pipe_volume, pipe_links, &s->m_pipe[c + 1],
-                     p->car[c + 1].pipe_volume, 1.0 + 1.0 + (c + 1 < last) + (c + 1 == p->compressor_car),
-                     car->pipe_area);
+            transfer(&x, &s->m_pipe[c], k_pipe, pipe_links, &s->m_pipe[c + 1], k_next_pipe,
+                     1.0 + 1.0 + (c + 1 < last) + (c + 1 == p->compressor_car), car->pipe_area);
         /* check valve and choke: only towards the supply reservoir */
-        if (s->m_pipe[c] / car->pipe_volume > s->m_supply[c] / car->supply_volume)
-            transfer(&x, &s->m_pipe[c], car->pipe_volume, pipe_links, &s->m_supply[c], car->supply_volume,
-                     3.0, car->charge_area);
+        if (s->m_pipe[c] * k_pipe > s->m_supply[c] * k_supply)
+            transfer(&x, &s->m_pipe[c], k_pipe, pipe_links, &s->m_supply[c], k_supply, 3.0, car->charge_area);
         /* EP valve: lagged demand, ports open in proportion to the error */
         double demand = in->pressure_demand[c] > p->atmosphere ? in->pressure_demand[c] : p->atmosphere;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * p->dt / (car->ep_tau + p->dt);
-        double p_pilot = s->m_pilot[c] * rt / car->pilot_volume;
+        double p_pilot = s->m_pilot[c] * k_pilot;
         if (!f->ep_failed[c]) {
             double e = (s->ep_demand_lag[c] - p_pilot) / car->ep_band;
-            transfer(&x, &s->m_supply[c], car->supply_volume, 3.0, &s->m_pilot[c], car->pilot_volume, 2.0,
-                     car->ep_area * clamp01(e));
-            transfer(&x, &s->m_pilot[c], car->pilot_volume, 2.0, NULL, 0.0, 0.0, car->ep_area * clamp01(-e));
-            p_pilot = s->m_pilot[c] * rt / car->pilot_volume;
+            transfer(&x, &s->m_supply[c], k_supply, 3.0, &s->m_pilot[c], k_pilot, 2.0, car->ep_area * clamp01(e));
+            transfer(&x, &s->m_pilot[c], k_pilot, 2.0, NULL, 0.0, 0.0, car->ep_area * clamp01(-e));
+            p_pilot = s->m_pilot[c] * k_pilot;
         }
         /* relay valve: output follows the pilot; an isolated car is cut off and vented */
         double target = f->isolated[c] ? p->atmosphere : p_pilot;
-        double e = (target - s->m_relay[c] * rt / car->relay_volume) / car->relay_band;
+        double e = (target - s->m_relay[c] * k_relay) / car->relay_band;
         double relay_links = 2.0 + RB_AXLES_PER_CAR;
-        transfer(&x, &s->m_supply[c], car->supply_volume, 3.0, &s->m_relay[c], car->relay_volume, relay_links,
+        transfer(&x, &s->m_supply[c], k_supply, 3.0, &s->m_relay[c], k_relay, relay_links,
                  f->isolated[c] ? 0.0 : car->relay_supply_area * clamp01(e));
-        transfer(&x, &s->m_relay[c], car->relay_volume, relay_links, NULL, 0.0, 0.0,
+        transfer(&x, &s->m_relay[c], k_relay, relay_links, NULL, 0.0, 0.0,
                  car->relay_exhaust_area * (f->isolated[c] ? 1.0 : clamp01(-e)));
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
@@ -153,11 +155,10 @@ static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant
             vent_eff[a] = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a],
                                 car->valve_delay, p->dt, f->vent[a]);
             if (!hold_eff[a])
-                transfer(&x, &s->m_relay[c], car->relay_volume, relay_links, &s->m_cyl[a], car->cylinder_volume,
-                         3.0, car->hold_area);
+                transfer(&x, &s->m_relay[c], k_relay, relay_links, &s->m_cyl[a], k_cyl, 3.0, car->hold_area);
             if (vent_eff[a])
-                transfer(&x, &s->m_cyl[a], car->cylinder_volume, 3.0, NULL, 0.0, 0.0, car->vent_area);
-            transfer(&x, &s->m_cyl[a], car->cylinder_volume, 3.0, NULL, 0.0, 0.0, f->leak[a]);
+                transfer(&x, &s->m_cyl[a], k_cyl, 3.0, NULL, 0.0, 0.0, car->vent_area);
+            transfer(&x, &s->m_cyl[a], k_cyl, 3.0, NULL, 0.0, 0.0, f->leak[a]);
         }
     }
     s->m_vented += x.vented;
