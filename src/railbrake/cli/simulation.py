@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Optional
 
@@ -21,17 +22,22 @@ _UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool):
-    """Runs with a progress bar (on a terminal, runs longer than 2 s), writes the outputs."""
+    """Runs with a progress bar that appears once the run has lasted 2 s; writes the outputs."""
     sc = scenarios.load(scenario)
-    end = sc.spec.stop.max_time
-    with Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
-                  TimeElapsedColumn(), console=Console(stderr=True), transient=True, disable=quiet) as bar:
-        task = bar.add_task(sc.name, total=end, speed="")
+    bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
+                   TimeElapsedColumn(), console=Console(stderr=True), transient=True, disable=quiet)
+    task = bar.add_task(sc.name, total=sc.spec.stop.max_time, speed="")
+    start = time.monotonic()
 
-        def progress(t, v):
-            bar.update(task, completed=t, speed=f"{3.6 * v:5.0f} km/h")
+    def progress(t, v):
+        if not bar.live.is_started and time.monotonic() - start > 2.0:
+            bar.start()
+        bar.update(task, completed=t, speed=f"{3.6 * v:5.0f} km/h")
 
+    try:
         result = simulation.run(sc, cars=cars, wsp=wsp, progress=progress)
+    finally:
+        bar.stop()
     if out is not None:
         from railbrake.plots.simulation import plot_all
         from railbrake.simulation.io import write_kpis, write_parquet
