@@ -222,3 +222,17 @@ def test_heavy_rain_adhesion_along_the_train_matches_the_shinkansen_measurement(
 
     assert 0.7 * 0.02 < car_mean(1) < 1.1 * 0.02
     assert 0.7 * 0.05 < car_mean(4) < 1.1 * 0.05
+
+
+def test_bcu_pressure_map_agrees_with_the_vehicle_sizing():
+    """The BCU's load-weighed demand -> pressure map and railbrake.sizing.target_pressure invert
+    the same foundation-brake law; the sizing also credits each car with its share of the running
+    resistance, which the BCU leaves to the brake: at 200 km/h that is a few percent less pressure."""
+    from railbrake import sizing
+    sc = scenario.load("emergency-250-dry")
+    plant = simulation.plant_params(sc, 8)
+    bcu = simulation.bcu_params(plant, sc, True)
+    a, v = 1.2, 200 / 3.6
+    sized = sizing.target_pressure("crh380a-8", a, speeds=[v]).p_trailer[0] - ATM
+    mine = bcu.pressure_offset[0] + bcu.pressure_gain[0] * a * bcu.car_mass[0] - ATM   # car 1: trailer
+    assert sized < mine < 1.06 * sized
