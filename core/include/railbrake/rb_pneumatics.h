@@ -1,0 +1,91 @@
+/* Pneumatic laws: ideal-gas lumped volume, orifice flow (ISO 6358 form), variable-area
+ * elements and membranes.
+ *
+ * Sources (see shared/reference/README.md section 4): ideal gas with R = 287.05 J/(kg K),
+ * gamma = 1.4; ISO 6358 flow-rate characteristic with sonic conductance C and critical
+ * pressure ratio b, rho0 = 1.185 kg/m^3 at T0 = 293.15 K; ideal nozzle b = 0.528. */
+#ifndef RAILBRAKE_PNEUMATICS_H
+#define RAILBRAKE_PNEUMATICS_H
+
+#include "railbrake/rb_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RB_AIR_R 287.05        /* J/(kg K) */
+#define RB_AIR_GAMMA 1.4
+#define RB_ISO6358_RHO0 1.185  /* kg/m^3, reference density of ISO 6358 */
+#define RB_ISO6358_T0 293.15   /* K, reference temperature of ISO 6358 */
+/* Above this pressure ratio p_down/p_up the flow is linear in the pressure difference
+ * (laminar region), so d(mdot)/dp stays finite at equal pressures. */
+#define RB_ORIFICE_LAMINAR_RATIO 0.999
+
+/* Mass flow through an orifice, kg/s, positive from node 1 to node 2; works in both directions
+   (the upstream side's temperature is used). Choked below critical_ratio, ISO 6358 form above,
+   linear (laminar) region near equal pressures so the derivative stays finite.
+   No argument checks: for inner loops. */
+double rb_orifice_mass_flow_fast(double p1, double T1, double p2, double T2,
+                                 double area, double discharge_coefficient, double critical_ratio);
+
+/* The same law in the ISO 6358 parameters: sonic conductance C (m^3/(s Pa)), critical ratio b. */
+double rb_orifice_mass_flow_iso_fast(double p1, double T1, double p2, double T2,
+                                     double sonic_conductance, double critical_ratio);
+
+/* Sonic conductance C of an orifice of area A and discharge coefficient Cd: the C that gives the
+   ideal-nozzle choked flow Cd A p1 sqrt(gamma/(R T1)) (2/(gamma+1))^((gamma+1)/(2(gamma-1))). */
+double rb_sonic_conductance(double area, double discharge_coefficient);
+
+/* An orifice given either by area and discharge coefficient (sonic_conductance = 0) or by its
+   ISO 6358 sonic conductance (area and discharge_coefficient ignored). */
+typedef struct {
+    double area;                   /* m^2, >= 0 */
+    double discharge_coefficient;  /* (0, 1] */
+    double sonic_conductance;      /* m^3/(s Pa), >= 0; > 0 selects the ISO 6358 form */
+    double critical_ratio;         /* b, [0, 1) */
+} rb_orifice;
+
+rb_status rb_orifice_check(const rb_orifice *o, rb_error *err);
+/* Checked orifice flow: pressures > 0, temperatures > 0, orifice valid. */
+rb_status rb_orifice_mass_flow(double p1, double T1, double p2, double T2, const rb_orifice *o,
+                               double *mdot, rb_error *err);
+
+/* Rates of an ideal-gas lumped volume (mass and energy balance, moving boundary).
+   mdot_in: sum of inflows (kg/s, >= 0); enthalpy_in: sum over inflows of cp*T_source*mdot (W);
+   mdot_out: sum of outflows (kg/s, >= 0) leaving at the volume's temperature T;
+   heat: heat flow into the gas (W), e.g. h*A*(T_wall - T); V (m^3) and dV_dt (m^3/s).
+   Outputs dm/dt (kg/s), dT/dt (K/s), dp/dt (Pa/s), with p = m R T / V. */
+void rb_volume_rates(double m, double T, double V, double dV_dt,
+                     double mdot_in, double enthalpy_in, double mdot_out, double heat,
+                     double *dm_dt, double *dT_dt, double *dp_dt);
+
+/* Variable-area elements driven by a body position (m); areas in m^2, never negative.
+   Flapper-nozzle: curtain area pi D x, limited by the nozzle bore pi D^2/4. */
+double rb_flapper_nozzle_area(double nozzle_diameter, double gap);
+/* Conical (or flat: half_angle = pi/2) poppet seat of diameter D lifted by x:
+   pi D x sin(half_angle), limited by the port area pi D^2/4. */
+double rb_seat_area(double seat_diameter, double lift, double half_angle);
+/* Spool metering edge of diameter D opened by x (negative: overlapped) with radial clearance c:
+   pi D sqrt(max(x,0)^2 + c^2); the clearance leaks when closed. */
+double rb_spool_edge_area(double spool_diameter, double opening, double clearance);
+
+/* Membrane (or any piston of position-dependent area): swept volume V(x) from a table, by a
+   monotone piecewise-cubic (Fritsch-Carlson) interpolant, so that A_eff(x) = dV/dx is
+   continuous and the p dV work stays consistent with the force p A_eff. */
+#define RB_MEMBRANE_MAX_POINTS 32
+typedef struct {
+    int n;
+    double x[RB_MEMBRANE_MAX_POINTS];      /* m, strictly increasing */
+    double volume[RB_MEMBRANE_MAX_POINTS]; /* m^3, non-decreasing */
+    double slope[RB_MEMBRANE_MAX_POINTS];  /* dV/dx at the points, filled by rb_membrane_init */
+} rb_membrane;
+
+rb_status rb_membrane_init(rb_membrane *mb, const double *x, const double *volume, int n,
+                           rb_error *err);
+/* Swept volume and effective area at x (outside the table: linear extension). */
+void rb_membrane_eval(const rb_membrane *mb, double x, double *volume, double *effective_area);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
