@@ -5,7 +5,6 @@
 #include <string.h>
 
 #define RB_G 9.80665
-#define RB_R_AIR 287.05
 
 /* Faults in force at this step, per axle and per car. */
 typedef struct {
@@ -103,7 +102,7 @@ static uint8_t valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *tim
 static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                      const active_faults *f, uint8_t *hold_eff, uint8_t *vent_eff)
 {
-    air_ctx x = {p->dt, RB_R_AIR * p->temperature, p->temperature, p->atmosphere,
+    air_ctx x = {p->dt, RB_AIR_R * p->temperature, p->temperature, p->atmosphere,
                  p->discharge_coefficient, p->critical_ratio, 0.0};
     double rt = x.rt;
     /* compressor with on/off governor */
@@ -171,7 +170,7 @@ static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c,
                              double mass, const active_faults *f)
 {
     const rb_plant_car *car = &p->car[c];
-    double rt = RB_R_AIR * p->temperature, dt = p->dt;
+    double rt = RB_AIR_R * p->temperature, dt = p->dt;
     double r = car->vehicle.wheelset.wheel_radius, J = car->vehicle.wheelset.inertia;
     double v = s->v[c], vr = v > p->creep_speed_min ? v : p->creep_speed_min;
     double axle_load = car->vehicle.wheelset.axle_load * RB_G, wheel_load = 0.5 * axle_load;
