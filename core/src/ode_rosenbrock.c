@@ -103,7 +103,7 @@ static double step(solver *s, double t, double *y, double h, const rb_ode_option
     double norm = 0.0;
     for (size_t i = 0; i < n; ++i) {
         double e = h / 6.0 * (k1[i] - 2.0 * k2[i] + k3[i]);
-        double sc = opt->atol + opt->rtol * fmax(fabs(y[i]), fabs(yn[i]));
+        double sc = opt->atol * (opt->atol_scale ? opt->atol_scale[i] : 1.0) + opt->rtol * fmax(fabs(y[i]), fabs(yn[i]));
         double r = fabs(e) / sc;
         if (!(r <= norm)) norm = r; /* NaN propagates as a rejection */
     }
@@ -161,7 +161,8 @@ rb_status rb_ode_solve(rb_ode_rhs rhs, void *user, size_t n, double t0, double *
     if (h <= 0.0) {
         double fn = 0.0;
         for (size_t i = 0; i < n; ++i)
-            fn = fmax(fn, fabs(s.v[V_F0][i]) / (opt->atol + opt->rtol * fabs(y[i])));
+            fn = fmax(fn, fabs(s.v[V_F0][i]) /
+                             (opt->atol * (opt->atol_scale ? opt->atol_scale[i] : 1.0) + opt->rtol * fabs(y[i])));
         h = fn > 0.0 ? 0.1 * pow(opt->rtol, 1.0 / 3.0) / fn : span;
     }
     while (next < n_out && t_out[next] <= t) memcpy(y_out + n * next++, y, n * sizeof *y);

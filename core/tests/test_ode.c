@@ -26,7 +26,7 @@ static void test_linear(void)
 {
     double y[2] = {1.0, 0.0}, t_out[3] = {0.0, 0.5, 2.0}, y_out[6], work[64];
     int iwork[2];
-    rb_ode_options opt = {1e-7, 1e-10, 0.0, 0.0, 100000};
+    rb_ode_options opt = {1e-7, 1e-10, NULL, 0.0, 0.0, 100000};
     rb_ode_stats st;
     CHECK(rb_ode_solve(linear, NULL, 2, 0.0, y, t_out, 3, y_out, count, &opt, work, 64, iwork, &st, NULL) == RB_OK);
     /* y0 = e^-t, y1 = c (e^-t - e^-1000t), c = 1000/999. */
@@ -47,7 +47,7 @@ static void test_robertson(void)
     /* Reference at t = 40 (Hairer & Wanner, Solving ODEs II, sec. IV.10; SUNDIALS cvRoberts_dns). */
     double y[3] = {1.0, 0.0, 0.0}, t_out[1] = {40.0}, y_out[3], work[64];
     int iwork[3];
-    rb_ode_options opt = {1e-6, 1e-12, 0.0, 0.0, 100000};
+    rb_ode_options opt = {1e-6, 1e-12, NULL, 0.0, 0.0, 100000};
     rb_ode_stats st;
     CHECK(rb_ode_solve(robertson, NULL, 3, 0.0, y, t_out, 1, y_out, NULL, &opt, work, 64, iwork, &st, NULL) == RB_OK);
     CHECK_CLOSE(y[0], 0.7158270687, 1e-4, 0);
@@ -61,7 +61,7 @@ static void test_bad_input(void)
 {
     double y[2] = {1.0, 0.0}, t_out[2] = {1.0, 0.5}, y_out[4], work[4];
     int iwork[2];
-    rb_ode_options opt = {1e-6, 1e-9, 0.0, 0.0, 1000};
+    rb_ode_options opt = {1e-6, 1e-9, NULL, 0.0, 0.0, 1000};
     rb_error err;
     CHECK(rb_ode_solve(linear, NULL, 2, 0.0, y, t_out, 2, y_out, NULL, &opt, work, 4, iwork, NULL, &err) == RB_ESIZE);
     double work2[64];
