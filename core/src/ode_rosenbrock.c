@@ -29,11 +29,13 @@ int rb_lu_factor(double *a, size_t n, int *pivot)
 
 void rb_lu_solve(const double *lu, size_t n, const int *pivot, double *b)
 {
+    /* Whole rows (multipliers included) were swapped while factoring: permute b first. */
     for (size_t k = 0; k < n; ++k) {
         size_t p = (size_t)pivot[k];
         if (p != k) { double t = b[k]; b[k] = b[p]; b[p] = t; }
-        for (size_t i = k + 1; i < n; ++i) b[i] -= lu[i * n + k] * b[k];
     }
+    for (size_t k = 0; k < n; ++k)
+        for (size_t i = k + 1; i < n; ++i) b[i] -= lu[i * n + k] * b[k];
     for (size_t k = n; k-- > 0;) {
         for (size_t j = k + 1; j < n; ++j) b[k] -= lu[k * n + j] * b[j];
         b[k] /= lu[k * n + k];

@@ -69,8 +69,25 @@ static void test_bad_input(void)
     CHECK(strstr(err.message, "t_out[1]") != NULL);
 }
 
+static void test_lu(void)
+{
+    /* A 4x4 system that needs row exchanges at several stages; x = (1, 2, 3, 4). */
+    double a[16] = {0, 2, 1, 0,  1, 0, 0, 3,  0, 0, 4, 1,  2, 1, 0, 0}, b[4], x[4] = {1, 2, 3, 4};
+    double lu[16];
+    int piv[4];
+    for (int i = 0; i < 4; ++i) {
+        b[i] = 0;
+        for (int j = 0; j < 4; ++j) b[i] += a[i * 4 + j] * x[j];
+    }
+    memcpy(lu, a, sizeof a);
+    CHECK(rb_lu_factor(lu, 4, piv) == 1);
+    rb_lu_solve(lu, 4, piv, b);
+    for (int i = 0; i < 4; ++i) CHECK_CLOSE(b[i], x[i], 1e-13, 0);
+}
+
 int main(void)
 {
+    test_lu();
     test_linear();
     test_robertson();
     test_bad_input();
