@@ -83,12 +83,12 @@ def test_pipe_valve_and_cylinder_network_keeps_mass():
     net.add_pipe("pipe", "reservoir", "junction", length=2.0, diameter=8e-3, pressure=8e5)
     net.add_cylinder("cylinder", piston_area=0.01, stroke=0.01, dead_volume=2e-4, spring_rate=2e4,
                      spring_preload=300.0, piston_mass=2.0)
-    net.add_valve("hold", "junction", "cylinder", area=2e-5, opening=[(0, 0), (0.1, 1)], delay=0.02)
+    net.add_valve("hold", "junction", "cylinder", area=2e-5, opening=[(0.1, 0), (0.1, 1)], delay=0.02)
     res = net.simulate(t_end=1.0, n_points=21)
     mass = sum(res[n].m for n in ("reservoir", "pipe", "junction", "cylinder"))
     np.testing.assert_allclose(mass, mass[0], rtol=1e-10)
     assert 0.01 <= res["cylinder"].x[-1] < 0.0107  # on the end stop (penalty 1e7 N/m)
-    assert res["hold"].mdot[1] == 0.0  # closed until the delayed opening
+    assert res["hold"].mdot[2] == 0.0 and res["hold"].mdot[3] > 0.0  # opens at 0.1 s + 0.02 s delay
 
 
 @pytest.mark.parametrize("build, word", [
