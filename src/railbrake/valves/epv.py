@@ -103,8 +103,10 @@ def epv_characteristic(params=None, ramp_time: float = 20.0, n_points: int = 201
     gauge = (res["control"].p - p["ambient_pa"]) / BAR
     up, down = slice(0, n_points), slice(n_points - 1, None)
     down_on_up = np.interp(current[up], current[down][::-1], gauge[down][::-1])
+    # The first 5 % of the up ramp still carries the start from rest: left out of the measure.
+    judged = current[up] >= 0.05 * i_max
     return EpvCharacteristic(current[up], gauge[up], current[down], gauge[down],
-                             float(np.max(np.abs(down_on_up - gauge[up]))))
+                             float(np.max(np.abs(down_on_up - gauge[up])[judged])))
 
 
 def epv_step(params=None, current: float = 0.5, t_end: float = 1.0, t_step: float = 0.05,
