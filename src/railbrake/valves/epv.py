@@ -21,6 +21,11 @@ def load_epv(override=None) -> dict:
     return load("epv", override)
 
 
+def _params(params) -> dict:
+    """A complete parameter set as given, else the defaults with `params` as overrides."""
+    return params if isinstance(params, dict) and "solenoid_table" in params else load_epv(params)
+
+
 def read_force_table(path):
     """Solenoid force table CSV: header 'airgap_mm,<currents A>...', rows 'airgap_mm,<forces N>...';
     '#' lines are comments. Returns (airgap m, current A, force N [airgap, current])."""
@@ -93,7 +98,7 @@ def epv_characteristic(params=None, ramp_time: float = 20.0, n_points: int = 201
                        force_table=None) -> EpvCharacteristic:
     """Control pressure against current from a linear ramp 0 -> current_max_a -> 0 taking ramp_time
     (s) in all. Hysteresis: the largest up/down pressure difference at equal current."""
-    p = params if isinstance(params, dict) and "armature" in params else load_epv(params)
+    p = _params(params)
     if not ramp_time > 0:
         raise InputError(f"ramp_time = {ramp_time}: must be > 0 (s)")
     i_max, half = p["current_max_a"], ramp_time / 2
@@ -112,7 +117,7 @@ def epv_characteristic(params=None, ramp_time: float = 20.0, n_points: int = 201
 def epv_step(params=None, current: float = 0.5, t_end: float = 1.0, t_step: float = 0.05,
              n_points: int = 1001, force_table=None):
     """Response to a current step 0 -> current at t_step; returns the network result."""
-    p = params if isinstance(params, dict) and "armature" in params else load_epv(params)
+    p = _params(params)
     if not 0 <= current <= p["current_max_a"] * 1.2:
         raise InputError(f"current = {current} A: must lie in [0, {1.2 * p['current_max_a']:g}] A")
     net = epv_network(p, [(t_step, 0.0), (t_step, current)], force_table)

@@ -53,5 +53,5 @@ def relay_network(p: dict, t_step: float = 0.05, hold=None, vent=None) -> Networ
 
 def relay_step(params=None, t_end: float = 1.5, t_step: float = 0.05, hold=None, vent=None,
                n_points: int = 1001):
-    p = params if isinstance(params, dict) and "membrane" in params else load_relay(params)
+    p = params if isinstance(params, dict) and "control_step_bar" in params else load_relay(params)
     return relay_network(p, t_step, hold, vent).simulate(t_end, n_points=n_points)
