@@ -171,7 +171,7 @@ rb_status rb_ode_solve(rb_ode_rhs rhs, void *user, size_t n, double t0, double *
     long attempts = 0;
     while (t < t_end) {
         h = fmin(fmin(h, h_max), t_end - t);
-        if (t + 1.1 * h >= t_end) h = t_end - t;
+        if (t + 1.1 * h >= t_end && t_end - t <= h_max) h = t_end - t; /* no sliver step */
         if (++attempts > opt->max_steps)
             return rb_fail(err, RB_ENOCONV, "ode: max_steps = %ld reached at t = %g s (h = %g s)",
                            opt->max_steps, t, h);
