@@ -193,15 +193,20 @@ class Network:
     def add_body(self, name: str, mass: float, faces=(), spring_rate: float = 0.0,
                  spring_preload: float = 0.0, damping: float = 0.0, friction: float = 0.0,
                  friction_velocity: float = 1e-3, x_min: float = -math.inf, x_max: float = math.inf,
-                 stop_stiffness: float = 1e7, stop_damping: float = 50.0, x_initial: float = 0.0,
+                 stop_stiffness: float = 1e7, stop_damping: float | None = None, x_initial: float = 0.0,
                  force: float = 0.0, solenoid=None) -> None:
         """A moving body (x positive along its axis). faces: (node, area m^2 or (x, V) table,
         direction +-1) tuples: the node's gauge pressure pushes along direction*x and its volume
         grows by direction*V(x). Spring force -(preload + rate x); sealing friction
-        -friction tanh(v/friction_velocity). solenoid: (gap table, current table, force grid,
-        airgap at x = 0, [(t, current)] schedule) with airgap = airgap0 - x."""
+        -friction tanh(v/friction_velocity). End stops: a penalty spring stop_stiffness with
+        stop_damping (default: critical for the body's mass, so it does not bounce).
+        solenoid: (gap table, current table, force grid, airgap at x = 0, [(t, current)] schedule)
+        with airgap = airgap0 - x."""
+        mass = self._check(name, "mass", mass, unit=" kg")
+        if stop_damping is None:
+            stop_damping = 2 * math.sqrt(stop_stiffness * mass)
         body = _core.NetBody(
-            mass=self._check(name, "mass", mass, unit=" kg"), spring_rate=float(spring_rate),
+            mass=mass, spring_rate=float(spring_rate),
             spring_preload=float(spring_preload), damping=float(damping),
             friction=self._check(name, "friction", friction, strict=False, unit=" N"),
             friction_velocity=self._check(name, "friction_velocity", friction_velocity, unit=" m/s"),
