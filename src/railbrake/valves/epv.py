@@ -73,10 +73,12 @@ def epv_network(p: dict, current_schedule, force_table=None) -> Network:
                     discharge_coefficient=cd)
     net.add_driven_orifice("nozzle", "pilot", "atmosphere", "armature", "flapper", p["nozzle_diameter_mm"] * MM,
                            offset=travel, direction=-1.0, discharge_coefficient=cd)
+    lap = p["seat_lap_mm"] * MM  # both seats shut for |x| <= lap: the piston can rest without hunting
     net.add_driven_orifice("inlet", "supply", "control", "piston", "seat", p["inlet_seat_diameter_mm"] * MM,
-                           discharge_coefficient=cd)
+                           offset=lap, discharge_coefficient=cd)
     net.add_driven_orifice("exhaust", "control", "atmosphere", "piston", "seat",
-                           p["exhaust_seat_diameter_mm"] * MM, direction=-1.0, discharge_coefficient=cd)
+                           p["exhaust_seat_diameter_mm"] * MM, offset=-lap, direction=-1.0,
+                           discharge_coefficient=cd)
     return net
 
 

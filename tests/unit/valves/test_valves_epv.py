@@ -16,11 +16,12 @@ from railbrake.units import BAR
 MM = 1e-3
 
 
-def static_control_pressure(p, current):
-    """Static balance of the EPV with the relay piston at lap (x = 0, both seats shut, no flow):
+def static_control_pressure(p, current, piston_x=0.0):
+    """Static balance of the EPV with the relay piston resting at piston_x within its lap (both
+    seats shut, no flow):
     armature: F_sol(g0 - x, I) = preload + k x + (p_pilot - p_a) A_nozzle;
     pilot:    flow in through the pilot orifice = flow out through the flapper gap (travel - x);
-    piston:   (p_pilot - p_a) A = (p_c - p_a) A + preload.
+    piston:   (p_pilot - p_a) A = (p_c - p_a) A + preload + k piston_x.
     Solved here with scipy, independently of the dynamic model."""
     a, k, pa, cd = p["armature"], p["piston"], p["ambient_pa"], p["discharge_coefficient"]
     gap, cur, force = valves.read_force_table(p["solenoid_table"])
@@ -41,7 +42,8 @@ def static_control_pressure(p, current):
 
     x = brentq(armature, 0.0, travel * (1 - 1e-6))
     area = math.pi * (k["diameter_mm"] * MM) ** 2 / 4
-    return pa + ((pilot_pressure(x) - pa) * area - k["spring_preload"]) / area
+    spring = k["spring_preload"] + k["spring_rate"] * piston_x
+    return pa + ((pilot_pressure(x) - pa) * area - spring) / area
 
 
 @pytest.mark.parametrize("current", [0.6, 0.9])
@@ -49,9 +51,10 @@ def test_steady_control_pressure_equals_static_force_balance(current):
     p = valves.load_epv({"piston": {"friction": 0.0}})
     res = valves.epv_step(p, current=current, t_end=1.5)
     gauge = res["control"].p[-1] - p["ambient_pa"]
-    expected = static_control_pressure(p, current) - p["ambient_pa"]
+    x = res["piston"].x[-1]
+    assert abs(x) <= 1.001 * p["seat_lap_mm"] * 1e-3 and abs(res["piston"].v[-1]) < 1e-6  # at rest, seats shut
+    expected = static_control_pressure(p, current, x) - p["ambient_pa"]
     assert gauge == pytest.approx(expected, rel=0.01)
-    assert abs(res["piston"].x[-1]) < 1e-6  # at lap
 
 
 def test_hysteresis_grows_with_friction_and_vanishes_without():
