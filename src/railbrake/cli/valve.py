@@ -67,8 +67,8 @@ def epv(
                         "control_bar": (res["control"].p - p["ambient_pa"]) / BAR})
             return
         typer.echo(f"step to {current:g} A: control {summary['final_bar']:.3f} bar, rise (10-90 %) "
-                   f"{summary['rise_time_10_90_s'] * 1e3:.0f} ms, overshoot {summary['overshoot_bar']:.3f} bar, "
-                   f"oscillates: {summary['oscillates']}")
+                   f"{summary['rise_time_10_90_s'] * 1e3:.0f} ms, "
+                   f"overshoot {summary['overshoot_bar']:.3f} bar, oscillates: {summary['oscillates']}")
     if plot:
         typer.echo(f"plot: {plot}")
 

@@ -100,7 +100,8 @@ class Network:
         value = float(value)
         bad = not math.isfinite(value) or (value <= low if strict else value < low)
         if bad:
-            raise InputError(f"{name}: {what} = {value:g}{unit}: must be finite and {'>' if strict else '>='} {low:g}")
+            relation = ">" if strict else ">="
+            raise InputError(f"{name}: {what} = {value:g}{unit}: must be finite and {relation} {low:g}")
         return value
 
     def add_reservoir(self, name: str, pressure: float, temperature: float = 293.15) -> None:
@@ -129,7 +130,8 @@ class Network:
     def _add_link(self, name, a, b, orifice, kind="fixed", body=-1, diameter=0.0, offset=0.0,
                   direction=1.0, shape=0.0, opening=None, delay=0.0):
         link = _core.NetLink(_LINK_KINDS[kind], self._node(a, f"{name}: from"), self._node(b, f"{name}: to"),
-                             orifice, body, diameter, offset, direction, shape, _schedule(opening, delay, name))
+                             orifice, body, diameter, offset, direction, shape,
+                             _schedule(opening, delay, name))
         if link.from_ == link.to:
             raise InputError(f"{name}: from = to = {a!r}: an orifice joins two different nodes")
         status = _core.RbError()

@@ -31,12 +31,14 @@ def read_force_table(path):
     '#' lines are comments. Returns (airgap m, current A, force N [airgap, current])."""
     path = Path(path)
     text = path.read_text() if path.is_file() else (DATA / str(path)).read_text()
-    rows = [r for r in csv.reader(line for line in text.splitlines() if line.strip() and not line.startswith("#"))]
+    lines = [line for line in text.splitlines() if line.strip() and not line.startswith("#")]
+    rows = list(csv.reader(lines))
     try:
         current = np.array([float(v) for v in rows[0][1:]])
         data = np.array([[float(v) for v in r] for r in rows[1:]])
     except (ValueError, IndexError):
-        raise InputError(f"{path}: force table must be numbers under a header 'airgap_mm,<currents>'") from None
+        raise InputError(f"{path}: force table must be numbers under a header "
+                         "'airgap_mm,<currents>'") from None
     if data.ndim != 2 or data.shape[1] != current.size + 1:
         raise InputError(f"{path}: every row needs an airgap and {current.size} forces")
     gap = data[:, 0]
@@ -69,10 +71,10 @@ def epv_network(p: dict, current_schedule, force_table=None) -> Network:
     net.add_body("piston", k["mass"], [("pilot", piston_area, 1.0), ("control", piston_area, -1.0)],
                  k["spring_rate"], k["spring_preload"], k["damping"], k["friction"], k["friction_velocity"],
                  x_min=-stroke, x_max=stroke)
-    net.add_orifice("pilot_orifice", "supply", "pilot", area=math.pi * (p["pilot_orifice_diameter_mm"] * MM) ** 2 / 4,
-                    discharge_coefficient=cd)
-    net.add_driven_orifice("nozzle", "pilot", "atmosphere", "armature", "flapper", p["nozzle_diameter_mm"] * MM,
-                           offset=travel, direction=-1.0, discharge_coefficient=cd)
+    pilot_orifice = math.pi * (p["pilot_orifice_diameter_mm"] * MM) ** 2 / 4
+    net.add_orifice("pilot_orifice", "supply", "pilot", area=pilot_orifice, discharge_coefficient=cd)
+    net.add_driven_orifice("nozzle", "pilot", "atmosphere", "armature", "flapper",
+                           p["nozzle_diameter_mm"] * MM, offset=travel, direction=-1.0, discharge_coefficient=cd)
     lap = p["seat_lap_mm"] * MM  # both seats shut for |x| <= lap: the piston can rest without hunting
     net.add_driven_orifice("inlet", "supply", "control", "piston", "seat", p["inlet_seat_diameter_mm"] * MM,
                            offset=lap, discharge_coefficient=cd)

@@ -10,7 +10,8 @@ runner = CliRunner()
 
 
 def test_epv_characteristic_json(tmp_path):
-    out = runner.invoke(app, ["valve", "epv", "--characteristic", "--json", "--plot", str(tmp_path / "c.png")])
+    plot = str(tmp_path / "c.png")
+    out = runner.invoke(app, ["valve", "epv", "--characteristic", "--json", "--plot", plot])
     assert out.exit_code == 0, out.output
     data = json.loads(out.stdout)
     assert set(data) == {"current_up", "pressure_up", "current_down", "pressure_down", "hysteresis_bar"}

@@ -52,7 +52,8 @@ def test_steady_control_pressure_equals_static_force_balance(current):
     res = valves.epv_step(p, current=current, t_end=1.5)
     gauge = res["control"].p[-1] - p["ambient_pa"]
     x = res["piston"].x[-1]
-    assert abs(x) <= 1.001 * p["seat_lap_mm"] * 1e-3 and abs(res["piston"].v[-1]) < 1e-6  # at rest, seats shut
+    # At rest with both seats shut.
+    assert abs(x) <= 1.001 * p["seat_lap_mm"] * 1e-3 and abs(res["piston"].v[-1]) < 1e-6
     expected = static_control_pressure(p, current, x) - p["ambient_pa"]
     assert gauge == pytest.approx(expected, rel=0.01)
 
