@@ -109,3 +109,13 @@ def test_unconnected_node_is_named():
     net.add_volume("lonely", volume=1e-3, pressure=1e5)
     with pytest.raises(InputError, match="lonely.*unconnected"):
         net.simulate(t_end=0.1)
+
+
+def test_moving_boundary_adiabatic_compression():
+    """A closed volume halved at a prescribed rate follows the isentrope p V^gamma = const."""
+    net = Network()
+    net.add_volume("chamber", volume=1e-3, pressure=1e5, volume_rate=-1e-3)
+    net.add_body("stop", 1.0, [("chamber", 0.0, 1.0)])  # a zero-area face connects the node
+    res = net.simulate(t_end=0.5, n_points=6, rtol=1e-8)
+    volume = 1e-3 * (1 - res.time)
+    np.testing.assert_allclose(res["chamber"].p, 1e5 * (1e-3 / volume) ** GAMMA, rtol=1e-5)
