@@ -153,7 +153,7 @@ size_t rb_network_workspace_size(const rb_network *net, size_t n_out, size_t *n_
 {
     size_t n = n_states(net);
     if (n_int) *n_int = n + net->n_nodes;
-    return rb_ode_workspace_size(n) + n * (n_out + 1) + 8 * net->n_nodes + net->n_links + 2 * net->n_bodies;
+    return rb_ode_workspace_size(n) + n * (n_out + 2) + 8 * net->n_nodes + net->n_links + 2 * net->n_bodies;
 }
 
 static rb_status check_node(const rb_net_node *nd, size_t i, rb_error *err)
@@ -238,6 +238,26 @@ rb_status rb_network_check(const rb_network *net, rb_error *err)
     return RB_OK;
 }
 
+/* Absolute-tolerance scales: the mass of each volume at 1 bar, 300 K for temperatures, the stroke
+   of each body and that stroke per millisecond for its velocity. */
+static void set_scales(const net_ctx *c, const double *y, double *scale)
+{
+    const rb_network *n = c->net;
+    for (size_t i = 0; i < n->n_nodes; ++i) {
+        int s = c->state_of_node[i];
+        if (s < 0) continue;
+        scale[s] = 1e5 * c->V[i] / (RB_AIR_R * 300.0);
+        scale[s + 1] = 300.0;
+    }
+    (void)y;
+    for (size_t k = 0; k < n->n_bodies; ++k) {
+        double stroke = n->bodies[k].x_max - n->bodies[k].x_min;
+        if (!isfinite(stroke) || stroke > 1.0) stroke = 1e-3;
+        scale[2 * c->n_volumes + 2 * k] = stroke;
+        scale[2 * c->n_volumes + 2 * k + 1] = stroke * 1e3;
+    }
+}
+
 /* Fills the outputs of one time from the state y. */
 static void record(net_ctx *c, double t, const double *y, size_t r, double *node_p, double *node_T,
                    double *node_m, double *link_mdot, double *body_x, double *body_v)
@@ -273,7 +293,7 @@ rb_status rb_network_simulate(const rb_network *net, const double *t_out, size_t
         return rb_fail(err, RB_ESIZE, "network work_size = %zu: needs >= %zu doubles", work_size, need);
     net_ctx c = {net, count_volumes(net), iwork + n, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 0};
     double *w = work + rb_ode_workspace_size(n), *y = w, *y_out = y + n;
-    double *q = y_out + n * n_out;
+    double *scale = y_out + n * n_out, *q = scale + n;
     double **arrays[] = {&c.p, &c.T, &c.V, &c.dV, &c.m_in, &c.h_in, &c.m_out};
     for (size_t a = 0; a < 7; ++a, q += net->n_nodes) *arrays[a] = q;
     q += net->n_nodes;
@@ -301,7 +321,10 @@ rb_status rb_network_simulate(const rb_network *net, const double *t_out, size_t
             return rb_fail(err, RB_EINVAL, "node %zu volume = %g m^3 at the initial positions: must be > 0", i, c.V[i]);
         y[si] = net->nodes[i].pressure * c.V[i] / (RB_AIR_R * net->nodes[i].temperature);
     }
-    s = rb_ode_solve(rhs, &c, n, 0.0, y, t_out, n_out, y_out, NULL, opt, work,
+    set_scales(&c, y, scale);
+    rb_ode_options o = *opt;
+    o.atol_scale = scale;
+    s = rb_ode_solve(rhs, &c, n, 0.0, y, t_out, n_out, y_out, NULL, &o, work,
                      rb_ode_workspace_size(n), iwork, stats, err);
     if (s && c.volume_error)
         return rb_fail(err, RB_EINVAL, "node %d volume fell to <= 0 m^3 during the simulation", c.volume_error - 1);

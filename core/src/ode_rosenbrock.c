@@ -29,11 +29,13 @@ int rb_lu_factor(double *a, size_t n, int *pivot)
 
 void rb_lu_solve(const double *lu, size_t n, const int *pivot, double *b)
 {
+    /* Whole rows (multipliers included) were swapped while factoring: permute b first. */
     for (size_t k = 0; k < n; ++k) {
         size_t p = (size_t)pivot[k];
         if (p != k) { double t = b[k]; b[k] = b[p]; b[p] = t; }
-        for (size_t i = k + 1; i < n; ++i) b[i] -= lu[i * n + k] * b[k];
     }
+    for (size_t k = 0; k < n; ++k)
+        for (size_t i = k + 1; i < n; ++i) b[i] -= lu[i * n + k] * b[k];
     for (size_t k = n; k-- > 0;) {
         for (size_t j = k + 1; j < n; ++j) b[k] -= lu[k * n + j] * b[j];
         b[k] /= lu[k * n + k];
@@ -103,7 +105,7 @@ static double step(solver *s, double t, double *y, double h, const rb_ode_option
     double norm = 0.0;
     for (size_t i = 0; i < n; ++i) {
         double e = h / 6.0 * (k1[i] - 2.0 * k2[i] + k3[i]);
-        double sc = opt->atol + opt->rtol * fmax(fabs(y[i]), fabs(yn[i]));
+        double sc = opt->atol * (opt->atol_scale ? opt->atol_scale[i] : 1.0) + opt->rtol * fmax(fabs(y[i]), fabs(yn[i]));
         double r = fabs(e) / sc;
         if (!(r <= norm)) norm = r; /* NaN propagates as a rejection */
     }
@@ -161,14 +163,15 @@ rb_status rb_ode_solve(rb_ode_rhs rhs, void *user, size_t n, double t0, double *
     if (h <= 0.0) {
         double fn = 0.0;
         for (size_t i = 0; i < n; ++i)
-            fn = fmax(fn, fabs(s.v[V_F0][i]) / (opt->atol + opt->rtol * fabs(y[i])));
+            fn = fmax(fn, fabs(s.v[V_F0][i]) /
+                             (opt->atol * (opt->atol_scale ? opt->atol_scale[i] : 1.0) + opt->rtol * fabs(y[i])));
         h = fn > 0.0 ? 0.1 * pow(opt->rtol, 1.0 / 3.0) / fn : span;
     }
     while (next < n_out && t_out[next] <= t) memcpy(y_out + n * next++, y, n * sizeof *y);
     long attempts = 0;
     while (t < t_end) {
         h = fmin(fmin(h, h_max), t_end - t);
-        if (t + 1.1 * h >= t_end) h = t_end - t;
+        if (t + 1.1 * h >= t_end && t_end - t <= h_max) h = t_end - t; /* no sliver step */
         if (++attempts > opt->max_steps)
             return rb_fail(err, RB_ENOCONV, "ode: max_steps = %ld reached at t = %g s (h = %g s)",
                            opt->max_steps, t, h);

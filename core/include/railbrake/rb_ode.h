@@ -24,7 +24,8 @@ typedef void (*rb_ode_step_output)(double t, const double *y, void *user);
 
 typedef struct {
     double rtol;       /* relative tolerance, > 0 */
-    double atol;       /* absolute tolerance, > 0 (applies to every component) */
+    double atol;       /* absolute tolerance, > 0: atol * atol_scale[i] for component i */
+    const double *atol_scale; /* n positive scales, or NULL for 1 */
     double h_initial;  /* first step, s; 0 = chosen automatically */
     double h_max;      /* largest step, s; 0 = no limit */
     long max_steps;    /* accepted + rejected steps before giving up */

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, demo, simulation, sizing
+from railbrake.cli import adhesion, demo, simulation, sizing, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -14,6 +14,7 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 app.add_typer(adhesion.app, name="adhesion")
+app.add_typer(valve.app, name="valve")
 demo.register(app)
 simulation.register(app)
 sizing.register(app)
