@@ -51,7 +51,10 @@ def _describe(error: dict) -> str:
         return f"{key}: unknown key"
     if error["type"] == "missing":
         return f"{key}: missing"
-    return f"{key} = {error.get('input')!r}: {error['msg']}"
+    value = error.get("input")
+    if isinstance(value, (dict, list)):  # a whole block: the key says enough
+        return f"{key}: {error['msg']}"
+    return f"{key} = {value!r}: {error['msg']}"
 
 
 def parse_yaml(text: str, model: type[Model], origin: str) -> Model:

@@ -20,13 +20,13 @@ from pathlib import Path
 from typing import Optional, Union
 
 import numpy as np
-import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core
+from railbrake.config import parse_yaml
 from railbrake.errors import InputError
 from railbrake.units import KMH, ms_to_kmh
-from railbrake.vehicle import Train, load_train, validation_message
+from railbrake.vehicle import Train, load_train
 
 PROFILE_SCHEMA = "railbrake.profile/1"
 ADHESION_LIMIT = 0.15  # design limit on the adhesion an axle may demand [T]
@@ -120,12 +120,7 @@ def profile_names() -> list[str]:
 
 
 def _parse_profile(text: str, origin: str) -> Profile:
-    try:
-        m = _ProfileFile.model_validate(yaml.safe_load(text))
-    except yaml.YAMLError as exc:
-        raise InputError(f"{origin}: not valid YAML: {exc}") from None
-    except ValidationError as exc:
-        raise InputError(validation_message(origin, exc)) from None
+    m = parse_yaml(text, _ProfileFile, origin)
     if m.schema_ != PROFILE_SCHEMA:
         raise InputError(f"{origin}: schema = {m.schema_!r}: expected {PROFILE_SCHEMA!r}")
     return make_profile(m.speed_kmh, m.deceleration_ms2, m.name, m.title, " ".join(m.source.split()),

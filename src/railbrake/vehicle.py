@@ -17,10 +17,10 @@ from pathlib import Path
 from typing import Literal, Optional, Union
 
 import numpy as np
-import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core
+from railbrake.config import parse_yaml
 from railbrake.errors import InputError
 from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
 
@@ -282,22 +282,8 @@ def preset_names() -> list[str]:
     return sorted(p.name[:-5] for p in _preset_dir().iterdir() if p.name.endswith(".yaml"))
 
 
-def validation_message(origin: str, exc: ValidationError) -> str:
-    """'origin: key.path = value: message' for the first pydantic error."""
-    first = exc.errors()[0]
-    key = ".".join(str(p) for p in first["loc"]) or "(top level)"
-    value = first.get("input")
-    shown = "" if isinstance(value, dict) else f" = {value!r}"
-    return f"{origin}: {key}{shown}: {first['msg']}"
-
-
 def parse_train(text: str, origin: str, loaded: bool = True) -> Train:
-    try:
-        model = _TrainFile.model_validate(yaml.safe_load(text))
-    except yaml.YAMLError as exc:
-        raise InputError(f"{origin}: not valid YAML: {exc}") from None
-    except ValidationError as exc:
-        raise InputError(validation_message(origin, exc)) from None
+    model = parse_yaml(text, _TrainFile, origin)
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     try:
