@@ -76,15 +76,13 @@ def epv(
 @app.command("relay")
 @reports_errors
 def relay(
-    step: bool = typer.Option(False, "--step", help="Response to a control-pressure step."),
+    step: bool = typer.Option(True, "--step", help="Response to a control-pressure step (the default and only analysis)."),
     params: Optional[Path] = typer.Option(None, help="YAML file overriding the default relay valve."),
     t_end: float = typer.Option(1.5, help="Duration, s."),
     plot: Optional[Path] = typer.Option(None, help="Write a PNG here."),
     json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ):
     """Relay valve with membrane filling the brake cylinders after a control-pressure step."""
-    if not step:
-        raise InputError("give --step")
     p = valves.load_relay(params)
     res = valves.relay_step(p, t_end=t_end)
     summary = _step_summary(res, "cylinder", p["ambient_pa"])
