@@ -27,7 +27,8 @@ import railbrake
 from railbrake import _core, simulation
 from railbrake.errors import InputError
 from railbrake.fmu.variables import UNITS, Variable, table
-from railbrake.scenario import load
+from railbrake import scenario as scenarios
+from railbrake import vehicle
 
 MODEL_IDENTIFIER = "railbrake_plant"
 PLATFORM = {"2": fmpy.platform, "3": fmpy.platform_tuple}          # linux64 / x86_64-linux
@@ -225,13 +226,29 @@ def _zip(folder: Path, output: Path) -> None:
                 zf.write(path, path.relative_to(folder).as_posix())
 
 
+BASE_SCENARIO = "emergency-300-heavy-rain"
+
+
+def resolve_scenario(name) -> scenarios.Scenario:
+    """A scenario (preset, file or Scenario), or a train preset: then BASE_SCENARIO with that train."""
+    if isinstance(name, str) and name in vehicle.preset_names() and name not in scenarios.preset_names():
+        base = scenarios.load(BASE_SCENARIO)
+        spec = base.spec.model_copy(update={"train": scenarios.Train(preset=name),
+                                            "name": f"{BASE_SCENARIO} with train {name}"})
+        return scenarios.Scenario(spec, f"{base.origin} with train {name}", {})
+    try:
+        return scenarios.load(name)
+    except InputError as exc:
+        raise InputError(f"{exc}; nor a train preset ({', '.join(vehicle.preset_names())})") from None
+
+
 def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.fmu", fmi_version: str = "2",
                cars: int | None = None, binary: bool = True) -> Path:
     """Writes the scenario's plant (with its BCU) as a co-simulation FMU; returns its path."""
     version = str(fmi_version)
     if version not in PLATFORM:
-        raise InputError(f"fmi_version = {fmi_version!r}: must be 2 or 3")
-    sc = load(scenario)
+        raise InputError(f"FMI version {fmi_version!r}: must be 2 or 3")
+    sc = resolve_scenario(scenario)
     n_cars = sc.cars(cars)
     plant = simulation.plant_params(sc, n_cars)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc),
