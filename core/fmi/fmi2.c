@@ -1,7 +1,7 @@
 /* FMI 2.0 co-simulation interface over the model API (fmu_model.h). Every function checks its
  * instance and state; what the plant does not offer (FMU state, derivatives, asynchronous steps)
  * returns fmi2Error with a log message. */
-#include <string.h>
+#include <stdio.h>
 
 #include "fmi2Functions.h"
 #include "fmu_model.h"
@@ -10,10 +10,19 @@
 /* Every function starts here: a NULL instance cannot even be logged to. */
 #define REQUIRE_INSTANCE(c) do { if (!(c)) return fmi2Error; } while (0)
 
+/* The message goes as the format itself, '%' doubled: importers that print it unformatted (FMPy)
+ * and those that format it (the standard's printf convention) both show the text. */
 static void fmi2_log(fmu_callback callback, void *environment, const char *name, fmu_status status,
                      const char *category, const char *message)
 {
-    ((fmi2CallbackLogger)callback)(environment, name, (fmi2Status)status, category, "%s", message);
+    char format[1024];
+    size_t n = 0;
+    for (const char *c = message; *c && n + 2 < sizeof format; ++c) {
+        if (*c == '%') format[n++] = '%';
+        format[n++] = *c;
+    }
+    format[n] = '\0';
+    ((fmi2CallbackLogger)callback)(environment, name, (fmi2Status)status, category, format);
 }
 
 static fmi2Status unsupported(fmi2Component c, const char *function)
@@ -44,10 +53,10 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     fmu_callback logger = functions ? (fmu_callback)functions->logger : NULL;
     void *environment = functions ? functions->componentEnvironment : NULL;
     if (fmuType != fmi2CoSimulation) {
-        if (logger)
-            functions->logger(environment, instanceName, fmi2Error, "logStatusError",
-                              "fmi2Instantiate: fmuType = %d: this FMU offers co-simulation only (fmi2CoSimulation = %d)",
-                              (int)fmuType, (int)fmi2CoSimulation);
+        char message[160];
+        snprintf(message, sizeof message, "fmi2Instantiate: fmuType = %d: this FMU offers co-simulation only "
+                 "(fmi2CoSimulation = %d)", (int)fmuType, (int)fmi2CoSimulation);
+        if (logger) fmi2_log(logger, environment, instanceName, FMU_ERROR, "logStatusError", message);
         return NULL;
     }
     return fmu_instantiate(instanceName, fmuGUID, fmi2_log, logger, environment, loggingOn != fmi2False);
