@@ -210,7 +210,7 @@ def compile_binary(unzipped: Path, version: str, sources: list[str], extra_flags
     target.parent.mkdir(parents=True, exist_ok=True)
     compiler = os.environ.get("CC", "cc")
     command = [compiler, "-std=c99", "-O2", "-fPIC", "-shared", "-Wall", "-Wextra", "-Wl,--no-undefined",
-               f"-I{unzipped / 'sources'}", f"-I{FMI_HEADERS}", *extra_flags,
+               f"-I{unzipped / 'sources'}", "-isystem", str(FMI_HEADERS), *extra_flags,
                *[str(unzipped / "sources" / s) for s in sources], "-o", str(target), "-lm"]
     done = subprocess.run(command, capture_output=True, text=True)
     if done.returncode != 0:
