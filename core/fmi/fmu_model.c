@@ -179,6 +179,7 @@ fmu_status fmu_get_real(fmu_instance *m, const unsigned *vr, size_t n, double *v
     return FMU_OK;
 }
 
+/* Every value is checked before any is written: a rejected call changes nothing. */
 fmu_status fmu_set_real(fmu_instance *m, const unsigned *vr, size_t n, const double *values)
 {
     for (size_t i = 0; i < n; ++i) {
@@ -187,8 +188,8 @@ fmu_status fmu_set_real(fmu_instance *m, const unsigned *vr, size_t n, const dou
         if (!isfinite(values[i]) || values[i] < v->min || values[i] > v->max)
             return fmu_log(m, FMU_ERROR, "setReal: %s = %g: must be a finite number in [%g, %g]", v->name,
                            values[i], v->min, v->max);
-        memcpy((char *)m + v->offset, &values[i], sizeof(double));
     }
+    for (size_t i = 0; i < n; ++i) memcpy((char *)m + fmu_variables[vr[i]].offset, &values[i], sizeof(double));
     return FMU_OK;
 }
 
@@ -209,6 +210,9 @@ fmu_status fmu_set_boolean(fmu_instance *m, const unsigned *vr, size_t n, const 
     for (size_t i = 0; i < n; ++i) {
         const fmu_variable *v = lookup(m, "setBoolean", vr[i], FMU_BOOLEAN);
         if (!v || settable(m, "setBoolean", v) != FMU_OK) return FMU_ERROR;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = &fmu_variables[vr[i]];
         char *where = (char *)m + v->offset;
         if (v->size == 1) *(uint8_t *)where = values[i] != 0;
         else *(int *)where = values[i] != 0;

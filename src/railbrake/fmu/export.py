@@ -24,11 +24,10 @@ from xml.sax.saxutils import quoteattr
 import fmpy
 
 import railbrake
-from railbrake import _core, simulation
+from railbrake import scenario as scenarios
+from railbrake import simulation, vehicle
 from railbrake.errors import InputError
 from railbrake.fmu.variables import UNITS, Variable, table
-from railbrake import scenario as scenarios
-from railbrake import vehicle
 
 MODEL_IDENTIFIER = "railbrake_plant"
 PLATFORM = {"2": fmpy.platform, "3": fmpy.platform_tuple}          # linux64 / x86_64-linux
@@ -72,8 +71,11 @@ def _member(value, ctype, path: str):
     elif isinstance(value, ctypes.Array):
         for i in range(len(value)):
             yield from _member(value[i], ctype._type_, f"{path}[{i}]")
-    elif ctype in (ctypes.c_double, ctypes.c_int, ctypes.c_uint8, ctypes.c_uint64) and value:
-        yield f"    m->{path} = {_c_value(value, ctype)};"
+    elif ctype in (ctypes.c_double, ctypes.c_int, ctypes.c_uint8, ctypes.c_uint64):
+        if value:
+            yield f"    m->{path} = {_c_value(value, ctype)};"
+    elif not (ctype is ctypes.c_void_p or issubclass(ctype, ctypes._CFuncPtr)):
+        raise TypeError(f"{path}: ctypes type {ctype.__name__} has no C export yet (railbrake.fmu.export)")
 
 
 def _c_range(x: float) -> str:
@@ -254,7 +256,7 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc),
              "scenario": simulation._scenario_struct(sc)}
     variables = table(roots, n_cars, plant.atmosphere)
-    title = f"scenario {sc.name}, {n_cars} cars"
+    title = f"scenario {sc.name}, {n_cars} car{'s' if n_cars > 1 else ''}"
     body = generated_c(roots, variables, "@TOKEN@", title)
     token = "{" + str(uuid.UUID(hashlib.sha256(body.encode()).hexdigest()[:32])) + "}"
     with tempfile.TemporaryDirectory() as tmp:
