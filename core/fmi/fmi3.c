@@ -213,133 +213,156 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
 
 /* ---- types without variables */
 
-fmi3Status fmi3GetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float32 values[], size_t nValues)
+fmi3Status fmi3GetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                          size_t nValueReferences, fmi3Float32 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetFloat32", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int8 values[], size_t nValues)
+fmi3Status fmi3GetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                       size_t nValueReferences, fmi3Int8 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetInt8", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt8 values[], size_t nValues)
+fmi3Status fmi3GetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, fmi3UInt8 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetUInt8", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int16 values[], size_t nValues)
+fmi3Status fmi3GetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, fmi3Int16 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetInt16", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt16 values[], size_t nValues)
+fmi3Status fmi3GetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, fmi3UInt16 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetUInt16", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int32 values[], size_t nValues)
+fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, fmi3Int32 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetInt32", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt32 values[], size_t nValues)
+fmi3Status fmi3GetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, fmi3UInt32 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetUInt32", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Int64 values[], size_t nValues)
+fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, fmi3Int64 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetInt64", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 values[], size_t nValues)
+fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, fmi3UInt64 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetUInt64", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3String values[], size_t nValues)
+fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, fmi3String values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetString", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, size_t valueSizes[], fmi3Binary values[], size_t nValues)
+fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, size_t valueSizes[], fmi3Binary values[], size_t nValues)
 {
     (void)valueSizes; (void)values; (void)nValues;
     return no_variables(instance, "fmi3GetBinary", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float32 values[], size_t nValues)
+fmi3Status fmi3SetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                          size_t nValueReferences, const fmi3Float32 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetFloat32", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int8 values[], size_t nValues)
+fmi3Status fmi3SetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                       size_t nValueReferences, const fmi3Int8 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetInt8", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt8 values[], size_t nValues)
+fmi3Status fmi3SetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, const fmi3UInt8 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetUInt8", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int16 values[], size_t nValues)
+fmi3Status fmi3SetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, const fmi3Int16 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetInt16", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt16 values[], size_t nValues)
+fmi3Status fmi3SetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, const fmi3UInt16 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetUInt16", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int32 values[], size_t nValues)
+fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, const fmi3Int32 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetInt32", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt32 values[], size_t nValues)
+fmi3Status fmi3SetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, const fmi3UInt32 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetUInt32", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int64 values[], size_t nValues)
+fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, const fmi3Int64 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetInt64", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 values[], size_t nValues)
+fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, const fmi3UInt64 values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetUInt64", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3String values[], size_t nValues)
+fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, const fmi3String values[], size_t nValues)
 {
     (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetString", valueReferences, nValueReferences);
 }
 
-fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const size_t valueSizes[], const fmi3Binary values[], size_t nValues)
+fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                         size_t nValueReferences, const size_t valueSizes[], const fmi3Binary values[],
+                         size_t nValues)
 {
     (void)valueSizes; (void)values; (void)nValues;
     return no_variables(instance, "fmi3SetBinary", valueReferences, nValueReferences);
@@ -353,27 +376,34 @@ fmi3Status fmi3EnterEventMode(fmi3Instance instance)
     return unsupported(instance, "fmi3EnterEventMode");
 }
 
-fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Clock values[])
+fmi3Status fmi3GetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, fmi3Clock values[])
 {
     (void)valueReferences; (void)nValueReferences; (void)values;
     return unsupported(instance, "fmi3GetClock");
 }
 
-fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Clock values[])
+fmi3Status fmi3SetClock(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                        size_t nValueReferences, const fmi3Clock values[])
 {
     (void)valueReferences; (void)nValueReferences; (void)values;
     return unsupported(instance, "fmi3SetClock");
 }
 
-fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference, size_t* nDependencies)
+fmi3Status fmi3GetNumberOfVariableDependencies(fmi3Instance instance, fmi3ValueReference valueReference,
+                                               size_t* nDependencies)
 {
     (void)valueReference; (void)nDependencies;
     return unsupported(instance, "fmi3GetNumberOfVariableDependencies");
 }
 
-fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent, size_t elementIndicesOfDependent[], fmi3ValueReference independents[], size_t elementIndicesOfIndependents[], fmi3DependencyKind dependencyKinds[], size_t nDependencies)
+fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference dependent,
+                                       size_t elementIndicesOfDependent[], fmi3ValueReference independents[],
+                                       size_t elementIndicesOfIndependents[],
+                                       fmi3DependencyKind dependencyKinds[], size_t nDependencies)
 {
-    (void)dependent; (void)elementIndicesOfDependent; (void)independents; (void)elementIndicesOfIndependents; (void)dependencyKinds; (void)nDependencies;
+    (void)dependent; (void)elementIndicesOfDependent; (void)independents;
+    (void)elementIndicesOfIndependents; (void)dependencyKinds; (void)nDependencies;
     return unsupported(instance, "fmi3GetVariableDependencies");
 }
 
@@ -401,27 +431,36 @@ fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUSta
     return unsupported(instance, "fmi3SerializedFMUStateSize");
 }
 
-fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[], size_t size)
+fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[],
+                                 size_t size)
 {
     (void)FMUState; (void)serializedState; (void)size;
     return unsupported(instance, "fmi3SerializeFMUState");
 }
 
-fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size, fmi3FMUState* FMUState)
+fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size,
+                                   fmi3FMUState* FMUState)
 {
     (void)serializedState; (void)size; (void)FMUState;
     return unsupported(instance, "fmi3DeserializeFMUState");
 }
 
-fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity)
+fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[],
+                                        size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns,
+                                        const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[],
+                                        size_t nSensitivity)
 {
-    (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns; (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
+    (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns;
+    (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
     return unsupported(instance, "fmi3GetDirectionalDerivative");
 }
 
-fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns, const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[], size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity)
+fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
+                                    const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[],
+                                    size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity)
 {
-    (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns; (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
+    (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns;
+    (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
     return unsupported(instance, "fmi3GetAdjointDerivative");
 }
 
@@ -437,49 +476,61 @@ fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance)
     return unsupported(instance, "fmi3ExitConfigurationMode");
 }
 
-fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float64 intervals[], fmi3IntervalQualifier qualifiers[])
+fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                  size_t nValueReferences, fmi3Float64 intervals[],
+                                  fmi3IntervalQualifier qualifiers[])
 {
     (void)valueReferences; (void)nValueReferences; (void)intervals; (void)qualifiers;
     return unsupported(instance, "fmi3GetIntervalDecimal");
 }
 
-fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[], fmi3IntervalQualifier qualifiers[])
+fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                   size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[],
+                                   fmi3IntervalQualifier qualifiers[])
 {
     (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions; (void)qualifiers;
     return unsupported(instance, "fmi3GetIntervalFraction");
 }
 
-fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3Float64 shifts[])
+fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                               size_t nValueReferences, fmi3Float64 shifts[])
 {
     (void)valueReferences; (void)nValueReferences; (void)shifts;
     return unsupported(instance, "fmi3GetShiftDecimal");
 }
 
-fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[])
+fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                size_t nValueReferences, fmi3UInt64 counters[], fmi3UInt64 resolutions[])
 {
     (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
     return unsupported(instance, "fmi3GetShiftFraction");
 }
 
-fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float64 intervals[])
+fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                  size_t nValueReferences, const fmi3Float64 intervals[])
 {
     (void)valueReferences; (void)nValueReferences; (void)intervals;
     return unsupported(instance, "fmi3SetIntervalDecimal");
 }
 
-fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 counters[], const fmi3UInt64 resolutions[])
+fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                   size_t nValueReferences, const fmi3UInt64 counters[],
+                                   const fmi3UInt64 resolutions[])
 {
     (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
     return unsupported(instance, "fmi3SetIntervalFraction");
 }
 
-fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Float64 shifts[])
+fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                               size_t nValueReferences, const fmi3Float64 shifts[])
 {
     (void)valueReferences; (void)nValueReferences; (void)shifts;
     return unsupported(instance, "fmi3SetShiftDecimal");
 }
 
-fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3UInt64 counters[], const fmi3UInt64 resolutions[])
+fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                size_t nValueReferences, const fmi3UInt64 counters[],
+                                const fmi3UInt64 resolutions[])
 {
     (void)valueReferences; (void)nValueReferences; (void)counters; (void)resolutions;
     return unsupported(instance, "fmi3SetShiftFraction");
@@ -491,9 +542,14 @@ fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance)
     return unsupported(instance, "fmi3EvaluateDiscreteStates");
 }
 
-fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate, fmi3Boolean* terminateSimulation, fmi3Boolean* nominalsOfContinuousStatesChanged, fmi3Boolean* valuesOfContinuousStatesChanged, fmi3Boolean* nextEventTimeDefined, fmi3Float64* nextEventTime)
+fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate,
+                                    fmi3Boolean* terminateSimulation,
+                                    fmi3Boolean* nominalsOfContinuousStatesChanged,
+                                    fmi3Boolean* valuesOfContinuousStatesChanged,
+                                    fmi3Boolean* nextEventTimeDefined, fmi3Float64* nextEventTime)
 {
-    (void)discreteStatesNeedUpdate; (void)terminateSimulation; (void)nominalsOfContinuousStatesChanged; (void)valuesOfContinuousStatesChanged; (void)nextEventTimeDefined; (void)nextEventTime;
+    (void)discreteStatesNeedUpdate; (void)terminateSimulation; (void)nominalsOfContinuousStatesChanged;
+    (void)valuesOfContinuousStatesChanged; (void)nextEventTimeDefined; (void)nextEventTime;
     return unsupported(instance, "fmi3UpdateDiscreteStates");
 }
 
@@ -503,7 +559,8 @@ fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance)
     return unsupported(instance, "fmi3EnterContinuousTimeMode");
 }
 
-fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint, fmi3Boolean* enterEventMode, fmi3Boolean* terminateSimulation)
+fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi3Boolean* enterEventMode, fmi3Boolean* terminateSimulation)
 {
     (void)noSetFMUStatePriorToCurrentPoint; (void)enterEventMode; (void)terminateSimulation;
     return unsupported(instance, "fmi3CompletedIntegratorStep");
@@ -515,13 +572,15 @@ fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
     return unsupported(instance, "fmi3SetTime");
 }
 
-fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[], size_t nContinuousStates)
+fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[],
+                                   size_t nContinuousStates)
 {
     (void)continuousStates; (void)nContinuousStates;
     return unsupported(instance, "fmi3SetContinuousStates");
 }
 
-fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[], size_t nContinuousStates)
+fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[],
+                                             size_t nContinuousStates)
 {
     (void)derivatives; (void)nContinuousStates;
     return unsupported(instance, "fmi3GetContinuousStateDerivatives");
@@ -539,7 +598,8 @@ fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuous
     return unsupported(instance, "fmi3GetContinuousStates");
 }
 
-fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nContinuousStates)
+fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[],
+                                             size_t nContinuousStates)
 {
     (void)nominals; (void)nContinuousStates;
     return unsupported(instance, "fmi3GetNominalsOfContinuousStates");
@@ -563,13 +623,16 @@ fmi3Status fmi3EnterStepMode(fmi3Instance instance)
     return unsupported(instance, "fmi3EnterStepMode");
 }
 
-fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference valueReferences[], size_t nValueReferences, const fmi3Int32 orders[], fmi3Float64 values[], size_t nValues)
+fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference valueReferences[],
+                                    size_t nValueReferences, const fmi3Int32 orders[], fmi3Float64 values[],
+                                    size_t nValues)
 {
     (void)valueReferences; (void)nValueReferences; (void)orders; (void)values; (void)nValues;
     return unsupported(instance, "fmi3GetOutputDerivatives");
 }
 
-fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference, fmi3Float64 activationTime)
+fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference,
+                                      fmi3Float64 activationTime)
 {
     (void)clockReference; (void)activationTime;
     return unsupported(instance, "fmi3ActivateModelPartition");

@@ -158,9 +158,9 @@ static const fmu_variable *lookup(fmu_instance *m, const char *function, unsigne
 /* Parameters are set before the end of initialisation, inputs until the end; nothing else. */
 static fmu_status settable(fmu_instance *m, const char *function, const fmu_variable *v)
 {
-    unsigned allowed = v->causality == FMU_PARAMETER ? FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION)
-                     : v->causality == FMU_INPUT ? FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION) | FMU_IN(FMU_STEP)
-                     : 0u;
+    unsigned before_step = FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION);
+    unsigned allowed = v->causality == FMU_PARAMETER ? before_step
+                     : v->causality == FMU_INPUT ? before_step | FMU_IN(FMU_STEP) : 0u;
     if (allowed & FMU_IN(m->mode)) return FMU_OK;
     if (!allowed)
         return fmu_log(m, FMU_ERROR, "%s: %s is an %s and cannot be set", function, v->name,

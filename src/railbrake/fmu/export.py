@@ -140,43 +140,62 @@ def _real_attrs(v: Variable) -> dict:
             "min": _number(v.min) if settable else None, "max": _number(v.max) if settable else None}
 
 
+def _variable_attrs(i: int, v: Variable) -> dict:
+    """The attributes every FMI version shares (the value reference is the table position)."""
+    return dict(name=v.name, valueReference=i, description=v.description or None, causality=v.causality,
+                variability=None if v.causality == "independent" else _variability(v), initial=_initial(v))
+
+
+def _typed_attrs(v: Variable) -> dict:
+    return _real_attrs(v) if v.type == "Real" else {"start": _start(v)}
+
+
+def _fmi2_body(variables: list[Variable], token: str, sources: list[str], head: dict) -> tuple[list, list, list]:
+    lines = [f"<fmiModelDescription{_attrs(fmiVersion='2.0', guid=token, **head, numberOfEventIndicators='0')}>",
+             f"  <CoSimulation{_attrs(**_CO_SIMULATION, canNotUseMemoryManagementFunctions='true')}>",
+             "    <SourceFiles>", *[f"      <File{_attrs(name=s)}/>" for s in sources], "    </SourceFiles>",
+             "  </CoSimulation>"]
+    variable_lines = []
+    for i, v in enumerate(variables):
+        variable_lines += [f"    <ScalarVariable{_attrs(**_variable_attrs(i, v))}>",
+                           f"      <{v.type}{_attrs(**_typed_attrs(v))}/>", "    </ScalarVariable>"]
+    # ModelStructure indices are 1-based positions in ModelVariables
+    unknowns = [f'      <Unknown index="{i + 1}"/>' for i, v in enumerate(variables) if v.causality == "output"]
+    structure = ["    <Outputs>", *unknowns, "    </Outputs>", "    <InitialUnknowns>", *unknowns,
+                 "    </InitialUnknowns>"]
+    return lines, variable_lines, structure
+
+
+def _fmi3_body(variables: list[Variable], token: str, dt: float, head: dict) -> tuple[list, list, list]:
+    lines = [f"<fmiModelDescription{_attrs(fmiVersion='3.0', instantiationToken=token, **head)}>",
+             f"  <CoSimulation{_attrs(**_CO_SIMULATION, fixedInternalStepSize=repr(dt), hasEventMode='false')}/>"]
+    variable_lines = [f"    <{'Float64' if v.type == 'Real' else 'Boolean'}"
+                      f"{_attrs(**_variable_attrs(i, v), **_typed_attrs(v))}/>" for i, v in enumerate(variables)]
+    outputs = [i for i, v in enumerate(variables) if v.causality == "output"]
+    structure = ([f'    <Output valueReference="{i}"/>' for i in outputs]
+                 + [f'    <InitialUnknown valueReference="{i}"/>' for i in outputs])
+    return lines, variable_lines, structure
+
+
+_CO_SIMULATION = dict(modelIdentifier=MODEL_IDENTIFIER, canHandleVariableCommunicationStepSize="true")
+
+
 def model_description(version: str, variables: list[Variable], token: str, sources: list[str],
                       title: str, stop_time: float, dt: float) -> str:
     """modelDescription.xml in the FMI `version` ("2" or "3") flavour."""
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     head = dict(modelName=MODEL_IDENTIFIER, description=f"railbrake real-time plant: {title}",
-                generationTool=f"railbrake {railbrake.__version__}", generationDateAndTime=stamp)
-    units = _units({v.unit for v in variables if v.unit})
-    experiment = f"  <DefaultExperiment{_attrs(startTime='0', stopTime=repr(stop_time), stepSize=repr(dt))}/>"
-    outputs = [i for i, v in enumerate(variables) if v.causality == "output"]
+                generationTool=f"railbrake {railbrake.__version__}", generationDateAndTime=stamp,
+                variableNamingConvention="flat")
     if version == "2":
-        lines = [f'<fmiModelDescription{_attrs(fmiVersion="2.0", guid=token, variableNamingConvention="flat", numberOfEventIndicators="0", **head)}>',
-                 f"  <CoSimulation{_attrs(modelIdentifier=MODEL_IDENTIFIER, canHandleVariableCommunicationStepSize='true', canNotUseMemoryManagementFunctions='true', canBeInstantiatedOnlyOncePerProcess='false')}>",
-                 "    <SourceFiles>", *[f"      <File{_attrs(name=s)}/>" for s in sources], "    </SourceFiles>",
-                 "  </CoSimulation>", *units, experiment, "  <ModelVariables>"]
-        for i, v in enumerate(variables):
-            common = _attrs(name=v.name, valueReference=i, description=v.description or None, causality=v.causality,
-                            variability=None if v.causality == "independent" else _variability(v), initial=_initial(v))
-            typed = _attrs(**_real_attrs(v)) if v.type == "Real" else _attrs(start=_start(v))
-            lines += [f"    <ScalarVariable{common}>", f"      <{v.type}{typed}/>", "    </ScalarVariable>"]
-        unknowns = [f'      <Unknown index="{i + 1}"/>' for i in outputs]
-        lines += ["  </ModelVariables>", "  <ModelStructure>", "    <Outputs>", *unknowns, "    </Outputs>",
-                  "    <InitialUnknowns>", *unknowns, "    </InitialUnknowns>", "  </ModelStructure>"]
+        lines, variable_lines, structure = _fmi2_body(variables, token, sources, head)
     else:
-        lines = [f'<fmiModelDescription{_attrs(fmiVersion="3.0", instantiationToken=token, variableNamingConvention="flat", **head)}>',
-                 f"  <CoSimulation{_attrs(modelIdentifier=MODEL_IDENTIFIER, canHandleVariableCommunicationStepSize='true', fixedInternalStepSize=repr(dt), canGetAndSetFMUState='false', canSerializeFMUState='false', hasEventMode='false')}/>",
-                 *units, experiment, "  <ModelVariables>"]
-        for i, v in enumerate(variables):
-            element = "Float64" if v.type == "Real" else "Boolean"
-            extra = _real_attrs(v) if v.type == "Real" else {"start": _start(v)}
-            lines.append(f"    <{element}" + _attrs(name=v.name, valueReference=i, description=v.description or None,
-                                                  causality=v.causality,
-                                                  variability=None if v.causality == "independent" else _variability(v),
-                                                  initial=_initial(v), **extra) + "/>")
-        lines += ["  </ModelVariables>", "  <ModelStructure>",
-                  *[f'    <Output valueReference="{i}"/>' for i in outputs],
-                  *[f'    <InitialUnknown valueReference="{i}"/>' for i in outputs], "  </ModelStructure>"]
-    return "\n".join(['<?xml version="1.0" encoding="UTF-8"?>', *lines, "</fmiModelDescription>", ""])
+        lines, variable_lines, structure = _fmi3_body(variables, token, dt, head)
+    experiment = _attrs(startTime="0", stopTime=repr(stop_time), stepSize=repr(dt))
+    return "\n".join(['<?xml version="1.0" encoding="UTF-8"?>', *lines, *_units({v.unit for v in variables if v.unit}),
+                      f"  <DefaultExperiment{experiment}/>", "  <ModelVariables>", *variable_lines,
+                      "  </ModelVariables>", "  <ModelStructure>", *structure, "  </ModelStructure>",
+                      "</fmiModelDescription>", ""])
 
 
 def build_description(sources: list[str]) -> str:

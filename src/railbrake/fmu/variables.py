@@ -41,7 +41,8 @@ UNITS = {
 # Global tunable parameters: name, C path, unit, description.
 _PARAMETERS = [
     ("initial_speed", "plant.initial_speed", "m/s", "train speed at t = 0"),
-    ("initial_pressure", "plant.initial_pressure", "Pa", "main reservoir, pipe and supply reservoirs at t = 0 (absolute)"),
+    ("initial_pressure", "plant.initial_pressure", "Pa",
+     "main reservoir, pipe and supply reservoirs at t = 0 (absolute)"),
     ("main_reservoir_volume", "plant.main_reservoir_volume", "m3", "main reservoir volume"),
     ("compressor_flow", "plant.compressor_flow", "kg/s", "compressor delivery when running"),
     ("governor_on", "plant.governor_on", "Pa", "compressor starts below this main-reservoir pressure"),
@@ -49,7 +50,8 @@ _PARAMETERS = [
     ("air_temperature", "plant.temperature", "K", "air temperature (isothermal model)"),
     ("coupler_stiffness", "plant.coupler.stiffness", "N/m", "coupler stiffness beyond the slack"),
     ("coupler_damping", "plant.coupler.damping", "N.s/m", "coupler damping"),
-    ("adhesion_mu0", "plant.condition[0].polach.mu0", "1", "Polach maximum friction coefficient outside the track zones"),
+    ("adhesion_mu0", "plant.condition[0].polach.mu0", "1",
+     "Polach maximum friction coefficient outside the track zones"),
     ("bcu_cycle", "bcu.cycle", "s", "BCU cycle time"),
     ("service_deceleration", "bcu.service_decel", "m/s2", "demanded deceleration at full service brake"),
     ("emergency_deceleration", "bcu.emergency_decel", "m/s2", "demanded deceleration in emergency"),
@@ -64,7 +66,8 @@ _PARAMETERS = [
 _CAR_PARAMETERS = [
     ("mass", "plant.car[{i}].vehicle.mass", "kg",
      "car mass (dynamics and BCU load-weighing; wheel loads and contact stay as exported)"),
-    ("supply_pressure", "plant.car[{i}].vehicle.supply_pressure", "Pa", "brake supply pressure (absolute), the BCU's maximum demand"),
+    ("supply_pressure", "plant.car[{i}].vehicle.supply_pressure", "Pa",
+     "brake supply pressure (absolute), the BCU's maximum demand"),
     ("cylinder_area", "plant.car[{i}].vehicle.brake.caliper.cylinder_area", "m2", "brake cylinder piston area"),
     ("supply_volume", "plant.car[{i}].supply_volume", "m3", "supply reservoir volume"),
     ("cylinder_volume", "plant.car[{i}].cylinder_volume", "m3", "brake cylinder volume (per axle)"),
@@ -135,7 +138,8 @@ def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
     # outputs
     v += [Variable("speed", "output", "Real", "out.speed", "m/s", description="train speed (leading car)"),
           Variable("position", "output", "Real", "out.position", "m", description="leading car front along the track"),
-          Variable("deceleration", "output", "Real", "out.deceleration", "m/s2", description="leading car deceleration"),
+          Variable("deceleration", "output", "Real", "out.deceleration", "m/s2",
+                   description="leading car deceleration"),
           Variable("main_reservoir", "output", "Real", "out.main_reservoir", "Pa",
                    description="main reservoir pressure (absolute)")]
     for c in range(n_cars):
