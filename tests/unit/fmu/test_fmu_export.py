@@ -70,6 +70,16 @@ def test_equals_native_run(fmu):
     assert result["speed"][-1] < 0.5     # FMPy ran the whole stop
 
 
+def test_equals_native_run_with_wsp_acting(tmp_path):
+    """Heavy rain (adhesion 0.02-0.05, shared/reference/README.md section 1): the internal WSP vents
+    and re-applies many times in the first 10 s; the FMU still equals the native run."""
+    path = export_fmu("emergency-300-heavy-rain", tmp_path / "rain.fmu", "3", cars=1)
+    native = simulation.run("emergency-300-heavy-rain", cars=1)
+    assert_equals_native(path, native, 1, stop_time=10.0)
+    first_10s = native.time <= 10.0
+    assert all(native.outputs[f"vent_c1a{a}"][first_10s].sum() > 20 for a in range(1, 5))
+
+
 def test_compiled_from_its_sources_simulates_the_same(fmu, tmp_path):
     """The sources inside the FMU build with fmpy's CMake project (as `fmpy compile` does)."""
     version, path = fmu
