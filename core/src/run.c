@@ -50,7 +50,7 @@ rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_siz
     return RB_OK;
 }
 
-static rb_brake_demand demand_at(const rb_scenario *sc, double t)
+rb_brake_demand rb_scenario_demand(const rb_scenario *sc, double t)
 {
     rb_brake_demand d = {0.0, 0.0};
     for (int i = 0; i < sc->n_demand && sc->demand_time[i] <= t + 1e-12; ++i) {
@@ -97,7 +97,7 @@ static void record(const rb_plant_params *p, rb_run_state *r, const rb_bcu_param
 {
     const rb_plant_outputs *o = &r->out;
     int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
-    rb_brake_demand d = demand_at(sc, o->time);
+    rb_brake_demand d = rb_scenario_demand(sc, o->time);
     double g[GLOBAL_CHANNELS] = {o->time, o->speed, o->position, o->deceleration,
                                  d.emergency > 0.5 ? bcu->emergency_decel : d.service * bcu->service_decel,
                                  o->main_reservoir, o->pipe_end, (double)o->compressor_on, o->air_vented};
@@ -174,7 +174,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
             r->rows++;
             r->next_record += sc->record_interval;
         }
-        rb_brake_demand d = demand_at(sc, r->out.time);
+        rb_brake_demand d = rb_scenario_demand(sc, r->out.time);
         if (!r->braking && (d.emergency > 0.5 || d.service > 0.0)) {
             r->braking = 1;
             r->brake_time = r->out.time;

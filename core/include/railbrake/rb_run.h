@@ -54,6 +54,9 @@ typedef struct {
     size_t rows;
 } rb_run_state;
 
+/* The scenario's brake demand at time t (a step function; a step applies from its own time on). */
+rb_brake_demand rb_scenario_demand(const rb_scenario *scenario, double t);
+
 rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
                       const rb_scenario *scenario, rb_run_state *run, rb_error *err);
 /* Runs until time t_until, the stop or max_time, writing rows of rb_run_channel_count(n_cars)

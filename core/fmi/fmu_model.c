@@ -1,0 +1,263 @@
+/* The plant as a co-simulation model: lifecycle, variable access by value reference, stepping.
+ * The step runs the same calls in the same order as rb_run_advance (run.c), so an FMU run equals
+ * the native run. */
+#include "fmu_model.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const mode_names[] = {"instantiated", "initialization mode", "step mode", "terminated"};
+static const char *const causality_names[] = {"independent", "parameter", "input", "output"};
+
+static void log_message(fmu_log_function log, fmu_callback callback, void *environment, const char *name,
+                        fmu_status status, const char *format, va_list args)
+{
+    char message[512];
+    if (!log || !callback) return;
+    vsnprintf(message, sizeof message, format, args);
+    log(callback, environment, name, status, status >= FMU_ERROR ? "logStatusError" : "logAll", message);
+}
+
+fmu_status fmu_log(fmu_instance *m, fmu_status status, const char *format, ...)
+{
+    if (status >= FMU_ERROR || m->debug_logging) {
+        va_list args;
+        va_start(args, format);
+        log_message(m->log, m->log_callback, m->environment, m->name, status, format, args);
+        va_end(args);
+    }
+    return status;
+}
+
+static void log_early(fmu_log_function log, fmu_callback callback, void *environment, const char *name,
+                      const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    log_message(log, callback, environment, name, FMU_ERROR, format, args);
+    va_end(args);
+}
+
+fmu_status fmu_check_mode(fmu_instance *m, const char *function, unsigned allowed)
+{
+    if (allowed & FMU_IN(m->mode)) return FMU_OK;
+    return fmu_log(m, FMU_ERROR, "%s: not allowed when the instance is %s", function, mode_names[m->mode]);
+}
+
+double fmu_time(const fmu_instance *m) { return (double)m->step * m->plant.dt; }
+
+/* ---- setup: the BCU's load-weighed pressure map follows the (possibly tuned) plant, as
+ * railbrake.simulation.bcu_params sets it up; then the states at t = 0. */
+static fmu_status setup(fmu_instance *m)
+{
+    rb_error err;
+    if (rb_plant_check(&m->plant, &err) != RB_OK)
+        return fmu_log(m, FMU_ERROR, "invalid parameter: %s", err.message);
+    double supply = m->plant.car[0].vehicle.supply_pressure;
+    for (int c = 1; c < m->plant.n_cars; ++c)
+        if (m->plant.car[c].vehicle.supply_pressure < supply) supply = m->plant.car[c].vehicle.supply_pressure;
+    m->bcu.n_cars = m->plant.n_cars;
+    m->bcu.wsp = NULL;
+    m->bcu.wsp_context = NULL;
+    rb_bcu_pressure_map(&m->plant, supply, &m->bcu);
+    if (rb_plant_init(&m->plant, &m->state, &err) != RB_OK ||
+        rb_bcu_init(&m->bcu, &m->wsp, &m->bcu_state, &err) != RB_OK)
+        return fmu_log(m, FMU_ERROR, "invalid parameter: %s", err.message);
+    memset(&m->in, 0, sizeof m->in);
+    rb_plant_get_outputs(&m->plant, &m->state, &m->out);
+    m->step = 0;
+    return FMU_OK;
+}
+
+static fmu_status load_defaults(fmu_instance *m)
+{
+    size_t keep = offsetof(fmu_instance, log);   /* the environment survives a reset */
+    memset(m, 0, keep);
+    fmu_scenario_defaults(m);
+    m->mode = FMU_INSTANTIATED;
+    return setup(m);
+}
+
+fmu_instance *fmu_instantiate(const char *name, const char *token, fmu_log_function log, fmu_callback log_callback,
+                              void *environment, int debug_logging)
+{
+    if (!token || strcmp(token, fmu_token) != 0) {
+        log_early(log, log_callback, environment, name, "instantiate: instantiation token \"%s\" does not match "
+                  "this FMU's \"%s\" (modelDescription.xml and binary from different exports?)",
+                  token ? token : "(null)", fmu_token);
+        return NULL;
+    }
+    fmu_instance *m = calloc(1, sizeof *m);
+    if (!m) {
+        log_early(log, log_callback, environment, name, "instantiate: out of memory (%zu bytes)", sizeof *m);
+        return NULL;
+    }
+    m->log = log;
+    m->log_callback = log_callback;
+    m->environment = environment;
+    m->debug_logging = debug_logging;
+    snprintf(m->name, sizeof m->name, "%s", name ? name : "");
+    if (load_defaults(m) != FMU_OK) {
+        free(m);
+        return NULL;
+    }
+    return m;
+}
+
+void fmu_free(fmu_instance *m) { free(m); }
+
+fmu_status fmu_reset(fmu_instance *m) { return load_defaults(m); }
+
+fmu_status fmu_enter_initialization(fmu_instance *m, double start_time)
+{
+    fmu_status s = fmu_check_mode(m, "enterInitializationMode", FMU_IN(FMU_INSTANTIATED));
+    if (s != FMU_OK) return s;
+    if (start_time != 0.0)
+        return fmu_log(m, FMU_ERROR, "startTime = %g s: must be 0 (the scenario starts at t = 0)", start_time);
+    m->mode = FMU_INITIALIZATION;
+    return FMU_OK;
+}
+
+fmu_status fmu_exit_initialization(fmu_instance *m)
+{
+    fmu_status s = fmu_check_mode(m, "exitInitializationMode", FMU_IN(FMU_INITIALIZATION));
+    if (s != FMU_OK || (s = setup(m)) != FMU_OK) return s;
+    m->mode = FMU_STEP;
+    return FMU_OK;
+}
+
+fmu_status fmu_terminate(fmu_instance *m)
+{
+    fmu_status s = fmu_check_mode(m, "terminate", FMU_IN(FMU_INITIALIZATION) | FMU_IN(FMU_STEP));
+    if (s == FMU_OK) m->mode = FMU_TERMINATED;
+    return s;
+}
+
+/* ---- variable access */
+
+static const fmu_variable *lookup(fmu_instance *m, const char *function, unsigned vr, fmu_type type)
+{
+    static const char *const type_names[] = {"Real/Float64", "Boolean"};
+    if (vr >= fmu_variable_count) {
+        fmu_log(m, FMU_ERROR, "%s: unknown value reference %u (this FMU has 0 to %zu)", function, vr,
+                fmu_variable_count - 1);
+        return NULL;
+    }
+    const fmu_variable *v = &fmu_variables[vr];
+    if (v->type != type) {
+        fmu_log(m, FMU_ERROR, "%s: value reference %u (%s) is not of type %s", function, vr, v->name,
+                type_names[type]);
+        return NULL;
+    }
+    return v;
+}
+
+/* Parameters are set before the end of initialisation, inputs until the end; nothing else. */
+static fmu_status settable(fmu_instance *m, const char *function, const fmu_variable *v)
+{
+    unsigned before_step = FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION);
+    unsigned allowed = v->causality == FMU_PARAMETER ? before_step
+                     : v->causality == FMU_INPUT ? before_step | FMU_IN(FMU_STEP) : 0u;
+    if (allowed & FMU_IN(m->mode)) return FMU_OK;
+    if (!allowed)
+        return fmu_log(m, FMU_ERROR, "%s: %s is an %s and cannot be set", function, v->name,
+                       causality_names[v->causality]);
+    return fmu_log(m, FMU_ERROR, "%s: %s (a %s) cannot be set when the instance is %s", function, v->name,
+                   causality_names[v->causality], mode_names[m->mode]);
+}
+
+fmu_status fmu_get_real(fmu_instance *m, const unsigned *vr, size_t n, double *values)
+{
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = lookup(m, "getReal", vr[i], FMU_REAL);
+        if (!v) return FMU_ERROR;
+        memcpy(&values[i], (const char *)m + v->offset, sizeof(double));
+    }
+    return FMU_OK;
+}
+
+/* Every value is checked before any is written: a rejected call changes nothing. */
+fmu_status fmu_set_real(fmu_instance *m, const unsigned *vr, size_t n, const double *values)
+{
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = lookup(m, "setReal", vr[i], FMU_REAL);
+        if (!v || settable(m, "setReal", v) != FMU_OK) return FMU_ERROR;
+        if (!isfinite(values[i]) || values[i] < v->min || values[i] > v->max)
+            return fmu_log(m, FMU_ERROR, "setReal: %s = %g: must be a finite number in [%g, %g]", v->name,
+                           values[i], v->min, v->max);
+    }
+    for (size_t i = 0; i < n; ++i) memcpy((char *)m + fmu_variables[vr[i]].offset, &values[i], sizeof(double));
+    return FMU_OK;
+}
+
+fmu_status fmu_get_boolean(fmu_instance *m, const unsigned *vr, size_t n, int *values)
+{
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = lookup(m, "getBoolean", vr[i], FMU_BOOLEAN);
+        if (!v) return FMU_ERROR;
+        const char *where = (const char *)m + v->offset;
+        if (v->size == 1) values[i] = *(const uint8_t *)where != 0;
+        else values[i] = *(const int *)where != 0;
+    }
+    return FMU_OK;
+}
+
+fmu_status fmu_set_boolean(fmu_instance *m, const unsigned *vr, size_t n, const int *values)
+{
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = lookup(m, "setBoolean", vr[i], FMU_BOOLEAN);
+        if (!v || settable(m, "setBoolean", v) != FMU_OK) return FMU_ERROR;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = &fmu_variables[vr[i]];
+        char *where = (char *)m + v->offset;
+        if (v->size == 1) *(uint8_t *)where = values[i] != 0;
+        else *(int *)where = values[i] != 0;
+    }
+    return FMU_OK;
+}
+
+/* ---- stepping */
+
+/* A switched-on fault starts now unless its scenario start time came first. */
+static void switch_faults(fmu_instance *m)
+{
+    double t = fmu_time(m);
+    for (int i = 0; i < m->plant.n_faults; ++i)
+        if (m->fault_switch[i] && m->plant.fault[i].start_time > t) m->plant.fault[i].start_time = t;
+}
+
+/* One plant step, in rb_run_advance's order: demand, BCU, plant, outputs. */
+static void step_once(fmu_instance *m)
+{
+    if (m->external_bcu) {
+        m->in = m->external;
+    } else {
+        rb_brake_demand d = {m->emergency_demand ? 1.0 : 0.0, m->service_demand};
+        if (m->scenario_demand) d = rb_scenario_demand(&m->scenario, m->out.time);
+        rb_bcu_step(&m->bcu, &m->bcu_state, &d, &m->out, &m->in);
+    }
+    rb_plant_step(&m->plant, &m->state, &m->in);
+    rb_plant_get_outputs(&m->plant, &m->state, &m->out);
+    m->step++;
+}
+
+fmu_status fmu_do_step(fmu_instance *m, double t, double h)
+{
+    fmu_status s = fmu_check_mode(m, "doStep", FMU_IN(FMU_STEP));
+    if (s != FMU_OK) return s;
+    double dt = m->plant.dt, steps = h / dt;
+    int64_t n = (int64_t)llround(steps);
+    if (!isfinite(h) || n < 1 || fabs(steps - (double)n) > 1e-6)
+        return fmu_log(m, FMU_ERROR, "doStep: communicationStepSize = %g s: must be a whole number (>= 1) of "
+                       "the fixed step %g s", h, dt);
+    if (!isfinite(t) || fabs(t - fmu_time(m)) > 1e-6 * dt)
+        return fmu_log(m, FMU_ERROR, "doStep: currentCommunicationPoint = %.9g s: must equal the FMU's time "
+                       "%.9g s", t, fmu_time(m));
+    switch_faults(m);
+    for (int64_t i = 0; i < n; ++i) step_once(m);
+    return FMU_OK;
+}

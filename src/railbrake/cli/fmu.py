@@ -1,0 +1,27 @@
+"""`railbrake export-fmu`: the real-time plant as a co-simulation FMU for HIL targets."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from railbrake.cli._common import prepare_output, reports_errors
+from railbrake.fmu.export import BASE_SCENARIO, export_fmu
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("export-fmu")
+    @reports_errors
+    def export(
+        scenario: str = typer.Argument(BASE_SCENARIO, help="Scenario (preset or YAML file) or train preset "
+                                       f"(then {BASE_SCENARIO} with that train)."),
+        fmi: str = typer.Option("2", "--fmi", help="FMI version: 2 or 3."),
+        cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
+        output: Path = typer.Option(Path("plant.fmu"), "-o", "--output", help="The FMU file to write."),
+    ):
+        """Co-simulation FMU of the plant and BCU (1 ms fixed step) with its C sources and a binary
+        for this platform (docs/fmu.md)."""
+        path = export_fmu(scenario, prepare_output(output), fmi, cars)
+        typer.echo(f"{path}: FMI {fmi}.0 co-simulation, {path.stat().st_size / 1024:.0f} kB")

@@ -1,0 +1,154 @@
+"""The FMU's variables, in one table: value reference (position), name, causality, type, unit,
+start, range and where the value lives in the C instance (core/fmi/fmu_model.h, fmu_instance).
+
+modelDescription.xml (FMI 2 and 3) and the C variable table of fmu_scenario.c are both written
+from this list. Parameter start values are read from the scenario's ctypes structs at the same
+C path, so the XML, the generated C and the native run agree by construction.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+from railbrake import _core
+
+INF = math.inf
+
+
+@dataclass(frozen=True)
+class Variable:
+    name: str
+    causality: str          # independent | parameter | input | output
+    type: str               # Real | Boolean
+    where: str              # C member designator inside fmu_instance
+    unit: str | None = None
+    start: float | bool | None = None
+    min: float = -INF
+    max: float = INF
+    description: str = ""
+
+
+# SI base-unit exponents of every unit used (FMI UnitDefinitions).
+UNITS = {
+    "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "s": {"s": 1},
+    "kg": {"kg": 1}, "kg/s": {"kg": 1, "s": -1}, "K": {"K": 1}, "m2": {"m": 2}, "m3": {"m": 3},
+    "Pa": {"kg": 1, "m": -1, "s": -2}, "N/m": {"kg": 1, "s": -2}, "N.s/m": {"kg": 1, "s": -1},
+    "1": {},
+}
+
+# Global tunable parameters: name, C path, unit, description.
+_PARAMETERS = [
+    ("initial_speed", "plant.initial_speed", "m/s", "train speed at t = 0"),
+    ("initial_pressure", "plant.initial_pressure", "Pa",
+     "main reservoir, pipe and supply reservoirs at t = 0 (absolute)"),
+    ("main_reservoir_volume", "plant.main_reservoir_volume", "m3", "main reservoir volume"),
+    ("compressor_flow", "plant.compressor_flow", "kg/s", "compressor delivery when running"),
+    ("governor_on", "plant.governor_on", "Pa", "compressor starts below this main-reservoir pressure"),
+    ("governor_off", "plant.governor_off", "Pa", "compressor stops above this main-reservoir pressure"),
+    ("air_temperature", "plant.temperature", "K", "air temperature (isothermal model)"),
+    ("coupler_stiffness", "plant.coupler.stiffness", "N/m", "coupler stiffness beyond the slack"),
+    ("coupler_damping", "plant.coupler.damping", "N.s/m", "coupler damping"),
+    ("adhesion_mu0", "plant.condition[0].polach.mu0", "1",
+     "Polach maximum friction coefficient outside the track zones"),
+    ("bcu_cycle", "bcu.cycle", "s", "BCU cycle time"),
+    ("service_deceleration", "bcu.service_decel", "m/s2", "demanded deceleration at full service brake"),
+    ("emergency_deceleration", "bcu.emergency_decel", "m/s2", "demanded deceleration in emergency"),
+    ("wsp_speed_threshold", "wsp.speed_threshold", "m/s", "WSP: speed difference that starts venting"),
+    ("wsp_slip_threshold", "wsp.slip_threshold", "1", "WSP: plus this fraction of the reference speed"),
+    ("wsp_decel_threshold", "wsp.decel_threshold", "m/s2", "WSP: wheel deceleration that starts venting"),
+    ("wsp_reaccel_threshold", "wsp.reaccel_threshold", "m/s2", "WSP: wheel acceleration that ends venting"),
+    ("wsp_safety_time", "wsp.safety_time", "s", "WSP: longest continuous venting"),
+]
+
+# Per car parameters: name (suffixed _c<car>), C path with {i} the 0-based car, unit, description.
+_CAR_PARAMETERS = [
+    ("mass", "plant.car[{i}].vehicle.mass", "kg",
+     "car mass (dynamics and BCU load-weighing; wheel loads and contact stay as exported)"),
+    ("supply_pressure", "plant.car[{i}].vehicle.supply_pressure", "Pa",
+     "brake supply pressure (absolute), the BCU's maximum demand"),
+    ("cylinder_area", "plant.car[{i}].vehicle.brake.caliper.cylinder_area", "m2", "brake cylinder piston area"),
+    ("supply_volume", "plant.car[{i}].supply_volume", "m3", "supply reservoir volume"),
+    ("cylinder_volume", "plant.car[{i}].cylinder_volume", "m3", "brake cylinder volume (per axle)"),
+    ("hold_area", "plant.car[{i}].hold_area", "m2", "WSP hold valve flow area"),
+    ("vent_area", "plant.car[{i}].vent_area", "m2", "WSP vent valve flow area"),
+    ("valve_delay", "plant.car[{i}].valve_delay", "s", "WSP valve response delay"),
+    ("ep_tau", "plant.car[{i}].ep_tau", "s", "EP valve response time constant"),
+]
+
+
+def car(c: int) -> str:
+    return f"_c{c + 1}"
+
+
+def axle(a: int) -> str:
+    return f"_c{a // _core.AXLES_PER_CAR + 1}a{a % _core.AXLES_PER_CAR + 1}"
+
+
+def resolve(roots: dict, path: str):
+    """The value at C path `path` (e.g. plant.car[0].vehicle.mass) in the ctypes structs `roots`."""
+    tokens = re.findall(r"\w+|\[\d+\]", path)
+    value = roots[tokens[0]]
+    for token in tokens[1:]:
+        value = value[int(token[1:-1])] if token.startswith("[") else getattr(value, token)
+    return value
+
+
+def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
+    """Every variable of the FMU; roots: the ctypes structs plant, bcu, wsp (start values)."""
+    plant = roots["plant"]
+    n_axles = n_cars * _core.AXLES_PER_CAR
+    v = [Variable("time", "independent", "Real", "out.time", "s", description="simulation time")]
+
+    def parameter(name, path, unit, description, low=0.0, high=INF):
+        v.append(Variable(name, "parameter", "Real", path, unit, float(resolve(roots, path)), low, high, description))
+
+    for name, path, unit, description in _PARAMETERS:
+        parameter(name, path, unit, description)
+    for c in range(n_cars):
+        for name, path, unit, description in _CAR_PARAMETERS:
+            parameter(name + car(c), path.format(i=c), unit, f"car {c + 1}: {description}")
+    v += [
+        Variable("wsp_enabled", "parameter", "Boolean", "bcu.wsp_enabled", start=bool(roots["bcu"].wsp_enabled),
+                 description="the internal BCU runs wheel-slide protection"),
+        Variable("scenario_demand", "parameter", "Boolean", "scenario_demand", start=True,
+                 description="brake demand from the scenario's schedule (true) or the demand inputs (false)"),
+        Variable("external_bcu", "parameter", "Boolean", "external_bcu", start=False,
+                 description="pressure demand and WSP valves from the inputs; the internal BCU is not run"),
+    ]
+    # inputs
+    v += [Variable("service_demand", "input", "Real", "service_demand", "1", 0.0, 0.0, 1.0,
+                   "service brake demand, 0..1 of full service (when scenario_demand is false)"),
+          Variable("emergency_demand", "input", "Boolean", "emergency_demand", start=False,
+                   description="emergency brake demand (when scenario_demand is false)")]
+    for c in range(n_cars):
+        v.append(Variable("pressure_demand" + car(c), "input", "Real", f"external.pressure_demand[{c}]", "Pa",
+                          atmosphere, 0.0, 2e6, f"car {c + 1}: EP valve pressure demand, absolute (external BCU)"))
+    for kind, meaning in (("hold", "hold valve closed"), ("vent", "vent valve open")):
+        for a in range(n_axles):
+            v.append(Variable(kind + axle(a), "input", "Boolean", f"external.{kind}[{a}]", start=False,
+                              description=f"WSP command: {meaning} (external BCU)"))
+    for i in range(plant.n_faults):
+        f = plant.fault[i]
+        where = "every axle" if f.axle < 0 else f"axle {f.axle + 1}"
+        v.append(Variable(f"fault_{i + 1}", "input", "Boolean", f"fault_switch[{i}]", start=False,
+                          description=f"starts scenario fault {i + 1} ({_core.FAULT_KINDS[f.kind]}, car {f.car + 1}, "
+                                      f"{where}) now unless its scenario start {f.start_time:g} s came first"))
+    # outputs
+    v += [Variable("speed", "output", "Real", "out.speed", "m/s", description="train speed (leading car)"),
+          Variable("position", "output", "Real", "out.position", "m", description="leading car front along the track"),
+          Variable("deceleration", "output", "Real", "out.deceleration", "m/s2",
+                   description="leading car deceleration"),
+          Variable("main_reservoir", "output", "Real", "out.main_reservoir", "Pa",
+                   description="main reservoir pressure (absolute)")]
+    for c in range(n_cars):
+        v.append(Variable("supply" + car(c), "output", "Real", f"out.supply[{c}]", "Pa",
+                          description=f"car {c + 1}: supply reservoir pressure (absolute)"))
+    for name, field, unit, description in (
+            ("wheel_speed", "wheel_speed", "m/s", "wheel peripheral speed (true)"),
+            ("wheel_speed_measured", "wheel_speed_measured", "m/s", "wheel speed sensor (< 0: sensor lost)"),
+            ("cylinder", "cylinder", "Pa", "brake cylinder pressure (absolute)")):
+        for a in range(n_axles):
+            v.append(Variable(name + axle(a), "output", "Real", f"out.{field}[{a}]", unit, description=description))
+    return v

@@ -1,0 +1,19 @@
+"""FMUs exported once per test session (1 car keeps them quick to build and run)."""
+
+import pytest
+
+from railbrake.fmu import export_fmu
+
+SCENARIO = "emergency-250-dry"
+
+
+@pytest.fixture(scope="session", params=["2", "3"])
+def fmu(request, tmp_path_factory):
+    """(FMI version, path) of the 1-car emergency-250-dry plant, FMI 2.0 and 3.0."""
+    path = tmp_path_factory.mktemp(f"fmi{request.param}") / "plant.fmu"
+    return request.param, export_fmu(SCENARIO, path, request.param, cars=1)
+
+
+@pytest.fixture(scope="session")
+def fmu2(tmp_path_factory):
+    return export_fmu(SCENARIO, tmp_path_factory.mktemp("fmi2only") / "plant.fmu", "2", cars=1)

@@ -1,0 +1,142 @@
+"""The exported FMU against the FMI standard (fmpy's validation) and the native run.
+
+Real-time targets import FMI 2.0 co-simulation FMUs with C sources and a 1 ms model step
+(shared/reference/README.md, section 6). The FMU runs the same C code in the same order as
+railbrake.simulation.run, so its outputs must equal the native run's to 1e-9 relative.
+"""
+
+import shutil
+import zipfile
+
+import numpy as np
+import pytest
+from fmpy import read_model_description, simulate_fmu
+from fmpy.build import build_platform_binary
+from fmpy.validation import validate_fmu
+
+from railbrake import scenario as scenarios
+from railbrake import simulation
+from railbrake.fmu import export_fmu
+from railbrake.fmu.export import MODEL_IDENTIFIER
+
+ATM = 1.01325e5
+
+
+def channels(cars: int) -> list[str]:
+    axles = [f"c{c}a{a}" for c in range(1, cars + 1) for a in range(1, 5)]
+    return (["speed", "position", "main_reservoir"] + [f"supply_c{c}" for c in range(1, cars + 1)]
+            + [f"wheel_speed_{x}" for x in axles] + [f"cylinder_{x}" for x in axles])
+
+
+def assert_equals_native(fmu_path, native, cars, start_values=None, stop_time=None):
+    """FMPy's run of the FMU, sampled at the native record interval, equals the native run."""
+    t = native.time
+    interval = float(t[1] - t[0])
+    stop = float(t[-2]) if stop_time is None else stop_time     # the native run's last row is the stop itself
+    names = channels(cars)
+    result = simulate_fmu(str(fmu_path), stop_time=stop, output_interval=interval, output=names,
+                          start_values=start_values or {})
+    n = len(result)
+    assert n > 10 and np.allclose(result["time"], t[:n], rtol=0, atol=1e-12)
+    for name in names:
+        fmu, ref = result[name], native.outputs[name][:n]
+        assert np.all(np.abs(fmu - ref) <= 1e-9 * np.abs(ref)), name
+    return result
+
+
+def test_validates(fmu):
+    version, path = fmu
+    assert validate_fmu(str(path)) == []
+    md = read_model_description(str(path))
+    assert md.fmiVersion == f"{version}.0"
+    assert md.coSimulation.modelIdentifier == MODEL_IDENTIFIER
+    units = {v.name: v.unit for v in md.modelVariables}
+    assert units["speed"] == "m/s" and units["position"] == "m" and units["cylinder_c1a1"] == "Pa"
+    assert units["mass_c1"] == "kg" and units["supply_volume_c1"] == "m3"
+    with zipfile.ZipFile(path) as zf:
+        names = zf.namelist()
+    platform = "linux64" if version == "2" else "x86_64-linux"
+    assert f"binaries/{platform}/{MODEL_IDENTIFIER}.so" in names
+    assert {"sources/fmu_model.c", f"sources/fmi{version}.c", "sources/plant_step.c",
+            "sources/railbrake/rb_plant.h"} <= set(names)
+    assert ("sources/buildDescription.xml" in names) == (version == "3")
+
+
+def test_equals_native_run(fmu):
+    """Internal BCU following the scenario's demand: the whole stop from 250 km/h, bit for bit."""
+    _, path = fmu
+    native = simulation.run("emergency-250-dry", cars=1)
+    result = assert_equals_native(path, native, 1)
+    assert result["speed"][-1] < 0.5     # FMPy ran the whole stop
+
+
+def test_equals_native_run_with_wsp_acting(tmp_path):
+    """Heavy rain (adhesion 0.02-0.05, shared/reference/README.md section 1): the internal WSP vents
+    and re-applies many times in the first 10 s; the FMU still equals the native run."""
+    path = export_fmu("emergency-300-heavy-rain", tmp_path / "rain.fmu", "3", cars=1)
+    native = simulation.run("emergency-300-heavy-rain", cars=1)
+    assert_equals_native(path, native, 1, stop_time=10.0)
+    first_10s = native.time <= 10.0
+    assert all(native.outputs[f"vent_c1a{a}"][first_10s].sum() > 20 for a in range(1, 5))
+
+
+def test_compiled_from_its_sources_simulates_the_same(fmu, tmp_path):
+    """The sources inside the FMU build with fmpy's CMake project (as `fmpy compile` does)."""
+    version, path = fmu
+    folder = tmp_path / "unzipped"
+    with zipfile.ZipFile(path) as zf:
+        zf.extractall(folder)
+    shutil.rmtree(folder / "binaries")          # the binary must come from the sources
+    build_platform_binary(folder, build_dir=tmp_path)
+    native = simulation.run("emergency-250-dry", cars=1)
+    assert_equals_native(folder, native, 1, stop_time=10.0)
+
+
+def test_fault_switch_starts_the_scenario_fault(tmp_path):
+    """fault_1 switched on from t = 0 equals the native run whose fault starts at 0 s; the stuck-open
+    vent valve bleeds its cylinder (hold valve open: relay supply against the vent) far below the others."""
+    path = export_fmu("fault-vent-valve-stuck", tmp_path / "fault.fmu", "2", cars=3)
+    base = scenarios.load("fault-vent-valve-stuck")
+    faults = [f.model_copy(update={"start": 0.0}) for f in base.spec.faults]
+    stop = base.spec.stop.model_copy(update={"max_time": 4.0})
+    early = scenarios.Scenario(base.spec.model_copy(update={"faults": faults, "stop": stop}), "test", {})
+    native = simulation.run(early, cars=3)
+    result = assert_equals_native(path, native, 3, start_values={"fault_1": True}, stop_time=4.0)
+    assert result["cylinder_c3a1"][-1] > ATM + 2e5
+    assert result["cylinder_c3a2"][-1] < result["cylinder_c3a1"][-1] - 1.5e5
+
+
+def test_external_bcu_inputs_drive_the_valves(fmu2):
+    """external_bcu: the cylinders follow the pressure demand input (relay valve in equilibrium, no
+    WSP command) and an axle held and vented (the WSP's vent state) falls to atmospheric pressure."""
+    demand = ATM + 3.0e5
+    signals = np.array([(0.0, demand, False, False), (3.0, demand, False, False), (3.0, demand, True, True),
+                        (5.0, demand, True, True)],
+                       dtype=[("time", float), ("pressure_demand_c1", float), ("hold_c1a1", np.bool_),
+                              ("vent_c1a1", np.bool_)])
+    result = simulate_fmu(str(fmu2), stop_time=5.0, output_interval=0.01, input=signals,
+                          start_values={"external_bcu": True},
+                          output=["cylinder_c1a1", "cylinder_c1a2", "speed"])
+    at_3s = np.searchsorted(result["time"], 2.95)
+    assert abs(result["cylinder_c1a1"][at_3s] - demand) < 0.05e5
+    assert abs(result["cylinder_c1a2"][-1] - demand) < 0.05e5
+    assert result["cylinder_c1a1"][-1] < ATM + 0.05e5
+    assert result["speed"][-1] < result["speed"][0]     # the brakes act
+
+
+def test_tuned_parameter_reaches_the_plant(fmu2):
+    """initial_speed set before initialisation is the train speed at t = 0."""
+    result = simulate_fmu(str(fmu2), stop_time=0.01, output_interval=0.01, output=["speed"],
+                          start_values={"initial_speed": 30.0})
+    assert result["speed"][0] == 30.0
+
+
+def test_train_preset_and_bad_arguments(tmp_path):
+    path = export_fmu("velaro-8", tmp_path / "velaro.fmu", "3", cars=2, binary=False)
+    md = read_model_description(str(path))
+    assert "velaro-8" in md.description and "cylinder_c2a4" in {v.name for v in md.modelVariables}
+    from railbrake.errors import InputError
+    with pytest.raises(InputError, match="FMI version '4'"):
+        export_fmu("emergency-250-dry", tmp_path / "x.fmu", "4")
+    with pytest.raises(InputError, match="nor a train preset"):
+        export_fmu("no-such-thing", tmp_path / "x.fmu", "2")
