@@ -116,8 +116,9 @@ def step_study(scenario, cars: int, detailed: Result, steps_ms=STEPS_MS) -> list
     return rows
 
 
-def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=STEPS_MS) -> Comparison:
-    """Both models on one scenario; steps_ms=() skips the step-size study."""
+def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=None) -> Comparison:
+    """Both models on one scenario; steps_ms: the study's steps (default STEPS_MS; () skips it)."""
+    steps_ms = STEPS_MS if steps_ms is None else steps_ms
     sc = load(scenario)
     n = sc.cars(cars)
     det = run_detailed(sc, cars=n)
