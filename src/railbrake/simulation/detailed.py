@@ -39,6 +39,13 @@ def _area(d_mm: float) -> float:
     return math.pi * (d_mm * MM) ** 2 / 4
 
 
+def solenoid_table(valves: dict | None = None):
+    """The EP valve's force table (airgap m, current A, force N): this folder's, else valves'."""
+    name = (valves or load_valves())["epv"]["solenoid_table"]
+    own = DATA / name
+    return read_force_table(str(own) if own.is_file() else name)
+
+
 def detailed_params(valves: dict | None = None) -> _core.DetailedParams:
     """C parameters from the valve set (a dict as load_valves gives; default: the packaged one)."""
     v = valves or load_valves()
@@ -49,7 +56,7 @@ def detailed_params(valves: dict | None = None) -> _core.DetailedParams:
     d.armature_mass, d.armature_spring_rate = a["mass"], a["spring_rate"]
     d.armature_preload, d.armature_damping = a["spring_preload"], a["damping"]
     d.airgap_open, d.flapper_travel = a["airgap_mm"] * MM, a["flapper_travel_mm"] * MM
-    gap, current, force = read_force_table(e["solenoid_table"])
+    gap, current, force = solenoid_table(v)
     t = d.solenoid
     t.n_gap, t.n_current = len(gap), len(current)
     for i, g in enumerate(gap):
