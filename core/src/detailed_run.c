@@ -164,7 +164,8 @@ static rb_status advance_car(const rb_plant_params *p, const rb_detailed_params 
         double event = settle_valves(k, t), end = event < t1 - 1e-9 ? event : t1;
         size_t m = 0;
         int first = next_sub;
-        while (next_sub < s->n_sub && sub_time(s, t0, next_sub) <= end + 1e-9) s->t_out[m++] = sub_time(s, t0, next_sub++);
+        while (next_sub < s->n_sub && sub_time(s, t0, next_sub) <= end + 1e-9)
+            s->t_out[m++] = sub_time(s, t0, next_sub++);
         if (m == 0 || s->t_out[m - 1] < end - 1e-12) s->t_out[m++] = end;
         else s->t_out[m - 1] = end;   /* the same time to round-off */
         if ((st = rb_det_solve(&sys, d, t, k->y, s->t_out, m, s->y_out, &k->h_last, s->scale, s->work, s->iwork,
@@ -176,7 +177,8 @@ static rb_status advance_car(const rb_plant_params *p, const rb_detailed_params 
             *buf(s, i, B_VENTED, c) = row[CS_VENTED];
             for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
                 int i_cyl = 2 * (CN_CYL + a);
-                *buf_cyl(s, i, c * RB_AXLES_PER_CAR + a) = row[i_cyl] * RB_AIR_R * row[i_cyl + 1] / p->car[c].cylinder_volume;
+                *buf_cyl(s, i, c * RB_AXLES_PER_CAR + a) =
+                    row[i_cyl] * RB_AIR_R * row[i_cyl + 1] / p->car[c].cylinder_volume;
                 s->hold_at[i][c * RB_AXLES_PER_CAR + a] = k->hold[a];
                 s->vent_at[i][c * RB_AXLES_PER_CAR + a] = k->vent[a];
             }
@@ -268,7 +270,8 @@ rb_status rb_detailed_init(const rb_plant_params *p, const rb_detailed_params *d
     memset(s, 0, sizeof *s);
     if ((st = rb_plant_init(p, &s->mech, err))) return st;
     if (p->n_faults > 0)
-        return rb_fail(err, RB_EINVAL, "n_faults = %d: the detailed model does not model faults (needs 0)", p->n_faults);
+        return rb_fail(err, RB_EINVAL, "n_faults = %d: the detailed model does not model faults (needs 0)",
+                       p->n_faults);
     if ((st = rb_bcu_init(bcu, wsp, &s->bcu, err))) return st;
     if (bcu->n_cars != p->n_cars)
         return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must equal the plant's n_cars = %d", bcu->n_cars, p->n_cars);
@@ -325,8 +328,9 @@ static void apply_bcu(const rb_plant_params *p, const rb_detailed_params *d, con
         for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
             int i = c * RB_AXLES_PER_CAR + a;
             uint8_t hold = s->in.hold[i] != 0, vent = s->in.vent[i] != 0;
-            if (hold != k->hold_pending[a]) { k->hold_pending[a] = hold; k->hold_switch[a] = t + p->car[c].valve_delay; }
-            if (vent != k->vent_pending[a]) { k->vent_pending[a] = vent; k->vent_switch[a] = t + p->car[c].valve_delay; }
+            double at = t + p->car[c].valve_delay;   /* the valve acts after its response delay */
+            if (hold != k->hold_pending[a]) { k->hold_pending[a] = hold; k->hold_switch[a] = at; }
+            if (vent != k->vent_pending[a]) { k->vent_pending[a] = vent; k->vent_switch[a] = at; }
         }
         rb_det_apply_commands(k);
     }
@@ -399,7 +403,8 @@ rb_status rb_detailed_advance(const rb_plant_params *p, const rb_detailed_params
         int last = s->stopped || t >= sc->max_time - 1e-9;
         if (series && (last || (i + 1 < s->n_sub && t >= s->next_record - 1e-9))) {
             substep_outputs(p, s, i, t);
-            if (s->rows >= max_rows) return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
+            if (s->rows >= max_rows)
+                return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
             rb_run_record_row(p, &s->out, bcu, sc, series + s->rows++ * (size_t)nch);
             if (!last) s->next_record += sc->record_interval;
         }

@@ -11,9 +11,11 @@ from __future__ import annotations
 import ctypes
 import math
 import time as _time
+from importlib import resources
 from typing import Callable
 
 import numpy as np
+import yaml
 
 from railbrake import _core
 from railbrake.scenario import load
@@ -21,9 +23,6 @@ from railbrake.simulation import (CHUNK, Result, _scenario_struct, bcu_params, c
                                   wsp_params)
 from railbrake.valves import read_force_table
 from railbrake.valves.params import _merge
-
-import yaml
-from importlib import resources
 
 DATA = resources.files("railbrake") / "data" / "detailed"
 MM, CM3 = 1e-3, 1e-6
