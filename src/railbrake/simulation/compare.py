@@ -67,7 +67,8 @@ def pressure_difference(a: Result, b: Result, channel: str) -> dict:
 
 
 def valve_activity(result: Result, axle: str) -> dict:
-    """Commands (off -> on switchings) of the hold and vent valves and the time the vent was open."""
+    """Hold and vent valve actuations (off -> on switchings of the valve, each following a BCU command
+    by the response delay) and the time the vent was open."""
     t = result.time
     out = {}
     for valve in ("hold", "vent"):
