@@ -24,13 +24,16 @@ ATM = 1.01325e5
 BAR = 1e5
 
 
-@pytest.mark.parametrize("name, cars", [("emergency-250-dry", 1), ("emergency-300-heavy-rain", 1)])
+@pytest.mark.parametrize("name, cars", [("emergency-250-dry", 1), ("emergency-300-heavy-rain", 1),
+                                        pytest.param("emergency-250-dry", 8, marks=pytest.mark.slow)])
 def test_air_mass_is_conserved_across_the_train(compared, name, cars):
-    # in volumes + vented - compressed = initial, to round-off; the heavy-rain stop vents the
-    # cylinders hundreds of times and runs the compressor
+    # in volumes + vented - compressed = initial, to round-off; 8 cars: air flows along the MR
+    # pipe into every car's supply reservoir
     det = compared(name, cars).detailed
     assert det.kpis["air_balance_error"] < 1e-10
     assert det.kpis["air_consumed_kg"] > 0.0
+    if name == "emergency-300-heavy-rain":   # hundreds of WSP vents draw the MR below 8.5 bar
+        assert det.outputs["compressor_on"].max() == 1.0
 
 
 def _valves_closed_form(current):
