@@ -10,10 +10,12 @@ from railbrake.plots import new_figure, save
 from railbrake.units import BAR, ms_to_kmh
 
 ATMOSPHERE = 1.01325e5
+ZOOM = 5.0   # s
 
 
 def plot_all(c, folder: Path) -> list[Path]:
-    """Cylinder pressures RT vs detailed (first axles), speed, and the step-size study."""
+    """Cylinder pressures RT vs detailed (first axles, whole stop and a 5 s zoom), speed, and the
+    step-size study."""
     rt, det = c.rt, c.detailed
     title = f"{c.scenario}, {c.cars} cars"
     paths = []
@@ -28,6 +30,21 @@ def plot_all(c, folder: Path) -> list[Path]:
     axes[0, 0].set_title(f"{title}: brake-cylinder pressure")
     axes[-1, 0].set_xlabel("time (s)")
     paths.append(folder / "cylinder_rt_vs_detailed.png")
+    save(fig, paths[-1])
+
+    # a 5 s window in the middle of the stop: the WSP cycles of both models, with the vent valve
+    mid = 0.5 * min(rt.time[-1], det.time[-1])
+    name, vent = names[0], names[0].replace("cylinder", "vent")
+    fig, ax = new_figure()
+    for r, ls, label in ((rt, "-", "real-time (1 ms)"), (det, "--", "detailed")):
+        w = (r.time >= mid) & (r.time <= mid + ZOOM)
+        line, = ax.plot(r.time[w], (r.outputs[name][w] - ATMOSPHERE) / BAR, ls=ls, label=f"{label}: cylinder")
+        ax.plot(r.time[w], 0.3 * r.outputs[vent][w], ls=ls, lw=0.6, color=line.get_color(), label=f"{label}: vent open")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel(f"{name.split('_', 1)[1]} (bar g); vent")
+    ax.set_title(f"{title}: {ZOOM:g} s in the middle of the stop")
+    ax.legend(fontsize=7)
+    paths.append(folder / "cylinder_zoom.png")
     save(fig, paths[-1])
 
     fig, ax = new_figure()

@@ -16,7 +16,7 @@ def test_compare_rt_json_and_plots(tmp_path):
     assert [r["dt_ms"] for r in data["step_study"]] == [0.25, 0.5, 1.0, 2.0, 5.0]
     assert set(data["axles"]) == {"c1a1", "c1a2", "c1a3", "c1a4"}
     assert data["axles"]["c1a1"]["detailed"]["vent_commands"] == 0
-    for plot in ("cylinder_rt_vs_detailed", "speed_rt_vs_detailed", "step_study"):
+    for plot in ("cylinder_rt_vs_detailed", "cylinder_zoom", "speed_rt_vs_detailed", "step_study"):
         assert (tmp_path / f"{plot}.png").stat().st_size > 1000
 
 
