@@ -5,13 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-typedef struct {
-    const rb_network *net;
-    size_t n_volumes;
-    int *state_of_node;   /* index of m in y, -1 for reservoirs */
-    double *p, *T, *V, *dV, *m_in, *h_in, *m_out, *mdot, *x, *v;
-    int volume_error;     /* set when a volume becomes <= 0 (the step is then rejected) */
-} net_ctx;
+typedef rb_network_eval net_ctx;
 
 static const double CP = RB_AIR_GAMMA * RB_AIR_R / (RB_AIR_GAMMA - 1.0);
 
@@ -118,7 +112,7 @@ static double body_force(const net_ctx *c, size_t k, double t)
     return f;
 }
 
-static void rhs(double t, const double *y, double *dydt, void *user)
+void rb_network_rates(double t, const double *y, double *dydt, void *user)
 {
     net_ctx *c = user;
     const rb_network *n = c->net;
@@ -149,11 +143,19 @@ static size_t count_volumes(const rb_network *net)
 
 static size_t n_states(const rb_network *net) { return 2 * count_volumes(net) + 2 * net->n_bodies; }
 
+size_t rb_network_state_count(const rb_network *net) { return n_states(net); }
+
+size_t rb_network_eval_size(const rb_network *net, size_t *n_int)
+{
+    if (n_int) *n_int = net->n_nodes;
+    return 8 * net->n_nodes + net->n_links + 2 * net->n_bodies;
+}
+
 size_t rb_network_workspace_size(const rb_network *net, size_t n_out, size_t *n_int)
 {
     size_t n = n_states(net);
     if (n_int) *n_int = n + net->n_nodes;
-    return rb_ode_workspace_size(n) + n * (n_out + 2) + 8 * net->n_nodes + net->n_links + 2 * net->n_bodies;
+    return rb_ode_workspace_size(n) + n * (n_out + 2) + rb_network_eval_size(net, NULL);
 }
 
 static rb_status check_node(const rb_net_node *nd, size_t i, rb_error *err)
@@ -278,6 +280,51 @@ static void record(net_ctx *c, double t, const double *y, size_t r, double *node
     }
 }
 
+rb_status rb_network_eval_init(const rb_network *net, rb_network_eval *c, double *work, size_t work_size,
+                               int *iwork, size_t iwork_size, double *y, double *scale, rb_error *err)
+{
+    rb_status s;
+    if ((s = rb_network_check(net, err))) return s;
+    size_t n_int;
+    if (!c || !work || !iwork || !y || work_size < rb_network_eval_size(net, &n_int) || iwork_size < n_int)
+        return rb_fail(err, RB_ESIZE, "network evaluation: storage of %zu doubles and %zu ints is required",
+                       rb_network_eval_size(net, NULL), n_int);
+    memset(c, 0, sizeof *c);
+    c->net = net;
+    c->n_volumes = count_volumes(net);
+    c->state_of_node = iwork;
+    double *q = work;
+    double **arrays[] = {&c->p, &c->T, &c->V, &c->dV, &c->m_in, &c->h_in, &c->m_out};
+    for (size_t a = 0; a < 7; ++a, q += net->n_nodes) *arrays[a] = q;
+    q += net->n_nodes;
+    c->mdot = q; q += net->n_links;
+    c->x = q; c->v = q + net->n_bodies;
+    int next = 0;
+    for (size_t i = 0; i < net->n_nodes; ++i) {
+        const rb_net_node *nd = &net->nodes[i];
+        c->state_of_node[i] = nd->kind == RB_NODE_VOLUME ? next : -1;
+        if (nd->kind != RB_NODE_VOLUME) continue;
+        y[next] = 0.0;
+        y[next + 1] = nd->temperature;
+        next += 2;
+    }
+    for (size_t k = 0; k < net->n_bodies; ++k) {
+        y[next++] = net->bodies[k].x_initial;
+        y[next++] = 0.0;
+    }
+    /* Initial masses from the initial pressures and the volumes at the initial positions. */
+    node_states(c, 0.0, y);
+    for (size_t i = 0; i < net->n_nodes; ++i) {
+        int si = c->state_of_node[i];
+        if (si < 0) continue;
+        if (!(c->V[i] > 0.0))
+            return rb_fail(err, RB_EINVAL, "node %zu volume = %g m^3 at the initial positions: must be > 0", i, c->V[i]);
+        y[si] = net->nodes[i].pressure * c->V[i] / (RB_AIR_R * net->nodes[i].temperature);
+    }
+    if (scale) set_scales(c, y, scale);
+    return RB_OK;
+}
+
 rb_status rb_network_simulate(const rb_network *net, const double *t_out, size_t n_out,
                               const rb_ode_options *opt, double *work, size_t work_size, int *iwork,
                               double *node_p, double *node_T, double *node_m, double *link_mdot,
@@ -291,40 +338,15 @@ rb_status rb_network_simulate(const rb_network *net, const double *t_out, size_t
     size_t need = rb_network_workspace_size(net, n_out, NULL), n = n_states(net);
     if (work_size < need)
         return rb_fail(err, RB_ESIZE, "network work_size = %zu: needs >= %zu doubles", work_size, need);
-    net_ctx c = {net, count_volumes(net), iwork + n, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 0};
     double *w = work + rb_ode_workspace_size(n), *y = w, *y_out = y + n;
     double *scale = y_out + n * n_out, *q = scale + n;
-    double **arrays[] = {&c.p, &c.T, &c.V, &c.dV, &c.m_in, &c.h_in, &c.m_out};
-    for (size_t a = 0; a < 7; ++a, q += net->n_nodes) *arrays[a] = q;
-    q += net->n_nodes;
-    c.mdot = q; q += net->n_links;
-    c.x = q; c.v = q + net->n_bodies;
-    int next = 0;
-    for (size_t i = 0; i < net->n_nodes; ++i) {
-        const rb_net_node *nd = &net->nodes[i];
-        c.state_of_node[i] = nd->kind == RB_NODE_VOLUME ? next : -1;
-        if (nd->kind != RB_NODE_VOLUME) continue;
-        y[next] = 0.0;
-        y[next + 1] = nd->temperature;
-        next += 2;
-    }
-    for (size_t k = 0; k < net->n_bodies; ++k) {
-        y[next++] = net->bodies[k].x_initial;
-        y[next++] = 0.0;
-    }
-    /* Initial masses from the initial pressures and the volumes at the initial positions. */
-    node_states(&c, 0.0, y);
-    for (size_t i = 0; i < net->n_nodes; ++i) {
-        int si = c.state_of_node[i];
-        if (si < 0) continue;
-        if (!(c.V[i] > 0.0))
-            return rb_fail(err, RB_EINVAL, "node %zu volume = %g m^3 at the initial positions: must be > 0", i, c.V[i]);
-        y[si] = net->nodes[i].pressure * c.V[i] / (RB_AIR_R * net->nodes[i].temperature);
-    }
-    set_scales(&c, y, scale);
+    net_ctx c;
+    if ((s = rb_network_eval_init(net, &c, q, rb_network_eval_size(net, NULL), iwork + n, net->n_nodes, y,
+                                  scale, err)))
+        return s;
     rb_ode_options o = *opt;
     o.atol_scale = scale;
-    s = rb_ode_solve(rhs, &c, n, 0.0, y, t_out, n_out, y_out, NULL, &o, work,
+    s = rb_ode_solve(rb_network_rates, &c, n, 0.0, y, t_out, n_out, y_out, NULL, &o, work,
                      rb_ode_workspace_size(n), iwork, stats, err);
     if (s && c.volume_error)
         return rb_fail(err, RB_EINVAL, "node %d volume fell to <= 0 m^3 during the simulation", c.volume_error - 1);

@@ -8,4 +8,23 @@
 /* Zone (condition index) of axle `axle` at track position x; refreshes its cached Polach set. */
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x);
 
+/* Faults in force at a time, per axle and per car. */
+typedef struct {
+    signed char hold[RB_PLANT_MAX_AXLES];   /* -1: as commanded, 0: stuck open, 1: stuck closed */
+    signed char vent[RB_PLANT_MAX_AXLES];   /* -1: as commanded, 0: stuck closed, 1: stuck open */
+    double leak[RB_PLANT_MAX_AXLES];        /* m^2 */
+    double noise_sd[RB_PLANT_MAX_AXLES];    /* m/s */
+    uint8_t ep_failed[RB_PLANT_MAX_CARS], ed_lost[RB_PLANT_MAX_CARS], isolated[RB_PLANT_MAX_CARS];
+    int compressor_off;
+} rb_plant_faults;
+
+void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f);
+/* Wheelsets (torque balance, Polach adhesion with conditioning, ED) and cars (couplers,
+   resistance) over one step dt with the given cylinder pressures (Pa, per axle): the one
+   implementation of the mechanics, shared by the real-time plant and the detailed model. */
+void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                             const rb_plant_faults *f, const double *cylinder, double dt);
+/* Wheel-speed sensor faults (loss, noise) for the outputs. */
+void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
+
 #endif

@@ -6,17 +6,7 @@
 
 #define RB_G 9.80665
 
-/* Faults in force at this step, per axle and per car. */
-typedef struct {
-    signed char hold[RB_PLANT_MAX_AXLES];   /* -1: as commanded, 0: stuck open, 1: stuck closed */
-    signed char vent[RB_PLANT_MAX_AXLES];   /* -1: as commanded, 0: stuck closed, 1: stuck open */
-    double leak[RB_PLANT_MAX_AXLES];        /* m^2 */
-    double noise_sd[RB_PLANT_MAX_AXLES];    /* m/s */
-    uint8_t ep_failed[RB_PLANT_MAX_CARS], ed_lost[RB_PLANT_MAX_CARS], isolated[RB_PLANT_MAX_CARS];
-    int compressor_off;
-} active_faults;
-
-static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, active_faults *f)
+void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
 {
     memset(f, 0, sizeof *f);
     memset(f->hold, -1, sizeof f->hold);
@@ -100,7 +90,7 @@ static uint8_t valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *tim
 }
 
 static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                     const active_faults *f, uint8_t *hold_eff, uint8_t *vent_eff)
+                     const rb_plant_faults *f, uint8_t *hold_eff, uint8_t *vent_eff)
 {
     air_ctx x = {p->dt, RB_AIR_R * p->temperature, p->temperature, p->atmosphere,
                  p->discharge_coefficient, p->critical_ratio, 0.0};
@@ -167,10 +157,9 @@ static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant
 
 /* Advances the wheelsets of car c; returns the sum of their rail forces on the car (N). */
 static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c, double other_force,
-                             double mass, const active_faults *f)
+                             double mass, const rb_plant_faults *f, const double *cylinder, double dt)
 {
     const rb_plant_car *car = &p->car[c];
-    double rt = RB_AIR_R * p->temperature, dt = p->dt;
     double r = car->vehicle.wheelset.wheel_radius, J = car->vehicle.wheelset.inertia;
     double v = s->v[c], vr = v > p->creep_speed_min ? v : p->creep_speed_min;
     double axle_load = car->vehicle.wheelset.axle_load * RB_G, wheel_load = 0.5 * axle_load;
@@ -185,7 +174,7 @@ static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c,
         double probe = fabs(creep) > 1e-7 ? creep : -1e-7;
         double f_probe = rb_polach_coefficient_fast(probe, v, wheel_load, &car->contact, &s->polach[a]);
         double stiffness = axle_load * (f_probe / probe) / vr;   /* secant, N per m/s of slip velocity */
-        double torque = rb_plant_axle_brake_torque(car, s->m_cyl[a] * rt / car->cylinder_volume, s->omega[a] * r)
+        double torque = rb_plant_axle_brake_torque(car, cylinder[a], s->omega[a] * r)
                         + ed_axle;
         /* slip velocity, linearly implicit in this axle's own rail force */
         double others = other_force + old_sum - s->force[a];
@@ -205,8 +194,8 @@ static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c,
     return new_sum;
 }
 
-static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                           const active_faults *f)
+void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                             const rb_plant_faults *f, const double *cylinder, double dt)
 {
     double total_mass = 0.0, coupler[RB_PLANT_MAX_CARS + 1] = {0.0};
     for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
@@ -219,21 +208,21 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
         double ed_max = car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
         double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
         double ed_target = ed < ed_max ? ed : ed_max;
-        s->ed_force[c] += (ed_target - s->ed_force[c]) * p->dt / (car->ed_tau + p->dt);
+        s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
         double mass = car->vehicle.mass;
         double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * mass / total_mass : 0.0;
         double other = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
-        double rail = step_wheelsets(p, s, c, other, mass, f);
+        double rail = step_wheelsets(p, s, c, other, mass, f, cylinder, dt);
         s->a[c] = (rail + other) / mass;
     }
     for (int c = 0; c < p->n_cars; ++c) {
-        s->v[c] += p->dt * s->a[c];
+        s->v[c] += dt * s->a[c];
         if (s->v[c] < 0.0) s->v[c] = 0.0;   /* brakes hold a stopped train */
-        s->x[c] += p->dt * s->v[c];
+        s->x[c] += dt * s->v[c];
     }
 }
 
-static void update_sensors(const rb_plant_params *p, rb_plant_state *s, const active_faults *f)
+void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
         s->sensor_lost[a] = f->noise_sd[a] < 0.0;
@@ -243,11 +232,14 @@ static void update_sensors(const rb_plant_params *p, rb_plant_state *s, const ac
 
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
 {
-    active_faults f;
-    gather_faults(p, s, &f);
+    rb_plant_faults f;
+    double cylinder[RB_PLANT_MAX_AXLES];
+    rb_plant_gather_faults(p, s, &f);
     step_air(p, s, in, &f, s->hold_effective, s->vent_effective);
-    step_mechanics(p, s, in, &f);
-    update_sensors(p, s, &f);
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
+        cylinder[a] = s->m_cyl[a] * (RB_AIR_R * p->temperature) / p->car[a / RB_AXLES_PER_CAR].cylinder_volume;
+    rb_plant_step_mechanics(p, s, in, &f, cylinder, p->dt);
+    rb_plant_update_sensors(p, s, &f);
     s->step += 1;
     s->time = (double)s->step * p->dt;
 }

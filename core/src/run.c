@@ -1,6 +1,6 @@
 /* Scenario runner: BCU + plant, decimated time series, KPIs; and the plant benchmark. */
 #define _POSIX_C_SOURCE 199309L
-#include "railbrake/rb_run.h"
+#include "run_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -60,7 +60,7 @@ rb_brake_demand rb_scenario_demand(const rb_scenario *sc, double t)
     return d;
 }
 
-static rb_status check_scenario(const rb_scenario *sc, rb_error *err)
+rb_status rb_run_check_scenario(const rb_scenario *sc, rb_error *err)
 {
     rb_status s;
     if (sc->n_demand < 1 || sc->n_demand > RB_MAX_DEMAND_STEPS)
@@ -82,7 +82,7 @@ rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, co
 {
     rb_status s;
     if (!run || !scenario) return rb_fail(err, RB_EINVAL, "run and scenario must not be NULL");
-    if ((s = check_scenario(scenario, err))) return s;
+    if ((s = rb_run_check_scenario(scenario, err))) return s;
     memset(run, 0, sizeof *run);
     if ((s = rb_plant_init(plant, &run->plant, err))) return s;
     if ((s = rb_bcu_init(bcu, wsp, &run->bcu, err))) return s;
@@ -92,10 +92,9 @@ rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, co
     return RB_OK;
 }
 
-static void record(const rb_plant_params *p, rb_run_state *r, const rb_bcu_params *bcu,
-                   const rb_scenario *sc, double *row)
+void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, const rb_bcu_params *bcu,
+                       const rb_scenario *sc, double *row)
 {
-    const rb_plant_outputs *o = &r->out;
     int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
     rb_brake_demand d = rb_scenario_demand(sc, o->time);
     double g[GLOBAL_CHANNELS] = {o->time, o->speed, o->position, o->deceleration,
@@ -170,7 +169,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         if (series && r->out.time >= r->next_record - 1e-9) {
             if (r->rows >= max_rows)
                 return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
-            record(plant, r, bcu, sc, series + r->rows * (size_t)nch);
+            rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
             r->rows++;
             r->next_record += sc->record_interval;
         }
@@ -190,7 +189,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         if (r->stopped || r->out.time >= sc->max_time - 1e-9) {
             r->finished = 1;
             if (series && r->rows < max_rows) {
-                record(plant, r, bcu, sc, series + r->rows * (size_t)nch);
+                rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
                 r->rows++;
             }
         }

@@ -417,3 +417,37 @@ rb_network_simulate = _declare("rb_network_simulate", c_int, POINTER(Network), c
                                POINTER(OdeOptions), c_double_p, c_size_t, _c_int_p, c_double_p,
                                c_double_p, c_double_p, c_double_p, c_double_p, c_double_p,
                                POINTER(OdeStats), _err_p)
+
+# ---------------------------------------------------------------- detailed train model (rb_detailed.h)
+
+DETAILED_MAX_SUBSTEPS = 256
+
+
+class DetailedParams(Structure):
+    _fields_ = [(n, c_double) for n in (
+        "pilot_volume", "pilot_orifice_area", "nozzle_diameter", "armature_mass", "armature_spring_rate",
+        "armature_preload", "armature_damping", "airgap_open", "flapper_travel")] + [
+        ("solenoid", ForceTable), ("current_max", c_double)] + [(n, c_double) for n in (
+        "piston_area", "piston_mass", "piston_spring_rate", "piston_preload", "piston_damping",
+        "piston_friction", "piston_friction_velocity", "piston_travel", "seat_lap",
+        "epv_inlet_diameter", "epv_exhaust_diameter")] + [
+        ("membrane_points", c_int), ("membrane_x", c_double * MEMBRANE_MAX_POINTS),
+        ("membrane_volume", c_double * MEMBRANE_MAX_POINTS)] + [(n, c_double) for n in (
+        "membrane_mass", "membrane_spring_rate", "membrane_preload", "membrane_damping", "membrane_travel",
+        "relay_inlet_diameter", "relay_exhaust_diameter", "thermal_time", "trim_time", "rtol", "atol",
+        "mechanics_dt")]
+
+
+rb_detailed_state_size = _declare("rb_detailed_state_size", c_size_t)
+rb_detailed_check = _declare("rb_detailed_check", c_int, POINTER(DetailedParams), _err_p)
+rb_detailed_init = _declare("rb_detailed_init", c_int, POINTER(PlantParams), POINTER(DetailedParams),
+                            POINTER(BcuParams), POINTER(WspParams), POINTER(Scenario), c_void_p, _err_p)
+rb_detailed_advance = _declare("rb_detailed_advance", c_int, POINTER(PlantParams), POINTER(DetailedParams),
+                               POINTER(BcuParams), POINTER(Scenario), c_void_p, c_double, c_double_p, c_size_t,
+                               POINTER(c_int), _err_p)
+rb_detailed_kpis = _declare("rb_detailed_kpis", None, POINTER(PlantParams), c_void_p, POINTER(Kpis))
+rb_detailed_epv_current = _declare("rb_detailed_epv_current", c_int, POINTER(PlantParams),
+                                   POINTER(DetailedParams), c_double, c_double, c_double_p, _err_p)
+rb_detailed_valve_run = _declare("rb_detailed_valve_run", c_int, POINTER(PlantParams), POINTER(DetailedParams),
+                                 c_double, c_double, c_double_p, c_double_p, _err_p)
+rb_detailed_stats = _declare("rb_detailed_stats", None, c_void_p, POINTER(OdeStats))

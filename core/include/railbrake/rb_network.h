@@ -102,6 +102,29 @@ rb_status rb_network_simulate(const rb_network *net, const double *t_out, size_t
                               double *node_p, double *node_T, double *node_m, double *link_mdot,
                               double *body_x, double *body_v, rb_ode_stats *stats, rb_error *err);
 
+/* The network's rates for callers that drive rb_ode themselves, e.g. restarting at each cycle of
+   a sampled controller that changes currents, openings or reservoir pressures in between (the
+   detailed train model, rb_detailed.h). State layout: (m, T) of each volume node in node order,
+   then (x, v) of each body. After a call, p, T, mdot, x, v hold that evaluation's values. */
+typedef struct {
+    const rb_network *net;
+    size_t n_volumes;
+    int *state_of_node;   /* index of m in y, -1 for reservoirs */
+    double *p, *T, *V, *dV, *m_in, *h_in, *m_out, *mdot, *x, *v;
+    int volume_error;     /* set when a volume becomes <= 0 (the step is then rejected) */
+} rb_network_eval;
+
+size_t rb_network_state_count(const rb_network *net);
+/* Doubles (return) and ints (*n_int) of storage an rb_network_eval needs. */
+size_t rb_network_eval_size(const rb_network *net, size_t *n_int);
+/* Checks net, lays the evaluation out in work / iwork, and writes the initial state y0 (masses from
+   the nodes' initial pressures at the bodies' initial positions) and the absolute-tolerance
+   scales of each state (may be NULL). */
+rb_status rb_network_eval_init(const rb_network *net, rb_network_eval *ev, double *work, size_t work_size,
+                               int *iwork, size_t iwork_size, double *y0, double *atol_scale, rb_error *err);
+/* dy/dt of the network; an rb_ode_rhs with user = the rb_network_eval. */
+void rb_network_rates(double t, const double *y, double *dydt, void *ev);
+
 #ifdef __cplusplus
 }
 #endif

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, demo, fmu, simulation, sizing, valve
+from railbrake.cli import adhesion, compare, demo, fmu, simulation, sizing, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -15,6 +15,7 @@ app = typer.Typer(
 )
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
+compare.register(app)
 demo.register(app)
 fmu.register(app)
 simulation.register(app)

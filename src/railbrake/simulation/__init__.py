@@ -92,11 +92,11 @@ def _condition(name: str) -> _core.PlantCondition:
 _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
 
 
-def plant_params(scenario: Scenario, n_cars: int) -> _core.PlantParams:
+def plant_params(scenario: Scenario, n_cars: int, dt: float = DT) -> _core.PlantParams:
     spec = scenario.spec
     train = load_train(spec.train.preset)
     p = _core.PlantParams()
-    p.n_cars, p.dt, p.temperature, p.atmosphere = n_cars, DT, 293.15, ATMOSPHERE
+    p.n_cars, p.dt, p.temperature, p.atmosphere = n_cars, dt, 293.15, ATMOSPHERE
     p.discharge_coefficient, p.critical_ratio = 0.8, 0.528
     for i in range(n_cars):
         p.car[i] = _car(train, i)
@@ -181,16 +181,17 @@ WspCallback = Callable[[_core.WspInputs, _core.WspCommands], None]
 
 def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
         wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
-        record: bool = True) -> Result:
+        record: bool = True, dt: float = DT) -> Result:
     """Run a scenario (preset name, file or Scenario) in the C core.
 
     cars: override the train's number of cars; wsp=False: no WSP (valves never commanded);
     wsp_function(inputs, commands): a Python WSP replacing the default (prototyping; slower);
-    progress(t, v): called after each chunk of simulated time with the time and speed (SI).
+    progress(t, v): called after each chunk of simulated time with the time and speed (SI);
+    dt: the plant's fixed step (s).
     """
     sc = load(scenario)
     n_cars = sc.cars(cars)
-    plant = plant_params(sc, n_cars)
+    plant = plant_params(sc, n_cars, dt)
     bcu = bcu_params(plant, sc, wsp)
     callback = None
     if wsp_function is not None:

@@ -1,0 +1,12 @@
+/* Private to the scenario runners (run.c, detailed_run.c). */
+#ifndef RAILBRAKE_RUN_INTERNAL_H
+#define RAILBRAKE_RUN_INTERNAL_H
+
+#include "railbrake/rb_run.h"
+
+rb_status rb_run_check_scenario(const rb_scenario *sc, rb_error *err);
+/* One row of the time series (layout of rb_run_channel_info) from the outputs o. */
+void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, const rb_bcu_params *bcu,
+                       const rb_scenario *sc, double *row);
+
+#endif

@@ -1,0 +1,66 @@
+"""`railbrake compare-rt`: the real-time plant checked against the detailed model."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from railbrake.cli._common import prepare_output, print_json, reports_errors
+
+
+def print_comparison(c) -> None:
+    s = c.summary
+    table = Table(title=f"{c.scenario}, {c.cars} cars: real-time plant (1 ms) vs detailed model")
+    table.add_column("figure")
+    table.add_column("value", justify="right")
+    rows = [("stopping distance RT", f"{s['stopping_distance_rt_m']:.1f} m"),
+            ("stopping distance detailed", f"{s['stopping_distance_detailed_m']:.1f} m"),
+            ("difference", f"{s['stopping_distance_difference_pct']:+.2f} %"),
+            ("cylinder pressure RMS (worst axle)", f"{s['cylinder_rms_bar']:.3f} bar"),
+            ("cylinder pressure max |diff|", f"{s['cylinder_max_bar']:.3f} bar"),
+            ("cylinder 1 s mean RMS (worst axle)", f"{s['cylinder_mean_rms_bar']:.3f} bar"),
+            ("vent open, all axles RT / detailed", f"{s['vent_open_rt_s']:.1f} / {s['vent_open_detailed_s']:.1f} s"),
+            ("detailed model wall time", f"{s['detailed_wall_s']:.1f} s")]
+    for name, value in rows:
+        table.add_row(name, value)
+    Console().print(table)
+    if c.steps:
+        study = Table(title="step-size study of the real-time plant (errors vs the detailed model)")
+        for col in ("dt (ms)", "distance (m)", "error (%)", "cyl RMS (bar)", "1 s mean RMS (bar)", "stable"):
+            study.add_column(col, justify="right")
+        for r in c.steps:
+            study.add_row(f"{r['dt_ms']:g}", f"{r['stopping_distance_m']:.1f}", f"{r['distance_error_pct']:+.2f}",
+                          f"{r['cylinder_rms_bar']:.3f}", f"{r['cylinder_mean_rms_bar']:.3f}",
+                          "yes" if r["stable"] else f"no: {r['instability']}")
+        Console().print(study)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("compare-rt")
+    @reports_errors
+    def compare_rt(
+        scenario: str = typer.Argument(..., help="Preset name or scenario YAML file."),
+        cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
+        plot: Optional[Path] = typer.Option(None, help="Folder for the comparison plots."),
+        json: bool = typer.Option(False, "--json", help="Print the comparison as JSON."),
+        no_steps: bool = typer.Option(False, "--no-steps", help="Skip the step-size study."),
+    ):
+        """Run the real-time plant and the detailed model; report their differences and the
+        real-time plant's step-size study (0.25 to 5 ms)."""
+        from railbrake.simulation.compare import compare
+
+        c = compare(scenario, cars, steps_ms=() if no_steps else None)
+        if plot is not None:
+            from railbrake.plots.compare import plot_all
+            prepare_output(plot / "x")
+            plot_all(c, plot)
+        if json:
+            print_json(c.as_dict())
+            return
+        print_comparison(c)
+        if plot is not None:
+            typer.echo(f"plots: {plot}/")

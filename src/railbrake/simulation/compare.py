@@ -1,0 +1,145 @@
+"""The real-time plant checked against the detailed model (docs/detailed.md).
+
+compare() runs a scenario with both and reports: stopping distance, cylinder pressure per axle
+(RMS and largest difference over the common time base, raw and as 1 s means), WSP valve activity
+per axle, and a step-size study of the real-time plant.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from railbrake.scenario import load
+from railbrake.simulation import Result, run
+from railbrake.simulation.detailed import run_detailed
+from railbrake.units import BAR
+
+STEPS_MS = (0.25, 0.5, 1.0, 2.0, 5.0)
+MEAN_WINDOW = 1.0        # s, window of the brake-effort (mean pressure) comparison
+RIPPLE_WINDOW = 1.0      # s, window of the stability ripple measure
+RIPPLE_LIMIT = 0.1 * BAR  # Pa, peak-to-peak EP output ripple that counts as an oscillation
+SETTLE = 2.0             # s after the first brake demand before the ripple is judged
+
+
+@dataclass
+class Comparison:
+    scenario: str
+    cars: int
+    rt: Result
+    detailed: Result
+    summary: dict
+    axles: dict                     # axle channel suffix -> per-axle figures
+    steps: list = field(default_factory=list)
+
+    def as_dict(self) -> dict:
+        return {"scenario": self.scenario, "cars": self.cars, "summary": self.summary, "axles": self.axles,
+                "step_study": self.steps}
+
+
+def common_time(a: Result, b: Result) -> np.ndarray:
+    """b's record times within the span both runs cover."""
+    end = min(a.time[-1], b.time[-1])
+    return b.time[b.time <= end]
+
+
+def _on(result: Result, channel: str, t: np.ndarray) -> np.ndarray:
+    return np.interp(t, result.time, result.outputs[channel])
+
+
+def _moving_mean(t: np.ndarray, x: np.ndarray, window: float) -> np.ndarray:
+    """Mean of x over [t - window, t] (trapezoidal running integral)."""
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (x[1:] + x[:-1]) * np.diff(t))])
+    start = np.clip(t - window, t[0], None)
+    span = np.maximum(t - start, 1e-12)
+    return np.where(t - t[0] > 0, (integral - np.interp(start, t, integral)) / span, x)
+
+
+def pressure_difference(a: Result, b: Result, channel: str) -> dict:
+    """RMS and largest |a - b| (bar) of a pressure channel on the common time base, raw and as
+    MEAN_WINDOW means (the brake effort each axle received, insensitive to the phase of WSP cycles)."""
+    t = common_time(a, b)
+    d = _on(a, channel, t) - _on(b, channel, t)
+    m = _moving_mean(t, _on(a, channel, t), MEAN_WINDOW) - _moving_mean(t, _on(b, channel, t), MEAN_WINDOW)
+    return {"rms_bar": float(np.sqrt(np.mean(d**2)) / BAR), "max_bar": float(np.max(np.abs(d)) / BAR),
+            "mean_rms_bar": float(np.sqrt(np.mean(m**2)) / BAR)}
+
+
+def valve_activity(result: Result, axle: str) -> dict:
+    """Hold and vent valve actuations (off -> on switchings of the valve, each following a BCU command
+    by the response delay) and the time the vent was open."""
+    t = result.time
+    out = {}
+    for valve in ("hold", "vent"):
+        state = result.outputs[f"{valve}_{axle}"] > 0.5
+        out[f"{valve}_commands"] = int(np.count_nonzero(state[1:] & ~state[:-1]))
+        if valve == "vent":
+            out["vent_open_s"] = float(np.sum(np.diff(t) * state[:-1]))
+    return out
+
+
+def stable(result: Result) -> tuple[bool, str]:
+    """Stable: every output finite, the train stopped, and no sustained oscillation of the EP valve
+    output: after SETTLE s its peak-to-peak over every RIPPLE_WINDOW stays below RIPPLE_LIMIT (the
+    demand is constant in these scenarios, so any ripple is the integrator's own)."""
+    for name, values in result.outputs.items():
+        if not np.all(np.isfinite(values)):
+            return False, f"{name} not finite"
+    if not result.kpis["stopped"]:
+        return False, "did not stop"
+    t = result.time
+    for name in result.car_channels("pilot"):
+        x = result.outputs[name]
+        for start in np.arange(SETTLE, t[-1] - RIPPLE_WINDOW, RIPPLE_WINDOW):
+            w = (t >= start) & (t < start + RIPPLE_WINDOW)
+            if np.count_nonzero(w) > 1 and np.ptp(x[w]) > RIPPLE_LIMIT:
+                return False, f"{name}: {np.ptp(x[w]) / BAR:.3f} bar peak-to-peak at {start:.1f} s"
+    return True, ""
+
+
+def _distance_pct(a: Result, b: Result) -> float:
+    return 100.0 * (a.kpis["stopping_distance_m"] / b.kpis["stopping_distance_m"] - 1.0)
+
+
+def step_study(scenario, cars: int, detailed: Result, steps_ms=STEPS_MS) -> list[dict]:
+    """The real-time plant at each step (ms) against the detailed model."""
+    rows = []
+    for dt in steps_ms:
+        r = run(scenario, cars=cars, dt=dt * 1e-3)
+        ok, why = stable(r)
+        rms = [pressure_difference(r, detailed, c) for c in detailed.axle_channels("cylinder")]
+        rows.append({"dt_ms": dt, "stopping_distance_m": r.kpis["stopping_distance_m"],
+                     "distance_error_pct": _distance_pct(r, detailed),
+                     "cylinder_rms_bar": max(x["rms_bar"] for x in rms),
+                     "cylinder_mean_rms_bar": max(x["mean_rms_bar"] for x in rms),
+                     "stable": ok, "instability": why})
+    return rows
+
+
+def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=None) -> Comparison:
+    """Both models on one scenario; steps_ms: the study's steps (default STEPS_MS; () skips it)."""
+    steps_ms = STEPS_MS if steps_ms is None else steps_ms
+    sc = load(scenario)
+    n = sc.cars(cars)
+    det = run_detailed(sc, cars=n)
+    rt = run(sc, cars=n)
+    axles = {}
+    for channel in det.axle_channels("cylinder"):
+        axle = channel.split("_", 1)[1]
+        axles[axle] = {**pressure_difference(rt, det, channel),
+                       "rt": valve_activity(rt, axle), "detailed": valve_activity(det, axle)}
+    summary = {
+        "stopping_distance_rt_m": rt.kpis["stopping_distance_m"],
+        "stopping_distance_detailed_m": det.kpis["stopping_distance_m"],
+        "stopping_distance_difference_pct": _distance_pct(rt, det),
+        "cylinder_rms_bar": max(a["rms_bar"] for a in axles.values()),
+        "cylinder_max_bar": max(a["max_bar"] for a in axles.values()),
+        "cylinder_mean_rms_bar": max(a["mean_rms_bar"] for a in axles.values()),
+        "vent_open_rt_s": sum(a["rt"]["vent_open_s"] for a in axles.values()),
+        "vent_open_detailed_s": sum(a["detailed"]["vent_open_s"] for a in axles.values()),
+        "detailed_wall_s": det.kpis["wall_s"], "detailed_ode_steps": det.kpis["ode_steps"],
+        "detailed_air_balance_error": det.kpis["air_balance_error"],
+    }
+    steps = step_study(sc, n, det, steps_ms) if steps_ms else []
+    return Comparison(sc.name, n, rt, det, summary, axles, steps)

@@ -1,0 +1,32 @@
+"""`railbrake compare-rt` from the command line."""
+
+import json
+
+from typer.testing import CliRunner
+
+from railbrake.cli import app
+
+
+def test_compare_rt_json_and_plots(tmp_path):
+    result = CliRunner().invoke(app, ["compare-rt", "emergency-250-dry", "--cars", "1", "--json",
+                                      "--plot", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.output)
+    assert abs(data["summary"]["stopping_distance_difference_pct"]) < 1.0
+    assert [r["dt_ms"] for r in data["step_study"]] == [0.25, 0.5, 1.0, 2.0, 5.0]
+    assert set(data["axles"]) == {"c1a1", "c1a2", "c1a3", "c1a4"}
+    assert data["axles"]["c1a1"]["detailed"]["vent_commands"] == 0
+    for plot in ("cylinder_rt_vs_detailed", "cylinder_zoom", "speed_rt_vs_detailed", "step_study"):
+        assert (tmp_path / f"{plot}.png").stat().st_size > 1000
+
+
+def test_compare_rt_table_without_steps():
+    result = CliRunner().invoke(app, ["compare-rt", "emergency-250-dry", "--cars", "1", "--no-steps"])
+    assert result.exit_code == 0, result.output
+    assert "stopping distance detailed" in result.output and "step-size" not in result.output
+
+
+def test_compare_rt_refuses_a_faulty_scenario():
+    result = CliRunner().invoke(app, ["compare-rt", "fault-vent-valve-stuck"])
+    assert result.exit_code == 2
+    assert "n_faults" in result.output

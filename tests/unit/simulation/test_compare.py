@@ -1,0 +1,84 @@
+"""The real-time plant (1 ms, reduced air model) against the detailed model (valve bodies, solenoid
+table, energy balance, variable-step stiff solver) on the same train, scenario and BCU.
+
+Issue 6 asks, on emergency-250-dry and emergency-300-heavy-rain with 1 and 8 cars, for stopping
+distances within 1 % and cylinder pressure RMS differences under 0.1 bar. Measured (docs/detailed.md):
+both hold on dry rail; in heavy rain the distances hold but the raw pressure RMS does not (0.36 and
+0.48 bar for 1 and 8 cars): the WSP cycles of the two models drift out of phase, as do those of the
+real-time plant at 1 ms and at 0.25 ms (0.35 bar, test below). The heavy-rain tests check what holds.
+"""
+
+import numpy as np
+import pytest
+
+from railbrake.simulation import run
+from railbrake.simulation.compare import compare, pressure_difference, stable
+
+DRY, RAIN = "emergency-250-dry", "emergency-300-heavy-rain"
+
+
+def _check_dry(c):
+    s = c.summary
+    assert abs(s["stopping_distance_difference_pct"]) < 1.0
+    assert s["cylinder_rms_bar"] < 0.1
+    assert s["vent_open_rt_s"] == s["vent_open_detailed_s"] == 0.0   # no slide on dry rail
+
+
+def test_dry_one_car(compared):
+    _check_dry(compared(DRY, 1))
+
+
+@pytest.mark.slow
+def test_dry_eight_cars(compared):
+    _check_dry(compared(DRY, 8))
+
+
+def _check_rain(c):
+    s = c.summary
+    assert abs(s["stopping_distance_difference_pct"]) < 1.0
+    # the WSP works alike: vent-open time over all axles within 10 %
+    assert s["vent_open_detailed_s"] == pytest.approx(s["vent_open_rt_s"], rel=0.10)
+    for axle in c.axles.values():
+        assert axle["rt"]["vent_commands"] > 10 and axle["detailed"]["vent_commands"] > 10
+
+
+def test_heavy_rain_one_car(compared):
+    _check_rain(compared(RAIN, 1))
+
+
+@pytest.mark.slow
+def test_heavy_rain_eight_cars(compared):
+    _check_rain(compared(RAIN, 8))
+
+
+def test_wsp_cycle_phase_dominates_the_raw_pressure_rms(compared):
+    # the real-time plant against itself at 0.25 ms differs in raw cylinder RMS about as much as
+    # it does from the detailed model: the raw RMS measures the phase of the WSP cycles
+    c = compared(RAIN, 1)
+    fine = run(RAIN, cars=1, dt=0.25e-3)
+    self_rms = max(pressure_difference(c.rt, fine, n)["rms_bar"] for n in fine.axle_channels("cylinder"))
+    assert self_rms > 0.2
+    assert c.summary["cylinder_rms_bar"] < 2.0 * self_rms
+
+
+def test_step_size_study_converges_and_is_stable():
+    c = compare(DRY, 1)
+    dts = [r["dt_ms"] for r in c.steps]
+    assert dts == [0.25, 0.5, 1.0, 2.0, 5.0]
+    assert all(r["stable"] for r in c.steps)
+    rms = [r["cylinder_rms_bar"] for r in c.steps]
+    assert rms == sorted(rms)                                # error grows with the step
+    assert c.steps[2]["stopping_distance_m"] == pytest.approx(c.summary["stopping_distance_rt_m"])
+
+
+def test_stability_check_flags_non_finite_and_ripple(compared):
+    r = compared(DRY, 1).rt
+    ok, _ = stable(r)
+    assert ok
+    bad = type(r)(r.scenario, r.cars, r.wsp, r.time, dict(r.outputs), r.units, r.kpis)
+    pilot = bad.car_channels("pilot")[0]
+    bad.outputs[pilot] = r.outputs[pilot] + 0.2e5 * np.where(np.arange(r.time.size) % 2, 1.0, -1.0)
+    ok, why = stable(bad)
+    assert not ok and "peak-to-peak" in why
+    bad.outputs["speed"] = np.full_like(r.time, np.nan)
+    assert stable(bad) == (False, "speed not finite")
