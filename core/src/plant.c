@@ -102,6 +102,7 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if (p->n_cars < 1 || p->n_cars > RB_PLANT_MAX_CARS)
         return rb_fail(err, RB_EINVAL, "n_cars = %d: must be in [1, %d]", p->n_cars, RB_PLANT_MAX_CARS);
     if ((s = rb_check_range(err, "dt", p->dt, 1e-5, 0.01))) return s;
+    if ((s = rb_check_range(err, "substeps", p->substeps, 1, 64))) return s;
     if ((s = rb_check_range(err, "temperature", p->temperature, 200.0, 400.0))) return s;
     if ((s = rb_check_range(err, "atmosphere", p->atmosphere, 5e4, 1.2e5))) return s;
     if ((s = rb_check_range(err, "discharge_coefficient", p->discharge_coefficient, 0.01, 1.0))) return s;

@@ -90,9 +90,9 @@ static uint8_t valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *tim
 }
 
 static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                     const rb_plant_faults *f, uint8_t *hold_eff, uint8_t *vent_eff)
+                     const rb_plant_faults *f, double dt, uint8_t *hold_eff, uint8_t *vent_eff)
 {
-    air_ctx x = {p->dt, RB_AIR_R * p->temperature, p->temperature, p->atmosphere,
+    air_ctx x = {dt, RB_AIR_R * p->temperature, p->temperature, p->atmosphere,
                  p->discharge_coefficient, p->critical_ratio, 0.0};
     double rt = x.rt;
     /* compressor with on/off governor */
@@ -100,8 +100,8 @@ static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant
     if (p_mr < p->governor_on) s->compressor_on = 1;
     if (p_mr > p->governor_off) s->compressor_on = 0;
     if (s->compressor_on && !f->compressor_off) {
-        s->m_mr += p->compressor_flow * p->dt;
-        s->m_compressed += p->compressor_flow * p->dt;
+        s->m_mr += p->compressor_flow * dt;
+        s->m_compressed += p->compressor_flow * dt;
     }
     int last = p->n_cars - 1;
     double k_mr = rt / p->main_reservoir_volume, k_next_pipe = rt / p->car[0].pipe_volume;
@@ -121,7 +121,7 @@ static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant
             transfer(&x, &s->m_pipe[c], k_pipe, pipe_links, &s->m_supply[c], k_supply, 3.0, car->charge_area);
         /* EP valve: lagged demand, ports open in proportion to the error */
         double demand = in->pressure_demand[c] > p->atmosphere ? in->pressure_demand[c] : p->atmosphere;
-        s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * p->dt / (car->ep_tau + p->dt);
+        s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * dt / (car->ep_tau + dt);
         double p_pilot = s->m_pilot[c] * k_pilot;
         if (!f->ep_failed[c]) {
             double e = (s->ep_demand_lag[c] - p_pilot) / car->ep_band;
@@ -140,9 +140,9 @@ static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
             hold_eff[a] = valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a],
-                                car->valve_delay, p->dt, f->hold[a]);
+                                car->valve_delay, dt, f->hold[a]);
             vent_eff[a] = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a],
-                                car->valve_delay, p->dt, f->vent[a]);
+                                car->valve_delay, dt, f->vent[a]);
             if (!hold_eff[a])
                 transfer(&x, &s->m_relay[c], k_relay, relay_links, &s->m_cyl[a], k_cyl, 3.0, car->hold_area);
             if (vent_eff[a])
@@ -235,10 +235,13 @@ void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_i
     rb_plant_faults f;
     double cylinder[RB_PLANT_MAX_AXLES];
     rb_plant_gather_faults(p, s, &f);
-    step_air(p, s, in, &f, s->hold_effective, s->vent_effective);
-    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
-        cylinder[a] = s->m_cyl[a] * (RB_AIR_R * p->temperature) / p->car[a / RB_AXLES_PER_CAR].cylinder_volume;
-    rb_plant_step_mechanics(p, s, in, &f, cylinder, p->dt);
+    double h = p->dt / p->substeps;
+    for (int k = 0; k < p->substeps; ++k) {
+        step_air(p, s, in, &f, h, s->hold_effective, s->vent_effective);
+        for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
+            cylinder[a] = s->m_cyl[a] * (RB_AIR_R * p->temperature) / p->car[a / RB_AXLES_PER_CAR].cylinder_volume;
+        rb_plant_step_mechanics(p, s, in, &f, cylinder, h);
+    }
     rb_plant_update_sensors(p, s, &f);
     s->step += 1;
     s->time = (double)s->step * p->dt;

@@ -255,8 +255,8 @@ FAULT_KINDS = ("hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_
 
 
 class PlantParams(Structure):
-    _fields_ = ([("n_cars", c_int)]
-                + _doubles("dt", "temperature", "atmosphere", "discharge_coefficient", "critical_ratio")
+    _fields_ = ([("n_cars", c_int), ("dt", c_double), ("substeps", c_int)]
+                + _doubles("temperature", "atmosphere", "discharge_coefficient", "critical_ratio")
                 + [("car", PlantCar * PLANT_MAX_CARS), ("coupler", Coupler), ("resistance", Resistance)]
                 + [("compressor_car", c_int)]
                 + _doubles("main_reservoir_volume", "main_reservoir_area", "compressor_flow",

@@ -100,6 +100,7 @@ typedef struct {
 typedef struct {
     int n_cars;
     double dt;                /* s, 1e-3 nominal */
+    int substeps;             /* air and wheelsets advance in this many equal sub-steps of dt (1..64) */
     double temperature;       /* K, air (isothermal model) */
     double atmosphere;        /* Pa */
     double discharge_coefficient, critical_ratio;
