@@ -60,6 +60,8 @@ static rb_brake_demand demand_at(const rb_scenario *sc, double t)
     return d;
 }
 
+rb_brake_demand rb_run_demand_at(const rb_scenario *sc, double t) { return demand_at(sc, t); }
+
 static rb_status check_scenario(const rb_scenario *sc, rb_error *err)
 {
     rb_status s;

@@ -65,6 +65,9 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
 void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *run, rb_kpis *k);
 size_t rb_run_state_size(void);
 
+/* The scenario's brake demand at time t (a step function). */
+rb_brake_demand rb_run_demand_at(const rb_scenario *scenario, double t);
+
 /* Time-series layout: number of channels, and the name and SI unit of channel `index`. */
 int rb_run_channel_count(int n_cars);
 rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
