@@ -26,6 +26,12 @@ rb_status rb_hil_bcu_open(const rb_bcu_params *bcu, const rb_wsp_params *wsp, co
 
 int rb_hil_bcu_port(const rb_hil_bcu *b) { return rb_udp_local_port(&b->udp); }
 
+void rb_hil_bcu_counters(const rb_hil_bcu *b, uint64_t counts[RB_HIL_BCU_COUNTERS])
+{
+    uint64_t c[RB_HIL_BCU_COUNTERS] = {b->received, b->malformed, b->stale, b->sent, b->send_errors, b->cycles};
+    memcpy(counts, c, sizeof c);
+}
+
 void rb_hil_bcu_close(rb_hil_bcu *b)
 {
     if (b) rb_udp_close(&b->udp);

@@ -147,7 +147,9 @@ static void log_event(rb_hil_runner *r, int kind, const char *text)
     rb_hil_event *e = &r->log[r->events % RB_HIL_LOG_SIZE];
     e->step = r->step;
     e->kind = kind;
-    snprintf(e->text, sizeof e->text, "%s", text);
+    size_t n = strlen(text) < sizeof e->text ? strlen(text) : sizeof e->text - 1;   /* truncates long messages */
+    memcpy(e->text, text, n);
+    e->text[n] = '\0';
     r->events++;
 }
 

@@ -129,6 +129,9 @@ int rb_hil_bcu_port(const rb_hil_bcu *b);
  * time, <= 0: none) has passed or, after the first frame, no plant frame came for idle_timeout s. */
 rb_status rb_hil_bcu_serve(const rb_bcu_params *bcu, const rb_scenario *scenario, rb_hil_bcu *b, double for_s,
                            double duration, double idle_timeout, int *finished, rb_error *err);
+/* Counters in the order of RB_HIL_BCU_COUNTERS: received, malformed, stale, sent, send_errors, cycles. */
+#define RB_HIL_BCU_COUNTERS 6
+void rb_hil_bcu_counters(const rb_hil_bcu *b, uint64_t counts[RB_HIL_BCU_COUNTERS]);
 void rb_hil_bcu_close(rb_hil_bcu *b);
 
 #ifdef __cplusplus

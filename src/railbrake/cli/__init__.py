@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, demo, simulation, sizing, valve
+from railbrake.cli import adhesion, demo, hil, simulation, sizing, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -16,6 +16,7 @@ app = typer.Typer(
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
 demo.register(app)
+hil.register(app)
 simulation.register(app)
 sizing.register(app)
 
