@@ -111,7 +111,7 @@ static void drain(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_bcu *b)
         uint8_t from[16];
         long n = rb_udp_recv_from(&b->udp, b->buffer, sizeof b->buffer, from);
         if (n == 0) return;
-        if (n < 0) b->malformed++;
+        if (n < 0) b->malformed++;   /* an error or an empty datagram */
         else take_datagram(p, sc, b, n, from);
     }
 }

@@ -212,10 +212,12 @@ static void take_datagram(const rb_plant_params *p, rb_hil_runner *r, long size)
 static void receive(const rb_plant_params *p, rb_hil_runner *r)
 {
     for (int i = 0; i < RB_HIL_MAX_DATAGRAMS; ++i) {
-        long n = rb_udp_recv(&r->udp, r->buffer, sizeof r->buffer);
+        uint8_t from[16];
+        long n = rb_udp_recv_from(&r->udp, r->buffer, sizeof r->buffer, from);
         if (n == 0) return;
         r->datagrams++;
-        if (n < 0) malformed(r, "receive error");
+        if (n == RB_UDP_EMPTY) malformed(r, "size = 0: empty datagram");
+        else if (n < 0) malformed(r, "receive error");
         else take_datagram(p, r, n);
     }
 }

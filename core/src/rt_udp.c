@@ -71,13 +71,14 @@ long rb_udp_recv_from(rb_udp *u, uint8_t *buf, size_t capacity, uint8_t from[16]
     ssize_t n = recvfrom(u->fd, buf, capacity, MSG_TRUNC, (struct sockaddr *)&a, &len);
     if (n < 0) return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : -1;
     memcpy(from, &a, sizeof a);
-    return (long)n;   /* with MSG_TRUNC: the datagram's real size, > capacity if it was cut */
+    return n == 0 ? RB_UDP_EMPTY : (long)n;   /* with MSG_TRUNC: the datagram's real size, > capacity if it was cut */
 }
 
 long rb_udp_recv(rb_udp *u, uint8_t *buf, size_t capacity)
 {
     uint8_t from[16];
     long n = rb_udp_recv_from(u, buf, capacity, from);
+    if (n == RB_UDP_EMPTY) n = 0;
     if (n > 0 && !u->have_peer) {
         memcpy(u->peer, from, sizeof from);
         u->have_peer = 1;

@@ -165,9 +165,10 @@ static void test_hostile_frames(void)
     send_raw(&peer, buf, size);
     static uint8_t big[4000];
     send_raw(&peer, big, sizeof big);
+    send_raw(&peer, big, 0);
     step_runner(1);
-    CHECK(runner.watchdog.malformed == 6 && runner.watchdog.received == 1);
-    CHECK(runner.events == 7);   /* safe state left, then the six */
+    CHECK(runner.watchdog.malformed == 7 && runner.watchdog.received == 1);
+    CHECK(runner.events == 8);   /* safe state left, then the seven */
     rb_hil_event e;
     CHECK(rb_hil_runner_event(&runner, 1, &e) == 1 && strstr(e.text, "crc") != NULL);
     CHECK(rb_hil_runner_event(&runner, 3, &e) == 1 && strstr(e.text, "pressure_demand") != NULL);
