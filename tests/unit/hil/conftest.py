@@ -34,3 +34,9 @@ def bcu_process():
         if proc.poll() is None:
             proc.kill()
         proc.wait()
+
+
+@pytest.fixture
+def railbrake_cli():
+    """The installed `railbrake` command of this environment."""
+    return RAILBRAKE
