@@ -37,12 +37,13 @@ def _event_printer(err: Console):
 
 def _print_report(result) -> None:
     console = Console()
-    table = Table(title=f"HIL {result.scenario}: {result.cars} cars, {result.time[-1]:.3f} s simulated")
+    table = Table(title=f"HIL {result.scenario}, {result.cars} cars, {result.time[-1]:.1f} s")
     table.add_column("quantity")
     table.add_column("value", justify="right")
     k = result.kpis
-    table.add_row("stopping distance", f"{k['stopping_distance_m']:.1f} m" + ("" if k["stopped"] else " (not stopped)"))
-    table.add_row("stopping time", f"{k['stopping_time_s']:.2f} s")
+    what = "stopping" if k["stopped"] else "braking (no stop yet)"
+    table.add_row(f"{what} distance", f"{k['stopping_distance_m']:.1f} m")
+    table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
     for key, value in result.counters.items():
         table.add_row(key.replace("_", " "), str(value))
     console.print(table)
