@@ -23,14 +23,16 @@ def main(duration: float = 60.0) -> None:
     bcu.wait(timeout=30)
     t, c = r.timing, r.counters
     rt = r.real_time
-    print(f"hil paced {duration:.0f} s, 8 cars over UDP loopback (SCHED_FIFO {'granted' if rt.fifo_priority else 'refused'}, "
-          f"mlockall {'granted' if rt.memory_locked else 'refused'}; load average {load_before:.2f} -> "
+    granted = {True: "granted", False: "refused"}
+    print(f"hil paced {duration:.0f} s, 8 cars over UDP loopback (SCHED_FIFO {granted[rt.fifo_priority]}, "
+          f"mlockall {granted[rt.memory_locked]}; load average {load_before:.2f} -> "
           f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores)")
     print(f"  wake-up latency: p50 {t['wakeup_p50_us']:.0f} us, p99 {t['wakeup_p99_us']:.0f} us, "
           f"max {t['wakeup_max_us']:.0f} us")
     print(f"  step execution: mean {t['work_mean_us']:.1f} us, p99 {t['work_p99_us']:.0f} us, max {t['work_max_us']:.0f} us")
-    print(f"  overruns: {c['overruns']} of {c['steps']} steps; BCU frames received {c['received']}, late {c['late']}, "
-          f"lost {c['lost']}, malformed {c['malformed']}, safe-state steps {c['safe_state_steps']}")
+    print(f"  overruns: {c['overruns']} of {c['steps']} steps; BCU frames received {c['received']}, "
+          f"late {c['late']}, lost {c['lost']}, malformed {c['malformed']}, "
+          f"safe-state steps {c['safe_state_steps']}")
 
 
 if __name__ == "__main__":

@@ -121,7 +121,7 @@ def register(app: typer.Typer) -> None:
             # First line of stdout: scripts (and the tests) read the port from it.
             sys.stdout.write(f"listening on udp://{host}:{bound}\n")
             sys.stdout.flush()
-            for note in real_time.notes():
+            for note in real_time.notes() if real_time.requested else []:
                 err.print(f"note: {note}", highlight=False)
 
         start = time.monotonic()

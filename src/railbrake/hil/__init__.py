@@ -35,22 +35,20 @@ DEFAULT_PRIORITY = 80     # SCHED_FIFO priority asked for (0: ask nothing)
 def parse_udp_url(text: str, option: str, allow_any_port: bool = False) -> tuple[str, int]:
     """'udp://HOST:PORT' -> (numeric IPv4 address, port). Port 1..65535 (0 too, for "any free
     port", when allow_any_port). Errors name the option and what is wrong."""
-    try:
-        parts = urlsplit(text)
-        port = parts.port
-    except ValueError as exc:
-        raise InputError(f"{option} = {text!r}: {exc}; expected udp://HOST:PORT") from None
-    if parts.scheme != "udp" or not parts.hostname or parts.path not in ("", "/"):
+    parts = urlsplit(text)
+    host, colon, port_text = parts.netloc.rpartition(":")
+    if parts.scheme != "udp" or not host or parts.path not in ("", "/") or parts.query or parts.fragment:
         raise InputError(f"{option} = {text!r}: expected udp://HOST:PORT")
     lowest = 0 if allow_any_port else 1
-    if port is None or not lowest <= port <= 65535:
-        raise InputError(f"{option} = {text!r}: port = {port}: must lie in [{lowest}, 65535]")
+    if not port_text.isdigit() or not lowest <= int(port_text) <= 65535:
+        raise InputError(f"{option} = {text!r}: port = {port_text or None!r}: must lie in [{lowest}, 65535]")
+    port = int(port_text)
     try:
-        host = socket.gethostbyname(parts.hostname)
+        address = socket.gethostbyname(host)
     except (OSError, UnicodeError):
-        raise InputError(f"{option} = {text!r}: host = {parts.hostname!r}: not an IPv4 address or a "
+        raise InputError(f"{option} = {text!r}: host = {host!r}: not an IPv4 address or a "
                          "name that resolves to one") from None
-    return host, port
+    return address, port
 
 
 # ------------------------------------------------------------------ real-time request

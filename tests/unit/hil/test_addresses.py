@@ -14,10 +14,12 @@ def test_numeric_and_named_hosts():
 
 @pytest.mark.parametrize("url, words", [
     ("tcp://127.0.0.1:5000", "expected udp://HOST:PORT"),
-    ("udp://127.0.0.1", "port = None: must lie in [1, 65535]"),
-    ("udp://127.0.0.1:0", "port = 0: must lie in [1, 65535]"),
+    ("udp://127.0.0.1", "expected udp://HOST:PORT"),
+    ("udp://127.0.0.1:http", "port = 'http': must lie in [1, 65535]"),
+    ("udp://127.0.0.1:0", "port = '0': must lie in [1, 65535]"),
     ("udp://127.0.0.1:70000", "70000"),
-    ("udp://127.0.0.1:-3", "--bcu = 'udp://127.0.0.1:-3'"),
+    ("udp://127.0.0.1:-3", "port = '-3'"),
+    ("udp://:5000", "expected udp://HOST:PORT"),
     ("udp://no-such-host.invalid:5000", "host = 'no-such-host.invalid'"),
     ("udp://300.1.1.1:5000", "host = '300.1.1.1'"),
 ])
