@@ -45,7 +45,8 @@ def test_short_paced_loop_follows_mil_and_records_mdf4(bcu_process, railbrake_cl
     i = np.searchsorted(mil.time, 2.0)
     assert mil.time[i] == pytest.approx(2.0)
     assert speed.samples[-1] == pytest.approx(mil.outputs["speed"][i], rel=1e-3)
-    assert cylinder.samples[-1] == pytest.approx(mil.outputs["cylinder_c8a4"][i], rel=0.02)
+    # the WSP cycles of the two runs drift apart by a step or so: compare the mean pressure, not a sample
+    assert cylinder.samples.mean() == pytest.approx(mil.outputs["cylinder_c8a4"][:i + 1].mean(), rel=0.01)
 
 
 @pytest.mark.slow
