@@ -281,14 +281,12 @@ static void check_stop(const rb_hil_config *c, rb_hil_runner *r)
     if (r->stopped || r->step >= r->duration_steps) r->finished = 1;
 }
 
-/* Writes a row when one is due; returns 1 when the caller's array is full. */
-static int record_due(const rb_plant_params *p, rb_hil_runner *r, double *series, size_t max_rows, size_t *rows)
+/* Writes a row when one is due (the loop stops before a step once the caller's array is full). */
+static void record_due(const rb_plant_params *p, rb_hil_runner *r, double *series, size_t max_rows, size_t *rows)
 {
-    if (!series || (r->step % r->record_every != 0 && !r->finished)) return 0;
-    if (*rows >= max_rows) return 1;
+    if (!series || *rows >= max_rows || (r->step % r->record_every != 0 && !r->finished)) return;
     record(p, r, series + *rows * (size_t)rb_hil_channel_count(p->n_cars));
     (*rows)++;
-    return 0;
 }
 
 rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_config *config, rb_hil_runner *r,
