@@ -86,6 +86,9 @@ def register(app: typer.Typer) -> None:
                 sc, peer, cars=cars, duration=duration, hold_time=hold_time, late_time=late_time, bind=local,
                 priority=priority, on_event=_event_printer(err),
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
+        if result.counters["received"] == 0:
+            err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
+                      highlight=False)
         if record is not None:
             from railbrake.hil.mdf import write_mdf
             write_mdf(result, prepare_output(record))
