@@ -9,6 +9,7 @@ runs inside the 1 ms loop.
 from __future__ import annotations
 
 import ctypes
+import gc
 import os
 import socket
 from dataclasses import dataclass, field
@@ -179,17 +180,19 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     _core.call(_core.rb_hil_runner_open, ctypes.byref(plant), ctypes.byref(config), bind[0].encode(), bind[1],
                bcu[0].encode(), bcu[1], state)
     rows_per_chunk = CHUNK_STEPS // round(config.record_interval / DT) + 2
+    chunk = np.zeros((rows_per_chunk, len(names)))
     chunks, events, seen = [], [], 0
     result = _core.HilResult()
     finished, rows = ctypes.c_int(0), ctypes.c_size_t(0)
+    collecting = gc.isenabled()
+    gc.disable()   # a garbage collection between two chunks would delay the next step by milliseconds
     try:
         with _normal_scheduling_after():
             real_time = request_real_time(priority) if paced else RealTime(False)
             while not finished.value:
-                chunk = np.zeros((rows_per_chunk, len(names)))
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
                            CHUNK_STEPS, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
-                chunks.append(chunk[:rows.value])
+                chunks.append(chunk[:rows.value].copy())
                 _core.rb_hil_runner_result(state, ctypes.byref(result))
                 events += _drain_events(state, seen, result.events, on_event)
                 seen = result.events
@@ -197,6 +200,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
                     progress(result.time, float(chunk[rows.value - 1, 1]))
     finally:
         _core.rb_hil_runner_close(state)
+        if collecting:
+            gc.enable()
     series = np.concatenate(chunks) if chunks else np.zeros((0, len(names)))
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
     counters = {k: int(getattr(result, k)) for k in _core.HIL_COUNTERS}
