@@ -37,7 +37,7 @@ def parse_udp_url(text: str, option: str, allow_any_port: bool = False) -> tuple
     """'udp://HOST:PORT' -> (numeric IPv4 address, port). Port 1..65535 (0 too, for "any free
     port", when allow_any_port). Errors name the option and what is wrong."""
     parts = urlsplit(text)
-    host, colon, port_text = parts.netloc.rpartition(":")
+    host, _, port_text = parts.netloc.rpartition(":")
     if parts.scheme != "udp" or not host or parts.path not in ("", "/") or parts.query or parts.fragment:
         raise InputError(f"{option} = {text!r}: expected udp://HOST:PORT")
     lowest = 0 if allow_any_port else 1

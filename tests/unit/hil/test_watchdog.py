@@ -115,26 +115,22 @@ def test_garbage_is_counted_and_the_safe_state_follows_the_hold_time():
     c = result.counters
     assert c["steps"] == 800 and result.kpis["stopped"] is False
     assert c["malformed"] == peer.garbage_sent > 500
-    assert c["received"] == peer.valid_sent and c["lost"] == 0 and c["late"] == 0
+    assert c["received"] == peer.valid_sent and c["lost"] == 0
     assert c["datagrams"] == peer.garbage_sent + peer.valid_sent
     check_safe_state_after_hold(result, 0.1)
-    # the log keeps the latest events (the counters hold them all): here the malformed ones
-    assert {kind for _, kind, _ in result.events} == {"malformed"}
-    assert any("crc" in text for _, _, text in result.events)
+    # the log keeps the latest events (the counters hold them all), with the decoder's reason
+    assert any(kind == "malformed" and "crc" in text for _, kind, text in result.events)
 
 
 def test_silence_then_recovery():
     peer = Peer(valid=lambda t: t <= 0.3 or t >= 0.7)
     result = run_against(peer, duration=1.0, hold_time=0.2)
     t, safe = result.time, result.outputs["safe_state"]
-    window = t < 0.69
     assert safe[(t > 0.05) & (t < 0.49)].sum() == 0
     assert safe[(t > 0.51) & (t < 0.69)].all()                 # 0.3 s + 0.2 s hold
     assert not safe[t > 0.72].any()                            # valid frames again
     assert result.counters["received"] == peer.valid_sent and result.counters["malformed"] == 0
-    kinds = [kind for _, kind, _ in result.events]
-    assert kinds == ["safe_off", "safe_on", "safe_off"]
-    assert window.any()
+    assert [kind for _, kind, _ in result.events if kind.startswith("safe")] == ["safe_off", "safe_on", "safe_off"]
 
 
 def newest_step(sock):
