@@ -146,8 +146,8 @@ def newest_step(sock):
 
 
 def test_flood_is_survived_and_every_frame_counted():
-    """A burst as fast as Python sends (a few hundred frames per ms, far beyond the socket buffer),
-    then one last frame: each sequence number ends up received or lost (dropped by the kernel)."""
+    """A burst as fast as Python sends (a few hundred frames per ms), then one last frame: each
+    sequence number ends up received or lost (whatever a full socket buffer dropped)."""
     base, n = 1000, 30000
     burst = [encode_bcu_frame(base + i, 200, 1, 0.5, [HELD]) for i in range(n)]
     flood = {}
@@ -169,6 +169,5 @@ def test_flood_is_survived_and_every_frame_counted():
     assert c["steps"] == 1000 and c["malformed"] == 0
     skipped = base - (peer.valid_sent - 1)    # sequence numbers jumped over before the flood count as lost too
     assert c["received"] + c["lost"] == peer.valid_sent + n + skipped
-    assert c["received"] < n                                  # the kernel dropped part of the flood
     assert c["datagrams"] == c["received"]
     check_safe_state_after_hold(result, 0.5)
