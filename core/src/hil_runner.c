@@ -168,27 +168,36 @@ static void malformed(rb_hil_runner *r, const char *why)
     log_event(r, RB_HIL_EVENT_MALFORMED, why);
 }
 
-/* One datagram: decode, check it fits this plant, account for it, keep its commands if on time. */
+/* Decodes a datagram into f; returns 1 and the reason in text when it is malformed for this plant. */
+static int frame_problem(const rb_plant_params *p, const rb_hil_runner *r, long size, rb_bcu_frame *f,
+                         char *text, size_t capacity)
+{
+    rb_error err;
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    if ((size_t)size > sizeof r->buffer)
+        snprintf(text, capacity, "size = %ld: larger than any frame", size);
+    else if (rb_bcu_frame_decode(r->buffer, (size_t)size, f, &err))
+        snprintf(text, capacity, "%.*s", (int)capacity - 1, err.message);
+    else if (f->header.n_cars != p->n_cars || f->header.n_axles != n_axles)
+        snprintf(text, capacity, "n_cars = %d, n_axles = %d: the plant has %d cars and %d axles",
+                 f->header.n_cars, f->header.n_axles, p->n_cars, n_axles);
+    else if (f->header.step > r->step)
+        snprintf(text, capacity, "step = %llu: echoes a plant step not sent yet (last %llu)",
+                 (unsigned long long)f->header.step, (unsigned long long)r->step);
+    else
+        return 0;
+    return 1;
+}
+
+/* One datagram: check it, account for it, keep its commands if on time. */
 static void take_datagram(const rb_plant_params *p, rb_hil_runner *r, long size)
 {
     rb_bcu_frame f;
-    rb_error err;
     char text[RB_HIL_LOG_TEXT];
     int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    if ((size_t)size > sizeof r->buffer) {
-        snprintf(text, sizeof text, "size = %ld: larger than any frame", size);
-        return malformed(r, text);
-    }
-    if (rb_bcu_frame_decode(r->buffer, (size_t)size, &f, &err)) return malformed(r, err.message);
-    if (f.header.n_cars != p->n_cars || f.header.n_axles != n_axles) {
-        snprintf(text, sizeof text, "n_cars = %d, n_axles = %d: the plant has %d cars and %d axles",
-                 f.header.n_cars, f.header.n_axles, p->n_cars, n_axles);
-        return malformed(r, text);
-    }
-    if (f.header.step > r->step) {
-        snprintf(text, sizeof text, "step = %llu: echoes a plant step not sent yet (last %llu)",
-                 (unsigned long long)f.header.step, (unsigned long long)r->step);
-        return malformed(r, text);
+    if (frame_problem(p, r, size, &f, text, sizeof text)) {
+        malformed(r, text);
+        return;
     }
     uint64_t lost = r->watchdog.lost, late = r->watchdog.late;
     rb_watchdog_frame(&r->watchdog, f.header.sequence, f.header.step, r->step, r->late_steps);
@@ -200,7 +209,8 @@ static void take_datagram(const rb_plant_params *p, rb_hil_runner *r, long size)
     if (r->watchdog.late != late) {
         snprintf(text, sizeof text, "sequence %u echoes step %llu: %llu ms old, not applied", f.header.sequence,
                  (unsigned long long)f.header.step, (unsigned long long)(r->step - f.header.step));
-        return log_event(r, RB_HIL_EVENT_LATE, text);
+        log_event(r, RB_HIL_EVENT_LATE, text);
+        return;
     }
     r->last_demand = f.brake_demand;
     memset(&r->last, 0, sizeof r->last);
