@@ -195,6 +195,53 @@ static void test_hostile_frames(void)
     rb_udp_close(&peer);
 }
 
+static size_t plant_frame(uint8_t *buf, uint64_t step, int n_cars)
+{
+    rb_plant_frame f;
+    size_t size = 0;
+    memset(&f, 0, sizeof f);
+    f.header = (rb_frame_header){(uint32_t)step, step, (uint8_t)n_cars, (uint8_t)(4 * n_cars)};
+    f.train_speed = 30.0f;
+    for (int a = 0; a < 4 * n_cars; ++a) f.wheel_speed[a] = 30.0f, f.cylinder_pressure[a] = 1.01325e5f;
+    for (int c = 0; c < n_cars; ++c) f.supply_pressure[c] = 5.5e5f;
+    CHECK(rb_plant_frame_encode(&f, buf, 1024, &size, NULL) == RB_OK);
+    return size;
+}
+
+/* The reference BCU drops garbage and frames of another train, ignores repeated steps (stale), and
+ * answers each due BCU cycle to the sender of the plant frames. */
+static void test_bcu_server_input(void)
+{
+    setup(1, 30.0);
+    rb_udp plant_side;
+    uint8_t buf[1024];
+    int finished = 0;
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, "127.0.0.1", 0, &server, NULL) == RB_OK);
+    CHECK(rb_udp_open(&plant_side, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&plant_side, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    send_raw(&plant_side, (const uint8_t *)"garbage", 7);
+    send_raw(&plant_side, buf, plant_frame(buf, 0, 2));           /* two cars: not this train */
+    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));
+    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));           /* the same step again */
+    send_raw(&plant_side, buf, plant_frame(buf, 5, 1));           /* inside the first BCU cycle */
+    send_raw(&plant_side, buf, plant_frame(buf, 10, 1));          /* the next cycle */
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.05, 0.0, 1.0, &finished, NULL) == RB_OK);
+    uint64_t c[RB_HIL_BCU_COUNTERS];
+    rb_hil_bcu_counters(&server, c);
+    CHECK(c[0] == 4 && c[1] == 2 && c[2] == 1);                   /* received, malformed, stale */
+    CHECK(c[3] == 2 && c[5] == 2);                                /* sent, cycles */
+    rb_bcu_frame answer;
+    long n = rb_udp_recv(&plant_side, buf, sizeof buf);
+    CHECK(n > 0 && rb_bcu_frame_decode(buf, (size_t)n, &answer, NULL) == RB_OK);
+    CHECK(answer.header.step == 0 && answer.brake_demand == 2.0f);
+    CHECK(answer.pressure_demand[0] == (float)config.safe.pressure_demand[0]);   /* emergency, no WSP action */
+    CHECK(!finished);
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 2.0, 0.0, 0.1, &finished, NULL) == RB_OK);
+    CHECK(finished);                                              /* idle for 0.1 s after the last frame */
+    rb_udp_close(&plant_side);
+    rb_hil_bcu_close(&server);
+}
+
 /* Paced without any BCU: 1 ms periods, the safe state on every step, the run ends at its duration. */
 static void test_paced_without_bcu(void)
 {
@@ -286,6 +333,7 @@ int main(void)
     test_safe_state();
     test_loop_matches_mil();
     test_hostile_frames();
+    test_bcu_server_input();
     test_paced_without_bcu();
     test_flood();
     return rb_test_summary("test_hil");
