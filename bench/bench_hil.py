@@ -1,7 +1,9 @@
 """Paced-loop latency (issue 6: a 60 s paced run has no overrun): the plant at 1 kHz on the wall
 clock against the reference BCU in its own process over UDP loopback, 8 cars. Prints wake-up
 latency, step execution time and overruns, what the OS granted (SCHED_FIFO, mlockall) and the load
-average, since other jobs on the machine show up in the latencies. Usage: bench_hil.py [SECONDS]."""
+average, since other jobs on the machine show up in the latencies; then, as a baseline, the same loop
+for a third of the time with 1 car and no BCU (nothing to wait for but the clock), so overruns that
+both runs show can be put down to the machine. Usage: bench_hil.py [SECONDS]."""
 
 import os
 import subprocess
@@ -33,6 +35,11 @@ def main(duration: float = 60.0) -> None:
     print(f"  overruns: {c['overruns']} of {c['steps']} steps; BCU frames received {c['received']}, "
           f"late {c['late']}, lost {c['lost']}, malformed {c['malformed']}, "
           f"safe-state steps {c['safe_state_steps']}")
+    base = hil.run(SCENARIO, ("127.0.0.1", 9), cars=1, duration=duration / 3)   # port 9: discard
+    t = base.timing
+    print(f"baseline {duration / 3:.0f} s, 1 car, no BCU: wake-up p50 {t['wakeup_p50_us']:.0f} us, "
+          f"p99 {t['wakeup_p99_us']:.0f} us, max {t['wakeup_max_us']:.0f} us; "
+          f"overruns {t['overruns']} of {base.counters['steps']} steps")
 
 
 if __name__ == "__main__":
