@@ -40,6 +40,9 @@ def test_short_paced_loop_follows_mil_and_records_mdf4(bcu_process, railbrake_cl
     with MDF(tmp_path / "run.mf4") as mdf:
         speed = mdf.get("speed")
         cylinder = mdf.get("cylinder_c8a4")
+        units = {signal.name: signal.unit for signal in mdf.iter_channels()}
+    assert len(units) == 8 + 8 * 2 + 32 * 5 - 1 and all(units.values())   # every channel but time, with a unit
+    assert units["pressure_demand_c1"] == "Pa" and units["wheel_speed_c8a4"] == "m/s" and units["slip_c1a1"] == "1"
     assert speed.unit == "m/s" and cylinder.unit == "Pa"
     assert speed.timestamps[-1] == pytest.approx(2.0)
     i = np.searchsorted(mil.time, 2.0)
