@@ -8,6 +8,9 @@
 #include <string.h>
 
 size_t rb_hil_runner_size(void) { return sizeof(rb_hil_runner); }
+size_t rb_hil_config_size(void) { return sizeof(rb_hil_config); }
+size_t rb_hil_result_size(void) { return sizeof(rb_hil_result); }
+size_t rb_hil_event_size(void) { return sizeof(rb_hil_event); }
 
 /* ---- recorded channels */
 

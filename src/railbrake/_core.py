@@ -506,3 +506,9 @@ rb_hil_bcu_serve = _declare("rb_hil_bcu_serve", c_int, POINTER(BcuParams), POINT
 rb_hil_bcu_close = _declare("rb_hil_bcu_close", None, c_void_p)
 HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles")
 rb_hil_bcu_counters = _declare("rb_hil_bcu_counters", None, c_void_p, c_uint64 * len(HIL_BCU_COUNTERS))
+
+for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_result_size"),
+                       (HilEvent, "rb_hil_event_size")):
+    if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
+        raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
+                          "src/railbrake/_core.py is out of date")

@@ -81,6 +81,10 @@ typedef struct {
 } rb_hil_runner;
 
 size_t rb_hil_runner_size(void);
+/* Sizes of the structs a binding lays out itself (checked by src/railbrake/_core.py at import). */
+size_t rb_hil_config_size(void);
+size_t rb_hil_result_size(void);
+size_t rb_hil_event_size(void);
 /* The safe state of the BCU described by bcu: its emergency pressure demand on every car, no ED,
  * WSP hold and vent valves de-energised (the same demand law as the BCU, run once). */
 rb_status rb_hil_safe_state(const rb_bcu_params *bcu, rb_plant_inputs *safe, rb_error *err);
