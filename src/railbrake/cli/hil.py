@@ -113,7 +113,8 @@ def register(app: typer.Typer) -> None:
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         duration: float = typer.Option(0.0, help="s of wall time, then stop (0: no limit)."),
         idle_timeout: float = typer.Option(2.0, help="s without plant frames, after the first, then stop."),
-        priority: int = typer.Option(hil_runner.DEFAULT_PRIORITY, help="SCHED_FIFO priority to ask for (0: none)."),
+        priority: int = typer.Option(hil_runner.DEFAULT_BCU_PRIORITY, help="SCHED_FIFO priority to ask for (0: "
+                                     "none); below the plant's 80 by default."),
         json: bool = typer.Option(False, "--json", help="Print the counters as JSON at the end."),
     ):
         """The reference BCU: the simulation's BCU and WSP logic answering plant frames over UDP."""

@@ -28,7 +28,8 @@ CHUNK_STEPS = 500         # plant steps per C call
 BCU_CHUNK = 0.5           # s of wall time per C call of the BCU server
 DEFAULT_HOLD_TIME = 0.1   # s
 DEFAULT_LATE_TIME = 0.02  # s
-DEFAULT_PRIORITY = 80     # SCHED_FIFO priority asked for (0: ask nothing)
+DEFAULT_PRIORITY = 80     # SCHED_FIFO priority asked for by the plant (0: ask nothing)
+DEFAULT_BCU_PRIORITY = 70 # the reference BCU's, below the plant's: on a shared core the plant's deadline comes first
 
 
 # ------------------------------------------------------------------ addresses
@@ -217,7 +218,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
 
 def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0.0.0.0", 47800),
               cars: int | None = None, duration: float = 0.0, idle_timeout: float = 2.0,
-              priority: int = DEFAULT_PRIORITY, ready: Callable[[int, RealTime], None] | None = None,
+              priority: int = DEFAULT_BCU_PRIORITY, ready: Callable[[int, RealTime], None] | None = None,
               progress: Callable[[dict], None] | None = None) -> dict:
     """Serve plant frames with the scenario's BCU (same logic and demand profile as the simulation)
     until `duration` s of wall time (0: none) or, after the first frame, `idle_timeout` s without one.
