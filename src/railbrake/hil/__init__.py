@@ -23,13 +23,13 @@ from railbrake.errors import InputError
 from railbrake.scenario import Scenario, load
 from railbrake.simulation import _scenario_struct, bcu_params, plant_params, wsp_params
 
-DT = 1e-3                 # s, fixed by the interface
-CHUNK_STEPS = 500         # plant steps per C call
-BCU_CHUNK = 0.5           # s of wall time per C call of the BCU server
-DEFAULT_HOLD_TIME = 0.1   # s
-DEFAULT_LATE_TIME = 0.02  # s
-DEFAULT_PRIORITY = 80     # SCHED_FIFO priority asked for by the plant (0: ask nothing)
-DEFAULT_BCU_PRIORITY = 70 # the reference BCU's, below the plant's: on a shared core the plant's deadline comes first
+DT = 1e-3                  # s, fixed by the interface
+CHUNK_STEPS = 500          # plant steps per C call
+BCU_CHUNK = 0.5            # s of wall time per C call of the BCU server
+DEFAULT_HOLD_TIME = 0.1    # s
+DEFAULT_LATE_TIME = 0.02   # s
+DEFAULT_PRIORITY = 80      # SCHED_FIFO priority asked for by the plant (0: ask nothing)
+DEFAULT_BCU_PRIORITY = 70  # the reference BCU's: below the plant's, whose deadline comes first on a shared core
 
 
 # ------------------------------------------------------------------ addresses
