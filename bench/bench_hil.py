@@ -31,7 +31,8 @@ def main(duration: float = 60.0) -> None:
           f"{os.getloadavg()[0]:.2f} on {os.cpu_count()} cores)")
     print(f"  wake-up latency: p50 {t['wakeup_p50_us']:.0f} us, p99 {t['wakeup_p99_us']:.0f} us, "
           f"max {t['wakeup_max_us']:.0f} us")
-    print(f"  step execution: mean {t['work_mean_us']:.1f} us, p99 {t['work_p99_us']:.0f} us, max {t['work_max_us']:.0f} us")
+    print(f"  step execution: mean {t['work_mean_us']:.1f} us, p99 {t['work_p99_us']:.0f} us, "
+          f"max {t['work_max_us']:.0f} us")
     print(f"  overruns: {c['overruns']} of {c['steps']} steps; BCU frames received {c['received']}, "
           f"late {c['late']}, lost {c['lost']}, malformed {c['malformed']}, "
           f"safe-state steps {c['safe_state_steps']}")
