@@ -61,6 +61,8 @@ def register(app: typer.Typer) -> None:
         duration: Optional[float] = typer.Option(None, help="s; default: the scenario's max_time (the run also "
                                                  "ends at the stop)."),
         record: Optional[Path] = typer.Option(None, "--record", help="Write the channels to this MDF4 file."),
+        record_interval: Optional[float] = typer.Option(None, help="s between recorded samples, a multiple of "
+                                                        "1 ms (default: the scenario's)."),
         hold_time: float = typer.Option(hil_runner.DEFAULT_HOLD_TIME, help="s the last BCU commands are held "
                                         "before the safe state."),
         late_time: float = typer.Option(hil_runner.DEFAULT_LATE_TIME, help="s: a BCU frame answering an older "
@@ -83,7 +85,8 @@ def register(app: typer.Typer) -> None:
         task = bar.add_task(f"HIL {sc.name}", total=total, speed="")
         with bar:
             result = hil_runner.run(
-                sc, peer, cars=cars, duration=duration, hold_time=hold_time, late_time=late_time, bind=local,
+                sc, peer, cars=cars, duration=duration, hold_time=hold_time, late_time=late_time,
+                record_interval=record_interval, bind=local,
                 priority=priority, on_event=_event_printer(err),
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
         if result.counters["received"] == 0:
@@ -95,6 +98,7 @@ def register(app: typer.Typer) -> None:
         if json:
             print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
                         "counters": result.counters, "timing": result.timing,
+                        "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
                         "real_time": {"memory_locked": result.real_time.memory_locked,
                                       "fifo_priority": result.real_time.fifo_priority,
                                       "notes": result.real_time.notes()}})

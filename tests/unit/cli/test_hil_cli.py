@@ -17,6 +17,8 @@ from railbrake.cli import app
     (["hil", "--bcu", "udp://127.0.0.1:5000", "--hold-time", "-0.5", "--priority", "0"],
      "hold_time = -0.5"),
     (["hil", "--bcu", "udp://127.0.0.1:5000", "--cars", "40"], "cars"),
+    (["hil", "--bcu", "udp://127.0.0.1:9", "--record-interval", "0.0015"],
+     "record_interval = 0.0015 s: must be a multiple of 1 ms"),
     (["bcu", "--listen", "udp://127.0.0.1:99999"], "port = '99999': must lie in [0, 65535]"),
     (["bcu", "--listen", "udp://127.0.0.1:0", "--idle-timeout", "-1"], "idle_timeout = -1.0"),
 ])
@@ -24,6 +26,16 @@ def test_bad_input_is_a_one_line_error(args, words):
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 2
     assert words in result.output
+
+
+def test_hil_without_a_bcu_runs_in_the_safe_state_and_says_so():
+    result = CliRunner().invoke(app, ["hil", "emergency-250-dry", "--cars", "1", "--bcu", "udp://127.0.0.1:9",
+                                      "--duration", "0.1", "--priority", "0", "--json"])
+    assert result.exit_code == 0, result.output
+    assert "no frame came from the BCU at udp://127.0.0.1:9" in result.output
+    report = json.loads(result.output[result.output.index("{"):])
+    assert report["counters"]["safe_state_steps"] == report["counters"]["steps"] == 100
+    assert report["kpis"]["stopping_distance_m"] > 0      # the safe state brakes
 
 
 def test_bcu_stops_after_its_duration_without_a_plant():
