@@ -77,6 +77,7 @@ def register(app: typer.Typer) -> None:
         if duration is not None and duration <= 0:
             raise InputError(f"--duration = {duration}: must be > 0 s")
         sc = scenarios.load(scenario)
+        prepare_output(record)   # before the run, which cannot be repeated
         err = Console(stderr=True)
         total = sc.spec.stop.max_time if duration is None else duration
         bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
@@ -94,7 +95,7 @@ def register(app: typer.Typer) -> None:
                       highlight=False)
         if record is not None:
             from railbrake.hil.mdf import write_mdf
-            write_mdf(result, prepare_output(record))
+            write_mdf(result, record)
         if json:
             print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
                         "counters": result.counters, "timing": result.timing,
