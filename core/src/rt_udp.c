@@ -62,18 +62,28 @@ long rb_udp_send(rb_udp *u, const uint8_t *data, size_t size)
     return (long)sendto(u->fd, data, size, 0, (const struct sockaddr *)u->peer, sizeof(struct sockaddr_in));
 }
 
-long rb_udp_recv(rb_udp *u, uint8_t *buf, size_t capacity)
+long rb_udp_recv_from(rb_udp *u, uint8_t *buf, size_t capacity, uint8_t from[16])
 {
     if (u->fd < 0) return -1;
-    struct sockaddr_in from;
-    socklen_t len = sizeof from;
-    ssize_t n = recvfrom(u->fd, buf, capacity, MSG_TRUNC, (struct sockaddr *)&from, &len);
+    struct sockaddr_in a;
+    socklen_t len = sizeof a;
+    memset(&a, 0, sizeof a);
+    ssize_t n = recvfrom(u->fd, buf, capacity, MSG_TRUNC, (struct sockaddr *)&a, &len);
     if (n < 0) return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : -1;
-    if (!u->have_peer) {
-        memcpy(u->peer, &from, sizeof from);
+    memcpy(from, &a, sizeof a);
+    return n == 0 ? RB_UDP_EMPTY : (long)n;   /* with MSG_TRUNC: the datagram's real size, > capacity if it was cut */
+}
+
+long rb_udp_recv(rb_udp *u, uint8_t *buf, size_t capacity)
+{
+    uint8_t from[16];
+    long n = rb_udp_recv_from(u, buf, capacity, from);
+    if (n == RB_UDP_EMPTY) n = 0;
+    if (n > 0 && !u->have_peer) {
+        memcpy(u->peer, from, sizeof from);
         u->have_peer = 1;
     }
-    return (long)n;   /* with MSG_TRUNC: the datagram's real size, > capacity if it was cut */
+    return n;
 }
 
 void rb_udp_close(rb_udp *u)

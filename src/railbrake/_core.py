@@ -451,3 +451,98 @@ rb_detailed_epv_current = _declare("rb_detailed_epv_current", c_int, POINTER(Pla
 rb_detailed_valve_run = _declare("rb_detailed_valve_run", c_int, POINTER(PlantParams), POINTER(DetailedParams),
                                  c_double, c_double, c_double_p, c_double_p, _err_p)
 rb_detailed_stats = _declare("rb_detailed_stats", None, c_void_p, POINTER(OdeStats))
+
+# ---------------------------------------------------------------- hil and real time (rb_hil.h, rb_rt.h)
+
+from ctypes import c_float, c_uint32  # noqa: E402
+
+FRAME_MAX_CARS = 16
+FRAME_MAX_AXLES = 64
+HIL_LOG_TEXT = 120
+HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off")
+RT_MEMORY_LOCKED = 1
+RT_FIFO_PRIORITY = 2
+
+
+class PlantInputs(Structure):
+    _fields_ = [(n, c_double * PLANT_MAX_CARS) for n in ("pressure_demand", "ed_demand")] + [
+        (n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent")]
+
+
+class HilConfig(Structure):
+    _fields_ = (_doubles("hold_time", "late_time", "duration", "stop_speed", "record_interval")
+                + [("paced", c_int), ("safe", PlantInputs)])
+
+
+HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",
+                "safe_state_steps", "overruns")
+HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us", "work_mean_us",
+              "work_p99_us", "work_max_us")
+
+
+class HilResult(Structure):
+    _fields_ = ([(n, c_uint64) for n in HIL_COUNTERS] + _doubles(*HIL_TIMING)
+                + _doubles("time", "stopping_distance", "stopping_time")
+                + [("braking", c_int), ("stopped", c_int), ("finished", c_int), ("events", c_uint64)])
+
+
+class HilEvent(Structure):
+    _fields_ = [("step", c_uint64), ("kind", c_int), ("text", c_char * HIL_LOG_TEXT)]
+
+
+class FrameHeader(Structure):
+    _fields_ = [("sequence", c_uint32), ("step", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8)]
+
+
+class PlantFrame(Structure):
+    _fields_ = ([("header", FrameHeader)] + [(n, c_float) for n in ("train_speed", "position",
+                                                                    "main_reservoir_pressure")]
+                + [(n, c_float * FRAME_MAX_AXLES) for n in ("wheel_speed", "cylinder_pressure")]
+                + [("supply_pressure", c_float * FRAME_MAX_CARS)])
+
+
+class BcuFrame(Structure):
+    _fields_ = [("header", FrameHeader), ("brake_demand", c_float), ("pressure_demand", c_float * FRAME_MAX_CARS),
+                ("hold", c_uint8 * FRAME_MAX_AXLES), ("vent", c_uint8 * FRAME_MAX_AXLES)]
+
+
+_u8_p = POINTER(c_uint8)
+rb_crc32 = _declare("rb_crc32", c_uint32, c_char_p, c_size_t)
+rb_plant_frame_size = _declare("rb_plant_frame_size", c_size_t, c_int, c_int)
+rb_bcu_frame_size = _declare("rb_bcu_frame_size", c_size_t, c_int, c_int)
+rb_plant_frame_encode = _declare("rb_plant_frame_encode", c_int, POINTER(PlantFrame), c_char_p, c_size_t,
+                                 POINTER(c_size_t), _err_p)
+rb_bcu_frame_encode = _declare("rb_bcu_frame_encode", c_int, POINTER(BcuFrame), c_char_p, c_size_t,
+                               POINTER(c_size_t), _err_p)
+rb_plant_frame_decode = _declare("rb_plant_frame_decode", c_int, c_char_p, c_size_t, POINTER(PlantFrame), _err_p)
+rb_bcu_frame_decode = _declare("rb_bcu_frame_decode", c_int, c_char_p, c_size_t, POINTER(BcuFrame), _err_p)
+
+rb_rt_request = _declare("rb_rt_request", c_int, c_int)
+rb_hil_runner_size = _declare("rb_hil_runner_size", c_size_t)
+rb_hil_safe_state = _declare("rb_hil_safe_state", c_int, POINTER(BcuParams), POINTER(PlantInputs), _err_p)
+rb_hil_runner_open = _declare("rb_hil_runner_open", c_int, POINTER(PlantParams), POINTER(HilConfig), c_char_p,
+                              c_int, c_char_p, c_int, c_void_p, _err_p)
+rb_hil_runner_advance = _declare("rb_hil_runner_advance", c_int, POINTER(PlantParams), POINTER(HilConfig),
+                                 c_void_p, c_uint64, c_double_p, c_size_t, POINTER(c_size_t), POINTER(c_int),
+                                 _err_p)
+rb_hil_runner_result = _declare("rb_hil_runner_result", None, c_void_p, POINTER(HilResult))
+rb_hil_runner_event = _declare("rb_hil_runner_event", c_int, c_void_p, c_uint64, POINTER(HilEvent))
+rb_hil_runner_close = _declare("rb_hil_runner_close", None, c_void_p)
+rb_hil_channel_count = _declare("rb_hil_channel_count", c_int, c_int)
+rb_hil_channel_info = _declare("rb_hil_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
+                               c_size_t, _err_p)
+rb_hil_bcu_size = _declare("rb_hil_bcu_size", c_size_t)
+rb_hil_bcu_open = _declare("rb_hil_bcu_open", c_int, POINTER(BcuParams), POINTER(WspParams), POINTER(Scenario),
+                           c_char_p, c_int, c_void_p, _err_p)
+rb_hil_bcu_port = _declare("rb_hil_bcu_port", c_int, c_void_p)
+rb_hil_bcu_serve = _declare("rb_hil_bcu_serve", c_int, POINTER(BcuParams), POINTER(Scenario), c_void_p, c_double,
+                            c_double, c_double, POINTER(c_int), _err_p)
+rb_hil_bcu_close = _declare("rb_hil_bcu_close", None, c_void_p)
+HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles")
+rb_hil_bcu_counters = _declare("rb_hil_bcu_counters", None, c_void_p, c_uint64 * len(HIL_BCU_COUNTERS))
+
+for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_result_size"),
+                       (HilEvent, "rb_hil_event_size")):
+    if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
+        raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
+                          "src/railbrake/_core.py is out of date")

@@ -83,6 +83,10 @@ int rb_udp_local_port(const rb_udp *u);
 long rb_udp_send(rb_udp *u, const uint8_t *data, size_t size);
 /* Returns bytes received (0 if none waiting), or -1 on error; learns the peer if it has none. */
 long rb_udp_recv(rb_udp *u, uint8_t *buf, size_t capacity);
+/* As rb_udp_recv, without learning the peer: the sender's struct sockaddr_in goes to from. An empty
+ * datagram returns RB_UDP_EMPTY (0 means nothing is waiting). */
+#define RB_UDP_EMPTY (-2)
+long rb_udp_recv_from(rb_udp *u, uint8_t *buf, size_t capacity, uint8_t from[16]);
 void rb_udp_close(rb_udp *u);
 
 #ifdef __cplusplus

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, compare, demo, fmu, simulation, sizing, valve
+from railbrake.cli import adhesion, compare, demo, fmu, hil, simulation, sizing, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -18,6 +18,7 @@ app.add_typer(valve.app, name="valve")
 compare.register(app)
 demo.register(app)
 fmu.register(app)
+hil.register(app)
 simulation.register(app)
 sizing.register(app)
 

@@ -32,8 +32,9 @@ from railbrake.fmu.variables import UNITS, Variable, table
 MODEL_IDENTIFIER = "railbrake_plant"
 PLATFORM = {"2": fmpy.platform, "3": fmpy.platform_tuple}          # linux64 / x86_64-linux
 FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
-# The real-time runner's sources (rt_*.c: sockets, pacing) are OS-specific and not part of the plant.
-_EXCLUDED_PREFIX = "rt_"
+# The real-time runner's sources (rt_*.c: sockets, pacing; hil_runner.c, hil_bcu.c on top of them)
+# are OS-specific and not part of the plant.
+_EXCLUDED = ("rt_", "hil_runner", "hil_bcu")
 _STRUCT_ROOTS = ("plant", "bcu", "wsp", "scenario")
 
 
@@ -217,7 +218,7 @@ def _copy_sources(version: str, sources_dir: Path) -> list[str]:
         shutil.copy2(header, sources_dir / "railbrake" / header.name)
     names = []
     for path in sorted((core / "src").iterdir()):
-        if path.suffix in (".c", ".h") and not path.name.startswith(_EXCLUDED_PREFIX):
+        if path.suffix in (".c", ".h") and not path.name.startswith(_EXCLUDED):
             shutil.copy2(path, sources_dir / path.name)
             names += [path.name] if path.suffix == ".c" else []
     for name in ("fmu_model.h", "fmu_model.c", f"fmi{version}.c"):

@@ -1,0 +1,144 @@
+/* Hardware-in-the-loop: the plant paced at 1 kHz on the wall clock exchanging frames
+ * (rb_hil_frame.h, docs/hil-interface.md) with an external brake control unit over UDP, and the
+ * reference BCU server that closes the loop in software with the same rb_bcu_step logic.
+ *
+ * Both run whole loops in C; the caller calls them in chunks (for progress and Ctrl-C) while all
+ * state, including the pacer's absolute deadlines, lives in caller-owned structs. Guide: docs/hil.md. */
+#ifndef RAILBRAKE_HIL_H
+#define RAILBRAKE_HIL_H
+
+#include <stdint.h>
+
+#include "railbrake/rb_bcu.h"
+#include "railbrake/rb_hil_frame.h"
+#include "railbrake/rb_plant.h"
+#include "railbrake/rb_rt.h"
+#include "railbrake/rb_run.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RB_HIL_DT 1e-3                 /* s: the plant step, fixed by the interface (step = 1 ms) */
+#define RB_HIL_MAX_DATAGRAMS 1024      /* datagrams read per step at most (a flood cannot stall the loop) */
+#define RB_HIL_LOG_SIZE 32             /* watchdog events kept (the latest) */
+#define RB_HIL_LOG_TEXT 120
+
+/* ---- the plant runner */
+
+typedef struct {
+    double hold_time;          /* s: last valid commands held this long, then the safe state */
+    double late_time;          /* s: a BCU frame echoing a plant step older than this is late */
+    double duration;           /* s: the run ends here at the latest */
+    double stop_speed;         /* m/s: the run ends once braking has begun and the train is below */
+    double record_interval;    /* s: decimation of the recorded channels (a multiple of 1 ms) */
+    int paced;                 /* 1: 1 kHz on the wall clock; 0: as fast as possible (tests) */
+    rb_plant_inputs safe;      /* the safe state (rb_hil_safe_state) */
+} rb_hil_config;
+
+typedef enum {
+    RB_HIL_EVENT_MALFORMED = 0,
+    RB_HIL_EVENT_LATE,
+    RB_HIL_EVENT_LOST,
+    RB_HIL_EVENT_SAFE_ON,
+    RB_HIL_EVENT_SAFE_OFF
+} rb_hil_event_kind;
+
+typedef struct {
+    uint64_t step;
+    int kind;                  /* rb_hil_event_kind */
+    char text[RB_HIL_LOG_TEXT];
+} rb_hil_event;
+
+typedef struct {
+    uint64_t steps, frames_sent, send_errors, datagrams;
+    uint64_t received, lost, late, malformed, safe_state_steps;   /* watchdog accounting */
+    uint64_t overruns;
+    double wakeup_p50_us, wakeup_p99_us, wakeup_max_us, wakeup_mean_us;
+    double work_mean_us, work_p99_us, work_max_us;   /* wake-up to end of the step's work */
+    double time;                                     /* s, simulated */
+    double stopping_distance, stopping_time;         /* m, s: from the start of braking */
+    int braking, stopped, finished;
+    uint64_t events;                                 /* events logged since the start */
+} rb_hil_result;
+
+typedef struct {
+    rb_plant_state plant;
+    rb_plant_outputs out;
+    rb_plant_inputs applied, last;   /* commands applied this step; the last valid BCU commands */
+    float last_demand, applied_demand; /* brake_demand of the last valid frame; applied (2 when safe) */
+    rb_watchdog watchdog;
+    rb_pacer pacer;
+    rb_udp udp;
+    uint32_t sequence;
+    uint64_t step, record_every, late_steps, duration_steps;
+    int started, finished, stopped, braking, safe;
+    double brake_time, brake_position;
+    uint64_t frames_sent, send_errors, datagrams;
+    uint64_t events;
+    rb_hil_event log[RB_HIL_LOG_SIZE];
+    uint8_t buffer[2048];
+} rb_hil_runner;
+
+size_t rb_hil_runner_size(void);
+/* Sizes of the structs a binding lays out itself (checked by src/railbrake/_core.py at import). */
+size_t rb_hil_config_size(void);
+size_t rb_hil_result_size(void);
+size_t rb_hil_event_size(void);
+/* The safe state of the BCU described by bcu: its emergency pressure demand on every car, no ED,
+ * WSP hold and vent valves de-energised (the same demand law as the BCU, run once). */
+rb_status rb_hil_safe_state(const rb_bcu_params *bcu, rb_plant_inputs *safe, rb_error *err);
+/* Checks the parameters (plant->dt must be RB_HIL_DT), initialises the plant, opens the UDP endpoint
+ * on bind_host:bind_port and sends to bcu_host:bcu_port (numeric IPv4). */
+rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *config, const char *bind_host,
+                             int bind_port, const char *bcu_host, int bcu_port, rb_hil_runner *r, rb_error *err);
+/* Runs up to `steps` plant steps (the first call also sends the frame of step 0 and starts the
+ * pacer). Every rb_hil_channel_count(n_cars) values of a recorded row go to series (max_rows rows);
+ * *rows gets the rows written by this call. *finished = 1 at the stop or the end of the duration. */
+rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_config *config, rb_hil_runner *r,
+                                uint64_t steps, double *series, size_t max_rows, size_t *rows, int *finished,
+                                rb_error *err);
+void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res);
+/* Event number `index` (0-based since the start) if it is still in the log: returns 1 and copies it. */
+int rb_hil_runner_event(const rb_hil_runner *r, uint64_t index, rb_hil_event *event);
+void rb_hil_runner_close(rb_hil_runner *r);
+
+/* Recorded channels: count, and name and SI unit of channel `index`. */
+int rb_hil_channel_count(int n_cars);
+rb_status rb_hil_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
+                              size_t unit_size, rb_error *err);
+
+/* ---- the reference BCU server */
+
+typedef struct {
+    rb_bcu_state state;
+    rb_plant_outputs out;            /* rebuilt from the newest plant frame */
+    rb_udp udp;
+    uint32_t sequence;
+    uint64_t last_step;
+    int have_frame, finished;
+    int64_t start_ns, last_frame_ns;
+    uint64_t received, malformed, stale, sent, send_errors, cycles;
+    uint8_t buffer[2048];
+} rb_hil_bcu;
+
+size_t rb_hil_bcu_size(void);
+rb_status rb_hil_bcu_open(const rb_bcu_params *bcu, const rb_wsp_params *wsp, const rb_scenario *scenario,
+                          const char *host, int port, rb_hil_bcu *b, rb_error *err);
+/* Local UDP port (useful after binding port 0). */
+int rb_hil_bcu_port(const rb_hil_bcu *b);
+/* Serves plant frames for up to `for_s` seconds of wall time, waiting with poll(). Each valid plant
+ * frame newer than the last one runs rb_bcu_step at the frame's time (scenario's demand profile); when
+ * a BCU cycle ran, its commands go back to the frame's sender. *finished = 1 once duration (s of wall
+ * time, <= 0: none) has passed or, after the first frame, no plant frame came for idle_timeout s. */
+rb_status rb_hil_bcu_serve(const rb_bcu_params *bcu, const rb_scenario *scenario, rb_hil_bcu *b, double for_s,
+                           double duration, double idle_timeout, int *finished, rb_error *err);
+/* Counters in the order of RB_HIL_BCU_COUNTERS: received, malformed, stale, sent, send_errors, cycles. */
+#define RB_HIL_BCU_COUNTERS 6
+void rb_hil_bcu_counters(const rb_hil_bcu *b, uint64_t counts[RB_HIL_BCU_COUNTERS]);
+void rb_hil_bcu_close(rb_hil_bcu *b);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,368 @@
+/* The HIL plant runner: each 1 ms step reads every waiting BCU frame, lets the watchdog decide
+ * between the newest valid commands and the safe state, steps the plant, sends the plant frame,
+ * records decimated channels and sleeps until the next absolute deadline. */
+#include "railbrake/rb_hil.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+size_t rb_hil_runner_size(void) { return sizeof(rb_hil_runner); }
+size_t rb_hil_config_size(void) { return sizeof(rb_hil_config); }
+size_t rb_hil_result_size(void) { return sizeof(rb_hil_result); }
+size_t rb_hil_event_size(void) { return sizeof(rb_hil_event); }
+
+/* ---- recorded channels */
+
+enum { GLOBAL_CHANNELS = 8, CAR_CHANNELS = 2, AXLE_CHANNELS = 5 };
+static const char *global_names[GLOBAL_CHANNELS][2] = {
+    {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
+    {"main_reservoir", "Pa"}, {"brake_demand", "1"}, {"safe_state", "1"}, {"bcu_frames", "1"}};
+static const char *car_names[CAR_CHANNELS][2] = {{"pressure_demand", "Pa"}, {"supply", "Pa"}};
+static const char *axle_names[AXLE_CHANNELS][2] = {
+    {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"}};
+
+int rb_hil_channel_count(int n_cars)
+{
+    return GLOBAL_CHANNELS + n_cars * (CAR_CHANNELS + RB_AXLES_PER_CAR * AXLE_CHANNELS);
+}
+
+rb_status rb_hil_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
+                              size_t unit_size, rb_error *err)
+{
+    if (index < 0 || index >= rb_hil_channel_count(n_cars))
+        return rb_fail(err, RB_EINVAL, "index = %d: must be in [0, %d]", index, rb_hil_channel_count(n_cars) - 1);
+    const char *const *entry;
+    if (index < GLOBAL_CHANNELS) {
+        entry = global_names[index];
+        snprintf(name, name_size, "%s", entry[0]);
+    } else if ((index -= GLOBAL_CHANNELS) < n_cars * CAR_CHANNELS) {
+        entry = car_names[index / n_cars];
+        snprintf(name, name_size, "%s_c%d", entry[0], index % n_cars + 1);
+    } else {
+        index -= n_cars * CAR_CHANNELS;
+        int n_axles = n_cars * RB_AXLES_PER_CAR, axle = index % n_axles;
+        entry = axle_names[index / n_axles];
+        snprintf(name, name_size, "%s_c%da%d", entry[0], axle / RB_AXLES_PER_CAR + 1, axle % RB_AXLES_PER_CAR + 1);
+    }
+    snprintf(unit, unit_size, "%s", entry[1]);
+    return RB_OK;
+}
+
+static void record(const rb_plant_params *p, const rb_hil_runner *r, double *row)
+{
+    const rb_plant_outputs *o = &r->out;
+    int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
+    double g[GLOBAL_CHANNELS] = {o->time, o->speed, o->position, o->deceleration, o->main_reservoir,
+                                 r->applied_demand, (double)r->safe, (double)r->watchdog.received};
+    memcpy(row, g, sizeof g);
+    row += GLOBAL_CHANNELS;
+    for (int c = 0; c < n; ++c) {
+        row[c] = r->applied.pressure_demand[c];
+        row[n + c] = o->supply[c];
+    }
+    row += CAR_CHANNELS * n;
+    for (int a = 0; a < na; ++a) {
+        row[a] = o->wheel_speed[a];
+        row[na + a] = o->slip[a];
+        row[2 * na + a] = o->cylinder[a];
+        row[3 * na + a] = o->hold[a];
+        row[4 * na + a] = o->vent[a];
+    }
+}
+
+/* ---- safe state */
+
+rb_status rb_hil_safe_state(const rb_bcu_params *bcu, rb_plant_inputs *safe, rb_error *err)
+{
+    static const rb_brake_demand emergency = {1.0, 0.0};
+    rb_bcu_params p;
+    rb_bcu_state s;
+    rb_plant_outputs at_rest;
+    rb_status st;
+    if (!bcu || !safe) return rb_fail(err, RB_EINVAL, "bcu and safe must not be NULL");
+    p = *bcu;
+    p.wsp_enabled = 0;
+    p.wsp = NULL;
+    if ((st = rb_bcu_init(&p, NULL, &s, err))) return st;
+    memset(&at_rest, 0, sizeof at_rest);
+    rb_bcu_step(&p, &s, &emergency, &at_rest, safe);
+    memset(safe->ed_demand, 0, sizeof safe->ed_demand);
+    memset(safe->hold, 0, sizeof safe->hold);
+    memset(safe->vent, 0, sizeof safe->vent);
+    return RB_OK;
+}
+
+/* ---- opening */
+
+static rb_status check_config(const rb_plant_params *plant, const rb_hil_config *c, rb_error *err)
+{
+    rb_status s;
+    if (!c) return rb_fail(err, RB_EINVAL, "config must not be NULL");
+    if (fabs(plant->dt - RB_HIL_DT) > 1e-12)
+        return rb_fail(err, RB_EINVAL, "plant.dt = %g s: the HIL interface steps at %g s", plant->dt, RB_HIL_DT);
+    if ((s = rb_check_range(err, "hold_time", c->hold_time, 0.0, 60.0))) return s;
+    if ((s = rb_check_range(err, "late_time", c->late_time, 0.0, 60.0))) return s;
+    if ((s = rb_check_range(err, "duration", c->duration, RB_HIL_DT, 86400.0))) return s;
+    if ((s = rb_check_nonnegative(err, "stop_speed", c->stop_speed))) return s;
+    if ((s = rb_check_range(err, "record_interval", c->record_interval, RB_HIL_DT, 60.0))) return s;
+    for (int i = 0; i < plant->n_cars; ++i)
+        if ((s = rb_check_range(err, "safe.pressure_demand", c->safe.pressure_demand[i], 0.0, 2e6))) return s;
+    return RB_OK;
+}
+
+static uint64_t to_steps(double seconds) { return (uint64_t)llround(seconds / RB_HIL_DT); }
+
+rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *config, const char *bind_host,
+                             int bind_port, const char *bcu_host, int bcu_port, rb_hil_runner *r, rb_error *err)
+{
+    rb_status s;
+    if (!plant || !r) return rb_fail(err, RB_EINVAL, "plant and runner must not be NULL");
+    if ((s = check_config(plant, config, err))) return s;
+    memset(r, 0, sizeof *r);
+    r->udp.fd = -1;
+    if ((s = rb_plant_init(plant, &r->plant, err))) return s;
+    if ((s = rb_udp_open(&r->udp, bind_host, bind_port, err))) return s;
+    if ((s = rb_udp_set_peer(&r->udp, bcu_host, bcu_port, err))) {
+        rb_udp_close(&r->udp);
+        return s;
+    }
+    rb_watchdog_init(&r->watchdog, to_steps(config->hold_time));
+    r->late_steps = to_steps(config->late_time);
+    r->record_every = to_steps(config->record_interval);
+    r->duration_steps = to_steps(config->duration);
+    rb_plant_get_outputs(plant, &r->plant, &r->out);
+    r->safe = 1;   /* until the first valid frame */
+    r->applied = config->safe;
+    r->applied_demand = 2.0f;
+    return RB_OK;
+}
+
+void rb_hil_runner_close(rb_hil_runner *r)
+{
+    if (r) rb_udp_close(&r->udp);
+}
+
+/* ---- the watchdog's log */
+
+static void log_event(rb_hil_runner *r, int kind, const char *text)
+{
+    rb_hil_event *e = &r->log[r->events % RB_HIL_LOG_SIZE];
+    e->step = r->step;
+    e->kind = kind;
+    size_t n = strlen(text) < sizeof e->text ? strlen(text) : sizeof e->text - 1;   /* truncates long messages */
+    memcpy(e->text, text, n);
+    e->text[n] = '\0';
+    r->events++;
+}
+
+int rb_hil_runner_event(const rb_hil_runner *r, uint64_t index, rb_hil_event *event)
+{
+    if (index >= r->events || index + RB_HIL_LOG_SIZE < r->events) return 0;
+    *event = r->log[index % RB_HIL_LOG_SIZE];
+    return 1;
+}
+
+/* ---- one step */
+
+static void malformed(rb_hil_runner *r, const char *why)
+{
+    rb_watchdog_malformed(&r->watchdog);
+    log_event(r, RB_HIL_EVENT_MALFORMED, why);
+}
+
+/* Decodes a datagram into f; returns 1 and the reason in text when it is malformed for this plant. */
+static int frame_problem(const rb_plant_params *p, const rb_hil_runner *r, long size, rb_bcu_frame *f,
+                         char *text, size_t capacity)
+{
+    rb_error err;
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    if ((size_t)size > sizeof r->buffer)
+        snprintf(text, capacity, "size = %ld: larger than any frame", size);
+    else if (rb_bcu_frame_decode(r->buffer, (size_t)size, f, &err))
+        snprintf(text, capacity, "%.*s", (int)capacity - 1, err.message);
+    else if (f->header.n_cars != p->n_cars || f->header.n_axles != n_axles)
+        snprintf(text, capacity, "n_cars = %d, n_axles = %d: the plant has %d cars and %d axles",
+                 f->header.n_cars, f->header.n_axles, p->n_cars, n_axles);
+    else if (f->header.step > r->step)
+        snprintf(text, capacity, "step = %llu: echoes a plant step not sent yet (last %llu)",
+                 (unsigned long long)f->header.step, (unsigned long long)r->step);
+    else
+        return 0;
+    return 1;
+}
+
+/* One datagram: check it, account for it, keep its commands if on time. */
+static void take_datagram(const rb_plant_params *p, rb_hil_runner *r, long size)
+{
+    rb_bcu_frame f;
+    char text[RB_HIL_LOG_TEXT];
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    if (frame_problem(p, r, size, &f, text, sizeof text)) {
+        malformed(r, text);
+        return;
+    }
+    uint64_t lost = r->watchdog.lost, late = r->watchdog.late;
+    rb_watchdog_frame(&r->watchdog, f.header.sequence, f.header.step, r->step, r->late_steps);
+    if (r->watchdog.lost != lost) {
+        snprintf(text, sizeof text, "%llu BCU frame(s) lost before sequence %u",
+                 (unsigned long long)(r->watchdog.lost - lost), f.header.sequence);
+        log_event(r, RB_HIL_EVENT_LOST, text);
+    }
+    if (r->watchdog.late != late) {
+        snprintf(text, sizeof text, "sequence %u echoes step %llu: %llu ms old, not applied", f.header.sequence,
+                 (unsigned long long)f.header.step, (unsigned long long)(r->step - f.header.step));
+        log_event(r, RB_HIL_EVENT_LATE, text);
+        return;
+    }
+    r->last_demand = f.brake_demand;
+    memset(&r->last, 0, sizeof r->last);
+    for (int c = 0; c < p->n_cars; ++c) r->last.pressure_demand[c] = f.pressure_demand[c];
+    memcpy(r->last.hold, f.hold, (size_t)n_axles);
+    memcpy(r->last.vent, f.vent, (size_t)n_axles);
+}
+
+static void receive(const rb_plant_params *p, rb_hil_runner *r)
+{
+    for (int i = 0; i < RB_HIL_MAX_DATAGRAMS; ++i) {
+        uint8_t from[16];
+        long n = rb_udp_recv_from(&r->udp, r->buffer, sizeof r->buffer, from);
+        if (n == 0) return;
+        r->datagrams++;
+        if (n == RB_UDP_EMPTY) malformed(r, "size = 0: empty datagram");
+        else if (n < 0) malformed(r, "receive error");
+        else take_datagram(p, r, n);
+    }
+}
+
+static void choose_commands(const rb_hil_config *c, rb_hil_runner *r)
+{
+    int safe = rb_watchdog_tick(&r->watchdog, r->step);
+    if (safe != r->safe)
+        log_event(r, safe ? RB_HIL_EVENT_SAFE_ON : RB_HIL_EVENT_SAFE_OFF,
+                  safe ? "no valid BCU frame within the hold time: safe state" : "valid BCU frames: safe state left");
+    r->safe = safe;
+    r->applied = safe ? c->safe : r->last;
+    r->applied_demand = safe ? 2.0f : r->last_demand;
+}
+
+static void send_frame(const rb_plant_params *p, rb_hil_runner *r)
+{
+    rb_plant_frame f;
+    size_t size = 0;
+    const rb_plant_outputs *o = &r->out;
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    f.header.sequence = r->sequence++;
+    f.header.step = r->step;
+    f.header.n_cars = (uint8_t)p->n_cars;
+    f.header.n_axles = (uint8_t)n_axles;
+    f.train_speed = (float)o->speed;
+    f.position = (float)o->position;
+    f.main_reservoir_pressure = (float)o->main_reservoir;
+    for (int a = 0; a < n_axles; ++a) {
+        f.wheel_speed[a] = (float)o->wheel_speed_measured[a];
+        f.cylinder_pressure[a] = (float)o->cylinder[a];
+    }
+    for (int c = 0; c < p->n_cars; ++c) f.supply_pressure[c] = (float)o->supply[c];
+    if (rb_plant_frame_encode(&f, r->buffer, sizeof r->buffer, &size, NULL) == RB_OK &&
+        rb_udp_send(&r->udp, r->buffer, size) == (long)size)
+        r->frames_sent++;
+    else
+        r->send_errors++;
+}
+
+static int braking_applied(const rb_plant_params *p, const rb_plant_inputs *in, double atmosphere)
+{
+    for (int c = 0; c < p->n_cars; ++c)
+        if (in->pressure_demand[c] > atmosphere + 1e3) return 1;
+    return 0;
+}
+
+/* Braking begins with the first step whose commands apply pressure (as in rb_run: from the
+ * outputs before that step). */
+static void check_braking(const rb_plant_params *p, rb_hil_runner *r)
+{
+    if (r->braking || !braking_applied(p, &r->applied, p->atmosphere)) return;
+    r->braking = 1;
+    r->brake_time = r->out.time;
+    r->brake_position = r->out.position;
+}
+
+static void check_stop(const rb_hil_config *c, rb_hil_runner *r)
+{
+    r->stopped = r->braking && r->out.speed <= c->stop_speed;
+    if (r->stopped || r->step >= r->duration_steps) r->finished = 1;
+}
+
+/* Writes a row when one is due (the loop stops before a step once the caller's array is full). */
+static void record_due(const rb_plant_params *p, rb_hil_runner *r, double *series, size_t max_rows, size_t *rows)
+{
+    if (!series || *rows >= max_rows || (r->step % r->record_every != 0 && !r->finished)) return;
+    record(p, r, series + *rows * (size_t)rb_hil_channel_count(p->n_cars));
+    (*rows)++;
+}
+
+rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_config *config, rb_hil_runner *r,
+                                uint64_t steps, double *series, size_t max_rows, size_t *rows, int *finished,
+                                rb_error *err)
+{
+    rb_status s;
+    size_t written = 0;
+    if (!plant || !config || !r) return rb_fail(err, RB_EINVAL, "plant, config and runner must not be NULL");
+    if (series && max_rows < 1) return rb_fail(err, RB_ESIZE, "max_rows = %zu: must be >= 1", max_rows);
+    if (!r->started) {
+        if (config->paced && (s = rb_pacer_start(&r->pacer, (int64_t)(RB_HIL_DT * 1e9), err))) return s;
+        r->started = 1;
+        send_frame(plant, r);
+        record_due(plant, r, series, max_rows, &written);
+        if (config->paced) rb_pacer_wait(&r->pacer);
+    }
+    for (uint64_t i = 0; i < steps && !r->finished; ++i) {
+        if (series && written >= max_rows) break;
+        receive(plant, r);               /* frames echo at most r->step, the last step sent */
+        choose_commands(config, r);
+        check_braking(plant, r);
+        rb_plant_step(plant, &r->plant, &r->applied);
+        r->step++;
+        rb_plant_get_outputs(plant, &r->plant, &r->out);
+        check_stop(config, r);
+        if (!r->finished) send_frame(plant, r);
+        record_due(plant, r, series, max_rows, &written);
+        if (config->paced && !r->finished) rb_pacer_wait(&r->pacer);
+    }
+    if (rows) *rows = written;
+    if (finished) *finished = r->finished;
+    return RB_OK;
+}
+
+void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res)
+{
+    const rb_watchdog *w = &r->watchdog;
+    memset(res, 0, sizeof *res);
+    res->steps = r->step;
+    res->frames_sent = r->frames_sent;
+    res->send_errors = r->send_errors;
+    res->datagrams = r->datagrams;
+    res->received = w->received;
+    res->lost = w->lost;
+    res->late = w->late;
+    res->malformed = w->malformed;
+    res->safe_state_steps = w->safe_state_steps;
+    res->overruns = r->pacer.overruns;
+    res->wakeup_p50_us = rb_latency_quantile(&r->pacer.wakeup, 0.5);
+    res->wakeup_p99_us = rb_latency_quantile(&r->pacer.wakeup, 0.99);
+    res->wakeup_max_us = r->pacer.wakeup.max_us;
+    res->wakeup_mean_us = rb_latency_mean(&r->pacer.wakeup);
+    res->work_mean_us = rb_latency_mean(&r->pacer.work);
+    res->work_p99_us = rb_latency_quantile(&r->pacer.work, 0.99);
+    res->work_max_us = r->pacer.work.max_us;
+    res->time = r->out.time;
+    res->braking = r->braking;
+    if (r->braking) {
+        res->stopping_distance = r->out.position - r->brake_position;
+        res->stopping_time = r->out.time - r->brake_time;
+    }
+    res->stopped = r->stopped;
+    res->finished = r->finished;
+    res->events = r->events;
+}

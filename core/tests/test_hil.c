@@ -1,0 +1,340 @@
+/* HIL runner and reference BCU on loopback: the closed loop against the model-in-the-loop run,
+ * the safe state against the BCU's demand law, hostile frames, pacing. */
+#define _GNU_SOURCE   /* sendmmsg: the flooder sends in batches */
+#include "rb_test.h"
+#include "railbrake/rb_hil.h"
+
+#include <math.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* A plausible high-speed car (the values of test_plant.c, docs/simulation.md). */
+static void fill_car(rb_plant_car *c)
+{
+    memset(c, 0, sizeof *c);
+    rb_car *v = &c->vehicle;
+    v->axles = 4;
+    v->mass = 50e3;
+    v->wheelset = (rb_wheelset){0.43, 120.0, 50e3 / 4};
+    v->brake.discs = 3;
+    v->brake.mean_radius = 0.247;
+    v->brake.caliper = (rb_caliper){0.0314, 1500.0, 3.0, 0.92, 1.01325e5};
+    rb_pad_friction_sintered(0.42, &v->brake.pad, NULL);
+    v->supply_pressure = 1.01325e5 + 4.5e5;
+    c->length = 25.0;
+    c->axle_position[0] = 3.0; c->axle_position[1] = 5.5;
+    c->axle_position[2] = 19.5; c->axle_position[3] = 22.0;
+    c->contact = (rb_creep_contact){6.0e-3, 5.0e-3, 4.5, 8.1e10};
+    c->ed_tau = 0.3;
+    c->supply_volume = 0.1; c->pilot_volume = 0.5e-3; c->relay_volume = 1.0e-3;
+    c->cylinder_volume = 1.5e-3; c->pipe_volume = 0.0123;
+    c->charge_area = 7e-6; c->ep_area = 3e-6; c->ep_tau = 0.1; c->ep_band = 0.1e5;
+    c->relay_supply_area = 20e-6; c->relay_exhaust_area = 20e-6; c->relay_band = 0.1e5;
+    c->hold_area = 20e-6; c->vent_area = 20e-6; c->valve_delay = 0.015; c->pipe_area = 100e-6;
+}
+
+static rb_plant_params plant;
+static rb_bcu_params bcu;
+static rb_hil_config config;
+static rb_hil_runner runner;
+static rb_hil_bcu server;
+static rb_run_state mil;
+static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+
+static void setup(int n_cars, double speed)
+{
+    rb_plant_params *p = &plant;
+    memset(p, 0, sizeof *p);
+    p->n_cars = n_cars; p->dt = 1e-3; p->substeps = 1; p->temperature = 293.15; p->atmosphere = 1.01325e5;
+    p->discharge_coefficient = 0.8; p->critical_ratio = 0.528;
+    for (int i = 0; i < n_cars; ++i) fill_car(&p->car[i]);
+    p->coupler = (rb_coupler){0.01, 1e7, 0.0, 2e5};
+    p->main_reservoir_volume = 0.5; p->main_reservoir_area = 100e-6;
+    p->compressor_flow = 0.03; p->governor_on = 8.5e5; p->governor_off = 10e5;
+    p->initial_pressure = 9.5e5; p->initial_speed = speed;
+    p->n_conditions = 1;
+    p->condition[0] = (rb_plant_condition){{0.55, 0.40, 0.60, 1.0, 0.4}, 1.0, 0.0};  /* Polach dry */
+    p->creep_speed_min = 1.0;
+    memset(&bcu, 0, sizeof bcu);
+    bcu.n_cars = n_cars; bcu.cycle = 0.01; bcu.atmosphere = p->atmosphere;
+    bcu.service_decel = 1.0; bcu.emergency_decel = 1.2; bcu.wsp_enabled = 1;
+    rb_bcu_pressure_map(p, p->atmosphere + 3.8e5, &bcu);
+    memset(&config, 0, sizeof config);
+    config.hold_time = 0.05; config.late_time = 0.02; config.duration = 10.0;
+    config.stop_speed = 0.05; config.record_interval = 0.01;
+    CHECK(rb_hil_safe_state(&bcu, &config.safe, NULL) == RB_OK);
+}
+
+/* The safe state is the BCU's emergency demand: offset + gain * decel * mass (capped), valves off. */
+static void test_safe_state(void)
+{
+    setup(2, 50.0);
+    for (int c = 0; c < 2; ++c) {
+        double expected = bcu.pressure_offset[c] + bcu.pressure_gain[c] * bcu.emergency_decel * bcu.car_mass[c];
+        CHECK_CLOSE(config.safe.pressure_demand[c], fmin(expected, bcu.pressure_max[c]), 1e-12, 0);
+        CHECK(config.safe.pressure_demand[c] > bcu.atmosphere + 1e5);
+    }
+    for (int a = 0; a < 8; ++a) CHECK(config.safe.hold[a] == 0 && config.safe.vent[a] == 0);
+    rb_error err;
+    plant.dt = 2e-3;
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "plant.dt") != NULL);
+    plant.dt = 1e-3;
+    config.hold_time = -1.0;
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "hold_time") != NULL);
+}
+
+/* Plant and reference BCU interleaved step by step (unpaced): the loop closes over UDP with one
+ * step of transport delay and float32 frames, so the speed follows the MIL run closely. */
+static void test_loop_matches_mil(void)
+{
+    setup(1, 100 / 3.6);
+    rb_error err;
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, "127.0.0.1", 0, &server, &err) == RB_OK);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_hil_bcu_port(&server), &runner,
+                             &err) == RB_OK);
+    int finished = 0, bcu_finished = 0;
+    for (int i = 0; i < 3000 && !finished; ++i) {
+        CHECK(rb_hil_runner_advance(&plant, &config, &runner, 1, NULL, 0, NULL, &finished, &err) == RB_OK);
+        rb_hil_bcu_serve(&bcu, &scenario, &server, 0.0, 0.0, 1.0, &bcu_finished, &err);
+    }
+    rb_hil_result res;
+    rb_hil_runner_result(&runner, &res);
+    CHECK(rb_run_init(&plant, &bcu, NULL, &scenario, &mil, &err) == RB_OK);
+    CHECK(rb_run_advance(&plant, &bcu, &scenario, &mil, res.time, NULL, 0, NULL, &err) == RB_OK);
+    printf("loop at %.3f s: HIL %.5f m/s, MIL %.5f m/s; received %llu, safe steps %llu, BCU cycles %llu\n",
+           res.time, runner.out.speed, mil.out.speed, (unsigned long long)res.received,
+           (unsigned long long)res.safe_state_steps, (unsigned long long)server.cycles);
+    CHECK_CLOSE(res.time, 3.0, 0, 1e-9);
+    CHECK_CLOSE(runner.out.speed, mil.out.speed, 2e-3, 0);
+    CHECK(res.malformed == 0 && res.lost == 0 && res.late == 0);
+    CHECK(res.received + 1 == server.sent && server.cycles == 301);   /* the last answer is in flight */
+    CHECK(res.safe_state_steps == 1);          /* step 0 only: no BCU frame yet */
+    CHECK(server.malformed == 0 && server.received == res.frames_sent);
+    CHECK(res.braking && !bcu_finished);
+    rb_hil_runner_close(&runner);
+    rb_hil_bcu_close(&server);
+}
+
+static void send_raw(rb_udp *peer, const uint8_t *data, size_t size)
+{
+    CHECK(rb_udp_send(peer, data, size) == (long)size);
+}
+
+static void valid_frame(uint8_t *buf, size_t *size, uint32_t sequence, uint64_t step, int n_cars, float demand)
+{
+    rb_bcu_frame f;
+    memset(&f, 0, sizeof f);
+    f.header = (rb_frame_header){sequence, step, (uint8_t)n_cars, (uint8_t)(4 * n_cars)};
+    for (int c = 0; c < n_cars; ++c) f.pressure_demand[c] = demand;
+    CHECK(rb_bcu_frame_encode(&f, buf, 1024, size, NULL) == RB_OK);
+}
+
+static void step_runner(int steps)
+{
+    int finished;
+    CHECK(rb_hil_runner_advance(&plant, &config, &runner, (uint64_t)steps, NULL, 0, NULL, &finished, NULL) == RB_OK);
+}
+
+/* Garbage is counted as malformed and never applied; the safe state follows the hold time. */
+static void test_hostile_frames(void)
+{
+    setup(1, 30.0);
+    rb_udp peer;
+    uint8_t buf[1024];
+    size_t size;
+    CHECK(rb_udp_open(&peer, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_udp_local_port(&peer), &runner,
+                             NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&peer, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
+    step_runner(1);
+    valid_frame(buf, &size, 1, 1, 1, 2e5f);
+    send_raw(&peer, buf, size);
+    step_runner(1);
+    CHECK(!runner.safe && runner.applied.pressure_demand[0] == 2e5);
+    /* bad CRC, wrong counts, NaN, random bytes, an echo from the future, an oversize datagram */
+    valid_frame(buf, &size, 2, 1, 1, 2e5f);
+    buf[30] ^= 0x40;
+    send_raw(&peer, buf, size);
+    valid_frame(buf, &size, 3, 1, 2, 2e5f);
+    send_raw(&peer, buf, size);
+    valid_frame(buf, &size, 4, 1, 1, NAN);
+    send_raw(&peer, buf, size);
+    for (size_t i = 0; i < 100; ++i) buf[i] = (uint8_t)(i * 37 + 11);
+    send_raw(&peer, buf, 100);
+    valid_frame(buf, &size, 5, 1000, 1, 2e5f);
+    send_raw(&peer, buf, size);
+    static uint8_t big[4000];
+    send_raw(&peer, big, sizeof big);
+    send_raw(&peer, big, 0);
+    step_runner(1);
+    CHECK(runner.watchdog.malformed == 7 && runner.watchdog.received == 1);
+    CHECK(runner.events == 8);   /* safe state left, then the seven */
+    rb_hil_event e;
+    CHECK(rb_hil_runner_event(&runner, 1, &e) == 1 && strstr(e.text, "crc") != NULL);
+    CHECK(rb_hil_runner_event(&runner, 3, &e) == 1 && strstr(e.text, "pressure_demand") != NULL);
+    /* still held: the last valid frame came at step 1; hold 50 steps */
+    step_runner(47);
+    CHECK(!runner.safe && runner.applied.pressure_demand[0] == 2e5);
+    step_runner(3);
+    CHECK(runner.safe && runner.applied.pressure_demand[0] == config.safe.pressure_demand[0]);
+    CHECK(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_SAFE_ON);
+    /* a sequence gap counts as lost; an old echo as late (not applied) */
+    valid_frame(buf, &size, 9, runner.step, 1, 3e5f);
+    send_raw(&peer, buf, size);
+    step_runner(1);
+    CHECK(runner.watchdog.lost == 7 && !runner.safe && runner.applied.pressure_demand[0] == 3e5);
+    valid_frame(buf, &size, 10, 1, 1, 4e5f);
+    send_raw(&peer, buf, size);
+    step_runner(1);
+    CHECK(runner.watchdog.late == 1 && runner.applied.pressure_demand[0] == 3e5);
+    rb_hil_runner_close(&runner);
+    rb_udp_close(&peer);
+}
+
+static size_t plant_frame(uint8_t *buf, uint64_t step, int n_cars)
+{
+    rb_plant_frame f;
+    size_t size = 0;
+    memset(&f, 0, sizeof f);
+    f.header = (rb_frame_header){(uint32_t)step, step, (uint8_t)n_cars, (uint8_t)(4 * n_cars)};
+    f.train_speed = 30.0f;
+    for (int a = 0; a < 4 * n_cars; ++a) f.wheel_speed[a] = 30.0f, f.cylinder_pressure[a] = 1.01325e5f;
+    for (int c = 0; c < n_cars; ++c) f.supply_pressure[c] = 5.5e5f;
+    CHECK(rb_plant_frame_encode(&f, buf, 1024, &size, NULL) == RB_OK);
+    return size;
+}
+
+/* The reference BCU drops garbage and frames of another train, ignores repeated steps (stale), and
+ * answers each due BCU cycle to the sender of the plant frames. */
+static void test_bcu_server_input(void)
+{
+    setup(1, 30.0);
+    rb_udp plant_side;
+    uint8_t buf[1024];
+    int finished = 0;
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, "127.0.0.1", 0, &server, NULL) == RB_OK);
+    CHECK(rb_udp_open(&plant_side, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&plant_side, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    send_raw(&plant_side, (const uint8_t *)"garbage", 7);
+    send_raw(&plant_side, buf, plant_frame(buf, 0, 2));           /* two cars: not this train */
+    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));
+    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));           /* the same step again */
+    send_raw(&plant_side, buf, plant_frame(buf, 5, 1));           /* inside the first BCU cycle */
+    send_raw(&plant_side, buf, plant_frame(buf, 10, 1));          /* the next cycle */
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.05, 0.0, 1.0, &finished, NULL) == RB_OK);
+    uint64_t c[RB_HIL_BCU_COUNTERS];
+    rb_hil_bcu_counters(&server, c);
+    CHECK(c[0] == 4 && c[1] == 2 && c[2] == 1);                   /* received, malformed, stale */
+    CHECK(c[3] == 2 && c[5] == 2);                                /* sent, cycles */
+    rb_bcu_frame answer;
+    long n = rb_udp_recv(&plant_side, buf, sizeof buf);
+    CHECK(n > 0 && rb_bcu_frame_decode(buf, (size_t)n, &answer, NULL) == RB_OK);
+    CHECK(answer.header.step == 0 && answer.brake_demand == 2.0f);
+    CHECK(answer.pressure_demand[0] == (float)config.safe.pressure_demand[0]);   /* emergency, no WSP action */
+    CHECK(!finished);
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 2.0, 0.0, 0.1, &finished, NULL) == RB_OK);
+    CHECK(finished);                                              /* idle for 0.1 s after the last frame */
+    rb_udp_close(&plant_side);
+    rb_hil_bcu_close(&server);
+}
+
+/* Paced without any BCU: 1 ms periods, the safe state on every step, the run ends at its duration. */
+static void test_paced_without_bcu(void)
+{
+    setup(1, 30.0);
+    config.paced = 1;
+    config.duration = 0.1;
+    static double series[200 * 64];
+    size_t rows = 0;
+    int finished = 0;
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, NULL) == RB_OK);
+    int64_t start = rb_monotonic_ns();
+    CHECK(rb_hil_runner_advance(&plant, &config, &runner, 1000, series, 200, &rows, &finished, NULL) == RB_OK);
+    double elapsed = (double)(rb_monotonic_ns() - start) * 1e-9;
+    rb_hil_result res;
+    rb_hil_runner_result(&runner, &res);
+    printf("paced 100 steps: %.4f s, wake-up p50 %.0f us, p99 %.0f us, max %.0f us, overruns %llu\n", elapsed,
+           res.wakeup_p50_us, res.wakeup_p99_us, res.wakeup_max_us, (unsigned long long)res.overruns);
+    CHECK(finished && res.steps == 100 && res.safe_state_steps == 100);
+    CHECK(elapsed >= 0.099);
+    CHECK(rows == 11);
+    int nch = rb_hil_channel_count(1);
+    CHECK_CLOSE(series[10 * nch], 0.1, 0, 1e-12);
+    CHECK(series[10 * nch + 6] == 1.0);    /* safe_state channel */
+    char name[64], unit[16];
+    CHECK(rb_hil_channel_info(8, 1, name, sizeof name, unit, sizeof unit, NULL) == RB_OK);
+    CHECK(strcmp(name, "pressure_demand_c1") == 0 && strcmp(unit, "Pa") == 0);
+    CHECK(series[10 * nch + 8] == config.safe.pressure_demand[0]);
+    rb_hil_runner_close(&runner);
+}
+
+/* A flood from another process (C: thousands of frames per ms) while the plant runs paced: the
+ * loop keeps its steps, every sequence number ends up received or lost, no frame is malformed. */
+static void test_flood(void)
+{
+    enum { FLOOD = 131072 };
+    setup(1, 30.0);
+    config.paced = 1;
+    config.duration = 0.4;
+    config.hold_time = 0.1;
+    rb_udp peer;
+    CHECK(rb_udp_open(&peer, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_udp_local_port(&peer), &runner,
+                             NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&peer, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
+    fflush(stdout);
+    pid_t child = fork();
+    if (child == 0) {   /* the flooder: valid frames echoing step 0, in batches of 256 per system call */
+        enum { BATCH = 256 };
+        static uint8_t bufs[BATCH][128];
+        struct mmsghdr msgs[BATCH];
+        struct iovec iov[BATCH];
+        size_t size = 0;
+        int64_t start = rb_monotonic_ns();
+        for (uint32_t i = 0; i < FLOOD; i += BATCH) {
+            for (int k = 0; k < BATCH; ++k) {
+                valid_frame(bufs[k], &size, i + (uint32_t)k, 0, 1, 2e5f);
+                iov[k] = (struct iovec){bufs[k], size};
+                memset(&msgs[k], 0, sizeof msgs[k]);
+                msgs[k].msg_hdr.msg_name = peer.peer;
+                msgs[k].msg_hdr.msg_namelen = 16;
+                msgs[k].msg_hdr.msg_iov = &iov[k];
+                msgs[k].msg_hdr.msg_iovlen = 1;
+            }
+            sendmmsg(peer.fd, msgs, BATCH, 0);
+        }
+        printf("flood: %.0f frames per ms\n", FLOOD / ((double)(rb_monotonic_ns() - start) * 1e-6));
+        fflush(stdout);
+        _exit(0);
+    }
+    int finished = 0, status = 0;
+    CHECK(rb_hil_runner_advance(&plant, &config, &runner, 1000, NULL, 0, NULL, &finished, NULL) == RB_OK);
+    waitpid(child, &status, 0);
+    rb_hil_result res;
+    rb_hil_runner_result(&runner, &res);
+    printf("flood: received %llu, lost %llu, late %llu, malformed %llu, overruns %llu, work max %.0f us\n",
+           (unsigned long long)res.received, (unsigned long long)res.lost, (unsigned long long)res.late,
+           (unsigned long long)res.malformed, (unsigned long long)res.overruns, res.work_max_us);
+    CHECK(finished && res.steps == 400 && res.malformed == 0);
+    /* frames lost before the last one received are counted; the tail after it cannot be known */
+    CHECK(res.received + res.lost <= FLOOD && res.received + res.lost > 0);
+    CHECK(res.late > 0);                       /* echoes of step 0 grow old: counted, not applied */
+    CHECK(runner.safe);                        /* only late frames since: safe state after the hold time */
+    rb_hil_runner_close(&runner);
+    rb_udp_close(&peer);
+}
+
+int main(void)
+{
+    test_safe_state();
+    test_loop_matches_mil();
+    test_hostile_frames();
+    test_bcu_server_input();
+    test_paced_without_bcu();
+    test_flood();
+    return rb_test_summary("test_hil");
+}

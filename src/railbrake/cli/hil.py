@@ -1,0 +1,143 @@
+"""`railbrake hil` (the plant paced at 1 kHz against a BCU over UDP) and `railbrake bcu` (the reference BCU)."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from railbrake import hil as hil_runner
+from railbrake import scenario as scenarios
+from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.errors import InputError
+from railbrake.units import ms_to_kmh
+
+DEFAULT_SCENARIO = "emergency-300-heavy-rain"
+EVENTS_SHOWN = 20   # watchdog events echoed to stderr; the counters hold them all
+
+
+def _event_printer(err: Console):
+    shown = 0
+
+    def on_event(t, kind, text):
+        nonlocal shown
+        shown += 1
+        if shown <= EVENTS_SHOWN:
+            err.print(f"[yellow]watchdog[/] t = {t:.3f} s {kind}: {text}", highlight=False)
+        elif shown == EVENTS_SHOWN + 1:
+            err.print("[yellow]watchdog[/] further events are only counted", highlight=False)
+    return on_event
+
+
+def _print_report(result) -> None:
+    console = Console()
+    table = Table(title=f"HIL {result.scenario}, {result.cars} cars, {result.time[-1]:.1f} s")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    k = result.kpis
+    what = "stopping" if k["stopped"] else "braking (no stop yet)"
+    table.add_row(f"{what} distance", f"{k['stopping_distance_m']:.1f} m")
+    table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    for key, value in result.counters.items():
+        table.add_row(key.replace("_", " "), str(value))
+    console.print(table)
+    for line in result.timing_report():
+        console.print(line, highlight=False)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("hil")
+    @reports_errors
+    def hil(
+        scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
+        bcu: str = typer.Option(..., "--bcu", help="The BCU's address, udp://HOST:PORT."),
+        cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
+        duration: Optional[float] = typer.Option(None, help="s; default: the scenario's max_time (the run also "
+                                                 "ends at the stop)."),
+        record: Optional[Path] = typer.Option(None, "--record", help="Write the channels to this MDF4 file."),
+        record_interval: Optional[float] = typer.Option(None, help="s between recorded samples, a multiple of "
+                                                        "1 ms (default: the scenario's)."),
+        hold_time: float = typer.Option(hil_runner.DEFAULT_HOLD_TIME, help="s the last BCU commands are held "
+                                        "before the safe state."),
+        late_time: float = typer.Option(hil_runner.DEFAULT_LATE_TIME, help="s: a BCU frame answering an older "
+                                        "plant step is late (counted, not applied)."),
+        bind: str = typer.Option("udp://0.0.0.0:0", help="Local address of the plant, udp://HOST:PORT (0: any)."),
+        priority: int = typer.Option(hil_runner.DEFAULT_PRIORITY, help="SCHED_FIFO priority to ask for (0: none)."),
+        json: bool = typer.Option(False, "--json", help="Print counters, timing and KPIs as JSON."),
+    ):
+        """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
+        peer = hil_runner.parse_udp_url(bcu, "--bcu")
+        local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
+        if duration is not None and duration <= 0:
+            raise InputError(f"--duration = {duration}: must be > 0 s")
+        sc = scenarios.load(scenario)
+        prepare_output(record)   # before the run, which cannot be repeated
+        err = Console(stderr=True)
+        total = sc.spec.stop.max_time if duration is None else duration
+        bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
+                       TimeElapsedColumn(), console=err, transient=True, disable=json,
+                       refresh_per_second=2)   # the render thread competes for the GIL between chunks
+        task = bar.add_task(f"HIL {sc.name}", total=total, speed="")
+        with bar:
+            result = hil_runner.run(
+                sc, peer, cars=cars, duration=duration, hold_time=hold_time, late_time=late_time,
+                record_interval=record_interval, bind=local,
+                priority=priority, on_event=_event_printer(err),
+                progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
+        if result.counters["received"] == 0:
+            err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
+                      highlight=False)
+        if record is not None:
+            from railbrake.hil.mdf import write_mdf
+            write_mdf(result, record)
+        if json:
+            print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
+                        "counters": result.counters, "timing": result.timing,
+                        "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
+                        "real_time": {"memory_locked": result.real_time.memory_locked,
+                                      "fifo_priority": result.real_time.fifo_priority,
+                                      "notes": result.real_time.notes()}})
+        else:
+            _print_report(result)
+        if record is not None:
+            typer.echo(f"recording: {record}", err=json)
+
+    @app.command("bcu")
+    @reports_errors
+    def bcu(
+        scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file (demand profile, "
+                                       "train)."),
+        listen: str = typer.Option(..., "--listen", help="Address to listen on, udp://HOST:PORT (port 0: any, "
+                                   "printed)."),
+        cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
+        duration: float = typer.Option(0.0, help="s of wall time, then stop (0: no limit)."),
+        idle_timeout: float = typer.Option(2.0, help="s without plant frames, after the first, then stop."),
+        priority: int = typer.Option(hil_runner.DEFAULT_BCU_PRIORITY, help="SCHED_FIFO priority to ask for (0: "
+                                     "none); below the plant's 80 by default."),
+        json: bool = typer.Option(False, "--json", help="Print the counters as JSON at the end."),
+    ):
+        """The reference BCU: the simulation's BCU and WSP logic answering plant frames over UDP."""
+        host, port = hil_runner.parse_udp_url(listen, "--listen", allow_any_port=True)
+        err = Console(stderr=True)
+
+        def ready(bound, real_time):
+            # First line of stdout: scripts (and the tests) read the port from it.
+            sys.stdout.write(f"listening on udp://{host}:{bound}\n")
+            sys.stdout.flush()
+            for note in real_time.notes() if real_time.requested else []:
+                err.print(f"note: {note}", highlight=False)
+
+        start = time.monotonic()
+        counters = hil_runner.serve_bcu(scenario, (host, port), cars=cars, duration=duration,
+                                        idle_timeout=idle_timeout, priority=priority, ready=ready)
+        if json:
+            print_json(counters)
+        else:
+            typer.echo(f"served {time.monotonic() - start:.1f} s: " +
+                       ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in counters.items()))

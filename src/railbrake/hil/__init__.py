@@ -1,0 +1,252 @@
+"""Hardware-in-the-loop: the plant paced at 1 kHz against an external BCU over UDP, and the
+reference BCU server (core/src/hil_runner.c, hil_bcu.c; guide docs/hil.md, frames docs/hil-interface.md).
+
+Python only sets up parameters and calls the C loops in chunks (0.5 s of steps for the plant, 0.5 s
+of wall time for the BCU) so a caller can show progress and stop with Ctrl-C; nothing in Python
+runs inside the 1 ms loop.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import gc
+import os
+import socket
+from dataclasses import dataclass, field
+from typing import Callable
+from urllib.parse import urlsplit
+
+import numpy as np
+
+from railbrake import _core
+from railbrake.errors import InputError
+from railbrake.scenario import Scenario, load
+from railbrake.simulation import _scenario_struct, bcu_params, plant_params, wsp_params
+
+DT = 1e-3                  # s, fixed by the interface
+CHUNK_STEPS = 500          # plant steps per C call
+BCU_CHUNK = 0.5            # s of wall time per C call of the BCU server
+DEFAULT_HOLD_TIME = 0.1    # s
+DEFAULT_LATE_TIME = 0.02   # s
+DEFAULT_PRIORITY = 80      # SCHED_FIFO priority asked for by the plant (0: ask nothing)
+DEFAULT_BCU_PRIORITY = 70  # the reference BCU's: below the plant's, whose deadline comes first on a shared core
+
+
+# ------------------------------------------------------------------ addresses
+
+def parse_udp_url(text: str, option: str, allow_any_port: bool = False) -> tuple[str, int]:
+    """'udp://HOST:PORT' -> (numeric IPv4 address, port). Port 1..65535 (0 too, for "any free
+    port", when allow_any_port). Errors name the option and what is wrong."""
+    parts = urlsplit(text)
+    host, _, port_text = parts.netloc.rpartition(":")
+    if parts.scheme != "udp" or not host or parts.path not in ("", "/") or parts.query or parts.fragment:
+        raise InputError(f"{option} = {text!r}: expected udp://HOST:PORT")
+    lowest = 0 if allow_any_port else 1
+    if not port_text.isdigit() or not lowest <= int(port_text) <= 65535:
+        raise InputError(f"{option} = {text!r}: port = {port_text or None!r}: must lie in [{lowest}, 65535]")
+    port = int(port_text)
+    try:
+        address = socket.gethostbyname(host)
+    except (OSError, UnicodeError):
+        raise InputError(f"{option} = {text!r}: host = {host!r}: not an IPv4 address or a "
+                         "name that resolves to one") from None
+    return address, port
+
+
+# ------------------------------------------------------------------ real-time request
+
+@dataclass
+class RealTime:
+    requested: bool
+    memory_locked: bool = False
+    fifo_priority: bool = False
+    priority: int = 0
+
+    def notes(self) -> list[str]:
+        """What was refused, in plain words (empty when everything was granted)."""
+        if not self.requested:
+            return ["real-time scheduling not requested (--priority 0): normal time-sharing priority"]
+        notes = []
+        if not self.fifo_priority:
+            notes.append(f"SCHED_FIFO priority {self.priority} refused (needs root or CAP_SYS_NICE, or an "
+                         "rtprio limit in /etc/security/limits.conf): wake-up latency depends on the load")
+        if not self.memory_locked:
+            notes.append("mlockall refused (needs CAP_IPC_LOCK or a memlock limit): page faults may delay steps")
+        return notes
+
+
+def request_real_time(priority: int) -> RealTime:
+    """Ask for locked memory and SCHED_FIFO for the calling thread (what the OS grants is reported)."""
+    if priority <= 0:
+        return RealTime(False)
+    if priority > 99:
+        raise InputError(f"priority = {priority}: must lie in [0, 99]")
+    granted = _core.rb_rt_request(priority)
+    return RealTime(True, bool(granted & _core.RT_MEMORY_LOCKED), bool(granted & _core.RT_FIFO_PRIORITY), priority)
+
+
+class _normal_scheduling_after:
+    """Restores the thread's scheduling policy on exit (a library call must not leave the caller at
+    real-time priority)."""
+
+    def __enter__(self):
+        self.policy = os.sched_getscheduler(0)
+        self.param = os.sched_getparam(0)
+        return self
+
+    def __exit__(self, *exc):
+        try:
+            os.sched_setscheduler(0, self.policy, self.param)
+        except OSError:
+            pass
+        return False
+
+
+# ------------------------------------------------------------------ the plant runner
+
+@dataclass
+class HilResult:
+    scenario: str
+    cars: int
+    time: np.ndarray
+    outputs: dict                 # channel name -> array (SI)
+    units: dict                   # channel name -> SI unit
+    counters: dict                # steps, frames_sent, received, lost, late, malformed, safe_state_steps, ...
+    timing: dict                  # wake-up latency and step execution time (us), overruns
+    kpis: dict                    # stopping_distance_m, stopping_time_s, stopped
+    real_time: RealTime
+    events: list = field(default_factory=list)   # (time s, kind, text), the latest logged
+
+    def timing_report(self) -> list[str]:
+        t, c = self.timing, self.counters
+        lines = [f"wake-up latency: p50 {t['wakeup_p50_us']:.0f} us, p99 {t['wakeup_p99_us']:.0f} us, "
+                 f"max {t['wakeup_max_us']:.0f} us",
+                 f"step execution: mean {t['work_mean_us']:.1f} us, p99 {t['work_p99_us']:.0f} us, "
+                 f"max {t['work_max_us']:.0f} us",
+                 f"overruns: {c['overruns']} of {c['steps']} steps"]
+        return lines + [f"note: {n}" for n in self.real_time.notes()]
+
+
+def channels(n_cars: int) -> list[tuple[str, str]]:
+    name, unit = ctypes.create_string_buffer(64), ctypes.create_string_buffer(16)
+    out = []
+    for i in range(_core.rb_hil_channel_count(n_cars)):
+        _core.call(_core.rb_hil_channel_info, i, n_cars, name, 64, unit, 16)
+        out.append((name.value.decode(), unit.value.decode()))
+    return out
+
+
+def hil_config(scenario: Scenario, bcu: _core.BcuParams, duration: float | None, hold_time: float,
+               late_time: float, record_interval: float | None, paced: bool) -> _core.HilConfig:
+    spec = scenario.spec
+    c = _core.HilConfig()
+    c.hold_time, c.late_time = hold_time, late_time
+    c.duration = spec.stop.max_time if duration is None else duration
+    c.stop_speed = spec.stop.speed
+    c.record_interval = spec.outputs.record_interval if record_interval is None else record_interval
+    if abs(c.record_interval / DT - round(c.record_interval / DT)) > 1e-9:
+        raise InputError(f"record_interval = {c.record_interval} s: must be a multiple of 1 ms")
+    c.paced = int(paced)
+    _core.call(_core.rb_hil_safe_state, ctypes.byref(bcu), ctypes.byref(c.safe))
+    return c
+
+
+def _drain_events(state, seen: int, total: int, on_event) -> list:
+    """Events seen..total still in the C log (the latest RB_HIL_LOG_SIZE); the counters hold the rest."""
+    events = []
+    event = _core.HilEvent()
+    for index in range(seen, total):
+        if _core.rb_hil_runner_event(state, index, ctypes.byref(event)):
+            item = (event.step * DT, _core.HIL_EVENT_KINDS[event.kind], event.text.decode("utf-8", "replace"))
+            events.append(item)
+            if on_event is not None:
+                on_event(*item)
+    return events
+
+
+def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1", 47800), cars: int | None = None,
+        duration: float | None = None, hold_time: float = DEFAULT_HOLD_TIME, late_time: float = DEFAULT_LATE_TIME,
+        record_interval: float | None = None, bind: tuple[str, int] = ("0.0.0.0", 0), paced: bool = True,
+        priority: int = DEFAULT_PRIORITY, progress: Callable[[float, float], None] | None = None,
+        on_event: Callable[[float, str, str], None] | None = None) -> HilResult:
+    """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
+    (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
+    watchdog event logged (malformed, late, lost, safe_on, safe_off)."""
+    sc = load(scenario)
+    n_cars = sc.cars(cars)
+    plant = plant_params(sc, n_cars)
+    config = hil_config(sc, bcu_params(plant, sc, True), duration, hold_time, late_time, record_interval, paced)
+    names = channels(n_cars)
+    state = ctypes.create_string_buffer(_core.rb_hil_runner_size())
+    _core.call(_core.rb_hil_runner_open, ctypes.byref(plant), ctypes.byref(config), bind[0].encode(), bind[1],
+               bcu[0].encode(), bcu[1], state)
+    rows_per_chunk = CHUNK_STEPS // round(config.record_interval / DT) + 2
+    chunk = np.zeros((rows_per_chunk, len(names)))
+    chunks, events, seen = [], [], 0
+    result = _core.HilResult()
+    finished, rows = ctypes.c_int(0), ctypes.c_size_t(0)
+    collecting = gc.isenabled()
+    gc.disable()   # a garbage collection between two chunks would delay the next step by milliseconds
+    try:
+        with _normal_scheduling_after():
+            real_time = request_real_time(priority) if paced else RealTime(False)
+            while not finished.value:
+                _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
+                           CHUNK_STEPS, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
+                chunks.append(chunk[:rows.value].copy())
+                _core.rb_hil_runner_result(state, ctypes.byref(result))
+                events += _drain_events(state, seen, result.events, on_event)
+                seen = result.events
+                if progress is not None and rows.value:
+                    progress(result.time, float(chunk[rows.value - 1, 1]))
+    finally:
+        _core.rb_hil_runner_close(state)
+        if collecting:
+            gc.enable()
+    series = np.concatenate(chunks) if chunks else np.zeros((0, len(names)))
+    outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
+    counters = {k: int(getattr(result, k)) for k in _core.HIL_COUNTERS}
+    timing = {k: getattr(result, k) for k in _core.HIL_TIMING}
+    timing["overruns"] = counters["overruns"]
+    kpis = {"stopping_distance_m": result.stopping_distance, "stopping_time_s": result.stopping_time,
+            "stopped": bool(result.stopped)}
+    return HilResult(sc.name, n_cars, outputs["time"], outputs, dict(names), counters, timing, kpis, real_time,
+                     events)
+
+
+# ------------------------------------------------------------------ the reference BCU
+
+def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0.0.0.0", 47800),
+              cars: int | None = None, duration: float = 0.0, idle_timeout: float = 2.0,
+              priority: int = DEFAULT_BCU_PRIORITY, ready: Callable[[int, RealTime], None] | None = None,
+              progress: Callable[[dict], None] | None = None) -> dict:
+    """Serve plant frames with the scenario's BCU (same logic and demand profile as the simulation)
+    until `duration` s of wall time (0: none) or, after the first frame, `idle_timeout` s without one.
+    ready(port, real_time) once listening (port: the one bound, useful with port 0). Returns the counters."""
+    if idle_timeout < 0 or duration < 0:
+        raise InputError(f"idle_timeout = {idle_timeout}, duration = {duration}: must be >= 0")
+    sc = load(scenario)
+    n_cars = sc.cars(cars)
+    bcu = bcu_params(plant_params(sc, n_cars), sc, True)
+    wsp, spec = wsp_params(sc), _scenario_struct(sc)
+    state = ctypes.create_string_buffer(_core.rb_hil_bcu_size())
+    _core.call(_core.rb_hil_bcu_open, ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec), listen[0].encode(),
+               listen[1], state)
+    counts = (ctypes.c_uint64 * len(_core.HIL_BCU_COUNTERS))()
+    finished = ctypes.c_int(0)
+    try:
+        with _normal_scheduling_after():
+            real_time = request_real_time(priority)
+            if ready is not None:
+                ready(_core.rb_hil_bcu_port(state), real_time)
+            while not finished.value:
+                _core.call(_core.rb_hil_bcu_serve, ctypes.byref(bcu), ctypes.byref(spec), state, BCU_CHUNK,
+                           duration, idle_timeout, ctypes.byref(finished))
+                _core.rb_hil_bcu_counters(state, counts)
+                if progress is not None:
+                    progress(dict(zip(_core.HIL_BCU_COUNTERS, map(int, counts))))
+    finally:
+        _core.rb_hil_bcu_counters(state, counts)
+        _core.rb_hil_bcu_close(state)
+    return dict(zip(_core.HIL_BCU_COUNTERS, map(int, counts)))
+

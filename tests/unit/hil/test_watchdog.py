@@ -1,0 +1,173 @@
+"""Hostile BCUs against the paced plant (docs/hil.md, watchdog): garbage, silence and a flood are
+survived, every frame lands in the right counter, and the safe state (the BCU's emergency demand,
+WSP valves closed) applies once the hold time has passed after the last valid frame."""
+
+import math
+import os
+import select
+import socket
+import struct
+import threading
+import time
+
+import numpy as np
+
+from railbrake import hil, scenario, simulation
+from railbrake.hil.frames import encode_bcu_frame
+
+SCENARIO = "emergency-300-heavy-rain"
+HELD = 2.5e5        # Pa: what the test BCU demands, unlike the safe state
+DT = 1e-3
+
+
+def safe_pressure():
+    """Closed form of the BCU's emergency demand for car 1: offset + gain * decel * mass (capped)."""
+    sc = scenario.load(SCENARIO)
+    b = simulation.bcu_params(simulation.plant_params(sc, 1), sc, True)
+    return min(b.pressure_offset[0] + b.pressure_gain[0] * b.emergency_decel * b.car_mass[0], b.pressure_max[0])
+
+
+class Peer(threading.Thread):
+    """A BCU in Python: answers every 10th plant frame with a valid frame while `valid(t)` holds
+    (t: the plant's time), and calls `hostile(peer, t)` on every plant frame it reads."""
+
+    def __init__(self, valid, hostile=None):
+        super().__init__(daemon=True)
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 20)
+        self.port = self.sock.getsockname()[1]
+        self.valid, self.hostile = valid, hostile
+        self.sequence = self.valid_sent = self.garbage_sent = 0
+        self.plant = None
+        self.done = False
+
+    def send_valid(self, step):
+        self.sock.sendto(encode_bcu_frame(self.sequence, step, 1, 0.5, [HELD]), self.plant)
+        self.sequence += 1
+        self.valid_sent += 1
+
+    def send_garbage(self, data):
+        self.sock.sendto(data, self.plant)
+        self.garbage_sent += 1
+
+    def run(self):
+        while not self.done:
+            if not select.select([self.sock], [], [], 0.05)[0]:
+                continue
+            data, self.plant = self.sock.recvfrom(2048)
+            step = struct.unpack_from("<Q", data, 12)[0]
+            if step % 10 == 0 and self.valid(step * DT):
+                self.send_valid(step)
+            if self.hostile is not None:
+                self.hostile(self, step * DT)
+
+
+def run_against(peer, duration, hold_time):
+    peer.start()
+    try:
+        return hil.run(SCENARIO, ("127.0.0.1", peer.port), cars=1, duration=duration, hold_time=hold_time,
+                       record_interval=DT, priority=0)
+    finally:
+        peer.done = True
+        peer.join()
+
+
+def last_valid_time(result):
+    """Time of the step at which the last valid frame was taken (the 'bcu_frames' counter's last rise)."""
+    frames = result.outputs["bcu_frames"]
+    return result.time[np.argmax(frames == frames[-1])]
+
+
+def check_safe_state_after_hold(result, hold_time):
+    t, safe = result.time, result.outputs["safe_state"]
+    pressure = result.outputs["pressure_demand_c1"]
+    t_last = last_valid_time(result)
+    held = (t > 0.05) & (t <= t_last + hold_time - 2 * DT)
+    after = t >= t_last + hold_time + 2 * DT
+    assert held.any() and after.any()
+    assert not safe[held].any() and np.all(pressure[held] == HELD)
+    assert safe[after].all() and np.allclose(pressure[after], safe_pressure(), rtol=1e-12)
+    assert np.all(result.outputs["hold_c1a1"][after] == 0) and np.all(result.outputs["vent_c1a1"][after] == 0)
+
+
+def garbage_kinds(step):
+    """Random bytes, a bad CRC, wrong counts, NaN and out-of-range values, a truncated frame."""
+    good = bytearray(encode_bcu_frame(1000, step, 1, 0.5, [HELD]))
+    bad_crc = bytes(good[:-1]) + bytes([good[-1] ^ 0xFF])
+    return [os.urandom(40 + step % 200), bad_crc,
+            encode_bcu_frame(1000, step, 2, 0.5, [HELD, HELD]),          # the plant has 1 car
+            encode_bcu_frame(1000, step, 1, 0.5, [HELD], n_axles=3),     # ... and 4 axles
+            encode_bcu_frame(1000, step, 1, math.nan, [HELD]),
+            encode_bcu_frame(1000, step, 1, 0.5, [-5.0]),
+            encode_bcu_frame(1000, step, 1, 0.5, [HELD], hold=[2] * 4, vent=[0] * 4),
+            bytes(good[:30]), b""]
+
+
+def test_garbage_is_counted_and_the_safe_state_follows_the_hold_time():
+    def hostile(peer, t):
+        if 0.3 < t <= 0.6 and round(t / DT) % 5 == 0:   # all of it arrives before the end at 0.8 s
+            for data in garbage_kinds(round(t / DT)):
+                peer.send_garbage(data)
+
+    peer = Peer(valid=lambda t: t <= 0.3, hostile=hostile)
+    result = run_against(peer, duration=0.8, hold_time=0.1)
+    c = result.counters
+    assert c["steps"] == 800 and result.kpis["stopped"] is False
+    assert c["malformed"] == peer.garbage_sent > 500
+    assert c["received"] == peer.valid_sent and c["lost"] == 0
+    assert c["datagrams"] == peer.garbage_sent + peer.valid_sent
+    check_safe_state_after_hold(result, 0.1)
+    # the log keeps the latest events (the counters hold them all), with the decoder's reason
+    assert any(kind == "malformed" and "crc" in text for _, kind, text in result.events)
+
+
+def test_silence_then_recovery():
+    peer = Peer(valid=lambda t: t <= 0.3 or t >= 0.7)
+    result = run_against(peer, duration=1.0, hold_time=0.2)
+    t, safe = result.time, result.outputs["safe_state"]
+    assert safe[(t > 0.05) & (t < 0.49)].sum() == 0
+    assert safe[(t > 0.51) & (t < 0.69)].all()                 # 0.3 s + 0.2 s hold
+    assert not safe[t > 0.72].any()                            # valid frames again
+    assert result.counters["received"] == peer.valid_sent and result.counters["malformed"] == 0
+    assert [kind for _, kind, _ in result.events if kind.startswith("safe")] == ["safe_off", "safe_on", "safe_off"]
+
+
+def newest_step(sock):
+    """The newest plant step waiting in the socket (the others are read and dropped)."""
+    sock.setblocking(False)
+    step = None
+    try:
+        while True:
+            step = struct.unpack_from("<Q", sock.recv(2048), 12)[0]
+    except BlockingIOError:
+        sock.setblocking(True)
+    return step
+
+
+def test_flood_is_survived_and_every_frame_counted():
+    """A burst as fast as Python sends (a few hundred frames per ms), then one last frame: each
+    sequence number ends up received or lost (whatever a full socket buffer dropped)."""
+    base, n = 1000, 30000
+    burst = [encode_bcu_frame(base + i, 200, 1, 0.5, [HELD]) for i in range(n)]
+    flood = {}
+
+    def hostile(peer, t):
+        if not flood and t >= 0.2:
+            start = time.perf_counter()
+            for data in burst:
+                peer.sock.sendto(data, peer.plant)
+            flood["rate"] = n / (time.perf_counter() - start) / 1000
+            time.sleep(0.05)
+            peer.sequence = base + n
+            peer.send_valid(newest_step(peer.sock))
+
+    peer = Peer(valid=lambda t: t < 0.2, hostile=hostile)
+    result = run_against(peer, duration=1.0, hold_time=0.5)
+    c = result.counters
+    print(f"flood: {flood['rate']:.0f} frames/ms; received {c['received']}, lost {c['lost']}, late {c['late']}")
+    assert c["steps"] == 1000 and c["malformed"] == 0
+    skipped = base - (peer.valid_sent - 1)    # sequence numbers jumped over before the flood count as lost too
+    assert c["received"] + c["lost"] == peer.valid_sent + n + skipped
+    assert c["datagrams"] == c["received"]
+    check_safe_state_after_hold(result, 0.5)
