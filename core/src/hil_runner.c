@@ -2,6 +2,7 @@
  * between the newest valid commands and the safe state, steps the plant, sends the plant frame,
  * records decimated channels and sleeps until the next absolute deadline. */
 #include "railbrake/rb_hil.h"
+#include "channels_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -15,38 +16,22 @@ size_t rb_hil_event_size(void) { return sizeof(rb_hil_event); }
 /* ---- recorded channels */
 
 enum { GLOBAL_CHANNELS = 8, CAR_CHANNELS = 2, AXLE_CHANNELS = 5 };
-static const char *global_names[GLOBAL_CHANNELS][2] = {
+static const rb_channel_name global_names[GLOBAL_CHANNELS] = {
     {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
     {"main_reservoir", "Pa"}, {"brake_demand", "1"}, {"safe_state", "1"}, {"bcu_frames", "1"}};
-static const char *car_names[CAR_CHANNELS][2] = {{"pressure_demand", "Pa"}, {"supply", "Pa"}};
-static const char *axle_names[AXLE_CHANNELS][2] = {
+static const rb_channel_name car_names[CAR_CHANNELS] = {{"pressure_demand", "Pa"}, {"supply", "Pa"}};
+static const rb_channel_name axle_names[AXLE_CHANNELS] = {
     {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"}};
 
-int rb_hil_channel_count(int n_cars)
-{
-    return GLOBAL_CHANNELS + n_cars * (CAR_CHANNELS + RB_AXLES_PER_CAR * AXLE_CHANNELS);
-}
+static const rb_channel_layout layout = {global_names, car_names, axle_names,
+                                         GLOBAL_CHANNELS, CAR_CHANNELS, AXLE_CHANNELS};
+
+int rb_hil_channel_count(int n_cars) { return rb_channel_count(&layout, n_cars); }
 
 rb_status rb_hil_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
                               size_t unit_size, rb_error *err)
 {
-    if (index < 0 || index >= rb_hil_channel_count(n_cars))
-        return rb_fail(err, RB_EINVAL, "index = %d: must be in [0, %d]", index, rb_hil_channel_count(n_cars) - 1);
-    const char *const *entry;
-    if (index < GLOBAL_CHANNELS) {
-        entry = global_names[index];
-        snprintf(name, name_size, "%s", entry[0]);
-    } else if ((index -= GLOBAL_CHANNELS) < n_cars * CAR_CHANNELS) {
-        entry = car_names[index / n_cars];
-        snprintf(name, name_size, "%s_c%d", entry[0], index % n_cars + 1);
-    } else {
-        index -= n_cars * CAR_CHANNELS;
-        int n_axles = n_cars * RB_AXLES_PER_CAR, axle = index % n_axles;
-        entry = axle_names[index / n_axles];
-        snprintf(name, name_size, "%s_c%da%d", entry[0], axle / RB_AXLES_PER_CAR + 1, axle % RB_AXLES_PER_CAR + 1);
-    }
-    snprintf(unit, unit_size, "%s", entry[1]);
-    return RB_OK;
+    return rb_channel_info(&layout, index, n_cars, name, name_size, unit, unit_size, err);
 }
 
 static void record(const rb_plant_params *p, const rb_hil_runner *r, double *row)

@@ -1,6 +1,7 @@
 /* Scenario runner: BCU + plant, decimated time series, KPIs; and the plant benchmark. */
 #define _POSIX_C_SOURCE 199309L
 #include "run_internal.h"
+#include "channels_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -13,41 +14,25 @@
 size_t rb_run_state_size(void) { return sizeof(rb_run_state); }
 
 enum { GLOBAL_CHANNELS = 9, CAR_CHANNELS = 4, AXLE_CHANNELS = 6 };
-static const char *global_names[GLOBAL_CHANNELS][2] = {
+static const rb_channel_name global_names[GLOBAL_CHANNELS] = {
     {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
     {"demand_deceleration", "m/s^2"}, {"main_reservoir", "Pa"}, {"pipe_end", "Pa"},
     {"compressor_on", "1"}, {"air_vented", "kg"}};
-static const char *car_names[CAR_CHANNELS][2] = {
+static const rb_channel_name car_names[CAR_CHANNELS] = {
     {"supply", "Pa"}, {"pilot", "Pa"}, {"relay", "Pa"}, {"ed_force", "N"}};
-static const char *axle_names[AXLE_CHANNELS][2] = {
+static const rb_channel_name axle_names[AXLE_CHANNELS] = {
     {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"},
     {"adhesion", "1"}};
 
-int rb_run_channel_count(int n_cars)
-{
-    return GLOBAL_CHANNELS + n_cars * (CAR_CHANNELS + RB_AXLES_PER_CAR * AXLE_CHANNELS);
-}
+static const rb_channel_layout layout = {global_names, car_names, axle_names,
+                                         GLOBAL_CHANNELS, CAR_CHANNELS, AXLE_CHANNELS};
+
+int rb_run_channel_count(int n_cars) { return rb_channel_count(&layout, n_cars); }
 
 rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
                               size_t unit_size, rb_error *err)
 {
-    if (index < 0 || index >= rb_run_channel_count(n_cars))
-        return rb_fail(err, RB_EINVAL, "index = %d: must be in [0, %d]", index, rb_run_channel_count(n_cars) - 1);
-    const char *const *entry;
-    if (index < GLOBAL_CHANNELS) {
-        entry = global_names[index];
-        snprintf(name, name_size, "%s", entry[0]);
-    } else if ((index -= GLOBAL_CHANNELS) < n_cars * CAR_CHANNELS) {
-        entry = car_names[index / n_cars];
-        snprintf(name, name_size, "%s_c%d", entry[0], index % n_cars + 1);
-    } else {
-        index -= n_cars * CAR_CHANNELS;
-        int n_axles = n_cars * RB_AXLES_PER_CAR, axle = index % n_axles;
-        entry = axle_names[index / n_axles];
-        snprintf(name, name_size, "%s_c%da%d", entry[0], axle / RB_AXLES_PER_CAR + 1, axle % RB_AXLES_PER_CAR + 1);
-    }
-    snprintf(unit, unit_size, "%s", entry[1]);
-    return RB_OK;
+    return rb_channel_info(&layout, index, n_cars, name, name_size, unit, unit_size, err);
 }
 
 rb_brake_demand rb_scenario_demand(const rb_scenario *sc, double t)

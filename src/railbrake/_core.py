@@ -55,6 +55,16 @@ def as_double_array(values) -> np.ndarray:
     return np.ascontiguousarray(values, dtype=np.float64)
 
 
+def channel_list(count, info, n_cars: int) -> list[tuple[str, str]]:
+    """(name, SI unit) of every channel of a recorded time series, from its C layout functions."""
+    name, unit = ctypes.create_string_buffer(64), ctypes.create_string_buffer(16)
+    out = []
+    for i in range(count(n_cars)):
+        call(info, i, n_cars, name, 64, unit, 16)
+        out.append((name.value.decode(), unit.value.decode()))
+    return out
+
+
 def ptr(array: np.ndarray):
     return array.ctypes.data_as(c_double_p)
 

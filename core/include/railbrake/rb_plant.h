@@ -4,7 +4,9 @@
  * rb_plant_get_outputs can be called from an FMU or a paced real-time loop. The brake control
  * unit (rb_bcu.h) is separate: it reads rb_plant_outputs and writes rb_plant_inputs.
  *
- * Model (docs/simulation.md):
+ * Model (docs/simulation.md). Air and wheelsets advance in `substeps` equal sub-steps of dt (4 x
+ * 0.25 ms by default from Python: a single 1 ms step shifted the brake effort under WSP by 0.1-0.2 bar
+ * against the detailed model, docs/detailed.md); the BCU's inputs are held over the step.
  *  - Air: isothermal lumped volumes (p = m R T / V) linked by orifices; each link moves
  *    dm = 1 / (1/(dt*|q|) + 1/dm_eq) in a step, where dm_eq would equalise the two nodes
  *    (volumes divided by their number of links): explicit when the link is slow, never

@@ -14,7 +14,8 @@ from railbrake.cli._common import prepare_output, print_json, reports_errors
 
 def print_comparison(c) -> None:
     s = c.summary
-    table = Table(title=f"{c.scenario}, {c.cars} cars: real-time plant (1 ms) vs detailed model")
+    cars = f"{c.cars} car{'s' if c.cars > 1 else ''}"
+    table = Table(title=f"{c.scenario}, {cars}: real-time plant (1 ms) vs detailed model")
     table.add_column("figure")
     table.add_column("value", justify="right")
     rows = [("stopping distance RT", f"{s['stopping_distance_rt_m']:.1f} m"),

@@ -128,12 +128,7 @@ class HilResult:
 
 
 def channels(n_cars: int) -> list[tuple[str, str]]:
-    name, unit = ctypes.create_string_buffer(64), ctypes.create_string_buffer(16)
-    out = []
-    for i in range(_core.rb_hil_channel_count(n_cars)):
-        _core.call(_core.rb_hil_channel_info, i, n_cars, name, 64, unit, 16)
-        out.append((name.value.decode(), unit.value.decode()))
-    return out
+    return _core.channel_list(_core.rb_hil_channel_count, _core.rb_hil_channel_info, n_cars)
 
 
 def hil_config(scenario: Scenario, bcu: _core.BcuParams, duration: float | None, hold_time: float,
