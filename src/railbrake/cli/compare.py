@@ -7,6 +7,7 @@ from typing import Optional
 
 import typer
 from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake.cli._common import prepare_output, print_json, reports_errors
@@ -54,7 +55,12 @@ def register(app: typer.Typer) -> None:
         real-time plant's step-size study (0.25 to 5 ms)."""
         from railbrake.simulation.compare import compare
 
-        c = compare(scenario, cars, steps_ms=() if no_steps else None)
+        bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TimeElapsedColumn(),
+                       console=Console(stderr=True), transient=True, disable=json)
+        task = bar.add_task("detailed model", total=1.0)
+        with bar:
+            c = compare(scenario, cars, steps_ms=() if no_steps else None,
+                        progress=lambda stage, done: bar.update(task, description=stage, completed=done))
         if plot is not None:
             from railbrake.plots.compare import plot_all
             prepare_output(plot / "x")
