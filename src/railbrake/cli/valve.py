@@ -76,7 +76,7 @@ def epv(
 @app.command("relay")
 @reports_errors
 def relay(
-    step: bool = typer.Option(True, "--step", help="Response to a control-pressure step (the default and only analysis)."),
+    step: bool = typer.Option(True, "--step", help="Control-pressure step response (the default, only analysis)."),
     params: Optional[Path] = typer.Option(None, help="YAML file overriding the default relay valve."),
     t_end: float = typer.Option(1.5, help="Duration, s."),
     plot: Optional[Path] = typer.Option(None, help="Write a PNG here."),
