@@ -10,13 +10,12 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import cars_text, prepare_output, print_json, reports_errors
 
 
 def print_comparison(c) -> None:
     s = c.summary
-    cars = f"{c.cars} car{'s' if c.cars > 1 else ''}"
-    table = Table(title=f"{c.scenario}, {cars}: real-time plant (1 ms) vs detailed model")
+    table = Table(title=f"{c.scenario}, {cars_text(c.cars)}: real-time plant (1 ms) vs detailed model")
     table.add_column("figure")
     table.add_column("value", justify="right")
     rows = [("stopping distance RT", f"{s['stopping_distance_rt_m']:.1f} m"),

@@ -14,7 +14,7 @@ from rich.table import Table
 
 from railbrake import hil as hil_runner
 from railbrake import scenario as scenarios
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import cars_text, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import ms_to_kmh
 
@@ -37,7 +37,7 @@ def _event_printer(err: Console):
 
 def _print_report(result) -> None:
     console = Console()
-    table = Table(title=f"HIL {result.scenario}, {result.cars} cars, {result.time[-1]:.1f} s")
+    table = Table(title=f"HIL {result.scenario}, {cars_text(result.cars)}, {result.time[-1]:.1f} s")
     table.add_column("quantity")
     table.add_column("value", justify="right")
     k = result.kpis

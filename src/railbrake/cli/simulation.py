@@ -13,7 +13,7 @@ from rich.table import Table
 
 from railbrake import scenario as scenarios
 from railbrake import simulation
-from railbrake.cli._common import print_json, reports_errors
+from railbrake.cli._common import cars_text, print_json, reports_errors
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 
@@ -49,7 +49,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
 
 
 def print_kpis(result) -> None:
-    table = Table(title=f"{result.scenario}: {result.cars} cars, WSP {'on' if result.wsp else 'off'}")
+    table = Table(title=f"{result.scenario}: {cars_text(result.cars)}, WSP {'on' if result.wsp else 'off'}")
     table.add_column("KPI")
     table.add_column("value", justify="right")
     for key, value in result.kpis.items():
