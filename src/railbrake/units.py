@@ -29,3 +29,8 @@ def tonne_to_kg(m_t):
 
 def kn_to_n(f_kn):
     return f_kn * KN
+
+
+def cars_text(n: int) -> str:
+    """A train's length for titles and tables: '1 car', '8 cars'."""
+    return f"{n} car{'s' if n != 1 else ''}"

@@ -58,8 +58,3 @@ def prepare_output(path: Path | None) -> Path | None:
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
     return path
-
-
-def cars_text(n: int) -> str:
-    """'1 car', '8 cars'."""
-    return f"{n} car{'s' if n != 1 else ''}"

@@ -10,7 +10,8 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from railbrake.cli._common import cars_text, prepare_output, print_json, reports_errors
+from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.units import cars_text
 
 
 def print_comparison(c) -> None:

@@ -14,9 +14,9 @@ from rich.table import Table
 
 from railbrake import hil as hil_runner
 from railbrake import scenario as scenarios
-from railbrake.cli._common import cars_text, prepare_output, print_json, reports_errors
+from railbrake.cli._common import prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
-from railbrake.units import ms_to_kmh
+from railbrake.units import cars_text, ms_to_kmh
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 EVENTS_SHOWN = 20   # watchdog events echoed to stderr; the counters hold them all

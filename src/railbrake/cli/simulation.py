@@ -13,7 +13,8 @@ from rich.table import Table
 
 from railbrake import scenario as scenarios
 from railbrake import simulation
-from railbrake.cli._common import cars_text, print_json, reports_errors
+from railbrake.cli._common import print_json, reports_errors
+from railbrake.units import cars_text
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 

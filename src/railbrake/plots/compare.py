@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from railbrake.plots import new_figure, save
-from railbrake.units import BAR, ms_to_kmh
+from railbrake.units import BAR, cars_text, ms_to_kmh
 
 ATMOSPHERE = 1.01325e5
 ZOOM = 5.0   # s
@@ -17,7 +17,7 @@ def plot_all(c, folder: Path) -> list[Path]:
     """Cylinder pressures RT vs detailed (first axles, whole stop and a 5 s zoom), speed, and the
     step-size study."""
     rt, det = c.rt, c.detailed
-    title = f"{c.scenario}, {c.cars} cars"
+    title = f"{c.scenario}, {cars_text(c.cars)}"
     paths = []
 
     names = det.axle_channels("cylinder")[:2]

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from railbrake.plots import new_figure, save
-from railbrake.units import BAR, ms_to_kmh
+from railbrake.units import BAR, cars_text, ms_to_kmh
 
 ATMOSPHERE = 1.01325e5
 
@@ -21,7 +21,7 @@ def _axles(result, quantity, limit=8):
 def plot_all(result, folder: Path) -> list[Path]:
     """Speed and distance; cylinder pressure per axle; slip per axle; valve states; reservoirs."""
     t, o = result.time, result.outputs
-    title = f"{result.scenario}, {result.cars} cars, WSP {'on' if result.wsp else 'off'}"
+    title = f"{result.scenario}, {cars_text(result.cars)}, WSP {'on' if result.wsp else 'off'}"
     paths = []
 
     fig, (ax1, ax2) = new_figure(2, 1, sharex=True)
