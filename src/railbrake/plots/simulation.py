@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from railbrake.plots import new_figure, save
 from railbrake.units import BAR, cars_text, ms_to_kmh
 
