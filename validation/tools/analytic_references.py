@@ -12,13 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1] / "verification"
+BASE = Path(__file__).resolve().parents[1]
+ROOT = BASE / "verification"
 GAMMA, R_AIR = 1.4, 287.05             # ideal air (ISO 6358 reference conditions)
 RHO0, T0_REF = 1.185, 293.15           # ISO 6358 reference density and temperature
 
 
-def write(case: str, header: str, rows, comment: str) -> None:
-    path = ROOT / case / "reference.csv"
+def write(case: str, header: str, rows, comment: str, kind: str = "verification") -> None:
+    path = BASE / kind / case / "reference.csv"
     path.parent.mkdir(parents=True, exist_ok=True)
     lines = [f"# {comment}", header] + [",".join(f"{v:.10g}" for v in row) for row in rows]
     path.write_text("\n".join(lines) + "\n")
@@ -84,7 +85,20 @@ def stops():
           "a = 1.0 m/s^2, ta = 1.0 s, tb = 3.0 s (linear build-up)")
 
 
+def crh380al_published_curves():
+    """TB/T 1407.2 traction-calculation data of the CRH380AL, whole train: ED brake force
+    F = min(509.6, 544.34 - 1.787 v, 42942.9/v - 121, 33033/v) kN (v in m/s) and running
+    resistance R = 3.3 + 0.0469 V + 0.000921 V^2 kN (V in km/h, open track)."""
+    speeds = [20.0, 50.0, 100.0, 150.0, 200.0, 250.0, 300.0, 350.0]
+    ed = [min(509.6, 544.34 - 1.787 * v / 3.6, 42942.9 / (v / 3.6) - 121.0, 33033.0 / (v / 3.6)) for v in speeds]
+    write("crh380al-ed-brake", "speed_kmh,force_kN", zip(speeds, ed), "TB/T 1407.2 CRH380AL ED brake", "code-to-code")
+    write("crh380al-running-resistance", "speed_kmh,force_kN",
+          [(v, 3.3 + 0.0469 * v + 0.000921 * v * v) for v in [0.0] + speeds],
+          "TB/T 1407.2 CRH380AL running resistance, open track", "code-to-code")
+
+
 if __name__ == "__main__":
+    crh380al_published_curves()
     hertz_sphere()
     orifice()
     tank_fill()

@@ -3,6 +3,7 @@
 from railbrake.adhesion.conditions import (
     AXLES_PER_CAR,
     AdhesionCondition,
+    AdhesionRangeWarning,
     CreepCurve,
     Peak,
     RailConditioning,
@@ -13,11 +14,12 @@ from railbrake.adhesion.conditions import (
     load_condition,
     peak_adhesion,
     preset_names,
+    warn_outside_range,
 )
 from railbrake.adhesion.fit import PolachFit, identify_polach
 
 __all__ = [
-    "AXLES_PER_CAR", "AdhesionCondition", "CreepCurve", "Peak", "PolachFit", "RailConditioning",
+    "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "Peak", "PolachFit", "RailConditioning",
     "car_axles", "car_of_axle", "conditions", "creep_curves", "identify_polach", "load_condition",
-    "peak_adhesion", "preset_names",
+    "peak_adhesion", "preset_names", "warn_outside_range",
 ]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, compare, demo, fmu, hil, simulation, sizing, valve
+from railbrake.cli import adhesion, compare, demo, fmu, hil, simulation, sizing, validate, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -21,6 +21,7 @@ fmu.register(app)
 hil.register(app)
 simulation.register(app)
 sizing.register(app)
+validate.register(app)
 
 
 def main() -> None:

@@ -51,10 +51,16 @@ def hertz(inputs, x, case):
     return ModelOutput(values)
 
 
-def kalker_c11(inputs, x, case):
-    """Kalker's c11 against a/b (x) for the given Poisson ratio."""
+def kalker(inputs, x, case):
+    """Kalker's c11, c22 or c23 (inputs.coefficient) against a/b (x) for the given Poisson ratio."""
     nu = float(_need(inputs, "poisson"))
-    return ModelOutput([contact.kalker_c11(r, nu) for r in _x(x, "a/b")])
+    function = {"c11": contact.kalker_c11, "c22": contact.kalker_c22, "c23": contact.kalker_c23}.get(
+        _need(inputs, "coefficient"))
+    if function is None:
+        raise InputError(f"model.inputs.coefficient = {inputs['coefficient']!r}: c11, c22 or c23")
+    ratios = _x(x, "a/b")
+    dense = np.geomspace(0.1, 10.0, 60)
+    return ModelOutput([function(r, nu) for r in ratios], curve={"x": dense.tolist(), "y": [function(r, nu) for r in dense]})
 
 
 def _params(inputs) -> contact.PolachParams:
@@ -238,6 +244,6 @@ def stop_ramp(inputs, x, case):
 
 
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, 
-    hertz, kalker_c11, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
+    hertz, kalker, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
     tank_pressure, stop_constant, caliper_force, train_stopping_distance, pad_friction, ed_brake_force,
     running_resistance, plant_order)}
