@@ -169,20 +169,30 @@ def train_stopping_distance(inputs, x, case):
     return ModelOutput(out, {"train": train.name, "profile": str(profile), "sizing_warnings": sorted(set(warns))})
 
 
+def _car_of_type(train, kind: str):
+    car = next((c for c in train.cars if c.type_name == kind), None)
+    if car is None:
+        raise InputError(f"model.inputs.car_type = {kind!r}: {train.name} has {sorted({c.type_name for c in train.cars})}")
+    return car
+
+
 def pad_friction(inputs, x, case):
     """Pad friction coefficient of a train preset's car type at speed x (km/h)."""
     train = vehicle.load_train(_need(inputs, "train"))
-    kind = inputs.get("car_type", "trailer")
-    car = next((c for c in train.cars if c.type_name == kind), None) if hasattr(train.cars[0], "type_name") else None
-    car = car or train.cars[0]
+    car = _car_of_type(train, inputs.get("car_type", "trailer"))
     speeds = _x(x, "speed, km/h")
-    values = np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(speeds)))
-    if inputs.get("output") == "drop_from_first":
-        values = values[0] - values
-    dense = np.linspace(0.0, max(speeds), 40)
-    return ModelOutput(values, {"train": train.name}, {"x": dense.tolist(),
-                       "y": np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(dense))).tolist()}
-                       if inputs.get("output") != "drop_from_first" else None)
+    dense = np.linspace(0.0, float(max(speeds)), 40)
+    return ModelOutput(np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(speeds))), {"train": train.name},
+                       {"x": dense.tolist(), "y": np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(dense))).tolist()})
+
+
+def pad_friction_drop(inputs, x, case):
+    """Fall of the pad friction coefficient between two speeds (km/h), inputs.speeds_kmh = [from, to]."""
+    train = vehicle.load_train(_need(inputs, "train"))
+    car = _car_of_type(train, inputs.get("car_type", "trailer"))
+    low, high = (units.kmh_to_ms(float(v)) for v in _need(inputs, "speeds_kmh"))
+    at_low, at_high = (float(vehicle.pad_friction_of(car, v)) for v in (low, high))
+    return ModelOutput([at_low - at_high], {"train": train.name, "friction_from": at_low, "friction_to": at_high})
 
 
 def ed_brake_force(inputs, x, case):
@@ -245,5 +255,5 @@ def stop_ramp(inputs, x, case):
 
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, 
     hertz, kalker, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
-    tank_pressure, stop_constant, caliper_force, train_stopping_distance, pad_friction, ed_brake_force,
+    tank_pressure, stop_constant, caliper_force, train_stopping_distance, pad_friction, pad_friction_drop, ed_brake_force,
     running_resistance, plant_order)}
