@@ -8,6 +8,7 @@ comes from the C core through railbrake's modules; only unit conversions at the 
 
 from __future__ import annotations
 
+import ctypes
 import math
 from dataclasses import dataclass, field
 
@@ -138,6 +139,26 @@ def tank_pressure(inputs, x, case):
     return ModelOutput(result["tank"].p)
 
 
+# ------------------------------------------------------------------ valves
+
+def solenoid_force(inputs, x, case):
+    """EP solenoid force (N) from the packaged force table (C lookup) at airgaps x (mm)."""
+    from railbrake import _core
+    from railbrake.valves.epv import read_force_table
+    gap, current, force = read_force_table(_need(inputs, "table"))
+    table = _core.ForceTable()
+    table.n_gap, table.n_current = len(gap), len(current)
+    for i, g in enumerate(gap):
+        table.gap[i] = g
+        for j, c in enumerate(current):
+            table.current[j] = c
+            table.force[i * len(current) + j] = force[i, j]
+    _core.call(_core.rb_force_table_check, ctypes.byref(table))
+    amps = float(_need(inputs, "current_a"))
+    mm = 1e-3
+    return ModelOutput([_core.rb_force_table_eval(ctypes.byref(table), g * mm, amps) for g in _x(x, "airgap, mm")])
+
+
 # ------------------------------------------------------------------ vehicle and braking
 
 def stop_constant(inputs, x, case):
@@ -255,5 +276,5 @@ def stop_ramp(inputs, x, case):
 
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, 
     hertz, kalker, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
-    tank_pressure, stop_constant, caliper_force, train_stopping_distance, pad_friction, pad_friction_drop, ed_brake_force,
+    tank_pressure, stop_constant, caliper_force, train_stopping_distance, solenoid_force, pad_friction, pad_friction_drop, ed_brake_force,
     running_resistance, plant_order)}
