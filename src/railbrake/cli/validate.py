@@ -33,8 +33,9 @@ def register(app: typer.Typer) -> None:
         """Run the cases: the models against analytic solutions, other codes and measurements."""
         found = load_cases(cases, case_id=case, kind=kind)
         console = Console(stderr=True)
+        show = not json and console.is_terminal
         results = run_cases(found, fast_only=fast,
-                            progress=None if json else (lambda cid, i, n: console.print(f"[{i + 1}/{n}] {cid}", end="\r")))
+                            progress=(lambda cid, i, n: console.print(f"[{i + 1}/{n}] {cid}", end="\r")) if show else None)
         if report:
             prepare_output(report).write_text(vreport.to_html(results))
         if markdown:
