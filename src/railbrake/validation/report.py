@@ -149,6 +149,16 @@ def to_html(results, title: str = "railbrake verification and validation report"
     return "\n".join(out)
 
 
+def _compact(r: CaseResult) -> str:
+    """'0.965 / 1' for one-point cases, 'n points' otherwise (the HTML report has them all)."""
+    if r.model is None:
+        return ""
+    model, ref = np.atleast_1d(r.model), np.atleast_1d(r.reference)
+    if model.size == 1:
+        return f"{model[0]:.4g} / {ref[0]:.4g} {r.unit if r.unit != '-' else ''}".rstrip()
+    return f"{model.size} points"
+
+
 def to_markdown(results) -> str:
     info, counts = build_info(), summary(results)
     lines = ["# Verification and validation", "",
@@ -162,10 +172,11 @@ def to_markdown(results) -> str:
              "|---|" + "---|" * len(KINDS)]
     for area, kinds in by_area(results).items():
         lines.append(f"| {area} | " + " | ".join(_cell(kinds[k]) for k in KINDS) + " |")
-    lines += ["", "## Cases", "", "| case | kind | area | difference | tolerance | result |", "|---|---|---|---|---|---|"]
+    lines += ["", "## Cases", "", "| case | kind | area | model / reference | difference | tolerance | result |",
+              "|---|---|---|---|---|---|---|"]
     for r in results:
         diff = "" if r.difference is None else f"{r.difference:.3g} {'%' if r.tolerance.endswith('%') else r.unit}"
-        lines.append(f"| {r.id} | {r.kind} | {r.area} | {diff} | {r.tolerance} | {STATUS_TEXT[r.status]} |")
+        lines.append(f"| {r.id} | {r.kind} | {r.area} | {_compact(r)} | {diff} | {r.tolerance} | {STATUS_TEXT[r.status]} |")
     failing = [r for r in results if r.status != "pass"]
     if failing:
         lines += ["", "## Failing and broken cases (findings)", ""]
