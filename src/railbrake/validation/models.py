@@ -88,6 +88,17 @@ def polach_coefficient_at(inputs, x, case):
     return ModelOutput(values)
 
 
+def polach_on_contact(inputs, x, case):
+    """F/(mu0 Q) at creep x on a given contact ellipse (a, b in m), as other codes tabulate it."""
+    a, b, q, g, nu = (float(_need(inputs, k)) for k in ("a_m", "b_m", "normal_force", "shear_modulus", "poisson"))
+    ellipse = contact.HertzContact(a, b, 0.0, q, 2.0 * g * (1.0 + nu), nu, g)
+    params = _params(inputs)
+    creep = _x(x, "creep")
+    dense = np.geomspace(max(float(creep.min()), 1e-5), float(creep.max()), 80)
+    f = lambda s: contact.polach_coefficient(s, float(inputs.get("speed", 0.0)), q, ellipse, params) / params.mu0  # noqa: E731
+    return ModelOutput(f(creep), {"c11": ellipse.c11}, {"x": dense.tolist(), "y": f(dense).tolist()})
+
+
 # ------------------------------------------------------------------ adhesion
 
 def peak_adhesion(inputs, x, case):
@@ -278,6 +289,6 @@ def stop_ramp(inputs, x, case):
 
 
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, 
-    hertz, kalker, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
+    hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
     tank_pressure, stop_constant, caliper_force, train_stopping_distance, solenoid_force, pad_friction, pad_friction_drop, ed_brake_force,
     running_resistance, plant_order)}
