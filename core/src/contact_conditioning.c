@@ -15,6 +15,8 @@ rb_status rb_conditioning_energy_check(const rb_conditioning_energy *c, rb_error
     return RB_OK;
 }
 
+size_t rb_conditioning_energy_size(void) { return sizeof(rb_conditioning_energy); }
+
 double rb_dissipated_energy_density(double creep_force, double slip_velocity, double speed,
                                     double contact_width)
 {

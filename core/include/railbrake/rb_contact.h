@@ -96,6 +96,7 @@ typedef struct {
 } rb_conditioning_energy;
 
 rb_status rb_conditioning_energy_check(const rb_conditioning_energy *c, rb_error *err);
+size_t rb_conditioning_energy_size(void);  /* sizeof, for the bindings' check */
 double rb_dissipated_energy_density(double creep_force, double slip_velocity, double speed,
                                     double contact_width);
 double rb_conditioning_energy_factor(const rb_conditioning_energy *c, double energy_density);

@@ -5,6 +5,7 @@ from railbrake.adhesion.conditions import (
     AdhesionCondition,
     AdhesionRangeWarning,
     CreepCurve,
+    EnergyConditioning,
     Peak,
     RailConditioning,
     car_axles,
@@ -19,7 +20,8 @@ from railbrake.adhesion.conditions import (
 from railbrake.adhesion.fit import PolachFit, identify_polach
 
 __all__ = [
-    "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "Peak", "PolachFit", "RailConditioning",
+    "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",
+    "Peak", "PolachFit", "RailConditioning",
     "car_axles", "car_of_axle", "conditions", "creep_curves", "identify_polach", "load_condition",
     "peak_adhesion", "preset_names", "warn_outside_range",
 ]

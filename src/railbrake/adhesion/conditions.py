@@ -8,6 +8,7 @@ mapping with the five parameters.
 
 from __future__ import annotations
 
+import ctypes
 import warnings
 from dataclasses import dataclass, replace
 from importlib import resources
@@ -59,6 +60,36 @@ class Validity:
 
     def contains(self, speed_kmh: float) -> bool:
         return self.speed_min_kmh <= speed_kmh <= self.speed_max_kmh
+
+
+@dataclass(frozen=True)
+class EnergyConditioning:
+    """Rail conditioning by dissipated energy (option; law in core/src/contact_conditioning.c).
+
+    An axle leaves on the rail e = |F w| / (2 b v) J/m^2; the axles behind see mu0 scaled by
+    1 - (1 - leading_factor) exp(-E / reference_energy), E the energy left by those ahead. Not yet
+    used by the real-time plant. reference_energy (J/m^2) has no published value: an input [T].
+    """
+
+    leading_factor: float
+    reference_energy: float
+    source: str = "user input [T]"
+
+    def __post_init__(self):
+        _core.call(_core.rb_conditioning_energy_check, ctypes.byref(self._c()))
+
+    def _c(self) -> _core.ConditioningEnergy:
+        return _core.ConditioningEnergy(float(self.leading_factor), float(self.reference_energy))
+
+    @staticmethod
+    def energy_density(creep_force: float, slip_velocity: float, speed: float, contact_width: float) -> float:
+        """J/m^2 an axle leaves on the rail (0 at standstill)."""
+        return _core.rb_dissipated_energy_density(float(creep_force), float(slip_velocity), float(speed),
+                                                  float(contact_width))
+
+    def factor(self, energy: float) -> float:
+        """mu0 factor on rail that the axles ahead left `energy` (J/m^2) on."""
+        return _core.rb_conditioning_energy_factor(ctypes.byref(self._c()), float(energy))
 
 
 @dataclass(frozen=True)

@@ -173,3 +173,24 @@ def test_a_bad_validity_range_is_refused(tmp_path):
     path.write_text(text)
     with pytest.raises(InputError, match="validity.speed_kmh"):
         load_condition(str(path))
+
+
+def test_energy_conditioning_matches_the_axle_law_for_equal_axles():
+    """Every axle leaving the same energy e: factor(n e) is the axle-count law with N = E_ref / e."""
+    from railbrake.adhesion import EnergyConditioning, RailConditioning
+    law = EnergyConditioning(leading_factor=0.2, reference_energy=4e4)
+    e = law.energy_density(creep_force=-6e3, slip_velocity=1.2, speed=80.0, contact_width=0.011)
+    assert e == pytest.approx(6e3 * 1.2 / (0.011 * 80.0))
+    axle_law = RailConditioning(leading_factor=0.2, recovery_axles=4e4 / e)
+    for n in range(0, 40, 3):
+        assert law.factor(n * e) == pytest.approx(axle_law.factor(n), rel=1e-12)
+    assert law.factor(0.0) == pytest.approx(0.2) and law.factor(1e12) == pytest.approx(1.0)
+    assert law.energy_density(1e4, 1.0, 0.0, 0.01) == 0.0  # standstill: no rail passes
+
+
+def test_energy_conditioning_refuses_bad_parameters():
+    from railbrake.adhesion import EnergyConditioning
+    with pytest.raises(InputError, match="leading_factor"):
+        EnergyConditioning(leading_factor=0.0, reference_energy=1e4)
+    with pytest.raises(InputError, match="reference_energy"):
+        EnergyConditioning(leading_factor=0.5, reference_energy=-1.0)
