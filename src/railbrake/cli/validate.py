@@ -52,12 +52,12 @@ def register(app: typer.Typer) -> None:
 def _print_table(results, report, markdown) -> None:
     table = Table(title="railbrake validate")
     for column in ("case", "kind", "area", "difference", "tolerance", "result"):
-        table.add_column(column)
+        table.add_column(column, no_wrap=True)
     for r in results:
         unit = "%" if r.tolerance.endswith("%") else r.unit
         diff = "" if r.difference is None else f"{r.difference:.3g} {unit}"
         table.add_row(r.id, r.kind, r.area, diff, r.tolerance, f"[{STYLE[r.status]}]{r.status}[/]")
-    console = Console()
+    console = Console(width=max(Console().width, 110))
     console.print(table)
     for r in results:
         if r.status != "pass":
