@@ -79,6 +79,7 @@ def _declare(name, restype, *argtypes):
 _err_p = POINTER(RbError)
 
 rb_version = _declare("rb_version", ctypes.c_char_p)
+rb_build_hash = _declare("rb_build_hash", ctypes.c_char_p)
 
 # ---------------------------------------------------------------- contact (rb_contact.h)
 
