@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, compare, demo, fmu, hil, simulation, sizing, valve
+from railbrake.cli import adhesion, compare, compare_runs, demo, fmu, hil, plot, simulation, sizing, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -16,9 +16,11 @@ app = typer.Typer(
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
 compare.register(app)
+compare_runs.register(app)
 demo.register(app)
 fmu.register(app)
 hil.register(app)
+plot.register(app)
 simulation.register(app)
 sizing.register(app)
 
