@@ -1,0 +1,76 @@
+"""`railbrake plot` redraws a saved run's figures exactly (byte for byte: same data, same channels)
+from Parquet and from MDF4; `railbrake compare` of a run with itself reports zero differences, and
+against another run the KPI differences themselves."""
+
+import json
+
+from typer.testing import CliRunner
+
+from railbrake.cli import app
+
+
+def _invoke(*args):
+    result = CliRunner().invoke(app, [str(a) for a in args])
+    assert result.exit_code == 0, result.output
+    return result.output
+
+
+def test_plot_reproduces_the_runs_own_figures_from_parquet_and_mdf4(saved_run, tmp_path):
+    out, _ = saved_run
+    own = {p.name: p.read_bytes() for p in out.glob("*.png")}
+    assert "wsp_cycle_c3a2.png" in own            # the faulty axle is always shown
+    for source in (out, out / "timeseries.mf4"):
+        folder = tmp_path / source.name
+        printed = _invoke("plot", source, "--out", folder)
+        redrawn = {p.name: p.read_bytes() for p in folder.glob("*.png")}
+        assert redrawn == own, source
+        assert printed.count("plot: ") == len(own)
+
+
+def test_plot_options_axles_window_channels_and_format(saved_run, tmp_path):
+    out, _ = saved_run
+    _invoke("plot", out, "--out", tmp_path, "--axles", "c1a1,c2a4", "--window", "1:4",
+            "--channels", "speed,supply_c*", "--format", "svg")
+    names = {p.name for p in tmp_path.iterdir()}
+    assert {"wsp_cycle_c1a1.svg", "wsp_cycle_c2a4.svg", "wsp_cycle_c3a2.svg", "channels.svg"} <= names
+    assert "1.0" in (tmp_path / "wsp_cycle_c1a1.svg").read_text()   # the window's first tick
+
+
+def test_plot_rejects_unknown_axles_channels_and_windows(saved_run):
+    out, _ = saved_run
+    for args, words in ((["--axles", "c4a1"], "'c4a1' is not an axle of this run"),
+                        (["--window", "50:40"], "T1 must be finite and greater than T0"),
+                        (["--window", "500:600"], "outside the recorded time"),
+                        (["--channels", "nope*"], "'nope*' names no recorded channel"),
+                        (["--format", "jpg"], "must be one of png, svg, pdf")):
+        result = CliRunner().invoke(app, ["plot", str(out), *args])
+        assert result.exit_code == 2 and words in result.output, (args, result.output)
+
+
+def test_compare_of_a_run_with_itself_reports_zero_differences(saved_run, tmp_path):
+    out, kpis = saved_run
+    report = json.loads(_invoke("compare", out, out / "timeseries.mf4", out / "timeseries.csv", "--json"))
+    assert report["identical"]
+    for key, row in report["kpis"].items():
+        assert row["values"] == [kpis[key]] * 3
+        assert all(d in (0.0, None) for d in row["differences"]), key
+    assert all(v == 0.0 for diffs in report["channels"] for v in diffs.values())
+    assert "identical" in _invoke("compare", out, out, "--plot", tmp_path)
+    assert (tmp_path / "compare_braking_curves.png").is_file() and (tmp_path / "compare_cylinders.png").is_file()
+
+
+def test_compare_reports_the_kpi_differences_of_two_runs(saved_run, tmp_path):
+    out, kpis = saved_run
+    _invoke("run", "fault-vent-valve-stuck", "--cars", "3", "--no-wsp", "--out", tmp_path)
+    other = json.loads((tmp_path / "kpis.json").read_text())
+    report = json.loads(_invoke("compare", out, tmp_path, "--json"))
+    assert not report["identical"]
+    row = report["kpis"]["stopping_distance_m"]
+    assert row["differences"] == [other["stopping_distance_m"] - kpis["stopping_distance_m"]]
+    assert report["kpis"]["air_consumed_kg"]["differences"][0] != 0.0
+
+
+def test_compare_needs_two_runs(saved_run):
+    out, _ = saved_run
+    result = CliRunner().invoke(app, ["compare", str(out)])
+    assert result.exit_code == 2 and "needs at least two" in result.output
