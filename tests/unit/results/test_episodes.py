@@ -61,6 +61,7 @@ def _complete_cycles(record, axle, t0, t1) -> int:
     return cycles
 
 
+@pytest.mark.slow
 def test_the_automatic_window_shows_three_complete_wsp_cycles_in_heavy_rain(tmp_path):
     spec = {"schema": "railbrake.scenario/1", "name": "heavy-rain-10s", "train": {"preset": "crh380al-16", "cars": 2},
             "initial_speed": "300 km/h", "demand": [{"time": "0 s", "emergency": True}],
