@@ -27,6 +27,13 @@ def _difference(d) -> str:
     return "0" if d == 0 else f"{d:+.4g}"
 
 
+def _human(d: dict) -> str:
+    """'cylinder_c3a2 3.41 bar' from a difference in SI."""
+    from railbrake.units import BAR, ms_to_kmh
+    scale, unit = {"Pa": (1 / BAR, "bar"), "m/s": (ms_to_kmh(1.0), "km/h")}.get(d["unit"], (1.0, d["unit"]))
+    return f"{d['channel']} {d['difference'] * scale:.3g} {unit}"
+
+
 def _print(report: dict) -> None:
     from railbrake.results import kpis as info
     console = Console()
@@ -45,12 +52,9 @@ def _print(report: dict) -> None:
         table.add_row(f"{key}{f' ({unit})' if shown else ''}",
                       *map(_cell, row["values"]), *map(_difference, row["differences"]))
     console.print(table)
-    for lab, largest in zip(labels[1:], report["largest_channel_difference"]):
-        if largest["channel"] is None:
-            console.print(f"{lab}-{labels[0]}: no common channels", highlight=False)
-        else:
-            console.print(f"{lab}-{labels[0]}: largest channel difference {largest['channel']} "
-                          f"{largest['difference']:.4g} {largest['unit']}", highlight=False)
+    for lab, largest in zip(labels[1:], report["largest_channel_differences"]):
+        text = "; ".join(_human(d) for d in largest) or "no common channels"
+        console.print(f"{lab}-{labels[0]} largest sample differences: {text}", highlight=False)
     console.print("identical" if report["identical"] else "the runs differ", highlight=False)
 
 

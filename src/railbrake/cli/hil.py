@@ -40,10 +40,15 @@ def _print_report(result) -> None:
     table = Table(title=f"HIL {result.scenario}, {cars_text(result.cars)}, {result.time[-1]:.1f} s")
     table.add_column("quantity")
     table.add_column("value", justify="right")
+    from railbrake.results import kpis as info
     k = result.kpis
     what = "stopping" if k["stopped"] else "braking (no stop yet)"
     table.add_row(f"{what} distance", f"{k['stopping_distance_m']:.1f} m")
     table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    for key, value in k.items():   # the other KPIs, as `railbrake run` reports them
+        if key not in ("stopping_distance_m", "stopping_time_s", "stopped") and value is not None:
+            unit = info.unit(key)
+            table.add_row(key, f"{info.text(value)} {unit if unit != '1' else ''}".strip())
     for key, value in result.counters.items():
         table.add_row(key.replace("_", " "), str(value))
     console.print(table)

@@ -20,6 +20,7 @@ OUTSIDE = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "fontsize": 7, "b
 HIGHLIGHT = ["C0", "C3", "C2", "C4", "C1", "C5", "C6", "C8", "C9"]
 SLIP_HEADROOM = 1.3        # y range of the slip plot: 1.3 x the 99.5th percentile outside locks
 SLIP_QUANTILE = 99.5
+AXLE_COLOURS = ["C0", "C1", "C2", "C4"]   # red (C3) marks a faulty axle
 OVERVIEW_POINTS = 600      # per line in the small per-car panels
 MEAN_SPAN = 1.0            # s, running mean of the cylinder pressures under WSP cycling
 
@@ -275,7 +276,8 @@ def plot_cylinders(record: RunRecord, path: Path, faulty=()) -> Path:
             ax.plot(t, _gauge(demand), "k--", lw=0.8, label=label)
         for k, (axle, pa) in enumerate(zip(axles, p)):
             bad = axle in faulty
-            ax.plot(t[::step], running_mean(t, pa)[::step], color="C3" if bad else f"C{k}", lw=1.4 if bad else 0.7,
+            ax.plot(t[::step], running_mean(t, pa)[::step], color="C3" if bad else AXLE_COLOURS[k % 4],
+                    lw=1.4 if bad else 0.7,
                     label=f"axle {axle[-1]}, {MEAN_SPAN:g} s mean")
             if bad:
                 ax.annotate(f"faulty: axle {axle[-1]}", (0.98, 0.05), xycoords="axes fraction", ha="right",

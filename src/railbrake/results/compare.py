@@ -46,6 +46,17 @@ def channel_differences(a: RunRecord, b: RunRecord) -> dict:
     return out
 
 
+def _largest_per_unit(diffs: dict, units: dict) -> list[dict]:
+    """The largest difference among the channels of each unit (m/s, m, Pa): a pressure in Pa and a
+    speed in m/s are not to be ranked against each other."""
+    best: dict[str, tuple[str, float]] = {}
+    for name, value in diffs.items():
+        unit = units.get(name, "")
+        if value is not None and (unit not in best or value > best[unit][1]):
+            best[unit] = (name, value)
+    return [{"unit": u, "channel": n, "difference": v} for u, (n, v) in best.items()]
+
+
 def compare_runs(records: list[RunRecord], paths: list[str]) -> dict:
     """Each run against the first: KPIs (union of keys, in the first run's order) and channels."""
     labels = [LABELS[i % len(LABELS)] for i in range(len(records))]
@@ -56,15 +67,11 @@ def compare_runs(records: list[RunRecord], paths: list[str]) -> dict:
         values = [r.kpis.get(key) for r in records]
         kpis[key] = {"values": values, "differences": [kpi_difference(values[0], v) for v in values[1:]]}
     channels = [channel_differences(first, r) for r in records[1:]]
-    largest = []
-    for diffs in channels:
-        known = {k: v for k, v in diffs.items() if v is not None}
-        name = max(known, key=known.get) if known else None
-        largest.append({"channel": name, "difference": known.get(name), "unit": first.units.get(name, "")})
+    largest = [_largest_per_unit(diffs, first.units) for diffs in channels]
     numeric = [abs(d) for k in kpis.values() for d in k["differences"] if isinstance(d, float)]
     flagged = [d for k in kpis.values() for d in k["differences"] if d == "differs"]
     samples = [v for diffs in channels for v in diffs.values() if v is not None]
     return {"runs": [{"label": lab, "path": p, "title": r.title(), "kind": r.kind}
                      for lab, p, r in zip(labels, paths, records)],
-            "kpis": kpis, "channels": channels, "largest_channel_difference": largest,
+            "kpis": kpis, "channels": channels, "largest_channel_differences": largest,
             "identical": not flagged and all(d == 0.0 for d in numeric) and all(v == 0.0 for v in samples)}

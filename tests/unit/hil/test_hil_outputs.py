@@ -5,6 +5,7 @@ import json
 
 from typer.testing import CliRunner
 
+from railbrake import _core
 from railbrake.cli import app
 from railbrake.results import files
 
@@ -21,6 +22,9 @@ def test_hil_out_writes_the_run_folder(bcu_process, tmp_path):
     report = json.loads(result.output[result.output.index("{"):result.output.rindex("}") + 1])
     kpis = json.loads((out / "kpis.json").read_text())
     assert kpis == report["kpis"]
+    assert list(kpis) == list(_core.KPI_NAMES)          # the same KPIs as `railbrake run`
+    assert kpis["safety_timer_trips"] is None           # the external BCU's, unknown to the plant
+    assert kpis["adhesion_utilisation"] > 0 and kpis["air_balance_error"] < 1e-9
     for name in ("timeseries.mf4", "timeseries.parquet", "run.json", "report.html", "braking_curve.png",
                  "cylinders.png", "reservoirs.png", "slip.png"):
         assert (out / name).is_file(), name
