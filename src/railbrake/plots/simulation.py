@@ -94,7 +94,7 @@ def plot_wsp_cycle(record: RunRecord, axle: str, path: Path, window=None) -> Pat
     n = int(((openings >= t0) & (openings < t1)).sum())
     why = _why(record, axle)
     ax1.set_title(f"{record.title()}\nWSP cycle of axle {axle}{f' ({why})' if why else ''}: "
-                  f"{n} vent openings in {t1 - t0:.1f} s", fontsize=10)
+                  f"{n} vent opening{'s' if n != 1 else ''} in {t1 - t0:.1f} s", fontsize=10)
     save(fig, path)
     return path
 
