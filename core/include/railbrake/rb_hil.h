@@ -78,6 +78,8 @@ typedef struct {
     uint64_t frames_sent, send_errors, datagrams;
     uint64_t events;
     rb_run_state kpi;                /* the KPIs of rb_run.h, accumulated as in a MIL run (rb_run_accumulate) */
+    double next_peak, peak_sum;      /* the available peak adhesion, one axle per step (hil_runner.c) */
+    int peak_axle, peak_count;
     rb_hil_event log[RB_HIL_LOG_SIZE];
     uint8_t buffer[2048];
 } rb_hil_runner;
