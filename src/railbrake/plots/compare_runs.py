@@ -8,6 +8,7 @@ from pathlib import Path
 from railbrake.plots import new_figure, save
 from railbrake.plots.simulation import OUTSIDE, _gauge
 from railbrake.results import episodes
+from railbrake.results.record import axle_key
 from railbrake.units import ms_to_kmh
 
 
@@ -31,7 +32,7 @@ def plot_braking_curves(records, labels, path: Path) -> Path:
 def plot_axle_pressures(records, labels, axles, path: Path, window=None) -> Path:
     fig, axes = new_figure(len(axles), 1, sharex=True, squeeze=False, figsize=(9, 2.4 * len(axles) + 1.2))
     first = records[0]
-    t0, t1 = window or episodes.wsp_window(first, axles[0])
+    t0, t1 = window or (episodes.wsp_window(first, axles[0]) if first.axle_names() else (first.time[0], first.time[-1]))
     for ax, axle in zip(axes[:, 0], axles):
         for i, (r, lab) in enumerate(zip(records, labels)):
             p = r.channel("cylinder", axle)
@@ -50,7 +51,11 @@ def plot_axle_pressures(records, labels, axles, path: Path, window=None) -> Path
 
 def plot_comparison(records, labels, folder: Path, axles=None, window=None, fmt: str = "png") -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
-    common = set.intersection(*(set(r.axle_names()) for r in records))
-    chosen = [a for a in episodes.plotted_axles(records[0], axles) if a in common] or sorted(common)[:1]
-    return [plot_braking_curves(records, labels, folder / f"compare_braking_curves.{fmt}"),
-            plot_axle_pressures(records, labels, chosen, folder / f"compare_cylinders.{fmt}", window)]
+    common = set.intersection(*({n[len("cylinder_"):] for n in r.outputs if n.startswith("cylinder_c")}
+                                for r in records))
+    first = episodes.plotted_axles(records[0], axles) if records[0].axle_names() else list(axles or [])
+    chosen = [a for a in first if a in common] or sorted(common, key=axle_key)[:1]
+    paths = [plot_braking_curves(records, labels, folder / f"compare_braking_curves.{fmt}")]
+    if chosen:   # an FMU result may hold no cylinder pressure
+        paths.append(plot_axle_pressures(records, labels, chosen, folder / f"compare_cylinders.{fmt}", window))
+    return paths

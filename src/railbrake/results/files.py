@@ -134,13 +134,19 @@ def _read_mdf(path: Path):
     return outputs, units, run, header.get("kpis")
 
 
+def _csv_number(text: str) -> float:
+    """A CSV value: a float, or FMPy's True/False for a Boolean variable."""
+    text = text.strip()
+    return {"True": 1.0, "False": 0.0}.get(text) if text in ("True", "False") else float(text)
+
+
 def _read_csv(path: Path):
     """Our CSV or FMPy's (quoted names; 'time' first)."""
     with open(path) as f:
         names = [n.strip().strip('"') for n in f.readline().strip().split(",")]
         rows = [line.split(",") for line in f if line.strip()]
     columns = zip(*rows) if rows else [[] for _ in names]
-    outputs = {n: np.array([float(x) for x in col], dtype=np.float64) for n, col in zip(names, columns)}
+    outputs = {n: np.array([_csv_number(x) for x in col], dtype=np.float64) for n, col in zip(names, columns)}
     return outputs, {}, {"scenario": path.stem, "kind": "FMU"}, None
 
 

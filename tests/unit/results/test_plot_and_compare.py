@@ -80,3 +80,26 @@ def test_compare_needs_two_runs(saved_run):
     out, _ = saved_run
     result = CliRunner().invoke(app, ["compare", str(out)])
     assert result.exit_code == 2 and "needs at least two" in result.output
+
+
+def test_compare_reads_an_fmu_result_saved_by_fmpy(saved_run, tmp_path):
+    """FMPy's CSV (quoted names, Booleans as True/False) of the same samples: no KPIs, but the
+    common channels compare to zero and the braking curves overlay."""
+    import numpy as np
+    from fmpy.util import write_csv
+
+    from railbrake.results import files
+    out, _ = saved_run
+    run = files.load(out)
+    names = ["time", "speed", "position", "cylinder_c3a2", "hold_c3a2"]
+    table = np.zeros(len(run.time), dtype=[(n, np.bool_ if n.startswith("hold") else np.float64) for n in names])
+    for n in names:
+        table[n] = run.outputs[n] > 0.5 if n.startswith("hold") else run.outputs[n]
+    write_csv(tmp_path / "fmu.csv", table)
+    fmu = files.load(tmp_path / "fmu.csv")
+    assert fmu.kind == "FMU" and np.array_equal(fmu.outputs["hold_c3a2"], run.outputs["hold_c3a2"])
+    printed = _invoke("compare", out, tmp_path / "fmu.csv", "--json", "--plot", tmp_path)
+    report = json.loads("\n".join(line for line in printed.splitlines() if not line.startswith("plot: ")))
+    assert set(report["channels"][0]) == {"speed", "position", "cylinder_c3a2"}
+    assert all(v == 0.0 for v in report["channels"][0].values())
+    assert report["kpis"]["stopping_distance_m"]["values"][1] is None
