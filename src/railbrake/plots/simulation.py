@@ -323,9 +323,8 @@ def plot_all(record: RunRecord, folder: Path, axles=None, window=None, channels=
     """The run's figures into folder: wsp_cycle_<axle> for the worst, the faulty and the requested
     axles, braking_curve, speed_time, slip, reservoirs, cylinders, and channels when asked for."""
     if not isinstance(record, RunRecord):   # a simulation Result without its scenario
-        from railbrake.results.record import RunRecord as _R
-        record = _R(record.time, record.outputs, record.units, record.kpis,
-                    {"scenario": record.scenario, "cars": record.cars, "wsp": record.wsp})
+        record = RunRecord(record.time, record.outputs, record.units, record.kpis,
+                           {"scenario": record.scenario, "cars": record.cars, "wsp": record.wsp})
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     chosen = episodes.plotted_axles(record, axles)
