@@ -20,6 +20,8 @@ OUTSIDE = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "fontsize": 7, "b
 HIGHLIGHT = ["C0", "C3", "C2", "C4", "C1", "C5", "C6", "C8", "C9"]
 SLIP_HEADROOM = 1.3        # y range of the slip plot: 1.3 x the 99.5th percentile outside locks
 SLIP_QUANTILE = 99.5
+SLIP_CHOSEN_HEADROOM = 1.05   # and the largest working slip of the axles in colour ...
+SLIP_CHOSEN_CAP = 1.5         # ... up to 1.5 x the range above
 AXLE_COLOURS = ["C0", "C1", "C2", "C4"]   # red (C3) marks a faulty axle
 OVERVIEW_POINTS = 600      # per line in the small per-car panels
 MEAN_SPAN = 1.0            # s, running mean of the cylinder pressures under WSP cycling
@@ -137,10 +139,23 @@ def plot_braking_curve(record: RunRecord, path: Path) -> Path:
     return path
 
 
+def _zone_spans(ax, record: RunRecord, label: bool = True):
+    """Shade the times the leading car spends in each adhesion zone."""
+    x = record.outputs["position"]
+    for i, z in enumerate(record.meta.get("zones", [])):
+        if z["start"] > x[-1] or np.any(np.diff(x) < 0):
+            continue
+        t0, t1 = np.interp([z["start"], min(z["end"], x[-1])], x, record.time)
+        ax.axvspan(t0, t1, color=HIGHLIGHT[i % len(HIGHLIGHT)], alpha=0.12, lw=0,
+                   label=f"leading car in zone: {z['condition']}" if label else None)
+
+
 def plot_speed_time(record: RunRecord, path: Path) -> Path:
     """Speed, and the achieved against the demanded deceleration, over time."""
     t, o = record.time, record.outputs
     fig, (ax1, ax2) = new_figure(2, 1, sharex=True, figsize=(9, 6))
+    _zone_spans(ax1, record)
+    _zone_spans(ax2, record, label=False)
     ax1.plot(t, ms_to_kmh(o["speed"]), "k", label="train speed")
     ax1.set_ylabel("speed (km/h)")
     ax1.set_ylim(bottom=0)
@@ -159,18 +174,27 @@ def plot_speed_time(record: RunRecord, path: Path) -> Path:
 
 # ------------------------------------------------------------------ slip, reservoirs, cylinders
 
-def slip_range(record: RunRecord) -> tuple[float, float]:
-    """% range that shows the working slips: the SLIP_QUANTILE percentile of |slip| above 10 km/h
-    outside lock episodes, times SLIP_HEADROOM (a lock's -100 % would squash them to pixels)."""
-    running = record.outputs["speed"] > episodes.LOCK_SPEED
-    values = []
-    for axle in record.axle_names():
-        locked = np.zeros_like(running)
-        for s, e in episodes.lock_episodes(record, axle):
-            locked |= (record.time >= s) & (record.time <= e)
-        values.append(np.abs(record.channel("slip", axle)[running & ~locked]))
+def _working_slip(record: RunRecord, axle: str) -> np.ndarray:
+    """|slip| of an axle above 10 km/h outside its lock episodes."""
+    keep = record.outputs["speed"] > episodes.LOCK_SPEED
+    for s, e in episodes.lock_episodes(record, axle):
+        keep &= ~((record.time >= s) & (record.time <= e))
+    return np.abs(record.channel("slip", axle)[keep])
+
+
+def slip_range(record: RunRecord, axles=()) -> tuple[float, float]:
+    """% range that shows the working slips: SLIP_HEADROOM x the SLIP_QUANTILE percentile of |slip|
+    of all axles above 10 km/h outside lock episodes, widened to the largest such slip of the
+    chosen axles up to SLIP_CHOSEN_CAP times that (a lock's -100 %, or the large slips of the last
+    seconds above 10 km/h, would squash the working slips to pixels)."""
+    values = [_working_slip(record, a) for a in record.axle_names()]
     values = np.concatenate(values) if values else np.zeros(0)
-    top = 100 * SLIP_HEADROOM * (np.percentile(values, SLIP_QUANTILE) if values.size else 0.01)
+    base = 100 * SLIP_HEADROOM * (np.percentile(values, SLIP_QUANTILE) if values.size else 0.01)
+    top = base
+    for a in axles:
+        chosen = _working_slip(record, a)
+        if chosen.size:
+            top = max(top, min(100 * SLIP_CHOSEN_HEADROOM * chosen.max(), SLIP_CHOSEN_CAP * base))
     top = max(top, 1.0)
     return -top, 0.1 * top
 
@@ -185,6 +209,7 @@ def plot_slip(record: RunRecord, axles: list[str], path: Path) -> Path:
         return np.where(running, 100 * record.channel("slip", a), np.nan)
 
     fig, ax = new_figure(figsize=(9, 4.8))
+    _zone_spans(ax, record)
     others = [a for a in record.axle_names() if a not in axles]
     if others:
         stack = np.vstack([slip(a) for a in others])
@@ -195,7 +220,7 @@ def plot_slip(record: RunRecord, axles: list[str], path: Path) -> Path:
         ax.plot(t, slip(a), color=colour, lw=0.6, label=f"{a} ({_why(record, a) or 'chosen'})")
         _lock_spans(ax, record, a, colour)
     locks = sum(len(episodes.lock_episodes(record, a)) for a in record.axle_names())
-    low, high = slip_range(record)
+    low, high = slip_range(record, axles)
     ax.set_ylim(low, high)
     ax.set_ylabel("slip (%)")
     ax.set_xlabel("time (s)")
