@@ -60,7 +60,8 @@ def warnings(kpis: dict) -> list[str]:
         out.append(f"{kpis['wheel_lock_events']} wheel lock episodes (longest "
                    f"{text(kpis.get('max_lock_duration_s'))} s): wheel flats likely")
     if (kpis.get("safety_timer_trips") or 0) > 0:
-        out.append(f"the WSP safety timer tripped {kpis['safety_timer_trips']} times (continuous venting cut off)")
+        n = kpis["safety_timer_trips"]
+        out.append(f"the WSP safety timer tripped {n} time{'s' if n != 1 else ''} (continuous venting cut off)")
     error = kpis.get("air_balance_error")
     if error is not None and error > AIR_BALANCE_LIMIT:
         out.append(f"air balance error {error:.2g} above {AIR_BALANCE_LIMIT:g}: the air model lost mass")

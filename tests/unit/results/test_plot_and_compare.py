@@ -66,7 +66,7 @@ def test_compare_of_a_run_with_itself_reports_zero_differences(saved_run, tmp_pa
 
 def test_compare_reports_the_kpi_differences_of_two_runs(saved_run, tmp_path):
     out, kpis = saved_run
-    sc = scenario.load("fault-vent-valve-stuck")
+    sc = scenario.load(str(out.parent / "fault-vent-valve-stuck.yaml"))
     write_run(from_simulation(simulation.run(sc, cars=3, wsp=False), sc), tmp_path)   # no plots: faster
     other = json.loads((tmp_path / "kpis.json").read_text())
     report = json.loads(_invoke("compare", out, tmp_path, "--json"))

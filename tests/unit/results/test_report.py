@@ -52,6 +52,9 @@ def test_every_kpi_of_the_report_equals_kpis_json(saved_run):
     assert json.loads((out / "kpis.json").read_text()) == kpis
     assert report.kpis == kpis
     assert report.kpis.keys() == kpis.keys()
+    html = (out / "report.html").read_text()
+    assert "did not stop within the scenario" in html                # 10 s only
+    assert "the WSP safety timer tripped 1 time " in html           # at 7.3 s (the stuck vent)
 
 
 def test_the_report_embeds_every_plot_and_links_nothing(saved_run):
@@ -70,7 +73,7 @@ def test_the_report_names_version_build_command_and_date(saved_run):
     prov = _parse(out / "report.html").provenance
     assert prov["railbrake_version"] == railbrake.__version__
     assert prov["core_build_hash"] == _core.rb_build_hash().decode()
-    assert "run fault-vent-valve-stuck" in prov["command_line"]
+    assert "fault-vent-valve-stuck.yaml --cars 3" in prov["command_line"]
     assert datetime.fromisoformat(prov["date"]).tzinfo is not None
 
 
