@@ -183,6 +183,11 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
     return RB_OK;
 }
 
+void rb_run_accumulate(const rb_plant_params *plant, const rb_scenario *scenario, rb_run_state *run)
+{
+    accumulate(plant, scenario, run);
+}
+
 void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k)
 {
     const rb_plant_outputs *o = &r->out;

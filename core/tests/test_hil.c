@@ -29,7 +29,7 @@ static void setup(int n_cars, double speed)
     rb_bcu_pressure_map(p, p->atmosphere + 3.8e5, &bcu);
     memset(&config, 0, sizeof config);
     config.hold_time = 0.05; config.late_time = 0.02; config.duration = 10.0;
-    config.stop_speed = 0.05; config.record_interval = 0.01;
+    config.stop_speed = 0.05; config.record_interval = 0.01; config.adhesion_interval = scenario.adhesion_interval;
     CHECK(rb_hil_safe_state(&bcu, &config.safe, NULL) == RB_OK);
 }
 
@@ -81,6 +81,19 @@ static void test_loop_matches_mil(void)
     CHECK(res.safe_state_steps == 1);          /* step 0 only: no BCU frame yet */
     CHECK(server.malformed == 0 && server.received == res.frames_sent);
     CHECK(res.braking && !bcu_finished);
+    /* the KPIs by the MIL run's own accumulation: the same to the loop's transport delay */
+    rb_kpis hil_k, mil_k;
+    rb_hil_runner_kpis(&plant, &runner, &hil_k);
+    rb_run_kpis(&plant, &mil, &mil_k);
+    printf("KPIs HIL / MIL: distance %.4f / %.4f m, adhesion utilisation %.4f / %.4f, air vented %.3g / %.3g kg\n",
+           hil_k.stopping_distance_m, mil_k.stopping_distance_m, hil_k.adhesion_utilisation,
+           mil_k.adhesion_utilisation, hil_k.air_consumed_kg, mil_k.air_consumed_kg);
+    CHECK_CLOSE(hil_k.stopping_distance_m, res.stopping_distance, 1e-12, 0);
+    CHECK_CLOSE(hil_k.stopping_distance_m, mil_k.stopping_distance_m, 1e-3, 0);
+    CHECK_CLOSE(hil_k.mean_deceleration, mil_k.mean_deceleration, 2e-2, 0);
+    CHECK_CLOSE(hil_k.adhesion_utilisation, mil_k.adhesion_utilisation, 2e-2, 0);
+    CHECK_CLOSE(hil_k.air_consumed_kg, mil_k.air_consumed_kg, 2e-2, 1e-9);
+    CHECK(hil_k.air_balance_error < 1e-9 && hil_k.adhesion_utilisation > 0.0);
     rb_hil_runner_close(&runner);
     rb_hil_bcu_close(&server);
 }

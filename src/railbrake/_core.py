@@ -496,7 +496,7 @@ class PlantInputs(Structure):
 
 class HilConfig(Structure):
     _fields_ = (_doubles("hold_time", "late_time", "duration", "stop_speed", "record_interval")
-                + [("paced", c_int), ("safe", PlantInputs)])
+                + [("paced", c_int), ("safe", PlantInputs), ("adhesion_interval", c_double)])
 
 
 HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",
@@ -550,6 +550,7 @@ rb_hil_runner_open = _declare("rb_hil_runner_open", c_int, POINTER(PlantParams),
 rb_hil_runner_advance = _declare("rb_hil_runner_advance", c_int, POINTER(PlantParams), POINTER(HilConfig),
                                  c_void_p, c_uint64, c_double_p, c_size_t, POINTER(c_size_t), POINTER(c_int),
                                  _err_p)
+rb_hil_runner_kpis = _declare("rb_hil_runner_kpis", None, POINTER(PlantParams), c_void_p, POINTER(Kpis))
 rb_hil_runner_result = _declare("rb_hil_runner_result", None, c_void_p, POINTER(HilResult))
 rb_hil_runner_event = _declare("rb_hil_runner_event", c_int, c_void_p, c_uint64, POINTER(HilEvent))
 rb_hil_runner_close = _declare("rb_hil_runner_close", None, c_void_p)

@@ -47,6 +47,10 @@ rb_status rb_check_range(rb_error *err, const char *name, double value,
 /* Version of the C core, "MAJOR.MINOR.PATCH". */
 const char *rb_version(void);
 
+/* SHA-256 (hex) of the core's sources and headers when CMake configured the build; "unknown"
+ * in a build without CMake (an exported FMU). */
+const char *rb_build_hash(void);
+
 #ifdef __cplusplus
 }
 #endif

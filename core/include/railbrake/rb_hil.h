@@ -34,6 +34,7 @@ typedef struct {
     double record_interval;    /* s: decimation of the recorded channels (a multiple of 1 ms) */
     int paced;                 /* 1: 1 kHz on the wall clock; 0: as fast as possible (tests) */
     rb_plant_inputs safe;      /* the safe state (rb_hil_safe_state) */
+    double adhesion_interval;  /* s: sampling of the available peak adhesion for the KPIs (0: every step) */
 } rb_hil_config;
 
 typedef enum {
@@ -76,6 +77,9 @@ typedef struct {
     double brake_time, brake_position;
     uint64_t frames_sent, send_errors, datagrams;
     uint64_t events;
+    rb_run_state kpi;                /* the KPIs of rb_run.h, accumulated as in a MIL run (rb_run_accumulate) */
+    double next_peak, peak_sum;      /* the available peak adhesion, one axle per step (hil_runner.c) */
+    int peak_axle, peak_count;
     rb_hil_event log[RB_HIL_LOG_SIZE];
     uint8_t buffer[2048];
 } rb_hil_runner;
@@ -98,6 +102,9 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
 rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_config *config, rb_hil_runner *r,
                                 uint64_t steps, double *series, size_t max_rows, size_t *rows, int *finished,
                                 rb_error *err);
+/* The KPIs of rb_run.h for the run so far, accumulated by the same code as a MIL run; the
+ * safety-timer trips are the external BCU's and unknown here (0). */
+void rb_hil_runner_kpis(const rb_plant_params *plant, const rb_hil_runner *r, rb_kpis *k);
 void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res);
 /* Event number `index` (0-based since the start) if it is still in the log: returns 1 and copies it. */
 int rb_hil_runner_event(const rb_hil_runner *r, uint64_t index, rb_hil_event *event);

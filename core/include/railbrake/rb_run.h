@@ -66,6 +66,10 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
                          rb_run_state *run, double t_until, double *series, size_t max_rows, int *finished,
                          rb_error *err);
 void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *run, rb_kpis *k);
+/* KPI accumulation for a plant stepped by another loop (the HIL runner): run->plant and run->out
+ * hold the plant's state and outputs after the step; run->braking, brake_time, brake_position,
+ * brake_speed and next_adhesion are set by the caller when braking begins. */
+void rb_run_accumulate(const rb_plant_params *plant, const rb_scenario *scenario, rb_run_state *run);
 size_t rb_run_state_size(void);
 
 /* Time-series layout: number of channels, and the name and SI unit of channel `index`. */

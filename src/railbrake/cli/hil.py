@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import time
 from pathlib import Path
-from typing import Optional
+from typing import List, Optional
 
 import typer
 from rich.console import Console
@@ -40,10 +40,15 @@ def _print_report(result) -> None:
     table = Table(title=f"HIL {result.scenario}, {cars_text(result.cars)}, {result.time[-1]:.1f} s")
     table.add_column("quantity")
     table.add_column("value", justify="right")
+    from railbrake.results import kpis as info
     k = result.kpis
     what = "stopping" if k["stopped"] else "braking (no stop yet)"
     table.add_row(f"{what} distance", f"{k['stopping_distance_m']:.1f} m")
     table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    for key, value in k.items():   # the other KPIs, as `railbrake run` reports them
+        if key not in ("stopping_distance_m", "stopping_time_s", "stopped") and value is not None:
+            unit = info.unit(key)
+            table.add_row(key, f"{info.text(value)} {unit if unit != '1' else ''}".strip())
     for key, value in result.counters.items():
         table.add_row(key.replace("_", " "), str(value))
     console.print(table)
@@ -71,14 +76,25 @@ def register(app: typer.Typer) -> None:
         priority: int = typer.Option(hil_runner.DEFAULT_PRIORITY, help="SCHED_FIFO priority to ask for (0: none)."),
         json: bool = typer.Option(False, "--json", help="Print counters, timing and KPIs as JSON."),
         sets: list[str] = typer.Option([], "--set", help=SET_HELP),
+        out: Optional[Path] = typer.Option(None, help="Folder for the time series, kpis.json, plots and "
+                                           "report.html (as `run --out`)."),
+        axles: Optional[str] = typer.Option(None, help="With --out: axles for WSP cycle plots besides the "
+                                            "worst and faulty ones, e.g. c3a2."),
+        window: Optional[str] = typer.Option(None, help="With --out: T0:T1 in s for the WSP cycle plots."),
+        formats: Optional[List[str]] = typer.Option(None, "--format", help="With --out: time series format(s): "
+                                                    "mf4, parquet, csv (default mf4)."),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
+        from railbrake.results import files, record as records
+        formats = files.parse_formats(",".join(formats or []) or "mf4")   # checked before the run
         peer = hil_runner.parse_udp_url(bcu, "--bcu")
         local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
         if duration is not None and duration <= 0:
             raise InputError(f"--duration = {duration}: must be > 0 s")
         resolved = resolve(scenario, cars, sets)
         sc = resolved.scenario
+        records.parse_axles(axles, resolved.cars)
+        records.parse_window(window)
         prepare_output(record)   # before the run, which cannot be repeated
         err = Console(stderr=True)
         total = sc.spec.stop.max_time if duration is None else duration
@@ -97,7 +113,11 @@ def register(app: typer.Typer) -> None:
                       highlight=False)
         if record is not None:
             from railbrake.hil.mdf import write_mdf
-            write_mdf(result, record)
+            write_mdf(result, record, sc)
+        if out is not None:
+            from railbrake.results.outputs import write_outputs
+            write_outputs(records.from_hil(result, sc), out, formats, axles, window,
+                          mdf_extra={"counters": result.counters, "timing": result.timing})
         if json:
             print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
                         "counters": result.counters, "timing": result.timing,
@@ -109,6 +129,8 @@ def register(app: typer.Typer) -> None:
             _print_report(result)
         if record is not None:
             typer.echo(f"recording: {record}", err=json)
+        if out is not None:
+            typer.echo(f"outputs: {out}/", err=json)
 
     @app.command("bcu")
     @reports_errors

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import List, Optional, Sequence
 
 import typer
 from rich.console import Console
@@ -23,10 +23,16 @@ _UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
-                 sets: Sequence[str] = ()):
-    """Runs with a progress bar that appears once the run has lasted 2 s; writes the outputs."""
+                 sets: Sequence[str] = (), axles: Optional[str] = None, window: Optional[str] = None,
+                 formats: Optional[list] = None):
+    """Runs with a progress bar that appears once the run has lasted 2 s; writes the outputs
+    (time series in `formats`, kpis.json, run.json, plots, report.html: railbrake.results)."""
+    from railbrake.results import files, record
     resolved = resolve(scenario, cars, sets)
     sc = resolved.scenario
+    formats = files.parse_formats(",".join(formats or []) or None)   # checked before the run
+    record.parse_axles(axles, resolved.cars)
+    record.parse_window(window)
     bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
                    TimeElapsedColumn(), console=Console(stderr=True), transient=True, disable=quiet)
     task = bar.add_task(sc.name, total=sc.spec.stop.max_time, speed="")
@@ -42,12 +48,8 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
     finally:
         bar.stop()
     if out is not None:
-        from railbrake.plots.simulation import plot_all
-        from railbrake.simulation.io import write_kpis, write_parquet
-        out.mkdir(parents=True, exist_ok=True)
-        write_parquet(result, out / "timeseries.parquet")
-        write_kpis(result, out / "kpis.json")
-        plot_all(result, out)
+        from railbrake.results.outputs import write_outputs
+        write_outputs(record.from_simulation(result, sc), out, formats, axles, window)
     return result
 
 
@@ -68,12 +70,20 @@ def register(app: typer.Typer) -> None:
         scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         no_wsp: bool = typer.Option(False, "--no-wsp", help="Run without wheel-slide protection."),
-        out: Optional[Path] = typer.Option(None, help="Folder for timeseries.parquet, kpis.json and plots."),
+        out: Optional[Path] = typer.Option(None, help="Folder for the time series, kpis.json, plots and "
+                                           "report.html."),
         json: bool = typer.Option(False, "--json", help="Print the KPIs as JSON."),
+        axles: Optional[str] = typer.Option(None, help="Axles for WSP cycle plots besides the worst and "
+                                            "faulty ones, e.g. c3a2,c1a1."),
+        window: Optional[str] = typer.Option(None, help="T0:T1 in s for the WSP cycle plots (default: "
+                                             "around each axle's first WSP activity)."),
+        formats: Optional[List[str]] = typer.Option(None, "--format", help="Time series format(s): parquet, "
+                                                    "csv, mf4 (repeat or comma-separate; default parquet)."),
         sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     ):
         """Whole-train brake simulation with WSP (default: 16 cars, emergency from 300 km/h in heavy rain)."""
-        result = run_scenario(scenario, cars, not no_wsp, out, quiet=json, sets=sets)
+        result = run_scenario(scenario, cars, not no_wsp, out, quiet=json, axles=axles, window=window,
+                              formats=formats, sets=sets)
         if json:
             print_json(result.kpis)
             return

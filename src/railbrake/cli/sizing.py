@@ -92,7 +92,9 @@ def register(app: typer.Typer) -> None:
         if json:
             print_json({"stopping_distance_m": result.distance, "stopping_time_s": result.time,
                         "warnings": result.warnings})
-            return
-        typer.echo(f"{title} from {v0_kmh:g} km/h: {result.distance:.0f} m in {result.time:.1f} s")
-        for warning in result.warnings:
-            typer.echo(f"warning: {warning}")
+        else:
+            typer.echo(f"{title} from {v0_kmh:g} km/h: {result.distance:.0f} m in {result.time:.1f} s")
+            for warning in result.warnings:
+                typer.echo(f"warning: {warning}")
+        if plot:
+            typer.echo(f"plot: {plot}", err=json)

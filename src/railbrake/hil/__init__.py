@@ -114,7 +114,7 @@ class HilResult:
     units: dict                   # channel name -> SI unit
     counters: dict                # steps, frames_sent, received, lost, late, malformed, safe_state_steps, ...
     timing: dict                  # wake-up latency and step execution time (us), overruns
-    kpis: dict                    # stopping_distance_m, stopping_time_s, stopped
+    kpis: dict                    # the KPIs of a MIL run (run_kpis)
     real_time: RealTime
     events: list = field(default_factory=list)   # (time s, kind, text), the latest logged
 
@@ -143,6 +143,7 @@ def hil_config(scenario: Scenario, bcu: _core.BcuParams, duration: float | None,
     if abs(c.record_interval / DT - round(c.record_interval / DT)) > 1e-9:
         raise InputError(f"record_interval = {c.record_interval} s: must be a multiple of 1 ms")
     c.paced = int(paced)
+    c.adhesion_interval = _scenario_struct(scenario).adhesion_interval   # as in the MIL run
     _core.call(_core.rb_hil_safe_state, ctypes.byref(bcu), ctypes.byref(c.safe))
     return c
 
@@ -158,6 +159,18 @@ def _drain_events(state, seen: int, total: int, on_event) -> list:
             if on_event is not None:
                 on_event(*item)
     return events
+
+
+def run_kpis(plant: _core.PlantParams, state) -> dict:
+    """The KPIs of a MIL run (the same C accumulation, rb_run_accumulate) for the HIL run so far.
+    The safety-timer trips are the external BCU's: unknown to the plant (None)."""
+    k = _core.Kpis()
+    _core.rb_hil_runner_kpis(ctypes.byref(plant), state, ctypes.byref(k))
+    kpis = {name: getattr(k, name) for name in _core.KPI_NAMES}
+    kpis["wheel_lock_events"] = int(kpis["wheel_lock_events"])
+    kpis["safety_timer_trips"] = None
+    kpis["stopped"] = bool(kpis["stopped"])
+    return kpis
 
 
 def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1", 47800), cars: int | None = None,
@@ -195,6 +208,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
                 seen = result.events
                 if progress is not None and rows.value:
                     progress(result.time, float(chunk[rows.value - 1, 1]))
+        kpis = run_kpis(plant, state)
     finally:
         _core.rb_hil_runner_close(state)
         if collecting:
@@ -204,8 +218,6 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     counters = {k: int(getattr(result, k)) for k in _core.HIL_COUNTERS}
     timing = {k: getattr(result, k) for k in _core.HIL_TIMING}
     timing["overruns"] = counters["overruns"]
-    kpis = {"stopping_distance_m": result.stopping_distance, "stopping_time_s": result.stopping_time,
-            "stopped": bool(result.stopped)}
     return HilResult(sc.name, n_cars, outputs["time"], outputs, dict(names), counters, timing, kpis, real_time,
                      events)
 

@@ -17,8 +17,10 @@ def test_run_writes_parquet_with_units_kpis_and_plots(tmp_path):
     table = pq.read_table(tmp_path / "timeseries.parquet")
     assert table.schema.field("cylinder_c2a4").metadata[b"unit"] == b"Pa"
     assert table.schema.field("speed").metadata[b"unit"] == b"m/s"
-    for plot in ("speed_distance", "cylinder_pressure", "slip", "valves", "reservoirs"):
+    for plot in ("braking_curve", "speed_time", "slip", "reservoirs", "cylinders"):
         assert (tmp_path / f"{plot}.png").stat().st_size > 1000
+    assert list(tmp_path.glob("wsp_cycle_c*.png")), "no WSP cycle figure"
+    assert (tmp_path / "report.html").is_file()
 
 
 def test_no_wsp_flag_turns_the_wsp_off():
