@@ -5,6 +5,20 @@
 #include "railbrake/rb_plant.h"
 #include "railbrake/rb_pneumatics.h"
 
+/* The vector wheelset kernel is compiled where GCC or Clang target x86 (function-level target
+   attributes, run-time CPU check); -DRB_PLANT_PORTABLE_ONLY leaves it out. */
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(RB_PLANT_PORTABLE_ONLY)
+#define RB_PLANT_HAVE_AVX2 1
+#else
+#define RB_PLANT_HAVE_AVX2 0
+#endif
+
+#define RB_G 9.80665
+
+/* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */
+int rb_plant_resolve_kernel(int requested);
+
 /* Zone (condition index) of axle `axle` at track position x; refreshes its cached Polach set. */
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x);
 
@@ -24,6 +38,11 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
    implementation of the mechanics, shared by the real-time plant and the detailed model. */
 void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                              const rb_plant_faults *f, const double *cylinder, double dt);
+/* Wheelsets of car c over dt (plant_wheelsets.c, in s->kernel): torque balance with Polach
+   adhesion and the slip velocity linearly implicit; other_force: coupler and resistance forces on
+   the car (N); cylinder: pressures per axle (Pa). Returns the sum of the rail forces on the car. */
+double rb_plant_car_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c, double other_force,
+                              int ed_lost, const double *cylinder, double dt);
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
 

@@ -51,6 +51,37 @@ double rb_orifice_mass_flow_iso_fast(double p1, double T1, double p2, double T2,
     return flow(p1, T1, p2, T2, G, critical_ratio);
 }
 
+void rb_orifice_law_init(double critical_ratio, rb_orifice_law *law)
+{
+    double b = critical_ratio, lam = RB_ORIFICE_LAMINAR_RATIO;
+    law->b = b;
+    law->inv_one_minus_b = 1.0 / (1.0 - b);
+    law->laminar_only = b >= lam;
+    double s = (lam - b) / (1.0 - b);
+    law->laminar_slope = law->laminar_only ? 0.0 : sqrt(1.0 - s * s) / (1.0 - lam);
+}
+
+double rb_orifice_unit_conductance(double discharge_coefficient, double temperature)
+{
+    return discharge_coefficient * choked_factor() / sqrt(temperature);
+}
+
+/* flow_function with the constants of rb_orifice_law_init. */
+static double flow_function_law(double r, const rb_orifice_law *law)
+{
+    if (r <= law->b) return 1.0;
+    if (law->laminar_only) return (1.0 - r) * law->inv_one_minus_b;
+    if (r >= RB_ORIFICE_LAMINAR_RATIO) return law->laminar_slope * (1.0 - r);
+    double s = (r - law->b) * law->inv_one_minus_b;
+    return sqrt(1.0 - s * s);
+}
+
+double rb_orifice_flow_law(double p1, double p2, double g, const rb_orifice_law *law)
+{
+    if (p1 >= p2) return g * p1 * flow_function_law(p2 / p1, law);
+    return -g * p2 * flow_function_law(p1 / p2, law);
+}
+
 rb_status rb_orifice_check(const rb_orifice *o, rb_error *err)
 {
     rb_status s;

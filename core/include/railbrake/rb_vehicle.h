@@ -84,6 +84,9 @@ typedef struct rb_axle_brake {
 } rb_axle_brake;
 
 /* discs * 2 pads * R_mean * lambda(v) * F_pad, N m. */
+/* rb_speed_table_at starting from *bracket, the interval found last time (0 at first): the same
+   value, found in a step or two when the speed moves little between calls. */
+double rb_speed_table_at_from(const rb_speed_table *t, double speed, int *bracket);
 double rb_axle_brake_torque(const rb_axle_brake *b, double cylinder_pressure, double speed);
 rb_status rb_axle_brake_check(const rb_axle_brake *b, rb_error *err);
 

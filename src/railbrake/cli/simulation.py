@@ -22,7 +22,12 @@ _UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration
           "max_lock_duration_s": "s", "air_consumed_kg": "kg"}
 
 
-def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool):
+KERNEL_HELP = ("Wheelset kernel: auto (the vector one where the CPU has it) or portable "
+               "(default: $RAILBRAKE_KERNEL, else auto).")
+
+
+def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
+                 kernel: Optional[str] = None):
     """Runs with a progress bar that appears once the run has lasted 2 s; writes the outputs."""
     sc = scenarios.load(scenario)
     bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
@@ -36,7 +41,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         bar.update(task, completed=t, speed=f"{3.6 * v:5.0f} km/h")
 
     try:
-        result = simulation.run(sc, cars=cars, wsp=wsp, progress=progress)
+        result = simulation.run(sc, cars=cars, wsp=wsp, progress=progress, kernel=kernel)
     finally:
         bar.stop()
     if out is not None:
@@ -68,9 +73,10 @@ def register(app: typer.Typer) -> None:
         no_wsp: bool = typer.Option(False, "--no-wsp", help="Run without wheel-slide protection."),
         out: Optional[Path] = typer.Option(None, help="Folder for timeseries.parquet, kpis.json and plots."),
         json: bool = typer.Option(False, "--json", help="Print the KPIs as JSON."),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """Whole-train brake simulation with WSP (default: 16 cars, emergency from 300 km/h in heavy rain)."""
-        result = run_scenario(scenario, cars, not no_wsp, out, quiet=json)
+        result = run_scenario(scenario, cars, not no_wsp, out, quiet=json, kernel=kernel)
         if json:
             print_json(result.kpis)
             return
@@ -83,12 +89,14 @@ def register(app: typer.Typer) -> None:
     def bench(
         cars: int = typer.Option(16, help="Number of cars."),
         steps: int = typer.Option(20000, help="Plant steps to time (1 ms each)."),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
         json: bool = typer.Option(False, "--json", help="Print as JSON."),
     ):
         """The plant alone at 1 ms (timing loop in C): real-time factor and step times."""
-        figures = simulation.bench(cars, steps)
+        figures = simulation.bench(cars, steps, kernel=kernel)
         if json:
             print_json(figures)
             return
-        typer.echo(f"{figures['cars']} cars: {figures['realtime_factor']:.0f}x real time, "
-                   f"step {figures['step_us_mean']:.2f} us mean, {figures['step_us_p99']:.2f} us p99")
+        typer.echo(f"{cars_text(figures['cars'])}, {figures['kernel']} kernel, {figures['substeps']} sub-step(s): "
+                   f"{figures['realtime_factor']:.0f}x real time, step {figures['step_us_mean']:.2f} us mean, "
+                   f"{figures['step_us_p99']:.2f} us p99, {figures['step_us_max']:.2f} us max")
