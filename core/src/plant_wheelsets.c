@@ -4,7 +4,8 @@
  * locked (static pad friction).
  *
  * The car's 4 axles go through branch-free passes over arrays of 4 (which a compiler turns into
- * 4-lane vector code) between the scalar libm calls (exp, atan), which every kernel shares. The
+ * 4-lane vector code, atan included: rb_atan_nonneg) around the scalar libm exp and the pad-table
+ * look-up, which every kernel shares. The
  * same source is compiled twice: portable (the reference, C99) and, on x86 with GCC or Clang, for
  * AVX2 (selected at run time, rb_plant_resolve_kernel). Both do the same IEEE operations in the same
  * order (no fused multiply-add: AVX2 alone does not enable it, and ISO C mode does not contract), so
@@ -33,7 +34,7 @@ static double polach(const rb_plant_derived *d, int c, int a, double creep, doub
     double mu = d->mu_slip[a] * exp(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
     double eps = d->polach_gain[c] * abs_creep / mu;
     double ka_eps = d->polach_kA[a] * eps;
-    double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + atan(d->polach_kS[a] * eps));
+    double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
     return creep < 0.0 ? -f : f;
 }
 
@@ -68,9 +69,8 @@ RB_ALWAYS_INLINE double wheelsets(const rb_plant_params *p, rb_plant_state *s, i
     for (int k = 0; k < NA; ++k) {
         mu[k] = d->mu_slip[a0 + k] * ex[k] + d->mu_static[a0 + k];
         eps[k] = gain * abs_probe[k] / mu[k];
-        at[k] = d->polach_kS[a0 + k] * eps[k];
+        at[k] = rb_atan_nonneg(d->polach_kS[a0 + k] * eps[k]);
     }
-    for (int k = 0; k < NA; ++k) at[k] = atan(at[k]);
     for (int k = 0; k < NA; ++k) {
         double ka_eps = d->polach_kA[a0 + k] * eps[k];
         double f = mu[k] * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + at[k]);

@@ -66,22 +66,6 @@ double rb_orifice_unit_conductance(double discharge_coefficient, double temperat
     return discharge_coefficient * choked_factor() / sqrt(temperature);
 }
 
-/* flow_function with the constants of rb_orifice_law_init. */
-static double flow_function_law(double r, const rb_orifice_law *law)
-{
-    if (r <= law->b) return 1.0;
-    if (law->laminar_only) return (1.0 - r) * law->inv_one_minus_b;
-    if (r >= RB_ORIFICE_LAMINAR_RATIO) return law->laminar_slope * (1.0 - r);
-    double s = (r - law->b) * law->inv_one_minus_b;
-    return sqrt(1.0 - s * s);
-}
-
-double rb_orifice_flow_law(double p1, double p2, double g, const rb_orifice_law *law)
-{
-    if (p1 >= p2) return g * p1 * flow_function_law(p2 / p1, law);
-    return -g * p2 * flow_function_law(p1 / p2, law);
-}
-
 rb_status rb_orifice_check(const rb_orifice *o, rb_error *err)
 {
     rb_status s;

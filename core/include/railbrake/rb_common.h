@@ -40,13 +40,34 @@ void rb_error_clear(rb_error *err);
 
 /* Argument checks: each returns RB_OK or fails with a message naming the argument. */
 /* 1 - exp(-y) for y >= 0. Below 1/16 the Taylor series of (1 - exp(-y)) / y to y^7 (truncation
-   under y^8 / 9! < 7e-16 relative; core/tests/test_common.c checks it against expm1 to 1e-14), above
-   it -expm1(-y): cheaper than libm where most calls are small. */
+   under y^8 / 9! < 7e-16 relative), above it 1 - exp(-y) (cancellation costs at most ulp(1) /
+   (1 - exp(-1/16)) < 4e-15 relative); core/tests/test_fastmath.c checks it against expm1 to 1e-14. */
 static inline double rb_one_minus_exp_neg(double y)
 {
-    if (y > 0.0625) return -expm1(-y);
+    if (y > 0.0625) return 1.0 - exp(-y);
     return y * (1.0 - y * (1.0 / 2 - y * (1.0 / 6 - y * (1.0 / 24 - y * (1.0 / 120 - y * (1.0 / 720
                 - y * (1.0 / 5040 - y * (1.0 / 40320))))))));
+}
+
+/* atan(x) for x >= 0 (x = +inf gives pi/2), branch-free so that a loop of it vectorises: Cephes'
+   atan (S. L. Moshier, Cephes Math Library 2.8, atan.c: reduction to |x| <= 0.66 by pi/4 or pi/2 and
+   a 4/5 rational; 2.2e-16 peak relative error quoted over the whole range); core/tests/test_fastmath.c
+   checks it against libm's atan to 1e-15 relative over 0 to 1e300. */
+static inline double rb_atan_nonneg(double x)
+{
+    const double t3p8 = 2.41421356237309504880, morebits = 6.123233995736765886130e-17;
+    int big = x > t3p8, mid = !big && x > 0.66;
+    double num = big ? -1.0 : (mid ? x - 1.0 : x);
+    double den = big ? x : (mid ? x + 1.0 : 1.0);
+    double y0 = big ? 1.57079632679489661923 : (mid ? 0.78539816339744830962 : 0.0);
+    double extra = big ? morebits : (mid ? 0.5 * morebits : 0.0);
+    double r = num / den, z = r * r;
+    double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z
+                 - 7.500855792314704667340e1) * z - 1.228866684490136173410e2) * z - 6.485021904942025371773e1;
+    double q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z
+                 + 4.328810604912902668951e2) * z + 4.853903996359136964868e2) * z + 1.945506571482613964425e2;
+    z = z * p / q;
+    return y0 + ((r * z + r) + extra);
 }
 
 rb_status rb_check_finite(rb_error *err, const char *name, double value);

@@ -9,6 +9,8 @@
 
 #include "railbrake/rb_common.h"
 
+#include <math.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -44,8 +46,22 @@ typedef struct {
 void rb_orifice_law_init(double critical_ratio, rb_orifice_law *law);
 /* kg/(s Pa m^2): Cd x choked factor / sqrt(T); times an area it is that orifice's conductance. */
 double rb_orifice_unit_conductance(double discharge_coefficient, double temperature);
-/* Mass flow (kg/s) from p1 to p2 (negative when p2 > p1) through conductance g. */
-double rb_orifice_flow_law(double p1, double p2, double g, const rb_orifice_law *law);
+/* Mass flow (kg/s) from p1 to p2 (negative when p2 > p1) through conductance g (inline: the
+   real-time plant calls it for every air link in every step). */
+static inline double rb_orifice_flow_function_law(double r, const rb_orifice_law *law)
+{
+    if (r <= law->b) return 1.0;
+    if (law->laminar_only) return (1.0 - r) * law->inv_one_minus_b;
+    if (r >= RB_ORIFICE_LAMINAR_RATIO) return law->laminar_slope * (1.0 - r);
+    double s = (r - law->b) * law->inv_one_minus_b;
+    return sqrt(1.0 - s * s);
+}
+
+static inline double rb_orifice_flow_law(double p1, double p2, double g, const rb_orifice_law *law)
+{
+    if (p1 >= p2) return g * p1 * rb_orifice_flow_function_law(p2 / p1, law);
+    return -g * p2 * rb_orifice_flow_function_law(p1 / p2, law);
+}
 
 /* Sonic conductance C of an orifice of area A and discharge coefficient Cd: the C that gives the
    ideal-nozzle choked flow Cd A p1 sqrt(gamma/(R T1)) (2/(gamma+1))^((gamma+1)/(2(gamma-1))). */
