@@ -207,8 +207,8 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
     }
 }
 
-/* The mechanics' constants per car (the step's own dt stays an argument: the detailed model
-   steps the same mechanics at its own step). */
+/* The mechanics' constants per car and per axle (the step's own dt stays an argument: the detailed
+   model steps the same mechanics at its own step). */
 static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
 {
     double total_mass = 0.0;
@@ -218,16 +218,21 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
         const rb_wheelset *w = &car->vehicle.wheelset;
         const rb_axle_brake *b = &car->vehicle.brake;
         const rb_creep_contact *k = &car->contact;
-        d->radius[c] = w->wheel_radius;
-        d->inv_inertia[c] = 1.0 / w->inertia;
         d->inv_mass[c] = 1.0 / car->vehicle.mass;
-        d->axle_load[c] = w->axle_load * RB_G;
-        d->wheel_load[c] = 0.5 * d->axle_load[c];
-        d->compliance[c] = w->wheel_radius * w->wheel_radius / w->inertia + 1.0 / car->vehicle.mass;
-        d->polach_gain[c] = k->shear_modulus * M_PI * k->a * k->b * k->c11 / (4.0 * d->wheel_load[c]);
-        d->brake_gain[c] = b->discs * 2.0 * b->mean_radius * b->caliper.lever_ratio * b->caliper.efficiency;
         d->mass_share[c] = car->vehicle.mass / total_mass;
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->pad_bracket[a] = 0;
+        double axle_load = w->axle_load * RB_G, wheel_load = 0.5 * axle_load;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            d->radius[a] = w->wheel_radius;
+            d->inv_inertia[a] = 1.0 / w->inertia;
+            d->axle_load[a] = axle_load;
+            d->compliance[a] = w->wheel_radius * w->wheel_radius / w->inertia + 1.0 / car->vehicle.mass;
+            d->polach_gain[a] = k->shear_modulus * M_PI * k->a * k->b * k->c11 / (4.0 * wheel_load);
+            d->brake_gain[a] = b->discs * 2.0 * b->mean_radius * b->caliper.lever_ratio * b->caliper.efficiency;
+            d->caliper_atmosphere[a] = b->caliper.atmospheric_pressure;
+            d->caliper_area[a] = b->caliper.cylinder_area;
+            d->caliper_spring[a] = b->caliper.return_spring;
+            d->pad_bracket[a] = 0;
+        }
     }
 }
 

@@ -38,11 +38,20 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
    implementation of the mechanics, shared by the real-time plant and the detailed model. */
 void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                              const rb_plant_faults *f, const double *cylinder, double dt);
-/* Wheelsets of car c over dt (plant_wheelsets.c, in s->kernel): torque balance with Polach
-   adhesion and the slip velocity linearly implicit; other_force: coupler and resistance forces on
-   the car (N); cylinder: pressures per axle (Pa). Returns the sum of the rail forces on the car. */
-double rb_plant_car_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c, double other_force,
-                              int ed_lost, const double *cylinder, double dt);
+/* Each axle's share of its car's state for the wheelset kernel (filled per car by the mechanics). */
+typedef struct {
+    double speed[RB_PLANT_MAX_AXLES];            /* m/s, the car's */
+    double inv_creep_speed[RB_PLANT_MAX_AXLES];  /* 1 / max(speed, creep_speed_min) */
+    double others[RB_PLANT_MAX_AXLES];           /* N: coupler, resistance and every rail force on the car */
+    double inv_mass[RB_PLANT_MAX_AXLES];         /* 1/kg, the car's */
+    double ed_torque[RB_PLANT_MAX_AXLES];        /* N m, the axle's share of the ED brake */
+} rb_wheelset_inputs;
+
+/* Every wheelset of the train over dt (plant_wheelsets.c, in s->kernel): torque balance with Polach
+   adhesion, the slip velocity linearly implicit; cylinder: pressures per axle (Pa). Updates omega,
+   force and coefficient per axle. */
+void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
+                        const double *cylinder, double dt);
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
 

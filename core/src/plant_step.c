@@ -201,7 +201,8 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
                              const rb_plant_faults *f, const double *cylinder, double dt)
 {
     const rb_plant_derived *d = &s->derived;
-    double coupler[RB_PLANT_MAX_CARS + 1] = {0.0};
+    double coupler[RB_PLANT_MAX_CARS + 1] = {0.0}, other[RB_PLANT_MAX_CARS];
+    rb_wheelset_inputs w;
     for (int c = 0; c + 1 < p->n_cars; ++c)  /* tension positive */
         coupler[c + 1] = rb_coupler_force(&p->coupler, s->x[c] - s->x[c + 1] - p->car[c].length,
                                           s->v[c] - s->v[c + 1]);
@@ -213,12 +214,27 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         double ed_target = ed < ed_max ? ed : ed_max;
         s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
         double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * d->mass_share[c] : 0.0;
-        double other = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
+        other[c] = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
         if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
             for (int k = 0; k < RB_AXLES_PER_CAR; ++k)
                 rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - car->axle_position[k]);
-        double rail = rb_plant_car_wheelsets(p, s, c, other, f->ed_lost[c], cylinder, dt);
-        s->a[c] = (rail + other) * d->inv_mass[c];
+        double vr = v > p->creep_speed_min ? v : p->creep_speed_min, inv_vr = 1.0 / vr;
+        double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * car->vehicle.wheelset.wheel_radius;
+        double others = other[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            w.speed[a] = v;
+            w.inv_creep_speed[a] = inv_vr;
+            w.others[a] = others;
+            w.inv_mass[a] = d->inv_mass[c];
+            w.ed_torque[a] = ed_axle;
+        }
+    }
+    rb_plant_wheelsets(p, s, &w, cylinder, dt);
+    for (int c = 0; c < p->n_cars; ++c) {
+        double rail = 0.0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) rail += s->force[a];
+        s->a[c] = (rail + other[c]) * d->inv_mass[c];
     }
     for (int c = 0; c < p->n_cars; ++c) {
         s->v[c] += dt * s->a[c];

@@ -56,11 +56,11 @@ static inline double rb_one_minus_exp_neg(double y)
 static inline double rb_atan_nonneg(double x)
 {
     const double t3p8 = 2.41421356237309504880, morebits = 6.123233995736765886130e-17;
-    int big = x > t3p8, mid = !big && x > 0.66;
-    double num = big ? -1.0 : (mid ? x - 1.0 : x);
-    double den = big ? x : (mid ? x + 1.0 : 1.0);
-    double y0 = big ? 1.57079632679489661923 : (mid ? 0.78539816339744830962 : 0.0);
-    double extra = big ? morebits : (mid ? 0.5 * morebits : 0.0);
+    /* above tan(3 pi / 8): pi/2 + atan(-1/x); above 0.66: pi/4 + atan((x - 1)/(x + 1)) */
+    double num = x > t3p8 ? -1.0 : (x > 0.66 ? x - 1.0 : x);
+    double den = x > t3p8 ? x : (x > 0.66 ? x + 1.0 : 1.0);
+    double y0 = x > t3p8 ? 1.57079632679489661923 : (x > 0.66 ? 0.78539816339744830962 : 0.0);
+    double extra = x > t3p8 ? morebits : (x > 0.66 ? 0.5 * morebits : 0.0);
     double r = num / den, z = r * r;
     double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z
                  - 7.500855792314704667340e1) * z - 1.228866684490136173410e2) * z - 6.485021904942025371773e1;

@@ -195,12 +195,15 @@ typedef struct {
     double g_hold[RB_PLANT_MAX_CARS], g_vent[RB_PLANT_MAX_CARS], ik_hold[RB_PLANT_MAX_CARS], ik_vent[RB_PLANT_MAX_CARS];
     double inv_ep_band[RB_PLANT_MAX_CARS], inv_relay_band[RB_PLANT_MAX_CARS], ep_lag[RB_PLANT_MAX_CARS];
     /* mechanics per car */
-    double radius[RB_PLANT_MAX_CARS], inv_inertia[RB_PLANT_MAX_CARS], inv_mass[RB_PLANT_MAX_CARS];
-    double axle_load[RB_PLANT_MAX_CARS], wheel_load[RB_PLANT_MAX_CARS];
-    double compliance[RB_PLANT_MAX_CARS];    /* r^2 / J + 1 / m: slip velocity per impulse */
-    double polach_gain[RB_PLANT_MAX_CARS];   /* G pi a b c11 / (4 N): Polach's epsilon = gain |creep| / mu */
-    double brake_gain[RB_PLANT_MAX_CARS];    /* discs x 2 x mean radius x lever x efficiency */
+    double inv_mass[RB_PLANT_MAX_CARS];
     double mass_share[RB_PLANT_MAX_CARS];    /* car mass / train mass */
+    /* mechanics per axle (its car's values, laid out for the wheelset kernel) */
+    double radius[RB_PLANT_MAX_AXLES], inv_inertia[RB_PLANT_MAX_AXLES], axle_load[RB_PLANT_MAX_AXLES];
+    double compliance[RB_PLANT_MAX_AXLES];   /* r^2 / J + 1 / m: slip velocity per impulse */
+    double polach_gain[RB_PLANT_MAX_AXLES];  /* G pi a b c11 / (4 N): Polach's epsilon = gain |creep| / mu */
+    double brake_gain[RB_PLANT_MAX_AXLES];   /* discs x 2 x mean radius x lever x efficiency */
+    double caliper_atmosphere[RB_PLANT_MAX_AXLES], caliper_area[RB_PLANT_MAX_AXLES];
+    double caliper_spring[RB_PLANT_MAX_AXLES];
     /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
     double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];

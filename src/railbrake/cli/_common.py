@@ -13,6 +13,10 @@ import typer
 
 from railbrake.errors import InputError
 
+# The plant's wheelset kernel option (railbrake.simulation.kernel_code), shared by run, bench, hil, export-fmu.
+KERNEL_HELP = ("Wheelset kernel: auto (the vector one where the CPU has it) or portable "
+               "(default: $RAILBRAKE_KERNEL, else auto).")
+
 
 def parse_float_list(text: str, option: str) -> list[float]:
     """'20,60,300' -> [20.0, 60.0, 300.0]; an error names the option and the bad item."""

@@ -14,7 +14,7 @@ from rich.table import Table
 
 from railbrake import hil as hil_runner
 from railbrake import scenario as scenarios
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import KERNEL_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import cars_text, ms_to_kmh
 
@@ -70,6 +70,7 @@ def register(app: typer.Typer) -> None:
         bind: str = typer.Option("udp://0.0.0.0:0", help="Local address of the plant, udp://HOST:PORT (0: any)."),
         priority: int = typer.Option(hil_runner.DEFAULT_PRIORITY, help="SCHED_FIFO priority to ask for (0: none)."),
         json: bool = typer.Option(False, "--json", help="Print counters, timing and KPIs as JSON."),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
         peer = hil_runner.parse_udp_url(bcu, "--bcu")
@@ -88,7 +89,7 @@ def register(app: typer.Typer) -> None:
             result = hil_runner.run(
                 sc, peer, cars=cars, duration=duration, hold_time=hold_time, late_time=late_time,
                 record_interval=record_interval, bind=local,
-                priority=priority, on_event=_event_printer(err),
+                priority=priority, on_event=_event_printer(err), kernel=kernel,
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
         if result.counters["received"] == 0:
             err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",

@@ -13,17 +13,13 @@ from rich.table import Table
 
 from railbrake import scenario as scenarios
 from railbrake import simulation
-from railbrake.cli._common import print_json, reports_errors
+from railbrake.cli._common import KERNEL_HELP, print_json, reports_errors
 from railbrake.units import cars_text
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 
 _UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration": "m/s^2",
           "max_lock_duration_s": "s", "air_consumed_kg": "kg"}
-
-
-KERNEL_HELP = ("Wheelset kernel: auto (the vector one where the CPU has it) or portable "
-               "(default: $RAILBRAKE_KERNEL, else auto).")
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,

@@ -265,14 +265,16 @@ def resolve_scenario(name) -> scenarios.Scenario:
 
 
 def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.fmu", fmi_version: str = "2",
-               cars: int | None = None, binary: bool = True) -> Path:
-    """Writes the scenario's plant (with its BCU) as a co-simulation FMU; returns its path."""
+               cars: int | None = None, binary: bool = True, kernel: str | None = None) -> Path:
+    """Writes the scenario's plant (with its BCU) as a co-simulation FMU; returns its path. kernel: the
+    wheelset kernel built in ("auto": the vector one where the importer's CPU has it, chosen at run
+    time; "portable"; None: RAILBRAKE_KERNEL, else auto); either way the sources stay portable C99."""
     version = str(fmi_version)
     if version not in PLATFORM:
         raise InputError(f"FMI version {fmi_version!r}: must be 2 or 3")
     sc = resolve_scenario(scenario)
     n_cars = sc.cars(cars)
-    plant = simulation.plant_params(sc, n_cars)
+    plant = simulation.plant_params(sc, n_cars, kernel=kernel)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc),
              "scenario": simulation._scenario_struct(sc)}
     variables = table(roots, n_cars, plant.atmosphere)
