@@ -3,9 +3,8 @@
  * (stable at 1 ms down to walking speed), a wheel whose speed would change sign locked (static pad
  * friction).
  *
- * The axles go through branch-free passes, 4 at a time (which a compiler turns into 4-lane vector
- * code, atan included: rb_atan_nonneg), around the scalar libm exp and the pad-table look-up, which
- * every kernel shares. The same source is compiled twice: portable (the reference, C99) and, on x86
+ * The axles go through branch-free passes (which a compiler turns into 4-lane vector code, exp and
+ * atan included: rb_exp_nonpos, rb_atan_nonneg in rb_common.h) around the scalar pad-table look-up. The same source is compiled twice: portable (the reference, C99) and, on x86
  * with GCC or Clang, for AVX2 (selected at run time, rb_plant_resolve_kernel). Both do the same IEEE
  * operations in the same order (no fused multiply-add: AVX2 alone does not enable it, and ISO C mode
  * does not contract), so their results are equal bit for bit (core/tests/test_plant_kernel.c).
@@ -34,7 +33,7 @@
 static double polach(const rb_plant_derived *d, int a, double creep, double speed)
 {
     double abs_creep = fabs(creep);
-    double mu = d->mu_slip[a] * exp(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
+    double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
     double eps = d->polach_gain[a] * abs_creep / mu;
     double ka_eps = d->polach_kA[a] * eps;
     double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
@@ -54,15 +53,14 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
     const int n = p->n_cars * NA;
     pass_arrays x;
 
-    /* slip velocity, the probe creep of the secant stiffness, exponent of the falling friction */
+    /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential */
     for (int a = 0; a < n; ++a) {
             x.w[a] = s->omega[a] * d->radius[a] - in->speed[a];
             double creep = fabs(x.w[a] * in->inv_creep_speed[a]);
             x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
-            x.ex[a] = -d->polach_B[a] * (x.abs_probe[a] * in->speed[a]);
+            x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * in->speed[a]));
         }
     for (int a = 0; a < n; ++a) {
-        x.ex[a] = exp(x.ex[a]);
         const rb_speed_table *pad = &p->car[a / NA].vehicle.brake.pad.table;
         x.pad[a] = rb_speed_table_at_from(pad, s->omega[a] * d->radius[a], &d->pad_bracket[a]);
     }

@@ -28,6 +28,33 @@ static void test_atan(void)
     CHECK(rb_atan_nonneg(HUGE_VAL) == atan(HUGE_VAL));
 }
 
+/* rb_exp_nonpos against libm's exp over [-708, 0] (dense near 0 and around the rounding points of
+ * n = x / ln 2), and 0 below. */
+static void test_exp(void)
+{
+    double worst = 0.0;
+    for (long i = 0; i <= 2000000; ++i) {
+        double x = -708.0 * i / 2000000.0;
+        double e = fabs(rb_exp_nonpos(x) - exp(x)) / exp(x);
+        if (e > worst) worst = e;
+    }
+    for (long i = 0; i <= 1000000; ++i) {
+        double x = -pow(10.0, -300.0 + 300.0 * i / 1000000.0);
+        double e = fabs(rb_exp_nonpos(x) - exp(x)) / exp(x);
+        if (e > worst) worst = e;
+    }
+    for (int n = 0; n < 1021; ++n)
+        for (int i = -50; i <= 50; ++i) {
+            double x = -(n + 0.5) * 0.69314718055994530942 * (1.0 + i * 1e-15);
+            double e = fabs(rb_exp_nonpos(x) - exp(x)) / exp(x);
+            if (e > worst) worst = e;
+        }
+    printf("rb_exp_nonpos: largest relative error %.2e\n", worst);
+    CHECK(worst < 1e-15);
+    CHECK(rb_exp_nonpos(0.0) == 1.0);
+    CHECK(rb_exp_nonpos(-709.0) == 0.0 && rb_exp_nonpos(-HUGE_VAL) == 0.0);
+}
+
 /* 1 - exp(-y) against -expm1(-y) from 1e-300 to 800 (both branches and the switch at 1/16). */
 static void test_one_minus_exp_neg(void)
 {
@@ -52,6 +79,7 @@ static void test_one_minus_exp_neg(void)
 int main(void)
 {
     test_atan();
+    test_exp();
     test_one_minus_exp_neg();
     return rb_test_summary("test_fastmath");
 }
