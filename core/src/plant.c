@@ -204,6 +204,13 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->inv_ep_band[c] = 1.0 / car->ep_band;
         d->inv_relay_band[c] = 1.0 / car->relay_band;
         d->ep_lag[c] = d->h / (car->ep_tau + d->h);
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            d->axle_k_cyl[a] = d->k_cyl[c];
+            d->axle_g_hold[a] = d->g_hold[c];
+            d->axle_ik_hold[a] = d->ik_hold[c];
+            d->axle_g_vent[a] = d->g_vent[c];
+            d->axle_ik_vent[a] = d->ik_vent[c];
+        }
     }
 }
 

@@ -16,6 +16,22 @@
 
 #define RB_G 9.80665
 
+#include <math.h>
+
+/* Mass (kg) one link moves from node i to node j (pressures pi, pj) in a step of d->h, through
+ * conductance g (kg/(s Pa)); ik = 1 / (n_i k_i + n_j k_j), so (pi - pj) ik is the mass that would
+ * equalise the nodes (each node's volume shared among its links). The exponential solution of the
+ * link linearised in its pressure difference: dm = dm_eq (1 - exp(-h q / dm_eq)), h q when the link
+ * is slow, never beyond equalisation when it is stiff. */
+static inline double rb_plant_link_mass(const rb_plant_derived *d, double pi, double pj, double g, double ik)
+{
+    double diff = pi - pj;
+    if (!(g > 0.0) || fabs(diff) < 0.01) return 0.0;   /* closed, or balanced to 0.01 Pa */
+    double flow = d->h * rb_orifice_flow_law(pi, pj, g, &d->orifice);
+    double equalise = diff * ik;
+    return equalise * rb_one_minus_exp_neg(flow / equalise);
+}
+
 /* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */
 int rb_plant_resolve_kernel(int requested);
 
@@ -47,11 +63,18 @@ typedef struct {
     double ed_torque[RB_PLANT_MAX_AXLES];        /* N m, the axle's share of the ED brake */
 } rb_wheelset_inputs;
 
-/* Every wheelset of the train over dt (plant_wheelsets.c, in s->kernel): torque balance with Polach
+/* Every wheelset of the train over dt (plant_kernel.c, in s->kernel): torque balance with Polach
    adhesion, the slip velocity linearly implicit; cylinder: pressures per axle (Pa). Updates omega,
    force and coefficient per axle. */
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
                         const double *cylinder, double dt);
+/* The WSP valves' ports of every axle over one step (plant_kernel.c, in s->kernel): the hold link
+   relay -> cylinder through the conductance g_hold x hold_open[a], then the vent and leak link
+   cylinder -> atmosphere through outlet[a] (kg/(s Pa)). The axles of a car draw on their relay's
+   pressure at the start (the link limit shares that volume among its links, so together they
+   never overshoot). Returns the mass vented (kg). */
+double rb_plant_cylinder_links(const rb_plant_params *p, rb_plant_state *s, const double *hold_open,
+                               const double *outlet);
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
 

@@ -49,20 +49,6 @@ static double gaussian(uint64_t *x)
 
 /* ------------------------------------------------------------------ air */
 
-/* Mass (kg) one link moves from node i to node j (pressures pi, pj) in a step of d->h, through
- * conductance g (kg/(s Pa)); ik = 1 / (n_i k_i + n_j k_j), so (pi - pj) ik is the mass that would
- * equalise the nodes (each node's volume shared among its links). The exponential solution of the
- * link linearised in its pressure difference: dm = dm_eq (1 - exp(-h q / dm_eq)), h q when the link
- * is slow, never beyond equalisation when it is stiff. */
-static inline double link_mass(const rb_plant_derived *d, double pi, double pj, double g, double ik)
-{
-    double diff = pi - pj;
-    if (!(g > 0.0) || fabs(diff) < 0.01) return 0.0;   /* closed, or balanced to 0.01 Pa */
-    double flow = d->h * rb_orifice_flow_law(pi, pj, g, &d->orifice);
-    double equalise = diff * ik;
-    return equalise * rb_one_minus_exp_neg(flow / equalise);
-}
-
 static double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 
 /* A WSP valve with its response delay over one step h: returns the fraction of the step it is on
@@ -102,18 +88,18 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
         s->m_compressed += p->compressor_flow * d->h;
     }
     int cc = p->compressor_car;
-    double dm = link_mass(d, s->m_mr * d->k_mr, s->m_pipe[cc] * d->k_pipe[cc], d->g_mr, d->ik_mr);
+    double dm = rb_plant_link_mass(d, s->m_mr * d->k_mr, s->m_pipe[cc] * d->k_pipe[cc], d->g_mr, d->ik_mr);
     s->m_mr -= dm;
     s->m_pipe[cc] += dm;
     for (int c = 0; c + 1 < p->n_cars; ++c) {
-        dm = link_mass(d, s->m_pipe[c] * d->k_pipe[c], s->m_pipe[c + 1] * d->k_pipe[c + 1], d->g_pipe[c], d->ik_pipe[c]);
+        dm = rb_plant_link_mass(d, s->m_pipe[c] * d->k_pipe[c], s->m_pipe[c + 1] * d->k_pipe[c + 1], d->g_pipe[c], d->ik_pipe[c]);
         s->m_pipe[c] -= dm;
         s->m_pipe[c + 1] += dm;
     }
     for (int c = 0; c < p->n_cars; ++c) {
         double p_pipe = s->m_pipe[c] * d->k_pipe[c], p_supply = s->m_supply[c] * d->k_supply[c];
         if (p_pipe <= p_supply) continue;   /* check valve: only towards the supply reservoir */
-        dm = link_mass(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c]);
+        dm = rb_plant_link_mass(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c]);
         s->m_pipe[c] -= dm;
         s->m_supply[c] += dm;
     }
@@ -133,11 +119,11 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         if (!f->ep_failed[c]) {
             double e = (s->ep_demand_lag[c] - p_pilot) * d->inv_ep_band[c];
             if (e > 0.0) {
-                double dm = link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot, d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
+                double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot, d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
                 s->m_supply[c] -= dm;
                 s->m_pilot[c] += dm;
             } else if (e < 0.0) {
-                double dm = link_mass(d, p_pilot, patm, d->g_ep[c] * clamp01(-e), d->ik_ep_out[c]);
+                double dm = rb_plant_link_mass(d, p_pilot, patm, d->g_ep[c] * clamp01(-e), d->ik_ep_out[c]);
                 s->m_pilot[c] -= dm;
                 vented += dm;
             }
@@ -146,13 +132,13 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         double p_relay = s->m_relay[c] * d->k_relay[c];
         double e = ((f->isolated[c] ? patm : p_pilot) - p_relay) * d->inv_relay_band[c];
         if (e > 0.0 && !f->isolated[c]) {
-            double dm = link_mass(d, s->m_supply[c] * d->k_supply[c], p_relay, d->g_relay_supply[c] * clamp01(e),
+            double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_relay, d->g_relay_supply[c] * clamp01(e),
                                   d->ik_relay_supply[c]);
             s->m_supply[c] -= dm;
             s->m_relay[c] += dm;
         } else if (e < 0.0 || f->isolated[c]) {
             double open = f->isolated[c] ? 1.0 : clamp01(-e);
-            double dm = link_mass(d, p_relay, patm, d->g_relay_exhaust[c] * open, d->ik_relay_exhaust[c]);
+            double dm = rb_plant_link_mass(d, p_relay, patm, d->g_relay_exhaust[c] * open, d->ik_relay_exhaust[c]);
             s->m_relay[c] -= dm;
             vented += dm;
         }
@@ -161,38 +147,24 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
 }
 
 /* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
- * each port's area weighted by the part of the step it is open; cylinder leaks. The axles of a
- * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
- * volume among its links, so together they never overshoot). */
+ * each port's area weighted by the part of the step it is open, and cylinder leaks
+ * (rb_plant_cylinder_links). */
 static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                             const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
-    double patm = p->atmosphere, vented = 0.0;
+    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES];
     for (int c = 0; c < p->n_cars; ++c) {
-        double delay = p->car[c].valve_delay, p_relay = s->m_relay[c] * d->k_relay[c], k_cyl = d->k_cyl[c];
-        double to_cylinders = 0.0;
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-            int a = c * RB_AXLES_PER_CAR + k;
-            double closed = valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
-                                  d->h, f->hold[a], &s->hold_effective[a]);
+        double delay = p->car[c].valve_delay;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            hold_open[a] = 1.0 - valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
+                                       d->h, f->hold[a], &s->hold_effective[a]);
             double vent = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a], delay,
                                 d->h, f->vent[a], &s->vent_effective[a]);
-            if (closed < 1.0) {
-                double dm = link_mass(d, p_relay, s->m_cyl[a] * k_cyl, d->g_hold[c] * (1.0 - closed), d->ik_hold[c]);
-                to_cylinders += dm;
-                s->m_cyl[a] += dm;
-            }
-            double leak = d->g_vent[c] * vent + d->g_unit * f->leak[a];
-            if (leak > 0.0) {
-                double dm = link_mass(d, s->m_cyl[a] * k_cyl, patm, leak, d->ik_vent[c]);
-                s->m_cyl[a] -= dm;
-                vented += dm;
-            }
+            outlet[a] = d->g_vent[c] * vent + d->g_unit * f->leak[a];
         }
-        s->m_relay[c] -= to_cylinders;
     }
-    return vented;
+    return rb_plant_cylinder_links(p, s, hold_open, outlet);
 }
 
 /* ------------------------------------------------------------------ mechanics */

@@ -208,6 +208,9 @@ typedef struct {
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
     double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
     int pad_bracket[RB_PLANT_MAX_AXLES];     /* last pad-table interval used by each axle */
+    /* the cylinder links per axle (its car's values, laid out for the cylinder kernel) */
+    double axle_k_cyl[RB_PLANT_MAX_AXLES], axle_g_hold[RB_PLANT_MAX_AXLES], axle_ik_hold[RB_PLANT_MAX_AXLES];
+    double axle_g_vent[RB_PLANT_MAX_AXLES], axle_ik_vent[RB_PLANT_MAX_AXLES];
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
