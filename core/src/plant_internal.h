@@ -68,13 +68,6 @@ typedef struct {
    force and coefficient per axle. */
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
                         const double *cylinder, double dt);
-/* The WSP valves' ports of every axle over one step (plant_kernel.c, in s->kernel): the hold link
-   relay -> cylinder through the conductance g_hold x hold_open[a], then the vent and leak link
-   cylinder -> atmosphere through outlet[a] (kg/(s Pa)). The axles of a car draw on their relay's
-   pressure at the start (the link limit shares that volume among its links, so together they
-   never overshoot). Returns the mass vented (kg). */
-double rb_plant_cylinder_links(const rb_plant_params *p, rb_plant_state *s, const double *hold_open,
-                               const double *outlet);
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
 

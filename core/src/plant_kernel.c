@@ -1,15 +1,9 @@
-/* The plant's two vectorisable kernels: the WSP valves' air links of every axle, and the wheelsets.
- *
- * Air links: the vector kernel takes rb_plant_link_mass written branch-free (link_mass_select), so
- * the links of all axles go through one vector pass; the portable one keeps the branches (cheaper in
- * scalar code). Both compute the same operations on the arm that counts, so the same values.
- *
- * The wheelsets over one step: torque balance J dw/dt = -F r - T_brake - T_ed with Polach adhesion
+/* The wheelset kernel: the wheelsets over one step: torque balance J dw/dt = -F r - T_brake - T_ed with Polach adhesion
  * F = Q f(creep), the slip velocity advanced linearly implicitly with the secant creep stiffness
  * (stable at 1 ms down to walking speed), a wheel whose speed would change sign locked (static pad
  * friction).
  *
- * For both, the axles go through branch-free passes (which a compiler turns into 4-lane vector code, exp and
+ * The axles go through branch-free passes (which a compiler turns into 4-lane vector code, exp and
  * atan included: rb_exp_nonpos, rb_atan_nonneg in rb_common.h) around the scalar pad-table look-up. The same source is compiled twice: portable (the reference, C99) and, on x86
  * with GCC or Clang, for AVX2 (selected at run time, rb_plant_resolve_kernel). Both do the same IEEE
  * operations in the same order (no fused multiply-add: AVX2 alone does not enable it, and ISO C mode
@@ -33,65 +27,6 @@
 #endif
 
 #define NA RB_AXLES_PER_CAR
-
-/* rb_plant_link_mass (plant_internal.h) without branches (every arm computed, then selected): the
-   same operations on the selected arm, so the same value bit for bit. */
-RB_ALWAYS_INLINE double link_mass_select(double pi, double pj, double g, double ik, double h, const rb_orifice_law *law)
-{
-    double diff = pi - pj, up = diff >= 0.0 ? pi : pj, down = diff >= 0.0 ? pj : pi;
-    double r = down / up;
-    /* rb_orifice_flow_function_law (rb_pneumatics.h) */
-    double sub = (r - law->b) * law->inv_one_minus_b, root = 1.0 - sub * sub;
-    double phi_sub = sqrt(root > 0.0 ? root : 0.0);
-    double phi_lin = law->linear_slope * (1.0 - r), linear_from = law->linear_from;
-    double phi = r >= linear_from ? phi_lin : phi_sub;
-    phi = r <= law->b ? 1.0 : phi;
-    double flow = h * (g * up * phi), equalise = fabs(diff) * ik;
-    /* rb_one_minus_exp_neg (rb_common.h), both branches */
-    double y = flow / equalise, y2 = y * y, y4 = y2 * y2;
-    double a = 1.0 - y * (1.0 / 2), b = 1.0 / 6 - y * (1.0 / 24);
-    double c = 1.0 / 120 - y * (1.0 / 720), d = 1.0 / 5040 - y * (1.0 / 40320);
-    double series = y * ((a + y2 * b) + y4 * (c + y2 * d));
-    double fraction = y > 0.0625 ? 1.0 - rb_exp_nonpos(-y) : series;
-    double dm = equalise * fraction;
-    dm = diff < 0.0 ? -dm : dm;
-    return ((g > 0.0) & (fabs(diff) >= 0.01)) ? dm : 0.0;   /* closed, or balanced to 0.01 Pa */
-}
-
-/* The link of either kernel (vector: the branch-free form). */
-RB_ALWAYS_INLINE double kernel_link(int vector, const rb_plant_derived *d, double pi, double pj, double g, double ik)
-{
-    return vector ? link_mass_select(pi, pj, g, ik, d->h, &d->orifice) : rb_plant_link_mass(d, pi, pj, g, ik);
-}
-
-RB_ALWAYS_INLINE double cylinder_links(int vector, const rb_plant_params *p, rb_plant_state *s, const double *hold_open,
-                                       const double *outlet)
-{
-    const rb_plant_derived *d = &s->derived;
-    const int n = p->n_cars * NA;
-    double p_relay[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES], vented[RB_PLANT_MAX_AXLES];
-    for (int c = 0; c < p->n_cars; ++c)
-        for (int a = c * NA; a < (c + 1) * NA; ++a) p_relay[a] = s->m_relay[c] * d->k_relay[c];
-    for (int a = 0; a < n; ++a) {
-        taken[a] = kernel_link(vector, d, p_relay[a], s->m_cyl[a] * d->axle_k_cyl[a], d->axle_g_hold[a] * hold_open[a],
-                               d->axle_ik_hold[a]);
-        s->m_cyl[a] += taken[a];
-    }
-    for (int a = 0; a < n; ++a) {
-        vented[a] = kernel_link(vector, d, s->m_cyl[a] * d->axle_k_cyl[a], p->atmosphere, outlet[a], d->axle_ik_vent[a]);
-        s->m_cyl[a] -= vented[a];
-    }
-    double total = 0.0;
-    for (int c = 0; c < p->n_cars; ++c) {
-        double to_cylinders = 0.0;
-        for (int a = c * NA; a < (c + 1) * NA; ++a) {
-            to_cylinders += taken[a];
-            total += vented[a];
-        }
-        s->m_relay[c] -= to_cylinders;
-    }
-    return total;
-}
 
 /* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived
    (rb_polach_coefficient_fast's law, contact_polach.c). */
@@ -167,20 +102,7 @@ static void wheelsets_portable(const rb_plant_params *p, rb_plant_state *s, cons
     wheelsets(p, s, in, cylinder, dt);
 }
 
-static double cylinder_links_portable(const rb_plant_params *p, rb_plant_state *s, const double *hold_open,
-                                      const double *outlet)
-{
-    return cylinder_links(0, p, s, hold_open, outlet);
-}
-
 #if RB_PLANT_HAVE_AVX2
-__attribute__((target("avx2")))
-static double cylinder_links_avx2(const rb_plant_params *p, rb_plant_state *s, const double *hold_open,
-                                  const double *outlet)
-{
-    return cylinder_links(1, p, s, hold_open, outlet);
-}
-
 __attribute__((target("avx2")))
 static void wheelsets_avx2(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
                            const double *cylinder, double dt)
@@ -201,11 +123,3 @@ void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wh
     wheelsets_portable(p, s, in, cylinder, dt);
 }
 
-double rb_plant_cylinder_links(const rb_plant_params *p, rb_plant_state *s, const double *hold_open,
-                               const double *outlet)
-{
-#if RB_PLANT_HAVE_AVX2
-    if (s->kernel == RB_PLANT_KERNEL_AVX2) return cylinder_links_avx2(p, s, hold_open, outlet);
-#endif
-    return cylinder_links_portable(p, s, hold_open, outlet);
-}

@@ -147,13 +147,16 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
 }
 
 /* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
- * each port's area weighted by the part of the step it is open, and cylinder leaks
- * (rb_plant_cylinder_links). */
+ * each port's area weighted by the part of the step it is open, and cylinder leaks. The axles of a
+ * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
+ * volume among its links, so together they never overshoot). */
 static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                             const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
-    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES];
+    const int n = p->n_cars * RB_AXLES_PER_CAR;
+    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
+    double vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {
         double delay = p->car[c].valve_delay;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
@@ -161,10 +164,24 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
                                        d->h, f->hold[a], &s->hold_effective[a]);
             double vent = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a], delay,
                                 d->h, f->vent[a], &s->vent_effective[a]);
-            outlet[a] = d->g_vent[c] * vent + d->g_unit * f->leak[a];
+            outlet[a] = d->axle_g_vent[a] * vent + d->g_unit * f->leak[a];
         }
     }
-    return rb_plant_cylinder_links(p, s, hold_open, outlet);
+    for (int a = 0; a < n; ++a) {
+        int c = a / RB_AXLES_PER_CAR;
+        taken[a] = rb_plant_link_mass(d, s->m_relay[c] * d->k_relay[c], s->m_cyl[a] * d->axle_k_cyl[a],
+                                      d->axle_g_hold[a] * hold_open[a], d->axle_ik_hold[a]);
+        s->m_cyl[a] += taken[a];
+        double dm = rb_plant_link_mass(d, s->m_cyl[a] * d->axle_k_cyl[a], p->atmosphere, outlet[a], d->axle_ik_vent[a]);
+        s->m_cyl[a] -= dm;
+        vented += dm;
+    }
+    for (int c = 0; c < p->n_cars; ++c) {
+        double to_cylinders = 0.0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) to_cylinders += taken[a];
+        s->m_relay[c] -= to_cylinders;
+    }
+    return vented;
 }
 
 /* ------------------------------------------------------------------ mechanics */

@@ -59,8 +59,6 @@ void rb_orifice_law_init(double critical_ratio, rb_orifice_law *law)
     law->laminar_only = b >= lam;
     double s = (lam - b) / (1.0 - b);
     law->laminar_slope = law->laminar_only ? 0.0 : sqrt(1.0 - s * s) / (1.0 - lam);
-    law->linear_from = law->laminar_only ? b : lam;
-    law->linear_slope = law->laminar_only ? law->inv_one_minus_b : law->laminar_slope;
 }
 
 double rb_orifice_unit_conductance(double discharge_coefficient, double temperature)

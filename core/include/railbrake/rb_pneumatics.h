@@ -41,7 +41,6 @@ typedef struct {
     double b, inv_one_minus_b;           /* critical pressure ratio, 1 / (1 - b) */
     double laminar_slope;                /* phi = slope (1 - r) above the laminar ratio */
     int laminar_only;                    /* b >= laminar ratio: phi = (1 - r) / (1 - b) above b */
-    double linear_from, linear_slope;    /* both cases at once: phi = linear_slope (1 - r) above linear_from */
 } rb_orifice_law;
 
 void rb_orifice_law_init(double critical_ratio, rb_orifice_law *law);
