@@ -25,24 +25,6 @@ double rb_speed_table_at(const rb_speed_table *t, double speed)
     return t->value[lo] + w * (t->value[hi] - t->value[lo]);
 }
 
-double rb_speed_table_at_from(const rb_speed_table *t, double speed, int *bracket)
-{
-    int n = t->n;
-    if (n <= 0)
-        return 0.0;
-    if (speed <= t->speed[0])
-        return t->value[0];
-    if (speed >= t->speed[n - 1])
-        return t->value[n - 1];
-    int lo = *bracket < 0 ? 0 : (*bracket > n - 2 ? n - 2 : *bracket);
-    while (t->speed[lo] > speed) --lo;          /* speed[lo] <= speed < speed[lo + 1], as bisection */
-    while (t->speed[lo + 1] <= speed) ++lo;
-    *bracket = lo;
-    int hi = lo + 1;
-    double w = (speed - t->speed[lo]) / (t->speed[hi] - t->speed[lo]);
-    return t->value[lo] + w * (t->value[hi] - t->value[lo]);
-}
-
 rb_status rb_speed_table_check(const rb_speed_table *t, const char *name, double lo, double hi,
                                rb_error *err)
 {
