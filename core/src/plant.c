@@ -204,13 +204,6 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->inv_ep_band[c] = 1.0 / car->ep_band;
         d->inv_relay_band[c] = 1.0 / car->relay_band;
         d->ep_lag[c] = d->h / (car->ep_tau + d->h);
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            d->axle_k_cyl[a] = d->k_cyl[c];
-            d->axle_g_hold[a] = d->g_hold[c];
-            d->axle_ik_hold[a] = d->ik_hold[c];
-            d->axle_g_vent[a] = d->g_vent[c];
-            d->axle_ik_vent[a] = d->ik_vent[c];
-        }
     }
 }
 
@@ -228,18 +221,16 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
         d->inv_mass[c] = 1.0 / car->vehicle.mass;
         d->mass_share[c] = car->vehicle.mass / total_mass;
         double axle_load = w->axle_load * RB_G, wheel_load = 0.5 * axle_load;
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            d->radius[a] = w->wheel_radius;
-            d->inv_inertia[a] = 1.0 / w->inertia;
-            d->axle_load[a] = axle_load;
-            d->compliance[a] = w->wheel_radius * w->wheel_radius / w->inertia + 1.0 / car->vehicle.mass;
-            d->polach_gain[a] = k->shear_modulus * M_PI * k->a * k->b * k->c11 / (4.0 * wheel_load);
-            d->brake_gain[a] = b->discs * 2.0 * b->mean_radius * b->caliper.lever_ratio * b->caliper.efficiency;
-            d->caliper_atmosphere[a] = b->caliper.atmospheric_pressure;
-            d->caliper_area[a] = b->caliper.cylinder_area;
-            d->caliper_spring[a] = b->caliper.return_spring;
-            d->pad_bracket[a] = 0;
-        }
+        d->radius[c] = w->wheel_radius;
+        d->inv_inertia[c] = 1.0 / w->inertia;
+        d->axle_load[c] = axle_load;
+        d->compliance[c] = w->wheel_radius * w->wheel_radius / w->inertia + 1.0 / car->vehicle.mass;
+        d->polach_gain[c] = k->shear_modulus * M_PI * k->a * k->b * k->c11 / (4.0 * wheel_load);
+        d->brake_gain[c] = b->discs * 2.0 * b->mean_radius * b->caliper.lever_ratio * b->caliper.efficiency;
+        d->caliper_atmosphere[c] = b->caliper.atmospheric_pressure;
+        d->caliper_area[c] = b->caliper.cylinder_area;
+        d->caliper_spring[c] = b->caliper.return_spring;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->pad_bracket[a] = 0;
     }
 }
 

@@ -34,7 +34,7 @@ static double polach(const rb_plant_derived *d, int a, double creep, double spee
 {
     double abs_creep = fabs(creep);
     double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
-    double eps = d->polach_gain[a] * abs_creep / mu;
+    double eps = d->polach_gain[a / NA] * abs_creep / mu;
     double ka_eps = d->polach_kA[a] * eps;
     double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
     return creep < 0.0 ? -f : f;
@@ -54,45 +54,54 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
     pass_arrays x;
 
     /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential */
-    for (int a = 0; a < n; ++a) {
-            x.w[a] = s->omega[a] * d->radius[a] - in->speed[a];
-            double creep = fabs(x.w[a] * in->inv_creep_speed[a]);
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double r = d->radius[c], v = in->speed[c], inv_vr = in->inv_creep_speed[c];
+        for (int a = c * NA; a < c * NA + NA; ++a) {
+            x.w[a] = s->omega[a] * r - v;
+            double creep = fabs(x.w[a] * inv_vr);
             x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
-            x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * in->speed[a]));
+            x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
         }
-    for (int a = 0; a < n; ++a) {
-        const rb_speed_table *pad = &p->car[a / NA].vehicle.brake.pad.table;
-        x.pad[a] = rb_speed_table_at_from(pad, s->omega[a] * d->radius[a], &d->pad_bracket[a]);
     }
     for (int a = 0; a < n; ++a) {
+        const rb_speed_table *pad = &p->car[a / NA].vehicle.brake.pad.table;
+        x.pad[a] = rb_speed_table_at_from(pad, s->omega[a] * d->radius[a / NA], &d->pad_bracket[a]);
+    }
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double r = d->radius[c], inv_J = d->inv_inertia[c], gain = d->polach_gain[c];
+        const double axle_load = d->axle_load[c], compliance = d->compliance[c], brake_gain = d->brake_gain[c];
+        const double p_atm = d->caliper_atmosphere[c], area = d->caliper_area[c], spring = d->caliper_spring[c];
+        const double inv_vr = in->inv_creep_speed[c], others_all = in->others[c], ed = in->ed_torque[c];
+        const double inv_mass = d->inv_mass[c];
+        for (int a = c * NA; a < c * NA + NA; ++a) {
             double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
-            double eps = d->polach_gain[a] * x.abs_probe[a] / mu;
+            double eps = gain * x.abs_probe[a] / mu;
             double ka_eps = d->polach_kA[a] * eps;
             double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
             x.f[a] = f;
-            double stiffness = d->axle_load[a] * (f / x.abs_probe[a]) * in->inv_creep_speed[a];  /* N per m/s */
+            double stiffness = axle_load * (f / x.abs_probe[a]) * inv_vr;  /* N per m/s */
             /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
-            double piston = (cylinder[a] - d->caliper_atmosphere[a]) * d->caliper_area[a] - d->caliper_spring[a];
-            double torque = d->brake_gain[a] * x.pad[a] * (piston > 0.0 ? piston : 0.0) + in->ed_torque[a];
+            double piston = (cylinder[a] - p_atm) * area - spring;
+            double torque = brake_gain * x.pad[a] * (piston > 0.0 ? piston : 0.0) + ed;
             /* slip velocity, linearly implicit in this axle's own rail force */
-            double r = d->radius[a], inv_J = d->inv_inertia[a];
-            double others = in->others[a] - s->force[a];
-            double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * in->inv_mass[a]))
-                           / (1.0 + dt * stiffness * d->compliance[a]);
+            double others = others_all - s->force[a];
+            double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * inv_mass)) / (1.0 + dt * stiffness * compliance);
             x.force[a] = stiffness * w_new;
             x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
         }
+    }
     for (int a = 0; a < n; ++a) {
+        int c = a / NA;
         if (x.omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
-            double creep = -in->speed[a] * in->inv_creep_speed[a];
+            double creep = -in->speed[c] * in->inv_creep_speed[c];
             /* a wheel locked already was probed at that very creep: the same coefficient */
-            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[a]);
+            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[c]);
             x.omega[a] = 0.0;
-            x.force[a] = d->axle_load[a] * f;
+            x.force[a] = d->axle_load[c] * f;
         }
         s->omega[a] = x.omega[a];
         s->force[a] = x.force[a];
-        s->coefficient[a] = x.force[a] / d->axle_load[a];
+        s->coefficient[a] = x.force[a] / d->axle_load[c];
     }
 }
 

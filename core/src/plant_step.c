@@ -164,15 +164,15 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
                                        d->h, f->hold[a], &s->hold_effective[a]);
             double vent = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a], delay,
                                 d->h, f->vent[a], &s->vent_effective[a]);
-            outlet[a] = d->axle_g_vent[a] * vent + d->g_unit * f->leak[a];
+            outlet[a] = d->g_vent[c] * vent + d->g_unit * f->leak[a];
         }
     }
     for (int a = 0; a < n; ++a) {
         int c = a / RB_AXLES_PER_CAR;
-        taken[a] = rb_plant_link_mass(d, s->m_relay[c] * d->k_relay[c], s->m_cyl[a] * d->axle_k_cyl[a],
-                                      d->axle_g_hold[a] * hold_open[a], d->axle_ik_hold[a]);
+        taken[a] = rb_plant_link_mass(d, s->m_relay[c] * d->k_relay[c], s->m_cyl[a] * d->k_cyl[c],
+                                      d->g_hold[c] * hold_open[a], d->ik_hold[c]);
         s->m_cyl[a] += taken[a];
-        double dm = rb_plant_link_mass(d, s->m_cyl[a] * d->axle_k_cyl[a], p->atmosphere, outlet[a], d->axle_ik_vent[a]);
+        double dm = rb_plant_link_mass(d, s->m_cyl[a] * d->k_cyl[c], p->atmosphere, outlet[a], d->ik_vent[c]);
         s->m_cyl[a] -= dm;
         vented += dm;
     }
@@ -211,13 +211,10 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * car->vehicle.wheelset.wheel_radius;
         double others = other[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            w.speed[a] = v;
-            w.inv_creep_speed[a] = inv_vr;
-            w.others[a] = others;
-            w.inv_mass[a] = d->inv_mass[c];
-            w.ed_torque[a] = ed_axle;
-        }
+        w.speed[c] = v;
+        w.inv_creep_speed[c] = inv_vr;
+        w.others[c] = others;
+        w.ed_torque[c] = ed_axle;
     }
     rb_plant_wheelsets(p, s, &w, cylinder, dt);
     for (int c = 0; c < p->n_cars; ++c) {

@@ -197,20 +197,16 @@ typedef struct {
     /* mechanics per car */
     double inv_mass[RB_PLANT_MAX_CARS];
     double mass_share[RB_PLANT_MAX_CARS];    /* car mass / train mass */
-    /* mechanics per axle (its car's values, laid out for the wheelset kernel) */
-    double radius[RB_PLANT_MAX_AXLES], inv_inertia[RB_PLANT_MAX_AXLES], axle_load[RB_PLANT_MAX_AXLES];
-    double compliance[RB_PLANT_MAX_AXLES];   /* r^2 / J + 1 / m: slip velocity per impulse */
-    double polach_gain[RB_PLANT_MAX_AXLES];  /* G pi a b c11 / (4 N): Polach's epsilon = gain |creep| / mu */
-    double brake_gain[RB_PLANT_MAX_AXLES];   /* discs x 2 x mean radius x lever x efficiency */
-    double caliper_atmosphere[RB_PLANT_MAX_AXLES], caliper_area[RB_PLANT_MAX_AXLES];
-    double caliper_spring[RB_PLANT_MAX_AXLES];
+    double radius[RB_PLANT_MAX_CARS], inv_inertia[RB_PLANT_MAX_CARS], axle_load[RB_PLANT_MAX_CARS];
+    double compliance[RB_PLANT_MAX_CARS];    /* r^2 / J + 1 / m: slip velocity per impulse */
+    double polach_gain[RB_PLANT_MAX_CARS];   /* G pi a b c11 / (4 N): Polach's epsilon = gain |creep| / mu */
+    double brake_gain[RB_PLANT_MAX_CARS];    /* discs x 2 x mean radius x lever x efficiency */
+    double caliper_atmosphere[RB_PLANT_MAX_CARS], caliper_area[RB_PLANT_MAX_CARS];
+    double caliper_spring[RB_PLANT_MAX_CARS];
     /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
     double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
     int pad_bracket[RB_PLANT_MAX_AXLES];     /* last pad-table interval used by each axle */
-    /* the cylinder links per axle (its car's values, laid out for the cylinder kernel) */
-    double axle_k_cyl[RB_PLANT_MAX_AXLES], axle_g_hold[RB_PLANT_MAX_AXLES], axle_ik_hold[RB_PLANT_MAX_AXLES];
-    double axle_g_vent[RB_PLANT_MAX_AXLES], axle_ik_vent[RB_PLANT_MAX_AXLES];
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
