@@ -104,6 +104,7 @@ static inline double rb_speed_table_at_from(const rb_speed_table *t, double spee
     double w = (speed - t->speed[lo]) / (t->speed[hi] - t->speed[lo]);
     return t->value[lo] + w * (t->value[hi] - t->value[lo]);
 }
+
 double rb_axle_brake_torque(const rb_axle_brake *b, double cylinder_pressure, double speed);
 rb_status rb_axle_brake_check(const rb_axle_brake *b, rb_error *err);
 
