@@ -36,7 +36,8 @@ def print_comparison(c) -> None:
                     "stable"):
             study.add_column(col, justify="right")
         for r in c.steps:
-            study.add_row(f"{r['dt_ms']:g}", str(r["substeps"]), f"{r['stopping_distance_m']:.1f}", f"{r['distance_error_pct']:+.2f}",
+            study.add_row(f"{r['dt_ms']:g}", str(r["substeps"]), f"{r['stopping_distance_m']:.1f}",
+                          f"{r['distance_error_pct']:+.2f}",
                           f"{r['cylinder_rms_bar']:.3f}", f"{r['cylinder_mean_rms_bar']:.3f}",
                           "yes" if r["stable"] else f"no: {r['instability']}")
         Console().print(study)
