@@ -288,7 +288,12 @@ class PlantParams(Structure):
                            "governor_on", "governor_off", "initial_pressure", "initial_speed")
                 + [("n_conditions", c_int), ("condition", PlantCondition * MAX_CONDITIONS),
                    ("n_zones", c_int), ("zone", TrackZone * MAX_ZONES), ("creep_speed_min", c_double),
-                   ("n_faults", c_int), ("fault", Fault * MAX_FAULTS), ("noise_seed", c_uint64)])
+                   ("n_faults", c_int), ("fault", Fault * MAX_FAULTS), ("noise_seed", c_uint64),
+                   ("kernel", c_int)])
+
+
+# rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.
+KERNELS = {"auto": 0, "portable": 1}
 
 
 class WspInputs(Structure):
@@ -354,7 +359,7 @@ rb_run_channel_count = _declare("rb_run_channel_count", c_int, c_int)
 rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
                                c_size_t, _err_p)
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
-                          c_double_p, _err_p)
+                          c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
 
 if ctypes.sizeof(PlantParams) != rb_plant_params_size():
     raise ImportError(f"rb_plant_params: ctypes size {ctypes.sizeof(PlantParams)} differs from the C core's "

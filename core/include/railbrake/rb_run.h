@@ -78,9 +78,11 @@ rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_siz
                               size_t unit_size, rb_error *err);
 
 /* The plant alone at its fixed step with constant inputs (brakes at pressure_demand): wall-clock
- * time per step, mean and 99th percentile (microseconds). */
+ * time per step after a warm-up of steps / 10 (at most 1000), mean, 99th percentile and largest
+ * (microseconds), and the name of the wheelset kernel used (rb_plant_kernel_name) into kernel. */
 rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, long steps,
-                         double *step_us_mean, double *step_us_p99, rb_error *err);
+                         double *step_us_mean, double *step_us_p99, double *step_us_max, char *kernel,
+                         size_t kernel_size, rb_error *err);
 
 #ifdef __cplusplus
 }

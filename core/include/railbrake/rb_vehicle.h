@@ -84,6 +84,27 @@ typedef struct rb_axle_brake {
 } rb_axle_brake;
 
 /* discs * 2 pads * R_mean * lambda(v) * F_pad, N m. */
+/* rb_speed_table_at starting from *bracket, the interval found last time (0 at first): the same
+   value, found in a step or two when the speed moves little between calls (inline: the real-time
+   plant looks up every axle's pad friction in every step). */
+static inline double rb_speed_table_at_from(const rb_speed_table *t, double speed, int *bracket)
+{
+    int n = t->n;
+    if (n <= 0)
+        return 0.0;
+    if (speed <= t->speed[0])
+        return t->value[0];
+    if (speed >= t->speed[n - 1])
+        return t->value[n - 1];
+    int lo = *bracket < 0 ? 0 : (*bracket > n - 2 ? n - 2 : *bracket);
+    while (t->speed[lo] > speed) --lo;          /* speed[lo] <= speed < speed[lo + 1], as bisection */
+    while (t->speed[lo + 1] <= speed) ++lo;
+    *bracket = lo;
+    int hi = lo + 1;
+    double w = (speed - t->speed[lo]) / (t->speed[hi] - t->speed[lo]);
+    return t->value[lo] + w * (t->value[hi] - t->value[lo]);
+}
+
 double rb_axle_brake_torque(const rb_axle_brake *b, double cylinder_pressure, double speed);
 rb_status rb_axle_brake_check(const rb_axle_brake *b, rb_error *err);
 

@@ -13,6 +13,10 @@ import typer
 
 from railbrake.errors import InputError
 
+# The plant's wheelset kernel option (railbrake.simulation.kernel_code), shared by run, bench, hil, export-fmu.
+KERNEL_HELP = ("Wheelset kernel: auto (the vector one where the CPU has it) or portable "
+               "(default: $RAILBRAKE_KERNEL, else auto).")
+
 
 SET_HELP = ("Override a key of the resolved configuration: KEY=VALUE, the value as in a file, e.g. "
             "--set initial_speed='300 km/h' (repeatable; `railbrake config show` lists the keys).")

@@ -13,7 +13,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import hil as hil_runner
-from railbrake.cli._common import SET_HELP, prepare_output, print_json, reports_errors
+from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.units import cars_text, ms_to_kmh
@@ -83,6 +83,7 @@ def register(app: typer.Typer) -> None:
         window: Optional[str] = typer.Option(None, help="With --out: T0:T1 in s for the WSP cycle plots."),
         formats: Optional[List[str]] = typer.Option(None, "--format", help="With --out: time series format(s): "
                                                     "mf4, parquet, csv (default mf4)."),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
         from railbrake.results import files, record as records
@@ -106,7 +107,7 @@ def register(app: typer.Typer) -> None:
             result = hil_runner.run(
                 resolved, peer, duration=duration, hold_time=hold_time, late_time=late_time,
                 record_interval=record_interval, bind=local,
-                priority=priority, on_event=_event_printer(err),
+                priority=priority, on_event=_event_printer(err), kernel=kernel,
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
         if result.counters["received"] == 0:
             err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",

@@ -12,7 +12,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import simulation
-from railbrake.cli._common import SET_HELP, print_json, reports_errors
+from railbrake.cli._common import KERNEL_HELP, SET_HELP, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
@@ -24,7 +24,7 @@ _UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
                  sets: Sequence[str] = (), axles: Optional[str] = None, window: Optional[str] = None,
-                 formats: Optional[list] = None):
+                 formats: Optional[list] = None, kernel: Optional[str] = None):
     """Runs with a progress bar that appears once the run has lasted 2 s; writes the outputs
     (time series in `formats`, kpis.json, run.json, plots, report.html: railbrake.results)."""
     from railbrake.results import files, record
@@ -44,7 +44,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         bar.update(task, completed=t, speed=f"{3.6 * v:5.0f} km/h")
 
     try:
-        result = simulation.run(resolved, wsp=wsp, progress=progress)
+        result = simulation.run(resolved, wsp=wsp, progress=progress, kernel=kernel)
     finally:
         bar.stop()
     if out is not None:
@@ -80,10 +80,11 @@ def register(app: typer.Typer) -> None:
         formats: Optional[List[str]] = typer.Option(None, "--format", help="Time series format(s): parquet, "
                                                     "csv, mf4 (repeat or comma-separate; default parquet)."),
         sets: list[str] = typer.Option([], "--set", help=SET_HELP),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """Whole-train brake simulation with WSP (default: 16 cars, emergency from 300 km/h in heavy rain)."""
         result = run_scenario(scenario, cars, not no_wsp, out, quiet=json, axles=axles, window=window,
-                              formats=formats, sets=sets)
+                              formats=formats, sets=sets, kernel=kernel)
         if json:
             print_json(result.kpis)
             return
@@ -96,12 +97,14 @@ def register(app: typer.Typer) -> None:
     def bench(
         cars: int = typer.Option(16, help="Number of cars."),
         steps: int = typer.Option(20000, help="Plant steps to time (1 ms each)."),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
         json: bool = typer.Option(False, "--json", help="Print as JSON."),
     ):
         """The plant alone at 1 ms (timing loop in C): real-time factor and step times."""
-        figures = simulation.bench(cars, steps)
+        figures = simulation.bench(cars, steps, kernel=kernel)
         if json:
             print_json(figures)
             return
-        typer.echo(f"{figures['cars']} cars: {figures['realtime_factor']:.0f}x real time, "
-                   f"step {figures['step_us_mean']:.2f} us mean, {figures['step_us_p99']:.2f} us p99")
+        typer.echo(f"{cars_text(figures['cars'])}, {figures['kernel']} kernel, {figures['substeps']} sub-step(s): "
+                   f"{figures['realtime_factor']:.0f}x real time, step {figures['step_us_mean']:.2f} us mean, "
+                   f"{figures['step_us_p99']:.2f} us p99, {figures['step_us_max']:.2f} us max")

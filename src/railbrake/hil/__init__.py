@@ -177,13 +177,14 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         duration: float | None = None, hold_time: float = DEFAULT_HOLD_TIME, late_time: float = DEFAULT_LATE_TIME,
         record_interval: float | None = None, bind: tuple[str, int] = ("0.0.0.0", 0), paced: bool = True,
         priority: int = DEFAULT_PRIORITY, progress: Callable[[float, float], None] | None = None,
-        on_event: Callable[[float, str, str], None] | None = None) -> HilResult:
+        on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
-    watchdog event logged (malformed, late, lost, safe_on, safe_off)."""
+    watchdog event logged (malformed, late, lost, safe_on, safe_off); kernel: the plant's wheelset
+    kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto)."""
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    plant = plant_params(sc, n_cars, train=resolved.train)
+    plant = plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
     config = hil_config(sc, bcu_params(plant, sc, True), duration, hold_time, late_time, record_interval, paced)
     names = channels(n_cars)
     state = ctypes.create_string_buffer(_core.rb_hil_runner_size())

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ctypes
 import math
+import os
 from dataclasses import dataclass
 from typing import Callable
 
@@ -24,10 +25,12 @@ from railbrake.vehicle import load_train
 from railbrake.units import ms_to_kmh
 
 DT = 1e-3
-# Air and wheelsets advance in 4 sub-steps of 0.25 ms inside each 1 ms step: under WSP cycling the
-# 1 ms step alone shifts the mean cylinder pressure by 0.15-0.2 bar against the detailed model
-# (docs/detailed.md, step-size study); the sub-steps bring that to the comparison's noise floor.
-SUBSTEPS = 4
+# One plant step per dt up to this; a longer dt is split into equal sub-steps no longer than it. With
+# its timing rules (rb_plant.h) one 1 ms step is as accurate as 4 x 0.25 ms were (docs/detailed.md,
+# step-size study); above 2 ms the WSP cycles need the sub-steps.
+MAX_SUBSTEP = 2e-3
+# The wheelset kernel (rb_plant.h): "auto" (the vector one where the CPU has it) or "portable".
+KERNEL_ENV = "RAILBRAKE_KERNEL"
 ATMOSPHERE = 1.01325e5
 EMERGENCY_DECEL = 1.2               # m/s^2, below the CRH380AL's 1.35 [P]
 SERVICE_DECEL = 1.0                 # m/s^2 [T]
@@ -101,13 +104,32 @@ def _condition(name: str, initial_speed: float) -> _core.PlantCondition:
 _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
 
 
-def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int = SUBSTEPS,
-                 train=None) -> _core.PlantParams:
-    """The plant's C parameters; train: the resolved train (default: the scenario's preset)."""
+def substeps_for(dt: float) -> int:
+    """Sub-steps of the plant at step dt (s): 1 up to MAX_SUBSTEP, then as many as keep each within it."""
+    return max(1, math.ceil(dt / MAX_SUBSTEP - 1e-9))
+
+
+def kernel_code(kernel: str | None = None) -> int:
+    """rb_plant_params.kernel for a kernel name; None: the RAILBRAKE_KERNEL environment variable,
+    else "auto"."""
+    where = "--kernel"
+    if kernel is None:
+        kernel, where = os.environ.get(KERNEL_ENV, "auto"), f"environment variable {KERNEL_ENV}"
+    if kernel not in _core.KERNELS:
+        raise InputError(f"{where} = {kernel!r}: must be one of {', '.join(_core.KERNELS)}")
+    return _core.KERNELS[kernel]
+
+
+def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int | None = None,
+                 kernel: str | None = None, train=None) -> _core.PlantParams:
+    """The plant's parameters; substeps None: substeps_for(dt); kernel: see kernel_code; train: the
+    resolved train (default: the scenario's preset)."""
     spec = scenario.spec
     train = load_train(spec.train.preset) if train is None else train
     p = _core.PlantParams()
+    substeps = substeps_for(dt) if substeps is None else substeps
     p.n_cars, p.dt, p.substeps, p.temperature, p.atmosphere = n_cars, dt, substeps, 293.15, ATMOSPHERE
+    p.kernel = kernel_code(kernel)
     p.discharge_coefficient, p.critical_ratio = 0.8, 0.528
     for i in range(n_cars):
         p.car[i] = _car(train, i)
@@ -187,17 +209,18 @@ WspCallback = Callable[[_core.WspInputs, _core.WspCommands], None]
 
 def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
         wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
-        record: bool = True, dt: float = DT, substeps: int = SUBSTEPS) -> Result:
+        record: bool = True, dt: float = DT, substeps: int | None = None, kernel: str | None = None) -> Result:
     """Run a scenario (preset name, file, Scenario or railbrake.resolve.Resolved) in the C core.
 
     cars: override the train's number of cars; wsp=False: no WSP (valves never commanded);
     wsp_function(inputs, commands): a Python WSP replacing the default (prototyping; slower);
     progress(t, v): called after each chunk of simulated time with the time and speed (SI);
-    dt: the plant's fixed step (s); substeps: sub-steps of air and wheelsets per step.
+    dt: the plant's fixed step (s); substeps: sub-steps of air and wheelsets per step (None:
+    substeps_for(dt)); kernel: the wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL).
     """
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    plant = plant_params(sc, n_cars, dt, substeps, resolved.train)
+    plant = plant_params(sc, n_cars, dt, substeps, kernel, resolved.train)
     bcu = bcu_params(plant, sc, wsp)
     callback = None
     if wsp_function is not None:
@@ -235,14 +258,15 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
                   dict(names), result)
 
 
-def bench(cars: int = 16, steps: int = 20000) -> dict:
+def bench(cars: int = 16, steps: int = 20000, kernel: str | None = None) -> dict:
     """The plant alone at 1 ms with the brakes applied on dry rail: timing measured in C."""
     sc = load("emergency-250-dry")
-    plant = plant_params(sc, cars)
-    mean, p99 = ctypes.c_double(), ctypes.c_double()
+    plant = plant_params(sc, cars, kernel=kernel)
+    mean, p99, largest = ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
+    used = ctypes.create_string_buffer(32)
     supply = plant.car[0].vehicle.supply_pressure
     _core.call(_core.rb_plant_bench, ctypes.byref(plant), supply, steps, ctypes.byref(mean),
-               ctypes.byref(p99))
+               ctypes.byref(p99), ctypes.byref(largest), used, ctypes.sizeof(used))
     return {"cars": cars, "realtime_factor": DT * 1e6 / mean.value,
-            "step_us_mean": mean.value, "step_us_p99": p99.value}
-
+            "step_us_mean": mean.value, "step_us_p99": p99.value, "step_us_max": largest.value,
+            "substeps": plant.substeps, "kernel": used.value.decode()}

@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from railbrake.resolve import resolve
-from railbrake.simulation import Result, run
+from railbrake.simulation import Result, run, substeps_for
 from railbrake.simulation.detailed import run_detailed
 from railbrake.units import BAR
 
@@ -104,15 +104,18 @@ def _distance_pct(a: Result, b: Result) -> float:
 
 
 def step_study(scenario, detailed: Result, steps_ms=STEPS_MS, progress=None) -> list[dict]:
-    """The real-time plant at each step (ms) against the detailed model (scenario: a resolved one)."""
+    """The real-time plant at each step (ms) against the detailed model (scenario: a resolved one): with its default sub-steps
+    (none up to MAX_SUBSTEP) and, above that, also without them (where the bare step fails)."""
+    cases = [(dt, None) for dt in steps_ms] + [(dt, 1) for dt in steps_ms if substeps_for(dt * 1e-3) > 1]
     rows = []
-    for i, dt in enumerate(steps_ms):
+    for i, (dt, substeps) in enumerate(cases):
         if progress is not None:
-            progress(f"real-time plant at {dt:g} ms", i / len(steps_ms))
-        r = run(scenario, dt=dt * 1e-3)
+            progress(f"real-time plant at {dt:g} ms", i / len(cases))
+        r = run(scenario, dt=dt * 1e-3, substeps=substeps)
         ok, why = stable(r)
         rms = [pressure_difference(r, detailed, c) for c in detailed.axle_channels("cylinder")]
-        rows.append({"dt_ms": dt, "stopping_distance_m": r.kpis["stopping_distance_m"],
+        rows.append({"dt_ms": dt, "substeps": substeps or substeps_for(dt * 1e-3),
+                     "stopping_distance_m": r.kpis["stopping_distance_m"],
                      "distance_error_pct": _distance_pct(r, detailed),
                      "cylinder_rms_bar": max(x["rms_bar"] for x in rms),
                      "cylinder_mean_rms_bar": max(x["mean_rms_bar"] for x in rms),

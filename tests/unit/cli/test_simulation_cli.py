@@ -34,6 +34,15 @@ def test_bench_json():
     assert result.exit_code == 0, result.output
     figures = json.loads(result.output)
     assert figures["cars"] == 2 and figures["realtime_factor"] > 1.0
+    assert figures["substeps"] == 1 and "step_us_max" in figures
+
+
+def test_bench_portable_kernel_and_a_wrong_one():
+    result = CliRunner().invoke(app, ["bench", "--cars", "1", "--steps", "100", "--kernel", "portable", "--json"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.output)["kernel"] == "portable"
+    result = CliRunner().invoke(app, ["bench", "--kernel", "fast"])
+    assert result.exit_code != 0 and "--kernel = 'fast'" in result.output
 
 
 def test_unknown_scenario_exits_non_zero():

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from railbrake import _core, scenario, simulation
+from railbrake.errors import InputError
 
 ATM = 1.01325e5
 
@@ -105,8 +106,36 @@ def test_leaf_patch_triggers_the_wsp_only_there():
 
 def test_bench_reports_timing():
     figures = simulation.bench(cars=2, steps=2000)
-    assert set(figures) == {"cars", "realtime_factor", "step_us_mean", "step_us_p99"}
+    assert set(figures) == {"cars", "realtime_factor", "step_us_mean", "step_us_p99", "step_us_max",
+                            "substeps", "kernel"}
     assert figures["realtime_factor"] > 1.0
+    assert figures["step_us_mean"] <= figures["step_us_max"]
+    assert figures["substeps"] == 1 and figures["kernel"] in ("portable", "avx2")
+    assert simulation.bench(cars=2, steps=100, kernel="portable")["kernel"] == "portable"
+
+
+def test_substeps_only_above_two_ms():
+    assert [simulation.substeps_for(dt * 1e-3) for dt in (0.25, 1.0, 2.0, 2.5, 5.0, 10.0)] == [1, 1, 1, 2, 3, 5]
+
+
+@pytest.mark.parametrize("preset", scenario.preset_names())
+def test_kernels_give_the_same_kpis(preset):
+    """The vector wheelset kernel (where this CPU has it) against the portable reference."""
+    portable = simulation.run(preset, record=False, kernel="portable").kpis
+    auto = simulation.run(preset, record=False, kernel="auto").kpis
+    for key, value in portable.items():
+        if key == "stopping_distance_m":
+            assert auto[key] == pytest.approx(value, rel=1e-9, abs=0.0)
+        else:
+            assert auto[key] == pytest.approx(value, rel=1e-9, abs=1e-12), key
+
+
+def test_kernel_from_the_environment(monkeypatch):
+    monkeypatch.setenv(simulation.KERNEL_ENV, "portable")
+    assert simulation.bench(cars=1, steps=100)["kernel"] == "portable"
+    monkeypatch.setenv(simulation.KERNEL_ENV, "sse9")
+    with pytest.raises(InputError, match="RAILBRAKE_KERNEL = 'sse9'"):
+        simulation.bench(cars=1, steps=100)
 
 
 def test_channel_layout_names_every_axle():
