@@ -121,6 +121,7 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if ((s = rb_check_range(err, "governor_off", p->governor_off, p->governor_on, 2e6))) return s;
     if ((s = rb_check_range(err, "initial_speed", p->initial_speed, 0.0, 150.0))) return s;
     if ((s = check_adhesion(p, err))) return s;
+    if ((s = rb_plant_train_check(p, err))) return s;
     return check_faults(p, err);
 }
 
@@ -175,6 +176,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     s->compressor_on = p->initial_pressure < p->governor_on;
     s->rng = p->noise_seed ? p->noise_seed : 0x9E3779B97F4A7C15ULL;
     s->m_initial = rb_plant_air_mass(p, s);
+    rb_plant_train_init(p, s);
     return RB_OK;
 }
 
@@ -237,4 +239,5 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
     out->air_in_system = rb_plant_air_mass(p, s);
     out->air_vented = s->m_vented;
     out->air_compressed = s->m_compressed;
+    rb_plant_train_outputs(p, s, out);
 }

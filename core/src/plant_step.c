@@ -96,13 +96,7 @@ static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant
                  p->discharge_coefficient, p->critical_ratio, 0.0};
     double rt = x.rt;
     /* compressor with on/off governor */
-    double p_mr = s->m_mr * rt / p->main_reservoir_volume;
-    if (p_mr < p->governor_on) s->compressor_on = 1;
-    if (p_mr > p->governor_off) s->compressor_on = 0;
-    if (s->compressor_on && !f->compressor_off) {
-        s->m_mr += p->compressor_flow * dt;
-        s->m_compressed += p->compressor_flow * dt;
-    }
+    rb_plant_compressors(p, s, f, dt);
     int last = p->n_cars - 1;
     double k_mr = rt / p->main_reservoir_volume, k_next_pipe = rt / p->car[0].pipe_volume;
     for (int c = 0; c < p->n_cars; ++c) {
@@ -211,7 +205,8 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
         double mass = car->vehicle.mass;
         double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * mass / total_mass : 0.0;
-        double other = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
+        double other = coupler[c] - coupler[c + 1] - resistance   /* tension pulls c back */
+                       - rb_plant_gradient_force(p, s, c);
         double rail = step_wheelsets(p, s, c, other, mass, f, cylinder, dt);
         s->a[c] = (rail + other) / mass;
     }
@@ -241,6 +236,7 @@ void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_i
         for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
             cylinder[a] = s->m_cyl[a] * (RB_AIR_R * p->temperature) / p->car[a / RB_AXLES_PER_CAR].cylinder_volume;
         rb_plant_step_mechanics(p, s, in, &f, cylinder, h);
+        rb_plant_discs(p, s, cylinder, h);
     }
     rb_plant_update_sensors(p, s, &f);
     s->step += 1;

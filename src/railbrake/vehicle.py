@@ -20,25 +20,38 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core
-from railbrake.config import parse_yaml
+import yaml
+from pydantic import ValidationError
+
+from railbrake import config
 from railbrake.errors import InputError
 from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
 
-SCHEMA = "railbrake.train/1"
-P_ATM = 101325.0  # Pa
+SCHEMA = "railbrake.train/2"
+OLD_SCHEMAS = ("railbrake.train/1",)
+LOAD_CASES = ("tare", "normal", "crush")
+P_ATM = 101325.0  # Pa, standard atmosphere
 SINTERED_LOW_SPEED = 0.42  # lambda at standstill of the default sintered pad [T]
 
 
 # ------------------------------------------------------------------ file schema
+# Numbers are strict (a bool or a string is never read as a number); every field carries its unit
+# in its name and a plausibility range in that unit, so a tare given in kg where t is asked fails.
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
+
+
+def _num(lo: float, hi: float, *, open_low: bool = False, default=...):
+    """A float in [lo, hi] of the unit its key names ((lo, hi] with open_low)."""
+    bounds = {"gt": lo} if open_low else {"ge": lo}
+    return Field(default, le=hi, **bounds)
 
 
 class _Resistance(_Strict):
-    A_kN: float = Field(ge=0.0)
-    B_kN_per_kmh: float = Field(ge=0.0)
-    C_kN_per_kmh2: float = Field(ge=0.0)
+    A_kN: float = _num(0.0, 50.0)
+    B_kN_per_kmh: float = _num(0.0, 1.0)
+    C_kN_per_kmh2: float = _num(0.0, 0.05)
     source: str
 
 
@@ -66,26 +79,88 @@ class _Table(_Strict):
 class _EdBrake(_Strict):
     branches_kN: list[_Branch] = Field(default=[], max_length=_core.MAX_ED_TERMS)
     table_kN: Optional[_Table] = None
-    scale: float = Field(default=1.0, ge=0.0)
-    fade_kmh: float = Field(default=0.0, ge=0.0)
+    scale: float = _num(0.0, 10.0, default=1.0)
+    fade_kmh: float = _num(0.0, 50.0, default=0.0)
+    response_s: float = _num(0.0, 5.0, open_low=True)
+    source: str
+
+
+class _BrakeStep(_Strict):
+    profile: str                  # a railbrake.sizing profile (preset name or file)
+    ed_blending: bool             # ED brake first on the motor cars, pneumatic the rest
+    source: str
+
+
+class _BrakeSteps(_Strict):
+    emergency: _BrakeStep
+    service: _BrakeStep
+
+
+class _Compressor(_Strict):
+    car: int = Field(ge=1, le=_core.MAX_CARS)      # 1-based position in the formation
+    delivery_kg_s: float = _num(0.0, 0.2, open_low=True)
+
+
+class _MainReservoirPipe(_Strict):
+    diameter_mm: float = _num(10.0, 50.0)
+    coupling_area_mm2: float = _num(1.0, 2000.0)   # flow area of the hose couplings between cars
+
+
+class _AirSupply(_Strict):
+    compressors: list[_Compressor] = Field(min_length=1, max_length=_core.MAX_COMPRESSORS)
+    governor_on_bar: float = _num(4.0, 12.0)       # gauge: a compressor starts below
+    governor_off_bar: float = _num(4.0, 12.0)      # gauge: and stops above
+    charged_bar: float = _num(4.0, 12.0)           # gauge: main reservoir and pipe at the start
+    main_reservoir_l: float = _num(10.0, 5000.0)   # lumped main reservoirs of the whole train
+    main_reservoir_outlet_mm2: float = _num(1.0, 2000.0)
+    pipe: _MainReservoirPipe
+    source: str
+
+    @model_validator(mode="after")
+    def _governor(self):
+        if not self.governor_off_bar > self.governor_on_bar:
+            raise ValueError(f"governor_off_bar = {self.governor_off_bar} must exceed governor_on_bar = "
+                             f"{self.governor_on_bar} (bar gauge)")
+        return self
+
+
+class _Pneumatics(_Strict):
+    air_temperature_c: float = _num(-40.0, 60.0)
+    discharge_coefficient: float = _num(0.3, 1.0)
+    critical_ratio: float = _num(0.1, 0.9)
+    source: str
+
+
+class _Coupler(_Strict):
+    slack_mm: float = _num(0.0, 100.0)
+    stiffness_kN_per_mm: float = _num(0.1, 1000.0)
+    damping_kN_s_per_m: float = _num(0.0, 10000.0)
     source: str
 
 
 class _Discs(_Strict):
     per_axle: int = Field(ge=1, le=8)
     mounting: Literal["axle", "wheel"]
-    mean_radius_m: float = Field(gt=0.0)
+    mean_radius_m: float = _num(0.1, 0.5)
+    mass_kg: float = _num(10.0, 500.0)                   # one disc (the part that stores heat)
+    specific_heat_J_per_kgK: float = _num(300.0, 1000.0)
+    cooling_W_per_K: _Table                             # per disc, over speed
+
+
+class _Cylinder(_Strict):
+    area_m2: float = _num(0.002, 0.1)          # one cylinder per disc (caliper)
+    stroke_mm: float = _num(1.0, 100.0)
+    dead_volume_l: float = _num(0.0, 20.0)
+    return_spring_kN: float = _num(0.0, 20.0)
 
 
 class _Caliper(_Strict):
-    cylinder_area_m2: float = Field(gt=0.0)
-    return_spring_kN: float = Field(ge=0.0)
-    lever_ratio: float = Field(gt=0.0)
-    efficiency: float = Field(gt=0.0, le=1.0)
+    lever_ratio: float = _num(0.5, 10.0)
+    efficiency: float = _num(0.5, 1.0)
 
 
 class _PadFriction(_Strict):
-    sintered_low_speed: Optional[float] = None
+    sintered_low_speed: Optional[float] = _num(0.35, 0.6, default=None)
     table: Optional[_Table] = None
 
     @model_validator(mode="after")
@@ -95,16 +170,66 @@ class _PadFriction(_Strict):
         return self
 
 
+class _SupplyReservoir(_Strict):
+    volume_l: float = _num(5.0, 1000.0)
+    charge_area_mm2: float = _num(0.1, 200.0)   # check valve and choke from the MR pipe
+
+
+class _EpValve(_Strict):
+    design: str                                  # valve design file (railbrake valve)
+    pilot_volume_l: float = _num(0.01, 10.0)
+    port_area_mm2: float = _num(0.1, 100.0)
+    response_s: float = _num(0.001, 2.0)
+    band_bar: float = _num(0.001, 2.0)
+
+
+class _RelayValve(_Strict):
+    design: str
+    output_volume_l: float = _num(0.01, 20.0)
+    supply_area_mm2: float = _num(0.1, 500.0)
+    exhaust_area_mm2: float = _num(0.1, 500.0)
+    band_bar: float = _num(0.001, 2.0)
+
+
+class _WspValves(_Strict):
+    hold_area_mm2: float = _num(0.1, 500.0)
+    vent_area_mm2: float = _num(0.1, 500.0)
+    response_s: float = _num(0.0, 0.2)
+
+
+class _Payload(_Strict):
+    """Payload per car (t) of the load cases; "tare" carries none."""
+    normal: float = _num(0.0, 40.0)
+    crush: float = _num(0.0, 60.0)
+
+
 class _CarType(_Strict):
     kind: Literal["motor", "trailer"]
-    tare_t: float = Field(gt=0.0)
-    load_t: float = Field(ge=0.0)
+    tare_t: float = _num(5.0, 100.0)
+    payload_t: _Payload
     axles: int = Field(ge=1, le=8)
-    wheel_radius_m: float = Field(gt=0.0)
-    wheelset_inertia_kgm2: float = Field(ge=0.0)
+    length_m: float = _num(5.0, 40.0)
+    axle_positions_m: list[float] = Field(min_length=1, max_length=8)
+    wheel_radius_m: float = _num(0.3, 0.65)
+    wheelset_inertia_kgm2: float = _num(10.0, 1000.0)
     discs: _Discs
+    cylinder: _Cylinder
     caliper: _Caliper
-    pad_friction: _PadFriction = _PadFriction(sintered_low_speed=SINTERED_LOW_SPEED)
+    pad_friction: _PadFriction
+    supply_reservoir: _SupplyReservoir
+    ep_valve: _EpValve
+    relay_valve: _RelayValve
+    wsp_valves: _WspValves
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        if len(self.axle_positions_m) != self.axles:
+            raise ValueError(f"axle_positions_m has {len(self.axle_positions_m)} entries: one per axle "
+                             f"({self.axles}) needed")
+        for i, x in enumerate(self.axle_positions_m):
+            if not 0.0 <= x <= self.length_m:
+                raise ValueError(f"axle_positions_m[{i}] = {x}: must lie in [0, length_m = {self.length_m}] m")
+        return self
 
 
 class _TrainFile(_Strict):
@@ -113,11 +238,16 @@ class _TrainFile(_Strict):
     title: str
     source: str
     assumptions: list[str] = []
-    max_speed_kmh: float = Field(gt=0.0)
-    supply_pressure_bar: float = Field(gt=0.0, le=10.0)
-    atmospheric_pressure_bar: float = Field(default=P_ATM / 1e5, gt=0.5, lt=1.2)
+    max_speed_kmh: float = _num(50.0, 500.0)
+    supply_pressure_bar: float = _num(1.0, 10.0)          # gauge, highest cylinder pressure
+    atmospheric_pressure_bar: float = _num(0.5, 1.2)      # absolute
     running_resistance: _Resistance
     ed_brake: Optional[_EdBrake] = None
+    brake_steps: _BrakeSteps
+    air_supply: _AirSupply
+    pneumatics: _Pneumatics
+    coupler: _Coupler
+    load_case: Literal["tare", "normal", "crush"] = "normal"
     car_types: dict[str, _CarType]
     formation: list[str] = Field(min_length=1, max_length=_core.MAX_CARS)
 
@@ -127,6 +257,10 @@ class _TrainFile(_Strict):
             if name not in self.car_types:
                 raise ValueError(f"formation[{i}] = {name!r}: not one of car_types "
                                  f"({', '.join(self.car_types)})")
+        for i, c in enumerate(self.air_supply.compressors):
+            if c.car > len(self.formation):
+                raise ValueError(f"air_supply.compressors[{i}].car = {c.car}: the formation has cars "
+                                 f"1..{len(self.formation)}")
         return self
 
 
@@ -140,11 +274,12 @@ class Car:
     type_name: str
     motor: bool
     tare: float  # kg
-    load: float  # kg
+    load: float  # kg, payload of the train's load case
     axles: int
     wheel_radius: float  # m
     wheelset_inertia: float  # kg m^2
     c: _core.Car
+    equipment: _CarType  # the car type as validated from the file (file units)
 
     @property
     def mass(self) -> float:
@@ -171,6 +306,12 @@ class Train:
     max_speed: float  # m/s
     cars: tuple  # of Car
     c: _core.TrainC  # rb_train struct, checked
+    spec: _TrainFile  # the whole file as validated (file units): brake equipment, air supply
+    load_case: str = "normal"
+
+    def brake_step(self, kind: str) -> _BrakeStep:
+        """The train's "emergency" or "service" brake step: profile name and ED blending."""
+        return getattr(self.spec.brake_steps, kind)
 
     @property
     def mass(self) -> float:
@@ -235,16 +376,20 @@ def _pad_friction(pad: _PadFriction) -> _core.PadFriction:
     return out
 
 
-def _car_struct(t: _CarType, ed: _core.EdCurve, p_atm: float, supply: float, loaded: bool) -> _core.Car:
-    mass = tonne_to_kg(t.tare_t + (t.load_t if loaded else 0.0))
+def _payload_t(t: _CarType, load_case: str) -> float:
+    return 0.0 if load_case == "tare" else getattr(t.payload_t, load_case)
+
+
+def _car_struct(t: _CarType, ed: _core.EdCurve, p_atm: float, supply: float, load_case: str) -> _core.Car:
+    mass = tonne_to_kg(t.tare_t + _payload_t(t, load_case))
     c = _core.Car()
     c.motor, c.axles, c.mass = int(t.kind == "motor"), t.axles, mass
     c.wheelset = _core.Wheelset(t.wheel_radius_m, t.wheelset_inertia_kgm2, mass / t.axles)
     c.brake.discs = t.discs.per_axle
     c.brake.mounting = 1 if t.discs.mounting == "wheel" else 0
     c.brake.mean_radius = t.discs.mean_radius_m
-    k = t.caliper
-    c.brake.caliper = _core.Caliper(k.cylinder_area_m2, kn_to_n(k.return_spring_kN), k.lever_ratio,
+    k, cyl = t.caliper, t.cylinder
+    c.brake.caliper = _core.Caliper(cyl.area_m2, kn_to_n(cyl.return_spring_kN), k.lever_ratio,
                                     k.efficiency, p_atm)
     c.brake.pad = _pad_friction(t.pad_friction)
     if c.motor:
@@ -253,7 +398,7 @@ def _car_struct(t: _CarType, ed: _core.EdCurve, p_atm: float, supply: float, loa
     return c
 
 
-def _build(model: _TrainFile, loaded: bool) -> Train:
+def _build(model: _TrainFile, load_case: str) -> Train:
     p_atm = bar_to_pa(model.atmospheric_pressure_bar)
     supply = p_atm + bar_to_pa(model.supply_pressure_bar)
     types = [model.car_types[n] for n in model.formation]
@@ -263,15 +408,36 @@ def _build(model: _TrainFile, loaded: bool) -> Train:
     train_c.n_cars = len(types)
     cars = []
     for i, (name, t) in enumerate(zip(model.formation, types)):
-        train_c.cars[i] = _car_struct(t, ed, p_atm, supply, loaded)
-        cars.append(Car(i, name, t.kind == "motor", tonne_to_kg(t.tare_t), tonne_to_kg(t.load_t),
-                        t.axles, t.wheel_radius_m, t.wheelset_inertia_kgm2, train_c.cars[i]))
+        train_c.cars[i] = _car_struct(t, ed, p_atm, supply, load_case)
+        cars.append(Car(i, name, t.kind == "motor", tonne_to_kg(t.tare_t), tonne_to_kg(_payload_t(t, load_case)),
+                        t.axles, t.wheel_radius_m, t.wheelset_inertia_kgm2, train_c.cars[i], t))
     r = model.running_resistance
     train_c.resistance = _core.Resistance(kn_to_n(r.A_kN), kn_to_n(r.B_kN_per_kmh) / KMH,
                                           kn_to_n(r.C_kN_per_kmh2) / KMH**2)
     _core.call(_core.rb_train_check, ctypes.byref(train_c))
     return Train(model.name, model.title, " ".join(model.source.split()), tuple(model.assumptions),
-                 model.max_speed_kmh * KMH, tuple(cars), train_c)
+                 model.max_speed_kmh * KMH, tuple(cars), train_c, model, load_case)
+
+
+def with_cars(train: Train, n_cars: int) -> Train:
+    """The train lengthened or shortened to n_cars by repeating its formation. Running
+    resistance: A and B scale with the mass, C (air) with 0.2 + 0.8 n/N (head and tail
+    unchanged) [T]."""
+    n = len(train.cars)
+    if n_cars == n:
+        return train
+    if not 1 <= n_cars <= _core.MAX_CARS:
+        raise InputError(f"cars = {n_cars}: must be in [1, {_core.MAX_CARS}]")
+    c = _core.TrainC()
+    c.n_cars = n_cars
+    for i in range(n_cars):
+        c.cars[i] = train.c.cars[i % n]
+    r = train.c.resistance
+    mass_ratio = sum(train.cars[i % n].c.mass for i in range(n_cars)) / train.mass
+    c.resistance = _core.Resistance(r.A * mass_ratio, r.B * mass_ratio, r.C * (0.2 + 0.8 * n_cars / n))
+    _core.call(_core.rb_train_check, ctypes.byref(c))
+    cars = tuple(replace(train.cars[i % n], index=i, c=c.cars[i]) for i in range(n_cars))
+    return replace(train, cars=cars, c=c, title=f"{train.title}, {n_cars} cars")
 
 
 def _preset_dir():
@@ -282,27 +448,87 @@ def preset_names() -> list[str]:
     return sorted(p.name[:-5] for p in _preset_dir().iterdir() if p.name.endswith(".yaml"))
 
 
-def parse_train(text: str, origin: str, loaded: bool = True) -> Train:
-    model = parse_yaml(text, _TrainFile, origin)
+def _load_case(loaded: Union[bool, str, None], model: _TrainFile, origin: str) -> str:
+    """loaded: a load case name, True (the file's own load_case) or False (tare)."""
+    if loaded is True or loaded is None:
+        return model.load_case
+    if loaded is False:
+        return "tare"
+    if loaded not in LOAD_CASES:
+        raise InputError(f"{origin}: load case = {loaded!r}: must be one of {', '.join(LOAD_CASES)}")
+    return loaded
+
+
+def _refuse_old_schema(data: dict, origin: str, lines: dict) -> None:
+    schema = data.get("schema") if isinstance(data, dict) else None
+    if schema in OLD_SCHEMAS:
+        line = lines.get(("schema",)) if lines else None
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: schema = {schema!r}: no longer read; "
+                         f"train files are {SCHEMA!r} now, carrying the whole brake equipment "
+                         "(see docs/vehicle.md, or copy a preset: railbrake config show)")
+
+
+def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, str] = True) -> Train:
+    """A Train from the data of a train file (a dict in file units, e.g. with overrides applied);
+    lines maps key paths to file lines for messages; loaded: load case name, True (the file's
+    load_case) or False (tare)."""
+    _refuse_old_schema(data, origin, lines)
+    model = validate_data(data, _TrainFile, origin, lines)
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     try:
-        return _build(model, loaded)
+        return _build(model, _load_case(loaded, model, origin))
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
 
 
-def load_train(name_or_path: Union[str, Path, Train], loaded: bool = True) -> Train:
-    """A preset name (see preset_names()) or a YAML file; loaded=False leaves out the payload."""
-    if isinstance(name_or_path, Train):
-        return name_or_path
+def read_train_data(text: str, origin: str) -> tuple[dict, dict]:
+    """The data of a train file's text and its line index (key path -> line)."""
+    try:
+        node, data = yaml.compose(text), yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f", line {mark.line + 1}" if mark else ""
+        raise InputError(f"{origin}{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{origin}: expected a mapping of keys at the top level")
+    return data, config._line_index(node)
+
+
+def validate_data(data: dict, model, origin: str, lines: dict):
+    """data validated against a pydantic model; InputError names key, value, line and range."""
+    try:
+        return model.model_validate(data)
+    except ValidationError as exc:
+        messages = []
+        for error in exc.errors():
+            line = config._line_of(lines, error["loc"]) if lines else None
+            messages.append(f"{origin}{f', line {line}' if line else ''}: {config._describe(error)}")
+        raise InputError("\n".join(messages)) from None
+
+
+def parse_train(text: str, origin: str, loaded: Union[bool, str] = True) -> Train:
+    data, lines = read_train_data(text, origin)
+    return parse_train_data(data, origin, lines, loaded)
+
+
+def train_file_text(name_or_path: Union[str, Path]) -> tuple[str, str]:
+    """(text, origin) of a preset name or a train YAML file."""
     name = str(name_or_path)
     if name in preset_names():
-        return parse_train((_preset_dir() / f"{name}.yaml").read_text(), f"train {name}", loaded)
+        return (_preset_dir() / f"{name}.yaml").read_text(), f"train {name}"
     path = Path(name)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return parse_train(path.read_text(), str(path), loaded)
+        return path.read_text(), str(path)
     raise InputError(f"train = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
+
+
+def load_train(name_or_path: Union[str, Path, Train], loaded: Union[bool, str] = True) -> Train:
+    """A preset name (see preset_names()) or a YAML file; loaded: load case ("tare", "normal",
+    "crush"), True for the file's own, False for tare."""
+    if isinstance(name_or_path, Train):
+        return name_or_path
+    return parse_train(*train_file_text(name_or_path), loaded)
 
 
 # ------------------------------------------------------------------ single laws, for users and tests

@@ -42,6 +42,8 @@ extern "C" {
 #define RB_MAX_CONDITIONS 4
 #define RB_MAX_ZONES 8
 #define RB_MAX_FAULTS 16
+#define RB_MAX_COMPRESSORS 4
+#define RB_MAX_GRADIENTS 16
 
 /* ---- parameters (SI units, absolute pressures) */
 
@@ -62,6 +64,9 @@ typedef struct {
     double hold_area, vent_area; /* m^2, WSP valves per axle */
     double valve_delay;       /* s, WSP valve response delay */
     double pipe_area;         /* m^2, MR pipe link to the next car */
+    /* brake discs of one axle, lumped (plant_train.c): heat capacity and cooling over speed */
+    double disc_heat_capacity;        /* J/K per axle (0: no disc temperature) */
+    rb_speed_table disc_cooling;      /* W/K per axle over the car's speed (n = 0: none) */
 } rb_plant_car;
 
 typedef struct {
@@ -126,6 +131,20 @@ typedef struct {
     int n_faults;
     rb_fault fault[RB_MAX_FAULTS];
     uint64_t noise_seed;
+    /* air supply with several compressors (plant_train.c); n_compressors = 0: the single
+     * compressor above (compressor_car, compressor_flow). Compressor i feeds the main reservoir
+     * when it sits on compressor_car, else the MR pipe of its car; its governor reads the
+     * pressure it feeds (on/off at governor_on/governor_off). */
+    int n_compressors;
+    int compressor_position[RB_MAX_COMPRESSORS];    /* car, 0-based */
+    double compressor_delivery[RB_MAX_COMPRESSORS]; /* kg/s when running */
+    /* track gradient, piecewise constant in the position of each car's centre (m along the
+     * track from the start); gradient[i] applies from gradient_start[i] on, gradient[0] also
+     * before it. Rise over run, uphill positive. n_gradients = 0: level. */
+    int n_gradients;
+    double gradient_start[RB_MAX_GRADIENTS];
+    double gradient[RB_MAX_GRADIENTS];
+    double ambient_temperature;   /* K: discs at t = 0 and the cooling's reference */
 } rb_plant_params;
 
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
@@ -157,6 +176,9 @@ typedef struct {
     double air_in_system;         /* kg in every volume */
     double air_vented;            /* kg to the atmosphere since t = 0 */
     double air_compressed;        /* kg delivered by the compressor since t = 0 */
+    double air_drawn;             /* kg taken from the main reservoir and its pipe since t = 0 */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K, lumped discs of each axle */
+    double brake_energy[RB_PLANT_MAX_AXLES];     /* J, friction brake energy of each axle since t = 0 */
 } rb_plant_outputs;
 
 /* ---- state (fixed size; plain data, may be copied) */
@@ -189,6 +211,11 @@ typedef struct {
     double noise[RB_PLANT_MAX_AXLES];          /* m/s added to the measured wheel speed */
     uint8_t sensor_lost[RB_PLANT_MAX_AXLES];
     double m_initial;
+    /* plant_train.c */
+    uint8_t compressor_running[RB_MAX_COMPRESSORS];
+    double m_supply_side_initial; /* kg in the main reservoir and pipe at t = 0 */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K */
+    double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */

@@ -214,6 +214,19 @@ rb_status rb_train_deceleration_curve(const rb_train *t, const double *speed, co
 rb_status rb_size_target_pressure(const rb_train *t, const double *speed, const double *decel,
                                   size_t n, double gradient, double *p_motor, double *p_trailer,
                                   double *ed_force, double *adhesion, rb_error *err);
+/* The same with the ED brake on (ed_on = 1, as rb_size_target_pressure) or off (0: pneumatic only,
+ * as an emergency brake without ED blending). */
+rb_status rb_size_target_pressure_ed(const rb_train *t, const double *speed, const double *decel,
+                                     size_t n, double gradient, int ed_on, double *p_motor,
+                                     double *p_trailer, double *ed_force, double *adhesion,
+                                     rb_error *err);
+/* What a brake control unit needs to brake car `car` as the sizing does: at each speed[i] the
+ * car's brake force demand force[i] (N, ED plus pneumatic, rb_car_brake_demand, not below 0) for
+ * the deceleration decel[i], and its pneumatic law solved for the pressure: cylinder pressure =
+ * threshold + pressure_per_newton[i] * pneumatic force (Pa abs; pad lambda(v) included). */
+rb_status rb_size_car_demand(const rb_train *t, int car, const double *speed, const double *decel,
+                             size_t n, double gradient, double *force, double *pressure_per_newton,
+                             double *threshold, rb_error *err);
 
 /* ------------------------------------------------------------------ stopping distance */
 

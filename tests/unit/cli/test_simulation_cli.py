@@ -24,7 +24,11 @@ def test_run_writes_parquet_with_units_kpis_and_plots(tmp_path):
 def test_no_wsp_flag_turns_the_wsp_off():
     result = CliRunner().invoke(app, ["run", "emergency-300-leaves-patch", "--cars", "1", "--no-wsp", "--json"])
     assert result.exit_code == 0, result.output
-    assert json.loads(result.output)["air_consumed_kg"] == 0.0
+    kpis = json.loads(result.stdout)
+    # no WSP: the wheels lock on the leaves; only the relay valve exhausts, as the demand steps
+    # down with speed (the emergency profile): far less than the WSP's venting (0.025 kg)
+    assert kpis["wheel_lock_events"] >= 1 and kpis["worst_axle"].startswith("c1a")
+    assert kpis["air_vented_kg"] < 0.01
 
 
 def test_bench_json():
