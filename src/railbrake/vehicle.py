@@ -14,7 +14,8 @@ import ctypes
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
-from typing import Literal, Optional, Union
+import types
+from typing import Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -495,6 +496,59 @@ def read_train_data(text: str, origin: str) -> tuple[dict, dict]:
     return data, config._line_index(node)
 
 
+_UNIT_OF_SUFFIX = {"_t": "t", "_kgm2": "kg m^2", "_l": "l", "_mm2": "mm^2", "_m2": "m^2", "_mm": "mm",
+                   "_m": "m", "_bar": "bar", "_kN": "kN", "_s": "s", "_kg_s": "kg/s", "_kmh": "km/h",
+                   "_kg": "kg", "_c": "degC", "_kN_per_mm": "kN/mm", "_kN_s_per_m": "kN s/m",
+                   "_J_per_kgK": "J/(kg K)", "_kN_per_kmh": "kN/(km/h)", "_kN_per_kmh2": "kN/(km/h)^2"}
+
+
+def _unwrap(annotation):
+    """X from Optional[X]."""
+    if get_origin(annotation) in (Union, types.UnionType):
+        args = [a for a in get_args(annotation) if a is not type(None)]
+        return args[0] if len(args) == 1 else annotation
+    return annotation
+
+
+def _field_info(model, loc):
+    """The pydantic FieldInfo at an error location (None if the location is not a model field)."""
+    annotation, info = model, None
+    for part in loc:
+        annotation = _unwrap(annotation)
+        if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+            info = annotation.model_fields.get("schema_" if part == "schema" else part)
+            if info is None:
+                return None
+            annotation = info.annotation
+        elif get_origin(annotation) in (dict, list):
+            annotation, info = get_args(annotation)[-1], None
+        else:
+            return None
+    return info
+
+
+def _range_text(model, error) -> str | None:
+    """'must lie in [5, 100] t' for a number out of its plausible range."""
+    if error["type"] not in ("greater_than_equal", "less_than_equal", "greater_than", "less_than"):
+        return None
+    info = _field_info(model, error["loc"])
+    if info is None:
+        return None
+    lo = hi = None
+    low_open = False
+    for m in info.metadata:
+        lo = getattr(m, "ge", lo)
+        if getattr(m, "gt", None) is not None:
+            lo, low_open = m.gt, True
+        hi = getattr(m, "le", hi)
+    key = str(error["loc"][-1])
+    unit = next((u for suffix, u in sorted(_UNIT_OF_SUFFIX.items(), key=lambda x: -len(x[0]))
+                 if key.endswith(suffix)), "")
+    if lo is None or hi is None:
+        return None
+    return f"must lie in {'(' if low_open else '['}{lo:g}, {hi:g}] {unit}".rstrip()
+
+
 def validate_data(data: dict, model, origin: str, lines: dict):
     """data validated against a pydantic model; InputError names key, value, line and range."""
     try:
@@ -503,7 +557,12 @@ def validate_data(data: dict, model, origin: str, lines: dict):
         messages = []
         for error in exc.errors():
             line = config._line_of(lines, error["loc"]) if lines else None
-            messages.append(f"{origin}{f', line {line}' if line else ''}: {config._describe(error)}")
+            text = config._describe(error)
+            allowed = _range_text(model, error)
+            if allowed:
+                key = ".".join(str(p) for p in error["loc"])
+                text = f"{key} = {error.get('input')!r}: {allowed}"
+            messages.append(f"{origin}{f', line {line}' if line else ''}: {text}")
         raise InputError("\n".join(messages)) from None
 
 
