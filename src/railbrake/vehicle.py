@@ -13,18 +13,15 @@ from __future__ import annotations
 import ctypes
 from dataclasses import dataclass, replace
 from importlib import resources
-from pathlib import Path
 import types
+from pathlib import Path
 from typing import Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
-
-from railbrake import _core
 import yaml
-from pydantic import ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from railbrake import config
+from railbrake import _core, config
 from railbrake.errors import InputError
 from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
 
@@ -469,12 +466,13 @@ def _refuse_old_schema(data: dict, origin: str, lines: dict) -> None:
                          "(see docs/vehicle.md, or copy a preset: railbrake config show)")
 
 
-def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, str] = True) -> Train:
+def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, str] = True,
+                     overrides: dict | None = None) -> Train:
     """A Train from the data of a train file (a dict in file units, e.g. with overrides applied);
-    lines maps key paths to file lines for messages; loaded: load case name, True (the file's
+    lines and overrides say where each key came from; loaded: load case name, True (the file's
     load_case) or False (tare)."""
     _refuse_old_schema(data, origin, lines)
-    model = validate_data(data, _TrainFile, origin, lines)
+    model = validate_data(data, _TrainFile, config.locator(origin, lines, overrides))
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     try:
@@ -485,15 +483,8 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
 
 def read_train_data(text: str, origin: str) -> tuple[dict, dict]:
     """The data of a train file's text and its line index (key path -> line)."""
-    try:
-        node, data = yaml.compose(text), yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f", line {mark.line + 1}" if mark else ""
-        raise InputError(f"{origin}{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from None
-    if not isinstance(data, dict):
-        raise InputError(f"{origin}: expected a mapping of keys at the top level")
-    return data, config._line_index(node)
+    data = config.load_mapping(text, origin)
+    return data, config._line_index(yaml.compose(text))
 
 
 _UNIT_OF_SUFFIX = {"_t": "t", "_kgm2": "kg m^2", "_l": "l", "_mm2": "mm^2", "_m2": "m^2", "_mm": "mm",
@@ -549,20 +540,20 @@ def _range_text(model, error) -> str | None:
     return f"must lie in {'(' if low_open else '['}{lo:g}, {hi:g}] {unit}".rstrip()
 
 
-def validate_data(data: dict, model, origin: str, lines: dict):
-    """data validated against a pydantic model; InputError names key, value, line and range."""
+def validate_data(data: dict, model, locate):
+    """data validated against a pydantic model; InputError names key, value, where it came from
+    (locate(key path): file and line, or the override) and the plausible range."""
     try:
         return model.model_validate(data)
     except ValidationError as exc:
         messages = []
         for error in exc.errors():
-            line = config._line_of(lines, error["loc"]) if lines else None
             text = config._describe(error)
             allowed = _range_text(model, error)
             if allowed:
                 key = ".".join(str(p) for p in error["loc"])
                 text = f"{key} = {error.get('input')!r}: {allowed}"
-            messages.append(f"{origin}{f', line {line}' if line else ''}: {text}")
+            messages.append(f"{locate(tuple(error['loc']))}: {text}")
         raise InputError("\n".join(messages)) from None
 
 

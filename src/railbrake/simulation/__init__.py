@@ -18,6 +18,7 @@ from railbrake import _core, sizing
 from railbrake.adhesion import load_condition
 from railbrake.contact import wheel_rail_contact
 from railbrake.errors import InputError
+from railbrake.resolve import resolve
 from railbrake.scenario import Scenario, load
 from railbrake.units import KMH
 from railbrake.vehicle import load_train, with_cars
@@ -114,14 +115,15 @@ _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
 def scenario_train(scenario: Scenario, n_cars: int | None = None):
     """The scenario's train with its load case, lengthened to n_cars (default: the scenario's)."""
     spec = scenario.spec
-    train = load_train(spec.train.preset, spec.train.load or True)
+    train = load_train(spec.train.preset, spec.train.load_case or True)
     return with_cars(train, scenario.cars(n_cars) if n_cars is None else n_cars)
 
 
 def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int = SUBSTEPS,
                  train=None) -> _core.PlantParams:
+    """The plant's C parameters; train: the resolved train (default: the scenario's preset)."""
     spec = scenario.spec
-    train = scenario_train(scenario, n_cars) if train is None else train
+    train = scenario_train(scenario, n_cars) if train is None else with_cars(train, n_cars)
     scenario.check_speed(train)
     eq = train.spec
     p = _core.PlantParams()
@@ -210,7 +212,7 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=No
     """The BCU: per car the brake force of the train's emergency and service steps over speed and
     the pneumatic law solved for the pressure, from railbrake.sizing (load-weighed, pad lambda(v),
     ED blending as the train file's brake steps say). docs/simulation.md, 'From demand to cylinder'."""
-    train = scenario_train(scenario, plant.n_cars) if train is None else train
+    train = scenario_train(scenario, plant.n_cars) if train is None else with_cars(train, plant.n_cars)
     b = _core.BcuParams()
     b.n_cars, b.cycle, b.atmosphere = plant.n_cars, scenario.spec.wsp.cycle, plant.atmosphere
     emergency, ed_emergency = sizing.brake_step(train, "emergency")
@@ -255,7 +257,7 @@ WspCallback = Callable[[_core.WspInputs, _core.WspCommands], None]
 def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
         wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
         record: bool = True, dt: float = DT, substeps: int = SUBSTEPS, train=None) -> Result:
-    """Run a scenario (preset name, file or Scenario) in the C core.
+    """Run a scenario (preset name, file, Scenario or railbrake.resolve.Resolved) in the C core.
 
     cars: override the train's number of cars; wsp=False: no WSP (valves never commanded);
     wsp_function(inputs, commands): a Python WSP replacing the default (prototyping; slower);
@@ -264,9 +266,9 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     train: a vehicle.Train to use instead of the scenario's (e.g. with overrides), lengthened to
     the cars asked for.
     """
-    sc = load(scenario)
-    n_cars = sc.cars(cars)
-    train = scenario_train(sc, n_cars) if train is None else with_cars(train, n_cars)
+    resolved = resolve(scenario, cars)
+    sc, n_cars = resolved.scenario, resolved.cars
+    train = with_cars(resolved.train if train is None else train, n_cars)
     plant = plant_params(sc, n_cars, dt, substeps, train)
     bcu = bcu_params(plant, sc, wsp, train)
     callback = None
@@ -355,15 +357,15 @@ RESPONSE_WINDOW = 5.0   # s of emergency braking over which the build-up is meas
 def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-medium",
                        max_time: float = 3600.0, load: str | None = None) -> Scenario:
     """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`."""
-    from railbrake.scenario import SCHEMA, ScenarioFile
+    from railbrake.scenario import SCHEMA, from_data
     data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
             "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
-            "train": {"preset": str(train), "load": load}, "initial_speed": f"{initial_speed!r} m/s",
+            "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
             "demand": [{"time": "0 s", "emergency": True}], "adhesion": {"condition": condition},
             "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
-    sc = Scenario(ScenarioFile.model_validate(data), f"emergency stop of {train}", {})
-    sc.check_speed(scenario_train(sc))
-    return sc
+    if load is not None:
+        data["train"]["load_case"] = load
+    return from_data(data, f"emergency stop of {train}", {})
 
 
 def response_times(result: Result, window: float = RESPONSE_WINDOW) -> tuple[float, float]:
