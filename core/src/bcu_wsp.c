@@ -1,4 +1,4 @@
-/* Default wheel-slide protection (shared/reference/README.md, section 5). */
+/* Default wheel-slide protection (UIC 541-05 / EN 15595 practice [T], see rb_bcu.h). */
 #include "railbrake/rb_bcu.h"
 
 #include <string.h>

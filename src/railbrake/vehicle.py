@@ -2,7 +2,8 @@
 
 The laws live in the C core (``core/src/vehicle_*.c``, ``rb_vehicle.h``); this module reads and
 validates train files (schema ``railbrake.train/1``), converts their human units to SI and builds
-the C structs. Sources: ``shared/reference/README.md`` sections 2 and 3; every preset marks its
+the C structs. Sources: TB/T 1407.2 (CRH380AL traction calculation), EN 14531-1 (brake
+performance), published CRH380A / CRH3C / ICE 3 data; every preset marks its
 assumptions [T].
 
 Pressures: the YAML files give gauge pressures in bar; inside, pressures are absolute in Pa.

@@ -2,8 +2,8 @@
  * running resistance, electrodynamic (ED) brake, coupler; the whole-train force balance,
  * the inverse computation of the target cylinder pressure and the stopping-distance integrator.
  *
- * Sources (see shared/reference/README.md, sections 2 and 3):
- *  - EN 14531: cylinder force F_C = p_C A_C i_C eta_C + F_s (F_s the return spring, acting against
+ * Sources:
+ *  - EN 14531-1 (railway brake performance: stopping, slowing and stationary braking): cylinder force F_C = p_C A_C i_C eta_C + F_s (F_s the return spring, acting against
  *    the piston); equivalent response time te = ta + tb/2 [P].
  *  - TB/T 1407.2 (CRH380AL): running resistance, ED brake curve, rotating-mass factor [P].
  *  - Sintered pad friction ~0.35 rising below 100 km/h; wheelset inertia 80-150 kg m^2 [T].

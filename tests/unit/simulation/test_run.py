@@ -1,8 +1,8 @@
 """Whole-train runs against the requirements of the brake literature and conservation laws.
 
-References (shared/reference/README.md): under 3000 m from 250 km/h [P] (section 3); heavy-rain
-adhesion 0.02 front car to 0.05 car 4 at 300 km/h [P] (section 1); EN 15595 adhesion utilisation,
-no wheel lock, safety timer on continuous venting [T] (section 5).
+References: under 3000 m from 250 km/h [P] (EP-brake design literature); Shinkansen heavy-rain
+adhesion 0.02 front car to 0.05 car 4 at 300 km/h [P]; EN 15595 adhesion utilisation, no wheel
+lock, safety timer on continuous venting [T].
 """
 
 import numpy as np
