@@ -109,7 +109,7 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
                       const rb_plant_outputs *out)
 {
     int emergency = d->emergency > 0.5;
-    double speed = rb_bcu_speed(out, p->n_cars);
+    double speed = rb_bcu_speed(out, p->n_cars);   /* the tables' speed: the fastest measured wheel */
     int ed_step = emergency ? p->ed_in_emergency : (p->demand_tables ? p->ed_in_service : 1);
     rb_wsp_inputs *w = &s->wsp_in;
     w->time = out->time;
