@@ -12,7 +12,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import simulation
-from railbrake.cli._common import print_json, reports_errors
+from railbrake.cli._common import SET_HELP, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
@@ -37,10 +37,6 @@ def warnings_for(result) -> list[str]:
     if not k["stopped"]:
         found.append("the train did not stop before max_time: stopping_distance_m is null")
     return found
-
-
-SET_HELP = ("Override a key of the resolved configuration, KEY=VALUE with the value as in a file, e.g. "
-            "--set initial_speed='300 km/h' (repeatable; `railbrake config show` lists the keys).")
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
