@@ -171,7 +171,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = plant_params(sc, n_cars, train=resolved.train)
-    config = hil_config(sc, bcu_params(plant, sc, True), duration, hold_time, late_time, record_interval, paced)
+    config = hil_config(sc, bcu_params(plant, sc, True, resolved.train), duration, hold_time, late_time, record_interval, paced)
     names = channels(n_cars)
     state = ctypes.create_string_buffer(_core.rb_hil_runner_size())
     _core.call(_core.rb_hil_runner_open, ctypes.byref(plant), ctypes.byref(config), bind[0].encode(), bind[1],
@@ -223,7 +223,7 @@ def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0
         raise InputError(f"idle_timeout = {idle_timeout}, duration = {duration}: must be >= 0")
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    bcu = bcu_params(plant_params(sc, n_cars, train=resolved.train), sc, True)
+    bcu = bcu_params(plant_params(sc, n_cars, train=resolved.train), sc, True, resolved.train)
     wsp, spec = wsp_params(sc), _scenario_struct(sc)
     state = ctypes.create_string_buffer(_core.rb_hil_bcu_size())
     _core.call(_core.rb_hil_bcu_open, ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec), listen[0].encode(),
