@@ -1,8 +1,8 @@
 """Rolling stock: train presets (data files), cars, wheelsets, foundation brake, resistance, ED brake.
 
 The laws live in the C core (``core/src/vehicle_*.c``, ``rb_vehicle.h``); this module reads and
-validates train files (schema ``railbrake.train/1``), converts their human units to SI and builds
-the C structs. Sources: TB/T 1407.2 (CRH380AL traction calculation), EN 14531-1 (brake
+validates train files (schema ``railbrake.train/2``: the whole brake equipment, docs/vehicle.md),
+converts their human units to SI and builds the C structs. Sources: TB/T 1407.2 (CRH380AL traction calculation), EN 14531-1 (brake
 performance), published CRH380A / CRH3C / ICE 3 data; every preset marks its
 assumptions [T].
 

@@ -70,7 +70,7 @@ def _car(train, index: int) -> _core.PlantCar:
     w = vehicle.wheelset
     car.contact = wheel_rail_contact(wheel_radius=w.wheel_radius, axle_load=w.axle_load).creep_contact()
     ed = train.spec.ed_brake
-    car.ed_tau = ed.response_s if ed is not None else 1.0
+    car.ed_tau = ed.response_s if ed is not None else 1.0   # no ED brake: the lag is never used
     cyl, discs = t.cylinder, t.discs
     pipe = train.spec.air_supply.pipe
     car.supply_volume = t.supply_reservoir.volume_l * L
@@ -170,16 +170,14 @@ def _air_supply(train, n_cars: int, p: _core.PlantParams) -> None:
     first compressor's car, governor pressures gauge -> absolute."""
     air = train.spec.air_supply
     n_formation = len(train.spec.formation)
-    positions = []
-    for start in range(0, n_cars, n_formation):
-        positions += [start + c.car - 1 for c in air.compressors if start + c.car - 1 < n_cars]
-    deliveries = []
-    for start in range(0, n_cars, n_formation):
-        deliveries += [c.delivery_kg_s for c in air.compressors if start + c.car - 1 < n_cars]
-    if not positions:   # a train shorter than the first compressor's car still needs air
-        positions, deliveries = [n_cars - 1], [air.compressors[0].delivery_kg_s]
-    if len(positions) > _core.MAX_COMPRESSORS:   # a long repeated formation: the first ones
-        positions, deliveries = positions[:_core.MAX_COMPRESSORS], deliveries[:_core.MAX_COMPRESSORS]
+    units = [(start + c.car - 1, c.delivery_kg_s) for start in range(0, n_cars, n_formation)
+             for c in air.compressors if start + c.car - 1 < n_cars]
+    if not units:   # a train cut shorter than its first compressor's car still needs air
+        units = [(n_cars - 1, air.compressors[0].delivery_kg_s)]
+    if len(units) > _core.MAX_COMPRESSORS:
+        raise InputError(f"train {train.name}, {n_cars} cars: {len(units)} compressors (the formation's "
+                         f"repeated); the plant takes at most {_core.MAX_COMPRESSORS}")
+    positions, deliveries = [c for c, _ in units], [q for _, q in units]
     p.n_compressors = len(positions)
     for i, (c, q) in enumerate(zip(positions, deliveries)):
         p.compressor_position[i], p.compressor_delivery[i] = c, q
