@@ -185,7 +185,7 @@ static void test_stopping(void)
     size_t n;
     /* constant deceleration after the equivalent response time: v0 te + v0^2 / 2a */
     rb_speed_table a = {1, {0.0}, {0.9}};
-    rb_stop_options o = {250 / 3.6, 0.0, 0.0, 0.5, 2.5, 1, 0.01, 0.5, 600.0};
+    rb_stop_options o = {250 / 3.6, 0.0, 0.0, 0.5, 2.5, 1, 0.01, 0.5, 600.0, 0, {0.0}, {0.0}};
     CHECK(rb_stop_profile(&a, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
     CHECK(rb_stop_constant(o.v0, 0.9, 0.5 + 1.25, &s_ref, &t_ref, &err) == RB_OK);
     CHECK_CLOSE(s, s_ref, 1e-9, 0);
@@ -204,12 +204,37 @@ static void test_stopping(void)
     t.resistance = (rb_resistance){4000.0, 0.0, 8.0};
     rb_brake_command cmd;
     memset(&cmd, 0, sizeof cmd);
-    o = (rb_stop_options){300 / 3.6, 100 / 3.6, 0.0, 0.0, 0.0, 1, 0.05, 5.0, 1e4};
+    o = (rb_stop_options){300 / 3.6, 100 / 3.6, 0.0, 0.0, 0.0, 1, 0.05, 5.0, 1e4, 0, {0.0}, {0.0}};
     CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
     double M = rb_train_mass(&t) + rb_train_rotating_mass(&t), A = 4000.0, C = 8.0;
     CHECK_CLOSE(s, M / (2 * C) * log((A + C * o.v0 * o.v0) / (A + C * o.v_end * o.v_end)), 1e-6, 0);
     double k = sqrt(C / A);
     CHECK_CLOSE(tt, M / sqrt(A * C) * (atan(k * o.v0) - atan(k * o.v_end)), 1e-6, 0);
+
+    /* piecewise gradient: one piece from 0 is the constant gradient; one beyond the stop is level;
+     * a 2 % climb from 1000 m on lies between the two */
+    double s_level = s;
+    o.gradient = 0.02;
+    double s_const, t_const;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s_const, &t_const, &err) == RB_OK);
+    o.gradient = 0.0;
+    o.n_gradients = 1;
+    o.gradient_start[0] = 0.0; o.gradient_value[0] = 0.02;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
+    CHECK_CLOSE(s, s_const, 1e-12, 0);
+    o.n_gradients = 2;
+    o.gradient_value[0] = 0.0;
+    o.gradient_start[1] = 1e6;   /* beyond the stop: level */
+    o.gradient_value[1] = 0.02;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
+    CHECK_CLOSE(s, s_level, 1e-12, 0);
+    o.gradient_start[1] = 1000.0;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
+    CHECK(s < s_level && s > s_const);
+    o.gradient_start[1] = -5.0;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "gradient_start[1] = -5 m") != NULL);
+    o.n_gradients = 0;
 
     /* a pressure beyond the supply is refused and named */
     cmd.p_trailer = (rb_speed_table){1, {0.0}, {P_ATM + 6e5}};

@@ -111,6 +111,7 @@ rb_polach_check = _declare("rb_polach_check", c_int, POINTER(PolachParamsC), _er
 # ---------------------------------------------------------------- vehicle (rb_vehicle.h)
 
 MAX_TABLE = 64
+MAX_STOP_GRADIENTS = 16
 MAX_ED_TERMS = 8
 MAX_CARS = 20
 MAX_COMPRESSORS = 4
@@ -170,7 +171,8 @@ class BrakeCommand(Structure):
 class StopOptions(Structure):
     _fields_ = [("v0", c_double), ("v_end", c_double), ("gradient", c_double), ("delay", c_double),
                 ("build_up", c_double), ("equivalent_response", c_int), ("dt", c_double),
-                ("dt_out", c_double), ("t_max", c_double)]
+                ("dt_out", c_double), ("t_max", c_double), ("n_gradients", c_int),
+                ("gradient_start", c_double * MAX_STOP_GRADIENTS), ("gradient_value", c_double * MAX_STOP_GRADIENTS)]
 
 
 def speed_table(speed, value) -> SpeedTable:

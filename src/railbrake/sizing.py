@@ -360,9 +360,20 @@ class StoppingResult:
     warnings: list = field(default_factory=list)
 
 
-def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max):
-    return _core.StopOptions(float(v0), float(v_end), float(gradient), float(delay), float(build_up),
-                             int(bool(equivalent)), float(dt), float(dt_out), float(t_max))
+def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max, gradients=()):
+    o = _core.StopOptions(float(v0), float(v_end), float(gradient), float(delay), float(build_up),
+                          int(bool(equivalent)), float(dt), float(dt_out), float(t_max))
+    if len(gradients) > _core.MAX_STOP_GRADIENTS:
+        raise InputError(f"gradients: {len(gradients)} pieces, at most {_core.MAX_STOP_GRADIENTS}")
+    o.n_gradients = len(gradients)
+    for i, (start, value) in enumerate(gradients):
+        o.gradient_start[i], o.gradient_value[i] = float(start), float(value)
+    return o
+
+
+def train_length(train: Train) -> float:
+    """m over couplers: the sum of the cars' lengths (train file)."""
+    return float(sum(car.equipment.length_m for car in train.cars))
 
 
 def _run(function, first, options, t_max, dt_out) -> tuple:
@@ -400,7 +411,7 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
                       delay: Optional[float] = None, build_up: Optional[float] = None,
                       equivalent_response: bool = True, gradient: float = 0.0, v_end: float = 0.0,
                       dt: float = 0.01, dt_out: float = 0.5, t_max: float = 3600.0,
-                      ed: Optional[bool] = None) -> StoppingResult:
+                      ed: Optional[bool] = None, gradients=()) -> StoppingResult:
     """Stopping distance and time from v0 (m/s), integrated in C in the EN 14531 manner.
 
     With a train: the target pressures of `profile` (default: the train's emergency brake step;
@@ -409,6 +420,9 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     the profile's (or the constant `deceleration`'s) deceleration itself, no resistance.
     Response: delay ta and build-up tb (default: the profile's); response_time sets te directly.
     equivalent_response=True steps the brake on at te = ta + tb/2, False ramps it over tb.
+    gradients: a piecewise gradient instead of `gradient`, (start m, rise/run) pairs along the
+    track from the train's front at the brake's start (as a scenario's track.gradients), applied
+    at the middle of the train (so each start moves back by half the train's length).
     """
     trained = None if train is None else load_train(train)
     if deceleration is not None:
@@ -421,7 +435,9 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     tb = prof.build_up if build_up is None else build_up
     if response_time is not None:
         ta, tb = response_time, 0.0
-    options = _options(v0, v_end, gradient, ta, tb, equivalent_response, dt, dt_out, t_max)
+    half = 0.5 * train_length(trained) if trained is not None else 0.0
+    pieces = [(start + half, value) for start, value in gradients]
+    options = _options(v0, v_end, gradient, ta, tb, equivalent_response, dt, dt_out, t_max, pieces)
     if train is None:
         table = prof.table()
         result = _run(_core.rb_stop_profile, (ctypes.byref(table),), options, t_max, dt_out)

@@ -27,6 +27,7 @@ extern "C" {
 #define RB_MAX_AXLES 8      /* axles per car */
 #define RB_MAX_CARS 20      /* cars per train */
 #define RB_GRAVITY 9.80665  /* m/s^2 */
+#define RB_MAX_STOP_GRADIENTS 16  /* pieces of a gradient profile for the stopping distance */
 
 /* ------------------------------------------------------------------ tables over speed */
 
@@ -244,6 +245,12 @@ typedef struct rb_stop_options {
     double dt;               /* s, integration step */
     double dt_out;           /* s, spacing of the recorded curve (>= dt) */
     double t_max;            /* s: fail if not stopped by then */
+    /* piecewise gradient over the distance s from the brake's start (n_gradients = 0: `gradient`
+     * throughout): gradient_value[i] from gradient_start[i] on, [0] also before it; held over
+     * each integration step */
+    int n_gradients;
+    double gradient_start[RB_MAX_STOP_GRADIENTS];  /* m, increasing */
+    double gradient_value[RB_MAX_STOP_GRADIENTS];  /* rise/run, uphill positive */
 } rb_stop_options;
 
 /* Brake command for rb_stop_train: cylinder pressure per car type over speed (Pa abs; a table

@@ -49,6 +49,22 @@ def _size(train: str, profile: str, profile_csv: Optional[Path], adhesion_limit:
         typer.echo(f"plot: {plot}")
 
 
+def _gradient_pieces(text: Optional[str]) -> list:
+    """'0:0,2000:-12' -> [(0.0, 0.0), (2000.0, -0.012)] (m, rise/run)."""
+    if not text:
+        return []
+    pieces = []
+    for item in text.split(","):
+        start, sep, permille = item.partition(":")
+        try:
+            pieces.append((float(start), float(permille) * 1e-3))
+        except ValueError:
+            raise InputError(f"--gradients = {text!r}: {item!r} is not START_M:PERMILLE") from None
+        if not sep or not -100.0 <= pieces[-1][1] * 1e3 <= 100.0:
+            raise InputError(f"--gradients = {text!r}: {item!r}: START_M:PERMILLE with the gradient in [-100, 100]")
+    return pieces
+
+
 def register(app: typer.Typer) -> None:
     @app.command("size")
     @reports_errors
@@ -77,6 +93,8 @@ def register(app: typer.Typer) -> None:
         gradient_permille: float = typer.Option(0.0, "--gradient-permille",
                                                 help="Gradient, per mille, uphill positive (train mode)."),
         load: Optional[str] = typer.Option(None, help="Load case: tare, normal, crush (default: the train file's)."),
+        gradients: Optional[str] = typer.Option(None, help="Piecewise gradient along the track from the brake's "
+                                                "start, START_M:PERMILLE pairs, e.g. '0:0,2000:-12' (train mode)."),
         plot: Optional[Path] = typer.Option(None, help="Write a PNG of the speed-distance curve here."),
         json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     ):
@@ -100,7 +118,8 @@ def register(app: typer.Typer) -> None:
                 delay, build_up = measure(train, kmh_to_ms(v0_kmh), load)
             result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=t, profile=profile,
                                               response_time=response_time_s, delay=delay, build_up=build_up,
-                                              gradient=gradient_permille * 1e-3)
+                                              gradient=gradient_permille * 1e-3,
+                                              gradients=_gradient_pieces(gradients))
             name = profile or t.brake_step("emergency").profile
             title = f"{train} ({t.load_case} load), {name}"
             if simulated_response:

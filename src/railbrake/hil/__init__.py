@@ -204,8 +204,13 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     counters = {k: int(getattr(result, k)) for k in _core.HIL_COUNTERS}
     timing = {k: getattr(result, k) for k in _core.HIL_TIMING}
     timing["overruns"] = counters["overruns"]
-    kpis = {"stopping_distance_m": result.stopping_distance, "stopping_time_s": result.stopping_time,
+    kpis = {"stopping_distance_m": result.stopping_distance if result.stopped else None,
+            "stopping_time_s": result.stopping_time if result.stopped else None,
             "stopped": bool(result.stopped)}
+    if series.shape[0]:   # the air supply from the recorded channels (every record_interval)
+        supply = [outputs[name] for name, _ in names if name.startswith("supply_c")]
+        kpis["min_main_reservoir_bar"] = float(outputs["main_reservoir"].min() - plant.atmosphere) / 1e5
+        kpis["min_supply_bar"] = float(np.min(supply) - plant.atmosphere) / 1e5
     return HilResult(sc.name, n_cars, outputs["time"], outputs, dict(names), counters, timing, kpis, real_time,
                      events)
 

@@ -121,6 +121,22 @@ track: {gradients: [{start: 0 m, gradient: -12 ‰}]}
     assert r.kpis["stopping_distance_m"] == pytest.approx(calc.distance, rel=0.03)
 
 
+def test_piecewise_gradient_of_the_run_and_the_calculation_agree():
+    from railbrake.scenario import parse
+    text = """schema: railbrake.scenario/1
+name: descent
+train: {preset: crh380a-8}
+initial_speed: 200 km/h
+demand: [{time: 0 s, emergency: true}]
+track: {gradients: [{start: 0 m, gradient: 5 ‰}, {start: 600 m, gradient: -15 ‰}]}
+"""
+    r = simulation.run(parse(text, "descent"))
+    ta, tb = simulation.response_times(r)
+    calc = sizing.stopping_distance(200 * KMH, train="crh380a-8", delay=ta, build_up=tb,
+                                    gradients=[(0.0, 0.005), (600.0, -0.015)])
+    assert r.kpis["stopping_distance_m"] == pytest.approx(calc.distance, rel=0.03)
+
+
 def test_compressors_of_the_train_file_feed_the_pipe():
     sc = simulation.emergency_scenario("crh380al-16", 300 * KMH)
     plant = simulation.plant_params(sc, 16)
