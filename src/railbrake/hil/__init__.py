@@ -206,6 +206,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     timing["overruns"] = counters["overruns"]
     kpis = {"stopping_distance_m": result.stopping_distance if result.stopped else None,
             "stopping_time_s": result.stopping_time if result.stopped else None,
+            "braked_distance_m": result.stopping_distance,   # so far, also when the run was cut short
             "stopped": bool(result.stopped)}
     if series.shape[0]:   # the air supply from the recorded channels (every record_interval)
         supply = [outputs[name] for name, _ in names if name.startswith("supply_c")]
