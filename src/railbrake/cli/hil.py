@@ -42,8 +42,12 @@ def _print_report(result) -> None:
     table.add_column("value", justify="right")
     k = result.kpis
     what = "stopping" if k["stopped"] else "braking (no stop yet)"
-    table.add_row(f"{what} distance", f"{k['stopping_distance_m']:.1f} m")
-    table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    table.add_row(f"{what} distance", f"{k['braked_distance_m']:.1f} m")
+    if k["stopping_time_s"] is not None:
+        table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    for key in ("min_main_reservoir_bar", "min_supply_bar"):
+        if key in k:
+            table.add_row(key.replace("_", " ").replace(" bar", ""), f"{k[key]:.2f} bar")
     for key, value in result.counters.items():
         table.add_row(key.replace("_", " "), str(value))
     console.print(table)
