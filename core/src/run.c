@@ -10,6 +10,7 @@
 
 #define RB_G 9.80665
 #define LOCK_SPEED (10.0 / 3.6)   /* m/s: locks count above 10 km/h */
+#define SLIDE_SLIP 0.02           /* |slip| above which an axle slid (worst_axle) [T] */
 
 size_t rb_run_state_size(void) { return sizeof(rb_run_state); }
 size_t rb_kpis_size(void) { return sizeof(rb_kpis); }
@@ -247,7 +248,7 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
         k->brake_energy += o->brake_energy[a];
         int worse = r->axle_locks[a] > worst_locks ||
                     (r->axle_locks[a] == worst_locks && r->axle_max_slip[a] > worst_slip);
-        if (worse && (r->axle_locks[a] > 0 || r->axle_max_slip[a] > 0.0)) {
+        if (worse && (r->axle_locks[a] > 0 || r->axle_max_slip[a] > SLIDE_SLIP)) {
             k->worst_axle = a;
             worst_locks = r->axle_locks[a];
             worst_slip = r->axle_max_slip[a];

@@ -43,7 +43,8 @@ typedef struct {
     double air_vented_kg;         /* to the atmosphere */
     double cylinder_shortfall_s;  /* longest time a cylinder stayed RB_SHORTFALL_PA below its car's
                                      demand while braking with its WSP valves at rest */
-    double worst_axle;            /* 0-based axle with the most lock events, then the largest slip; -1: none */
+    double worst_axle;            /* 0-based axle with the most lock events, then the largest slip
+                                     above 2 %; -1: no axle locked or slid */
     double brake_energy;          /* J, friction brake energy of the whole train */
     double max_disc_temperature;  /* K, hottest lumped disc */
     double min_supply_margin;     /* Pa, lowest supply minus cylinder demand of a braking car (< 0:
