@@ -278,6 +278,8 @@ static void check_braking(const rb_plant_params *p, rb_hil_runner *r)
     r->kpi.brake_time = r->out.time;
     r->kpi.brake_position = r->out.position;
     r->kpi.brake_speed = r->out.speed;
+    r->kpi.out = r->out;
+    rb_run_start_kpis(p, &r->kpi);
     r->next_peak = r->out.time;
 }
 
@@ -322,6 +324,7 @@ static void accumulate_kpis(const rb_plant_params *p, const rb_hil_config *c, rb
     sc.adhesion_interval = c->adhesion_interval;
     r->kpi.plant = r->plant;
     r->kpi.out = r->out;
+    r->kpi.in = r->applied;   /* the BCU's commands in force: the cylinder demand */
     r->kpi.stopped = r->stopped;
     r->kpi.next_adhesion = HUGE_VAL;
     rb_run_accumulate(p, &sc, &r->kpi);

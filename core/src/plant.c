@@ -126,6 +126,7 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if (p->kernel != RB_PLANT_KERNEL_AUTO && p->kernel != RB_PLANT_KERNEL_PORTABLE)
         return rb_fail(err, RB_EINVAL, "kernel = %d: must be %d (auto) or %d (portable)", p->kernel,
                        RB_PLANT_KERNEL_AUTO, RB_PLANT_KERNEL_PORTABLE);
+    if ((s = rb_plant_train_check(p, err))) return s;
     return check_faults(p, err);
 }
 
@@ -284,6 +285,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     s->compressor_on = p->initial_pressure < p->governor_on;
     s->rng = p->noise_seed ? p->noise_seed : 0x9E3779B97F4A7C15ULL;
     s->m_initial = rb_plant_air_mass(p, s);
+    rb_plant_train_init(p, s);
     return RB_OK;
 }
 
@@ -346,4 +348,5 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
     out->air_in_system = rb_plant_air_mass(p, s);
     out->air_vented = s->m_vented;
     out->air_compressed = s->m_compressed;
+    rb_plant_train_outputs(p, s, out);
 }

@@ -70,4 +70,19 @@ void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wh
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
 
+/* ---- train equipment (plant_train.c): each called from plant.c / plant_step.c in one line */
+/* Checks the parameters of plant_train.c (compressors, gradients, discs). */
+rb_status rb_plant_train_check(const rb_plant_params *p, rb_error *err);
+/* Initial state of the compressors, discs and the air-drawn booking (after the air is set). */
+void rb_plant_train_init(const rb_plant_params *p, rb_plant_state *s);
+/* The compressors over a step dt: governors, delivery into the MR or the MR pipe. */
+void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f, double dt);
+/* Force of gravity along the track on car c (N, positive pulling back when uphill). */
+double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s, int c);
+/* Friction brake energy and disc temperature of every axle over a sub-step dt at the cylinder
+ * pressures it ran with. */
+void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, const double *cylinder, double dt);
+/* The outputs of plant_train.c. */
+void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
+
 #endif

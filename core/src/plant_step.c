@@ -80,13 +80,7 @@ static double valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *time
 static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
-    double p_mr = s->m_mr * d->k_mr;
-    if (p_mr < p->governor_on) s->compressor_on = 1;
-    if (p_mr > p->governor_off) s->compressor_on = 0;
-    if (s->compressor_on && !f->compressor_off) {
-        s->m_mr += p->compressor_flow * d->h;
-        s->m_compressed += p->compressor_flow * d->h;
-    }
+    rb_plant_compressors(p, s, f, d->h);   /* governors, delivery (plant_train.c) */
     int cc = p->compressor_car;
     double dm = rb_plant_link_mass(d, s->m_mr * d->k_mr, s->m_pipe[cc] * d->k_pipe[cc], d->g_mr, d->ik_mr);
     s->m_mr -= dm;
@@ -203,7 +197,8 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         double ed_target = ed < ed_max ? ed : ed_max;
         s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
         double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * d->mass_share[c] : 0.0;
-        other[c] = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
+        other[c] = coupler[c] - coupler[c + 1] - resistance   /* tension pulls c back */
+                   - rb_plant_gradient_force(p, s, c);
         if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
             for (int k = 0; k < RB_AXLES_PER_CAR; ++k)
                 rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - car->axle_position[k]);
@@ -260,6 +255,7 @@ void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_i
         cylinder_pressures(p, s, mean);
         for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + mean[a]);
         rb_plant_step_mechanics(p, s, in, &f, mean, s->derived.h);
+        rb_plant_discs(p, s, mean, s->derived.h);
     }
     rb_plant_update_sensors(p, s, &f);
     s->step += 1;

@@ -10,19 +10,21 @@
 
 #define RB_G 9.80665
 #define LOCK_SPEED (10.0 / 3.6)   /* m/s: locks count above 10 km/h */
+#define SLIDE_SLIP 0.02           /* |slip| above which an axle slid (worst_axle) [T] */
 
 size_t rb_run_state_size(void) { return sizeof(rb_run_state); }
+size_t rb_kpis_size(void) { return sizeof(rb_kpis); }
 
-enum { GLOBAL_CHANNELS = 9, CAR_CHANNELS = 4, AXLE_CHANNELS = 6 };
+enum { GLOBAL_CHANNELS = 10, CAR_CHANNELS = 4, AXLE_CHANNELS = 8 };
 static const rb_channel_name global_names[GLOBAL_CHANNELS] = {
     {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
     {"demand_deceleration", "m/s^2"}, {"main_reservoir", "Pa"}, {"pipe_end", "Pa"},
-    {"compressor_on", "1"}, {"air_vented", "kg"}};
+    {"compressor_on", "1"}, {"air_vented", "kg"}, {"air_drawn", "kg"}};
 static const rb_channel_name car_names[CAR_CHANNELS] = {
     {"supply", "Pa"}, {"pilot", "Pa"}, {"relay", "Pa"}, {"ed_force", "N"}};
 static const rb_channel_name axle_names[AXLE_CHANNELS] = {
     {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"},
-    {"adhesion", "1"}};
+    {"adhesion", "1"}, {"disc_temperature", "K"}, {"brake_energy", "J"}};
 
 static const rb_channel_layout layout = {global_names, car_names, axle_names,
                                          GLOBAL_CHANNELS, CAR_CHANNELS, AXLE_CHANNELS};
@@ -74,7 +76,18 @@ rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, co
     if (bcu->n_cars != plant->n_cars)
         return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must equal the plant's n_cars = %d", bcu->n_cars, plant->n_cars);
     rb_plant_get_outputs(plant, &run->plant, &run->out);
+    rb_run_start_kpis(plant, run);
     return RB_OK;
+}
+
+void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
+{
+    run->min_main_reservoir = run->out.main_reservoir;
+    run->min_supply = HUGE_VAL;
+    for (int c = 0; c < plant->n_cars; ++c)
+        if (run->out.supply[c] < run->min_supply) run->min_supply = run->out.supply[c];
+    run->min_supply_margin = HUGE_VAL;
+    run->max_disc_temperature = plant->ambient_temperature;
 }
 
 void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, const rb_bcu_params *bcu,
@@ -83,8 +96,9 @@ void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, cons
     int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
     rb_brake_demand d = rb_scenario_demand(sc, o->time);
     double g[GLOBAL_CHANNELS] = {o->time, o->speed, o->position, o->deceleration,
-                                 d.emergency > 0.5 ? bcu->emergency_decel : d.service * bcu->service_decel,
-                                 o->main_reservoir, o->pipe_end, (double)o->compressor_on, o->air_vented};
+                                 rb_bcu_demand_deceleration(bcu, &d, rb_bcu_speed(o, n)),
+                                 o->main_reservoir, o->pipe_end, (double)o->compressor_on, o->air_vented,
+                                 o->air_drawn};
     memcpy(row, g, sizeof g);
     row += GLOBAL_CHANNELS;
     for (int c = 0; c < n; ++c) {
@@ -101,6 +115,8 @@ void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, cons
         row[3 * na + a] = o->hold[a];
         row[4 * na + a] = o->vent[a];
         row[5 * na + a] = o->adhesion[a];
+        row[6 * na + a] = o->disc_temperature[a];
+        row[7 * na + a] = o->brake_energy[a];
     }
 }
 
@@ -111,11 +127,33 @@ static int car_isolated(const rb_plant_params *p, int car)
     return 0;
 }
 
+/* Air supply, cylinders and discs after one step: minima, shortfalls, hottest disc. */
+static void accumulate_air(const rb_plant_params *p, rb_run_state *r)
+{
+    const rb_plant_outputs *o = &r->out;
+    if (o->main_reservoir < r->min_main_reservoir) r->min_main_reservoir = o->main_reservoir;
+    for (int c = 0; c < p->n_cars; ++c) {
+        if (o->supply[c] < r->min_supply) r->min_supply = o->supply[c];
+        double demand = r->in.pressure_demand[c];
+        if (r->braking && demand > p->atmosphere && o->supply[c] - demand < r->min_supply_margin)
+            r->min_supply_margin = o->supply[c] - demand;
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            /* short of demand with the WSP valves at rest: the air did not get there */
+            int short_of = r->braking && !o->hold[a] && !o->vent[a] && demand - o->cylinder[a] > RB_SHORTFALL_PA;
+            r->shortfall_time[a] = short_of ? r->shortfall_time[a] + p->dt : 0.0;
+            if (r->shortfall_time[a] > r->max_shortfall) r->max_shortfall = r->shortfall_time[a];
+            if (o->disc_temperature[a] > r->max_disc_temperature) r->max_disc_temperature = o->disc_temperature[a];
+        }
+    }
+}
+
 /* KPI accumulation after one step. */
 static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
 {
     const rb_plant_outputs *o = &r->out;
     double dt = p->dt, total_mass = 0.0, rail = 0.0;
+    accumulate_air(p, r);
     if (!r->braking) return;
     for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
@@ -124,8 +162,9 @@ static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_s
         rail -= r->plant.force[a];
         if (v > LOCK_SPEED) {
             if (fabs(o->slip[a]) > r->max_slip) r->max_slip = fabs(o->slip[a]);
+            if (fabs(o->slip[a]) > r->axle_max_slip[a]) r->axle_max_slip[a] = fabs(o->slip[a]);
             if (o->wheel_speed[a] < 0.1 * v) {
-                if (r->lock_time[a] == 0.0) r->lock_events++;
+                if (r->lock_time[a] == 0.0) { r->lock_events++; r->axle_locks[a]++; }
                 r->lock_time[a] += dt;
                 if (r->lock_time[a] > r->max_lock) r->max_lock = r->lock_time[a];
             } else {
@@ -208,7 +247,25 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
     k->safety_timer_trips = r->bcu.wsp_default.trips;
     double m0 = r->plant.m_initial;
     k->air_balance_error = fabs(o->air_in_system + o->air_vented - o->air_compressed - m0) / m0;
-    (void)plant;
+    k->min_main_reservoir = r->min_main_reservoir;
+    k->min_supply = r->min_supply;
+    k->air_drawn_kg = o->air_drawn;
+    k->air_vented_kg = o->air_vented;
+    k->cylinder_shortfall_s = r->max_shortfall;
+    k->worst_axle = -1.0;
+    double worst_locks = 0.0, worst_slip = 0.0;
+    for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a) {
+        k->brake_energy += o->brake_energy[a];
+        int worse = r->axle_locks[a] > worst_locks ||
+                    (r->axle_locks[a] == worst_locks && r->axle_max_slip[a] > worst_slip);
+        if (worse && (r->axle_locks[a] > 0 || r->axle_max_slip[a] > SLIDE_SLIP)) {
+            k->worst_axle = a;
+            worst_locks = r->axle_locks[a];
+            worst_slip = r->axle_max_slip[a];
+        }
+    }
+    k->max_disc_temperature = r->max_disc_temperature;
+    k->min_supply_margin = r->min_supply_margin == HUGE_VAL ? 0.0 : r->min_supply_margin;
 }
 
 static double now_us(void)

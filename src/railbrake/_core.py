@@ -126,8 +126,10 @@ rb_polach_check = _declare("rb_polach_check", c_int, POINTER(PolachParamsC), _er
 # ---------------------------------------------------------------- vehicle (rb_vehicle.h)
 
 MAX_TABLE = 64
+MAX_STOP_GRADIENTS = 16
 MAX_ED_TERMS = 8
 MAX_CARS = 20
+MAX_COMPRESSORS = 4
 ED_OFF, ED_MAX, ED_BLENDED = 0, 1, 2
 
 
@@ -184,7 +186,8 @@ class BrakeCommand(Structure):
 class StopOptions(Structure):
     _fields_ = [("v0", c_double), ("v_end", c_double), ("gradient", c_double), ("delay", c_double),
                 ("build_up", c_double), ("equivalent_response", c_int), ("dt", c_double),
-                ("dt_out", c_double), ("t_max", c_double)]
+                ("dt_out", c_double), ("t_max", c_double), ("n_gradients", c_int),
+                ("gradient_start", c_double * MAX_STOP_GRADIENTS), ("gradient_value", c_double * MAX_STOP_GRADIENTS)]
 
 
 def speed_table(speed, value) -> SpeedTable:
@@ -227,6 +230,11 @@ rb_train_deceleration_curve = _declare("rb_train_deceleration_curve", c_int, POI
 rb_size_target_pressure = _declare("rb_size_target_pressure", c_int, POINTER(TrainC), c_double_p,
                                    c_double_p, c_size_t, c_double, c_double_p, c_double_p,
                                    c_double_p, c_double_p, _err_p)
+rb_size_target_pressure_ed = _declare("rb_size_target_pressure_ed", c_int, POINTER(TrainC), c_double_p,
+                                      c_double_p, c_size_t, c_double, c_int, c_double_p, c_double_p,
+                                      c_double_p, c_double_p, _err_p)
+rb_size_car_demand = _declare("rb_size_car_demand", c_int, POINTER(TrainC), c_int, c_double_p, c_double_p,
+                              c_size_t, c_double, c_double_p, c_double_p, c_double_p, _err_p)
 rb_stop_train = _declare("rb_stop_train", c_int, POINTER(TrainC), POINTER(BrakeCommand),
                          POINTER(StopOptions), c_double_p, c_double_p, c_double_p, c_size_t, _size_p,
                          c_double_p, c_double_p, _err_p)
@@ -247,6 +255,7 @@ MAX_CONDITIONS = 4
 MAX_ZONES = 8
 MAX_FAULTS = 16
 MAX_DEMAND_STEPS = 16
+MAX_GRADIENTS = 16
 
 
 def _doubles(*names):
@@ -259,7 +268,8 @@ class PlantCar(Structure):
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
                            "charge_area", "ep_area", "ep_tau", "ep_band", "relay_supply_area",
                            "relay_exhaust_area", "relay_band", "hold_area", "vent_area", "valve_delay",
-                           "pipe_area"))
+                           "pipe_area", "disc_heat_capacity")
+                + [("disc_cooling", SpeedTable)])
 
 
 class PlantCondition(Structure):
@@ -289,7 +299,11 @@ class PlantParams(Structure):
                 + [("n_conditions", c_int), ("condition", PlantCondition * MAX_CONDITIONS),
                    ("n_zones", c_int), ("zone", TrackZone * MAX_ZONES), ("creep_speed_min", c_double),
                    ("n_faults", c_int), ("fault", Fault * MAX_FAULTS), ("noise_seed", c_uint64),
-                   ("kernel", c_int)])
+                   ("kernel", c_int)]
+                + [("n_compressors", c_int), ("compressor_position", c_int * MAX_COMPRESSORS),
+                   ("compressor_delivery", c_double * MAX_COMPRESSORS),
+                   ("n_gradients", c_int), ("gradient_start", c_double * MAX_GRADIENTS),
+                   ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.
@@ -324,7 +338,11 @@ class BcuParams(Structure):
                                                       "pressure_max")]
                 + [("motor", c_int * PLANT_MAX_CARS), ("wsp_enabled", c_int), ("wsp_per_bogie", c_int),
                    ("wsp", WSP_FUNCTION),
-                   ("wsp_context", c_void_p)])
+                   ("wsp_context", c_void_p)]
+                + [("demand_tables", c_int), ("ed_in_service", c_int)]
+                + [(n, SpeedTable * PLANT_MAX_CARS) for n in ("emergency_force", "service_force",
+                                                             "pressure_per_newton")]
+                + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)])
 
 
 class Scenario(Structure):
@@ -336,7 +354,10 @@ class Scenario(Structure):
 
 KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max_slip",
              "wheel_lock_events", "max_lock_duration_s", "air_consumed_kg", "adhesion_utilisation",
-             "safety_timer_trips", "air_balance_error", "stopped")
+             "safety_timer_trips", "air_balance_error", "stopped",
+             "min_main_reservoir", "min_supply", "air_drawn_kg", "air_vented_kg", "cylinder_shortfall_s",
+             "worst_axle", "brake_energy", "max_disc_temperature", "min_supply_margin")
+SHORTFALL_PA = 0.2e5  # RB_SHORTFALL_PA
 
 
 class Kpis(Structure):
@@ -361,6 +382,10 @@ rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_cha
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
                           c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
 
+for _struct, _size in ((BcuParams, "rb_bcu_params_size"), (Kpis, "rb_kpis_size")):
+    if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
+        raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
+                          "src/railbrake/_core.py is out of date")
 if ctypes.sizeof(PlantParams) != rb_plant_params_size():
     raise ImportError(f"rb_plant_params: ctypes size {ctypes.sizeof(PlantParams)} differs from the C core's "
                       f"{rb_plant_params_size()}; src/railbrake/_core.py is out of date")

@@ -49,6 +49,8 @@ extern "C" {
 #define RB_MAX_CONDITIONS 4
 #define RB_MAX_ZONES 8
 #define RB_MAX_FAULTS 16
+#define RB_MAX_COMPRESSORS 4
+#define RB_MAX_GRADIENTS 16
 
 /* Wheelset kernel: the portable C99 one is the reference; the vector one (x86-64 AVX2, chosen at
  * run time when the CPU has it) computes the same operations in the same order, 4 axles at a time,
@@ -78,6 +80,9 @@ typedef struct {
     double hold_area, vent_area; /* m^2, WSP valves per axle */
     double valve_delay;       /* s, WSP valve response delay */
     double pipe_area;         /* m^2, MR pipe link to the next car */
+    /* brake discs of one axle, lumped (plant_train.c): heat capacity and cooling over speed */
+    double disc_heat_capacity;        /* J/K per axle (0: no disc temperature) */
+    rb_speed_table disc_cooling;      /* W/K per axle over the car's speed (n = 0: none) */
 } rb_plant_car;
 
 typedef struct {
@@ -143,6 +148,20 @@ typedef struct {
     rb_fault fault[RB_MAX_FAULTS];
     uint64_t noise_seed;
     int kernel;               /* rb_plant_kernel: AUTO or PORTABLE */
+    /* air supply with several compressors (plant_train.c); n_compressors = 0: the single
+     * compressor above (compressor_car, compressor_flow). Compressor i feeds the main reservoir
+     * when it sits on compressor_car, else the MR pipe of its car; its governor reads the
+     * pressure it feeds (on/off at governor_on/governor_off). */
+    int n_compressors;
+    int compressor_position[RB_MAX_COMPRESSORS];    /* car, 0-based */
+    double compressor_delivery[RB_MAX_COMPRESSORS]; /* kg/s when running */
+    /* track gradient, piecewise constant in the position of each car's centre (m along the
+     * track from the start); gradient[i] applies from gradient_start[i] on, gradient[0] also
+     * before it. Rise over run, uphill positive. n_gradients = 0: level. */
+    int n_gradients;
+    double gradient_start[RB_MAX_GRADIENTS];
+    double gradient[RB_MAX_GRADIENTS];
+    double ambient_temperature;   /* K: discs at t = 0 and the cooling's reference */
 } rb_plant_params;
 
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
@@ -174,6 +193,9 @@ typedef struct {
     double air_in_system;         /* kg in every volume */
     double air_vented;            /* kg to the atmosphere since t = 0 */
     double air_compressed;        /* kg delivered by the compressor since t = 0 */
+    double air_drawn;             /* kg taken from the main reservoir and its pipe since t = 0 */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K, lumped discs of each axle */
+    double brake_energy[RB_PLANT_MAX_AXLES];     /* J, friction brake energy of each axle since t = 0 */
 } rb_plant_outputs;
 
 /* ---- constants derived from the parameters at rb_plant_init (never set them: init does) */
@@ -241,6 +263,11 @@ typedef struct {
     double m_initial;
     int kernel;               /* rb_plant_kernel in use (PORTABLE or AVX2), resolved at init */
     rb_plant_derived derived; /* constants of the laws, derived from the parameters at init */
+    /* plant_train.c */
+    uint8_t compressor_running[RB_MAX_COMPRESSORS];
+    double m_supply_side_initial; /* kg in the main reservoir and pipe at t = 0 */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K */
+    double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */

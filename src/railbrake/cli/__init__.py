@@ -9,7 +9,8 @@ import typer
 import typer.core
 
 import railbrake
-from railbrake.cli import adhesion, compare, compare_runs, demo, fmu, hil, plot, simulation, sizing, validate, valve
+from railbrake.cli import (adhesion, compare, compare_runs, config, demo, fmu, hil, plot, simulation, sizing, validate,
+                           valve)
 
 app = typer.Typer(
     name="railbrake",
@@ -52,6 +53,7 @@ def _root(version: Optional[bool] = typer.Option(None, "--version", callback=_ve
 
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
+app.add_typer(config.app, name="config")
 compare.register(app)
 compare_runs.register(app)
 demo.register(app)

@@ -43,10 +43,12 @@ def _print_report(result) -> None:
     from railbrake.results import kpis as info
     k = result.kpis
     what = "stopping" if k["stopped"] else "braking (no stop yet)"
-    table.add_row(f"{what} distance", f"{k['stopping_distance_m']:.1f} m")
-    table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    table.add_row(f"{what} distance", f"{k['braked_distance_m']:.1f} m")
+    if k["stopping_time_s"] is not None:
+        table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    shown = ("stopping_distance_m", "braked_distance_m", "stopping_time_s", "stopped")
     for key, value in k.items():   # the other KPIs, as `railbrake run` reports them
-        if key not in ("stopping_distance_m", "stopping_time_s", "stopped") and value is not None:
+        if key not in shown and value is not None:
             unit = info.unit(key)
             table.add_row(key, f"{info.text(value)} {unit if unit != '1' else ''}".strip())
     for key, value in result.counters.items():

@@ -274,7 +274,8 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
     resolved = resolve(resolve_scenario(scenario), cars, sets)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = simulation.plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
-    roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc),
+    roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True, resolved.train),
+             "wsp": simulation.wsp_params(sc),
              "scenario": simulation._scenario_struct(sc)}
     variables = table(roots, n_cars, plant.atmosphere)
     title = f"scenario {sc.name}, {n_cars} car{'s' if n_cars > 1 else ''}"

@@ -22,7 +22,7 @@ from railbrake import _core
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario
-from railbrake.simulation import _scenario_struct, bcu_params, plant_params, wsp_params
+from railbrake.simulation import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
 
 DT = 1e-3                  # s, fixed by the interface
 CHUNK_STEPS = 500          # plant steps per C call
@@ -166,10 +166,9 @@ def run_kpis(plant: _core.PlantParams, state) -> dict:
     The safety-timer trips are the external BCU's: unknown to the plant (None)."""
     k = _core.Kpis()
     _core.rb_hil_runner_kpis(ctypes.byref(plant), state, ctypes.byref(k))
-    kpis = {name: getattr(k, name) for name in _core.KPI_NAMES}
-    kpis["wheel_lock_events"] = int(kpis["wheel_lock_events"])
+    kpis = kpi_dict(k, plant.atmosphere)
+    kpis["braked_distance_m"] = k.stopping_distance_m   # so far, also when the run was cut short
     kpis["safety_timer_trips"] = None
-    kpis["stopped"] = bool(kpis["stopped"])
     return kpis
 
 
@@ -185,7 +184,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
-    config = hil_config(sc, bcu_params(plant, sc, True), duration, hold_time, late_time, record_interval, paced)
+    config = hil_config(sc, bcu_params(plant, sc, True, resolved.train), duration, hold_time, late_time,
+                        record_interval, paced)
     names = channels(n_cars)
     state = ctypes.create_string_buffer(_core.rb_hil_runner_size())
     _core.call(_core.rb_hil_runner_open, ctypes.byref(plant), ctypes.byref(config), bind[0].encode(), bind[1],
@@ -236,7 +236,7 @@ def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0
         raise InputError(f"idle_timeout = {idle_timeout}, duration = {duration}: must be >= 0")
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    bcu = bcu_params(plant_params(sc, n_cars, train=resolved.train), sc, True)
+    bcu = bcu_params(plant_params(sc, n_cars, train=resolved.train), sc, True, resolved.train)
     wsp, spec = wsp_params(sc), _scenario_struct(sc)
     state = ctypes.create_string_buffer(_core.rb_hil_bcu_size())
     _core.call(_core.rb_hil_bcu_open, ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec), listen[0].encode(),

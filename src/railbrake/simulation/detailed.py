@@ -90,7 +90,7 @@ def run_detailed(scenario="emergency-300-heavy-rain", cars: int | None = None, v
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = plant_params(sc, n_cars, train=resolved.train)
-    bcu = bcu_params(plant, sc, True)
+    bcu = bcu_params(plant, sc, True, resolved.train)
     wsp, spec, det = wsp_params(sc), _scenario_struct(sc), detailed_params(valves)
     state = ctypes.create_string_buffer(_core.rb_detailed_state_size())
     _core.call(_core.rb_detailed_init, ctypes.byref(plant), ctypes.byref(det), ctypes.byref(bcu),

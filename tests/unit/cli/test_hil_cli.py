@@ -35,7 +35,9 @@ def test_hil_without_a_bcu_runs_in_the_safe_state_and_says_so():
     assert "no frame came from the BCU at udp://127.0.0.1:9" in result.output
     report = json.loads(result.output[result.output.index("{"):])
     assert report["counters"]["safe_state_steps"] == report["counters"]["steps"] == 100
-    assert report["kpis"]["stopping_distance_m"] > 0      # the safe state brakes
+    assert report["kpis"]["stopping_distance_m"] is None  # cut short by --duration: not stopped
+    assert report["kpis"]["braked_distance_m"] > 0        # the safe state brakes
+    assert report["kpis"]["min_supply_bar"] > 7.0
 
 
 def test_bcu_stops_after_its_duration_without_a_plant():

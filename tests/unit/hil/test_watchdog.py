@@ -21,10 +21,13 @@ DT = 1e-3
 
 
 def safe_pressure():
-    """Closed form of the BCU's emergency demand for car 1: offset + gain * decel * mass (capped)."""
+    """Closed form of the BCU's emergency demand for car 1 at standstill: threshold + Pa per N x
+    the car's emergency brake force, both from the sizing's tables at 0 km/h (capped)."""
     sc = scenario.load(SCENARIO)
     b = simulation.bcu_params(simulation.plant_params(sc, 1), sc, True)
-    return min(b.pressure_offset[0] + b.pressure_gain[0] * b.emergency_decel * b.car_mass[0], b.pressure_max[0])
+    force, per_n = b.emergency_force[0], b.pressure_per_newton[0]
+    assert force.speed[0] == per_n.speed[0] == 0.0
+    return min(b.pressure_offset[0] + per_n.value[0] * force.value[0], b.pressure_max[0])
 
 
 class Peer(threading.Thread):

@@ -41,8 +41,12 @@ def _check_rain(c):
     assert s["vent_open_detailed_s"] == pytest.approx(s["vent_open_rt_s"], rel=0.10)
     for axle in c.axles.values():
         assert axle["rt"]["vent_commands"] > 10 and axle["detailed"]["vent_commands"] > 10
-    # the brake effort each axle received, averaged over 1 s, agrees within 0.1 bar
-    assert s["cylinder_mean_rms_bar"] < 0.1
+    # the brake effort each axle received, averaged over 1 s, agrees within 0.2 bar: the demand
+    # follows the brake profile over speed (the BCU's tables from the sizing), so where the two
+    # models, after 100 s of WSP cycling, pass a 10 km/h step of the profile a second apart they
+    # ask pressures up to 0.4 bar apart for a while (measured 0.15 bar on 1 car; 0.1 held with
+    # the former constant 1.2 m/s^2 demand)
+    assert s["cylinder_mean_rms_bar"] < 0.2
 
 
 def test_heavy_rain_one_car(compared):
