@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ctypes
 import gc
+import math
 import os
 import socket
 from dataclasses import dataclass, field
@@ -117,6 +118,7 @@ class HilResult:
     kpis: dict                    # the KPIs of a MIL run (run_kpis)
     real_time: RealTime
     events: list = field(default_factory=list)   # (time s, kind, text), the latest logged
+    atmosphere: float = math.nan  # Pa, the plant's (the train file's)
 
     def timing_report(self) -> list[str]:
         t, c = self.timing, self.counters
@@ -220,7 +222,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     timing = {k: getattr(result, k) for k in _core.HIL_TIMING}
     timing["overruns"] = counters["overruns"]
     return HilResult(sc.name, n_cars, outputs["time"], outputs, dict(names), counters, timing, kpis, real_time,
-                     events)
+                     events, plant.atmosphere)
 
 
 # ------------------------------------------------------------------ the reference BCU

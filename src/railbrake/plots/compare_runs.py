@@ -39,7 +39,7 @@ def plot_axle_pressures(records, labels, axles, path: Path, window=None) -> Path
             if p is None:
                 continue
             w = (r.time >= t0) & (r.time <= t1)
-            ax.plot(r.time[w], _gauge(p[w]), lw=0.9, ls=("-", "--", ":", "-.")[i % 4], label=f"{lab}")
+            ax.plot(r.time[w], _gauge(p[w], r), lw=0.9, ls=("-", "--", ":", "-.")[i % 4], label=f"{lab}")
         ax.set_ylabel(f"{axle} (bar g)")
         ax.legend(**OUTSIDE)
     axes[-1, 0].set_xlabel("time (s)")

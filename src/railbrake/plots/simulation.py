@@ -13,7 +13,6 @@ import numpy as np
 from railbrake.plots import new_figure, save
 from railbrake.results import episodes
 from railbrake.results.record import RunRecord, axle_key
-from railbrake.simulation import ATMOSPHERE
 from railbrake.units import BAR, ms_to_kmh
 
 OUTSIDE = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "fontsize": 7, "borderaxespad": 0.0}
@@ -27,8 +26,8 @@ OVERVIEW_POINTS = 600      # per line in the small per-car panels
 MEAN_SPAN = 1.0            # s, running mean of the cylinder pressures under WSP cycling
 
 
-def _gauge(p):
-    return (np.asarray(p) - ATMOSPHERE) / BAR
+def _gauge(p, record: RunRecord):
+    return (np.asarray(p) - record.atmosphere) / BAR
 
 
 def _demand(record: RunRecord, car: str):
@@ -72,10 +71,10 @@ def plot_wsp_cycle(record: RunRecord, axle: str, path: Path, window=None) -> Pat
     ax1.plot(tw, ms_to_kmh(record.channel("wheel_speed", axle)[w]), "C0", lw=1.0, label=f"wheel {axle}")
     ax1.set_ylabel("speed (km/h)")
     ax1.legend(**OUTSIDE)
-    ax2.plot(tw, _gauge(record.channel("cylinder", axle)[w]), "C3", lw=1.0, label=f"cylinder {axle}")
+    ax2.plot(tw, _gauge(record.channel("cylinder", axle)[w], record), "C3", lw=1.0, label=f"cylinder {axle}")
     demand, label = _demand(record, "c" + str(axle_key(axle)[0]))
     if demand is not None:
-        ax2.plot(tw, _gauge(demand[w]), "k--", lw=0.8, label=label)
+        ax2.plot(tw, _gauge(demand[w], record), "k--", lw=0.8, label=label)
     ax2.set_ylabel("pressure (bar g)")
     ax2.set_ylim(bottom=min(0.0, ax2.get_ylim()[0]))
     ax2.legend(**OUTSIDE)
@@ -235,20 +234,20 @@ def plot_reservoirs(record: RunRecord, path: Path) -> Path:
     """Main reservoir, MR pipe at the last car, the supply reservoirs' range and the lowest one."""
     t, o = record.time, record.outputs
     fig, ax = new_figure(figsize=(9, 4.8))
-    ax.plot(t, _gauge(o["main_reservoir"]), "k", label="main reservoir")
+    ax.plot(t, _gauge(o["main_reservoir"], record), "k", label="main reservoir")
     if "pipe_end" in o:
-        ax.plot(t, _gauge(o["pipe_end"]), "C7", lw=0.8, label="MR pipe, last car")
+        ax.plot(t, _gauge(o["pipe_end"], record), "C7", lw=0.8, label="MR pipe, last car")
     supplies = {c: o[f"supply_{c}"] for c in record.car_names() if f"supply_{c}" in o}
     if supplies:
-        stack = np.vstack([_gauge(s) for s in supplies.values()])
+        stack = np.vstack([_gauge(s, record) for s in supplies.values()])
         ax.fill_between(t, stack.min(axis=0), stack.max(axis=0), color="C0", alpha=0.2, lw=0,
                         label=f"supply reservoirs, {len(supplies)} cars")
         lowest = min(supplies, key=lambda c: supplies[c].min())
-        low = _gauge(supplies[lowest])
+        low = _gauge(supplies[lowest], record)
         ax.plot(t, low, "C3", lw=1.0, label=f"lowest supply: {lowest}, min {low.min():.2f} bar g")
         first = next(iter(supplies))
         if first != lowest:
-            ax.plot(t, _gauge(supplies[first]), "C0", lw=0.8, label=f"supply {first}")
+            ax.plot(t, _gauge(supplies[first], record), "C0", lw=0.8, label=f"supply {first}")
     ax.set_ylabel("pressure (bar g)")
     ax.set_xlabel("time (s)")
     ax.grid(True, alpha=0.3)
@@ -293,12 +292,12 @@ def plot_cylinders(record: RunRecord, path: Path, faulty=()) -> Path:
                         wspace=0.08, hspace=0.35)
     for ax, car in zip(axes.flat, cars):
         axles = [a for a in record.axle_names() if a.startswith(car + "a")]
-        p = np.vstack([_gauge(record.channel("cylinder", a)) for a in axles])
+        p = np.vstack([_gauge(record.channel("cylinder", a), record) for a in axles])
         ax.fill_between(*_envelope(t, p), color="0.85", lw=0, label="range of the axles")
         step = max(1, len(t) // OVERVIEW_POINTS)
         demand, label = _demand(record, car)
         if demand is not None:
-            ax.plot(t, _gauge(demand), "k--", lw=0.8, label=label)
+            ax.plot(t, _gauge(demand, record), "k--", lw=0.8, label=label)
         for k, (axle, pa) in enumerate(zip(axles, p)):
             bad = axle in faulty
             ax.plot(t[::step], running_mean(t, pa)[::step], color="C3" if bad else AXLE_COLOURS[k % 4],

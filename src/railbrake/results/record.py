@@ -4,6 +4,8 @@ provenance). MIL simulations, HIL runs and saved files all become a RunRecord.""
 
 from __future__ import annotations
 
+import math
+
 import ctypes
 import re
 from dataclasses import dataclass, field
@@ -25,6 +27,14 @@ class RunRecord:
     meta: dict = field(default_factory=dict)
 
     # ---- what was run
+    @property
+    def atmosphere(self) -> float:
+        """Pa, the run's atmospheric pressure (gauge pressures in plots); files without it: the
+        standard atmosphere."""
+        from railbrake.vehicle import P_ATM
+        value = float(self.meta.get("atmosphere_pa") or "nan")
+        return value if math.isfinite(value) else P_ATM
+
     @property
     def kind(self) -> str:
         return self.meta.get("kind", "MIL")
@@ -143,6 +153,7 @@ def from_simulation(result, sc, command_line: list[str] | None = None) -> RunRec
     """A MIL result (railbrake.simulation.Result) of Scenario sc."""
     from railbrake.results.provenance import provenance
     meta = _scenario_meta(sc) | {"kind": "MIL", "cars": result.cars, "wsp": result.wsp,
+                                 "atmosphere_pa": result.atmosphere,
                                  "configuration": getattr(result, "configuration", None)
                                  or configuration(sc, result.cars, result.wsp),
                                  "provenance": provenance(command_line)}
@@ -155,6 +166,7 @@ def from_hil(result, sc, command_line: list[str] | None = None) -> RunRecord:
     from railbrake.results.provenance import provenance
     wsp = bool(sc.spec.wsp.enabled)
     meta = _scenario_meta(sc) | {"kind": "HIL", "cars": result.cars, "wsp": wsp,
+                                 "atmosphere_pa": result.atmosphere,
                                  "configuration": configuration(sc, result.cars, wsp),
                                  "hil": {"counters": result.counters, "timing": result.timing},
                                  "provenance": provenance(command_line)}

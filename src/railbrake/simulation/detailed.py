@@ -117,7 +117,8 @@ def run_detailed(scenario="emergency-300-heavy-rain", cars: int | None = None, v
                                             "max_slip", "air_consumed_kg", "air_balance_error")}
     result.update(stopped=bool(kpis.stopped), safety_timer_trips=int(kpis.safety_timer_trips),
                   ode_steps=stats.steps, ode_rejected=stats.rejected, rhs_calls=stats.rhs_calls, wall_s=wall)
-    return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs["time"], outputs, dict(names), result)
+    return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs["time"], outputs, dict(names), result,
+                  plant.atmosphere)
 
 
 def epv_current(pressure: float, supply: float | None = None, valves: dict | None = None,

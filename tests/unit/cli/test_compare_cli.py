@@ -11,7 +11,7 @@ def test_compare_rt_json_and_plots(tmp_path):
     result = CliRunner().invoke(app, ["compare-rt", "emergency-250-dry", "--cars", "1", "--json",
                                       "--plot", str(tmp_path)])
     assert result.exit_code == 0, result.output
-    data = json.loads(result.output)
+    data = json.loads(result.stdout)
     assert abs(data["summary"]["stopping_distance_difference_pct"]) < 1.0
     # 5 ms twice: with its default 3 sub-steps and bare (where the single step fails)
     assert [(r["dt_ms"], r["substeps"]) for r in data["step_study"]] == [(0.25, 1), (0.5, 1), (1.0, 1), (2.0, 1),

@@ -40,7 +40,7 @@ def test_no_wsp_flag_turns_the_wsp_off():
 def test_bench_json():
     result = CliRunner().invoke(app, ["bench", "--cars", "2", "--steps", "1000", "--json"])
     assert result.exit_code == 0, result.output
-    figures = json.loads(result.output)
+    figures = json.loads(result.stdout)
     assert figures["cars"] == 2 and figures["realtime_factor"] > 1.0
     assert figures["substeps"] == 1 and "step_us_max" in figures
 
@@ -48,7 +48,7 @@ def test_bench_json():
 def test_bench_portable_kernel_and_a_wrong_one():
     result = CliRunner().invoke(app, ["bench", "--cars", "1", "--steps", "100", "--kernel", "portable", "--json"])
     assert result.exit_code == 0, result.output
-    assert json.loads(result.output)["kernel"] == "portable"
+    assert json.loads(result.stdout)["kernel"] == "portable"
     result = CliRunner().invoke(app, ["bench", "--kernel", "fast"])
     assert result.exit_code != 0 and "--kernel = 'fast'" in result.output
 
@@ -65,7 +65,7 @@ def test_set_reaches_the_run():
     base = CliRunner().invoke(app, args)
     slow = CliRunner().invoke(app, args + ["--set", "initial_speed=100 km/h"])
     assert base.exit_code == 0 and slow.exit_code == 0, slow.output
-    ratio = json.loads(slow.output)["stopping_distance_m"] / json.loads(base.output)["stopping_distance_m"]
+    ratio = json.loads(slow.stdout)["stopping_distance_m"] / json.loads(base.stdout)["stopping_distance_m"]
     assert 0.1 < ratio < 0.3   # (100/250)^2 = 0.16, plus the response time's share
 
 

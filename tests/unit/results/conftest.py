@@ -25,4 +25,4 @@ def saved_run(tmp_path_factory):
     result = CliRunner().invoke(app, ["run", str(path), "--cars", "3", "--out", str(out),
                                       "--format", "parquet,csv", "--format", "mf4", "--json"])
     assert result.exit_code == 0, result.output
-    return out, json.loads(result.output)
+    return out, json.loads(result.stdout)

@@ -71,9 +71,10 @@ def test_compare_reports_the_kpi_differences_of_two_runs(saved_run, tmp_path):
     other = json.loads((tmp_path / "kpis.json").read_text())
     report = json.loads(_invoke("compare", out, tmp_path, "--json"))
     assert not report["identical"]
-    row = report["kpis"]["stopping_distance_m"]
-    assert row["differences"] == [other["stopping_distance_m"] - kpis["stopping_distance_m"]]
-    assert report["kpis"]["air_consumed_kg"]["differences"][0] != 0.0
+    row = report["kpis"]["mean_deceleration"]   # the 10 s runs have not stopped: no stopping distance
+    assert row["differences"] == [other["mean_deceleration"] - kpis["mean_deceleration"]]
+    assert report["kpis"]["stopping_distance_m"]["differences"] == [None]   # both null
+    assert report["kpis"]["air_vented_kg"]["differences"][0] != 0.0
 
 
 def test_compare_needs_two_runs(saved_run):

@@ -124,7 +124,9 @@ def test_kernels_give_the_same_kpis(preset):
     portable = simulation.run(preset, record=False, kernel="portable").kpis
     auto = simulation.run(preset, record=False, kernel="auto").kpis
     for key, value in portable.items():
-        if key == "stopping_distance_m":
+        if not isinstance(value, float):   # counts, flags, the worst axle's name, None
+            assert auto[key] == value, key
+        elif key == "stopping_distance_m":
             assert auto[key] == pytest.approx(value, rel=1e-9, abs=0.0)
         else:
             assert auto[key] == pytest.approx(value, rel=1e-9, abs=1e-12), key
