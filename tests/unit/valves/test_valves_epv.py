@@ -70,7 +70,7 @@ def test_hysteresis_grows_with_friction_and_vanishes_without():
     assert 0.3 * 2 * 2.0 / area / BAR < h[3] - h[0] <= 1.02 * 2 * 2.0 / area / BAR
     # without friction only the lap's dead band and the lag are left; a slower ramp shrinks the lag
     slow = valves.epv_characteristic({"piston": {"friction": 0.0}}, ramp_time=400.0)
-    assert slow.hysteresis_bar < lap_band + 0.003 < h[2]
+    assert slow.hysteresis_bar < lap_band + 0.005 < h[2]
 
 
 def test_too_fast_a_ramp_reports_lag_not_hysteresis():
