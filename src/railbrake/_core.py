@@ -608,3 +608,16 @@ for _struct, _size in ((Solenoid, "rb_solenoid_size"), (SolenoidState, "rb_solen
     if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
         raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
                           "src/railbrake/_core.py is out of date")
+
+# ---------------------------------------------------------------- reduced valve model (rb_valve_reduced.h)
+
+
+class ReducedValve(Structure):
+    _fields_ = [(n, c_double) for n in ("supply", "atmosphere", "volume", "temperature", "discharge_coefficient",
+                                        "critical_ratio", "tau", "band", "area")]
+
+
+rb_reduced_valve_steps = _declare("rb_reduced_valve_steps", c_int, POINTER(ReducedValve), c_double_p, c_double_p,
+                                  c_size_t, c_double, c_double_p, c_size_t, c_double, c_double_p, _err_p)
+if ctypes.sizeof(ReducedValve) != _declare("rb_reduced_valve_size", c_size_t)():
+    raise ImportError("rb_reduced_valve: ctypes size differs from the C core's; src/railbrake/_core.py is out of date")
