@@ -141,7 +141,8 @@ def _table(S, p: dict, table, plot, json: bool) -> None:
         print_json({**figures, "airgap_mm_axis": gap * 1e3, "current_a_axis": current, "force_n_table": force,
                     "table": str(table) if table else None})
         return
-    typer.echo(f"at {rated:g} A, airgap {g_mid * 1e3:.2f} mm: force {st['force']:.3f} N, L {st['inductance'] * 1e3:.1f} mH "
+    typer.echo(f"at {rated:g} A, airgap {g_mid * 1e3:.2f} mm: force {st['force']:.3f} N, "
+               f"L {st['inductance'] * 1e3:.1f} mH "
                f"(incremental {st['incremental_inductance'] * 1e3:.1f} mH), iron {st['iron_flux_density']:.2f} T")
     if table:
         typer.echo(f"force table: {table}")
@@ -158,7 +159,8 @@ def _thermal(S, p: dict, duty: float, ambient_c: float, current, plot, json: boo
     verdict = "within" if r["within_class"] else "ABOVE"
     typer.echo(f"{r['current_a']:g} A at duty {duty:g}, ambient {ambient_c:g} C: steady coil {r['steady_c']:.1f} C "
                f"(R {r['resistance_hot_ohm']:.2f} ohm, {r['power_hot_w']:.2f} W), time constant "
-               f"{r['time_constant_s'] / 60:.1f} min; after {r['time_s'][-1] / 60:.0f} min {r['temperature_c'][-1]:.1f} C; "
+               f"{r['time_constant_s'] / 60:.1f} min; after {r['time_s'][-1] / 60:.0f} min "
+               f"{r['temperature_c'][-1]:.1f} C; "
                f"{verdict} class {r['insulation_class']} ({r['limit_c']:.0f} C with the hot-spot allowance)")
 
 
@@ -172,7 +174,8 @@ def _current_step(S, p: dict, current, plot, json: bool) -> None:
     if json:
         print_json({**r, "energy_balance_j": balance})
         return
-    typer.echo(f"PWM duty {r['duty']:.3f}: current {r['current'][-1]:.3f} A, 90 % after {r['current_rise_90_s'] * 1e3:.1f} ms; "
+    typer.echo(f"PWM duty {r['duty']:.3f}: current {r['current'][-1]:.3f} A, "
+               f"90 % after {r['current_rise_90_s'] * 1e3:.1f} ms; "
                f"airgap {r['gap'][-1] * 1e3:.3f} mm; energy in {e['e_electric']:.4f} J, unbooked {balance:.2e} J")
 
 
