@@ -174,7 +174,7 @@ def _current_step(S, p: dict, current, plot, json: bool) -> None:
     if json:
         print_json({**r, "energy_balance_j": balance})
         return
-    typer.echo(f"PWM duty {r['duty']:.3f}: current {r['current'][-1]:.3f} A, "
+    typer.echo(f"PWM duty {r['duty']:.3f}: mean current {r['current_mean_a']:.3f} A, "
                f"90 % after {r['current_rise_90_s'] * 1e3:.1f} ms; "
                f"airgap {r['gap'][-1] * 1e3:.3f} mm; energy in {e['e_electric']:.4f} J, unbooked {balance:.2e} J")
 

@@ -145,7 +145,9 @@ def current_step(p: dict, armature: dict, current: float | None = None, temperat
                  n_out: int = 601) -> dict:
     """The coil switched on by the PWM driver at the duty that holds `current` (default: rated) at
     the coil temperature, the armature (EP valve's: mass, spring, damping, open airgap, travel)
-    pulling in against its spring. Returns the samples (time, current, airgap, force, energies)."""
+    pulling in against its spring (no air: it closes on the nozzle stop). Returns the samples (time,
+    current, airgap, force, energies), the mean current at the end and the time it first reached 90 %
+    of it."""
     d = p["drive"]
     i = p["rated_current_a"] if current is None else current
     temp = d["temperature_c"] if temperature_c is None else temperature_c
@@ -165,7 +167,9 @@ def current_step(p: dict, armature: dict, current: float | None = None, temperat
                d["step_dt_s"], samples, n_out)
     out = {name: np.array([getattr(s, name) for s in samples]) for name in _core.SOLENOID_SAMPLE_FIELDS}
     out["duty"] = duty
-    final = out["current"][-1]
+    # the PWM ripple: judge the mean over the last fifth of the record
+    final = float(np.mean(out["current"][out["t"] >= 0.8 * out["t"][-1]]))
+    out["current_mean_a"] = final
     reached = np.flatnonzero(out["current"] >= 0.9 * final)
     out["current_rise_90_s"] = float(out["t"][reached[0]]) if reached.size else math.nan
     return out
