@@ -10,7 +10,7 @@
  *
  * P_g(g) = mu0 A_eff(g) / (n g) for n equal working gaps in series with the pole area grown by
  * fringing, A_eff = pi/4 (D + k_f g)^2 (k_f = 0: none; about 1: each edge grows by about the gap,
- * after Roters, Electromagnetic Devices, 1941, ch. 5). The force along the closing direction is
+ * after H. C. Roters, Electromagnetic Devices, Wiley 1941). The force along the closing direction is
  * the co-energy derivative F = dW'/d(-g) at constant current, which for this circuit is exactly
  * F = -U^2 / 2 dP_g/dg with U = Phi / (P_g + P_l) the MMF across the gap (the iron's energy does
  * not depend on g at constant flux). The flux linkage is explicit in the current given the flux,
