@@ -129,14 +129,14 @@ def reduce(epv=None, relay=None) -> dict:
     return {"params": params, "fit": fit}
 
 
-# train-file fragment: plant parameter -> (key, factor from SI, unit)
-FRAGMENT_KEYS = {"ep_tau": ("ep_valve.tau_s", 1.0), "ep_band": ("ep_valve.band_bar", 1 / BAR),
+# train-file fragment (the car type's keys of railbrake.train/2): plant parameter -> (key, factor from SI)
+FRAGMENT_KEYS = {"ep_tau": ("ep_valve.response_s", 1.0), "ep_band": ("ep_valve.band_bar", 1 / BAR),
                  "ep_area": ("ep_valve.port_area_mm2", 1e6),
                  "relay_band": ("relay_valve.band_bar", 1 / BAR),
                  "relay_supply_area": ("relay_valve.supply_area_mm2", 1e6),
                  "relay_exhaust_area": ("relay_valve.exhaust_area_mm2", 1e6),
                  "hold_area": ("wsp_valves.hold_area_mm2", 1e6), "vent_area": ("wsp_valves.vent_area_mm2", 1e6),
-                 "valve_delay": ("wsp_valves.delay_s", 1.0)}
+                 "valve_delay": ("wsp_valves.response_s", 1.0)}
 
 
 def fragment(result: dict) -> str:

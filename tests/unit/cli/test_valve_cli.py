@@ -55,4 +55,4 @@ def test_reduce_prints_a_train_file_fragment():
     assert out.exit_code == 0, out.output
     doc = yaml.safe_load(out.stdout)
     assert set(doc) == {"ep_valve", "relay_valve", "wsp_valves"}
-    assert 0 < doc["ep_valve"]["tau_s"] < 0.5 and doc["relay_valve"]["supply_area_mm2"] > 0
+    assert 0 < doc["ep_valve"]["response_s"] < 0.5 and doc["relay_valve"]["supply_area_mm2"] > 0

@@ -50,5 +50,5 @@ def test_fragment_names_the_train_file_keys(fit):
     text = R.fragment({"params": {**R.static_reduction(), "ep_tau": fit["ep_tau"], "ep_band": fit["ep_band"],
                                   "ep_area": fit["ep_area"]}, "fit": fit})
     doc = yaml.safe_load(text)
-    assert doc["ep_valve"]["tau_s"] == pytest.approx(fit["ep_tau"], rel=1e-3)
+    assert doc["ep_valve"]["response_s"] == pytest.approx(fit["ep_tau"], rel=1e-3)
     assert doc["wsp_valves"]["hold_area_mm2"] == pytest.approx(15.0, rel=1e-3)
