@@ -30,6 +30,8 @@ def epv(
     step: bool = typer.Option(False, "--step", help="Response to a current step."),
     reduce: bool = typer.Option(False, "--reduce", help="Fit the real-time plant's valve parameters; print "
                                 "them as a train-file fragment."),
+    write: Optional[Path] = typer.Option(None, "--write", help="With --reduce: also write them (SI, with "
+                                         "provenance) to this YAML file, e.g. data/valves/reduced.yaml."),
     current: float = typer.Option(0.5, help="Step current in A (at most the rated current_max_a)."),
     start_current: float = typer.Option(0.0, help="Current held before the step, A."),
     params: Optional[Path] = typer.Option(None, help="YAML file overriding the default EPV design."),
@@ -48,7 +50,7 @@ def epv(
     elif step:
         _step(p, current, start_current, t_end, plot, json)
     else:
-        _reduce(p, plot, json)
+        _reduce(p, plot, json, write)
     if plot and not json:
         typer.echo(f"plot: {plot}")
 
@@ -82,10 +84,12 @@ def _step(p: dict, current: float, start_current: float, t_end: float, plot, jso
                f"oscillates: {summary['oscillates']}")
 
 
-def _reduce(p: dict, plot, json: bool) -> None:
+def _reduce(p: dict, plot, json: bool, write) -> None:
     from railbrake.valves import reduce as R
     result = R.reduce(p)
     fit = result["fit"]
+    if write:
+        prepare_output(write).write_text(R.reduced_yaml(result))
     if plot:
         from railbrake.plots.valves import plot_reduction
         plot_reduction(fit, prepare_output(plot))

@@ -11,10 +11,12 @@ import numpy as np
 
 from railbrake.errors import InputError
 from railbrake.pneumatics import Network
+from railbrake.pneumatics.orifice import AIR_GAMMA, AIR_R
 from railbrake.units import BAR
 from railbrake.valves.params import DATA, load
 
 MM = 1e-3
+T_AMBIENT = 293.15   # K, initial and wall temperature of the chambers
 
 
 def load_epv(override=None) -> dict:
@@ -66,9 +68,19 @@ def read_force_table(path, rated_current: float | None = None):
     return gap * MM, current, force
 
 
-def epv_network(p: dict, current_schedule, force_table=None) -> Network:
+def _wall_conductance(volume: float, thermal_time: float | None) -> float:
+    """h A (W/K) giving the air of `volume` at 5 bar the wall time constant thermal_time (s), as the
+    detailed train model sets it (rb_detailed_params.thermal_time); None: adiabatic."""
+    if thermal_time is None:
+        return 0.0
+    cv = AIR_R / (AIR_GAMMA - 1.0)
+    return 5e5 * volume / (AIR_R * T_AMBIENT) * cv / thermal_time
+
+
+def epv_network(p: dict, current_schedule, force_table=None, thermal_time: float | None = None) -> Network:
     """The EPV as a network: supply -> pilot orifice -> pilot chamber -> flapper-nozzle -> atmosphere;
-    relay piston between pilot and control chambers opening the inlet (x > 0) or exhaust (x < 0)."""
+    relay piston between pilot and control chambers opening the inlet (x > 0) or exhaust (x < 0).
+    thermal_time (s): wall heat exchange of the chambers (default: adiabatic)."""
     a, k = p["armature"], p["piston"]
     pa, cd = p["ambient_pa"], p["discharge_coefficient"]
     gap, current, force = (force_table if force_table is not None
@@ -76,8 +88,8 @@ def epv_network(p: dict, current_schedule, force_table=None) -> Network:
     net = Network(ambient_pressure=pa)
     net.add_reservoir("supply", pa + p["supply_bar"] * BAR)
     net.add_reservoir("atmosphere", pa)
-    net.add_volume("pilot", p["pilot_volume_cm3"] * 1e-6, pa)
-    net.add_volume("control", p["control_volume_l"] * 1e-3, pa)
+    for name, volume in (("pilot", p["pilot_volume_cm3"] * 1e-6), ("control", p["control_volume_l"] * 1e-3)):
+        net.add_volume(name, volume, pa, T_AMBIENT, heat_transfer=_wall_conductance(volume, thermal_time))
     nozzle_area = math.pi * (p["nozzle_diameter_mm"] * MM) ** 2 / 4
     travel = a["flapper_travel_mm"] * MM
     net.add_body("armature", a["mass"], [("pilot", nozzle_area, -1.0)], a["spring_rate"], a["spring_preload"],
@@ -163,9 +175,10 @@ def epv_characteristic(params=None, ramp_time: float = 100.0, n_points: int = 20
 
 
 def epv_step(params=None, current: float = 0.5, t_end: float = 1.0, t_step: float = 0.05,
-             n_points: int = 1001, force_table=None, start_current: float = 0.0):
+             n_points: int = 1001, force_table=None, start_current: float = 0.0,
+             thermal_time: float | None = None):
     """Response to a current step start_current -> current at t_step (the valve at rest at
-    start_current before it); returns the network result."""
+    start_current before it; chambers adiabatic unless thermal_time, s); returns the network result."""
     p = _params(params)
     for name, value in (("current", current), ("start_current", start_current)):
         if not 0 <= value <= p["current_max_a"]:
@@ -173,7 +186,7 @@ def epv_step(params=None, current: float = 0.5, t_end: float = 1.0, t_step: floa
                              "(current_max_a, the rated current)")
     settle = SETTLE_S if start_current > 0 else 0.0
     net = epv_network(p, [(0.0, start_current), (settle + t_step, start_current), (settle + t_step, current)],
-                      force_table)
+                      force_table, thermal_time)
     if not settle:
         return net.simulate(t_end, times=np.linspace(0.0, t_end, n_points))
     res = net.simulate(settle + t_end, times=np.concatenate([[0.0], settle + np.linspace(0.0, t_end, n_points)]))

@@ -21,8 +21,10 @@ from __future__ import annotations
 import ctypes
 import math
 from datetime import date
+from importlib import resources
 
 import numpy as np
+import yaml
 from scipy.optimize import least_squares
 
 from railbrake import _core
@@ -73,14 +75,22 @@ def _currents(p: dict, targets_bar) -> dict:
             for a, b in targets_bar}
 
 
+def detailed_thermal_time() -> float:
+    """The wall heat-exchange time of the detailed train model's volumes (s)."""
+    settings = yaml.safe_load((resources.files("railbrake") / "data" / "detailed" / "valves.yaml").read_text())
+    return settings["air"]["thermal_time_s"]
+
+
 def detailed_steps(epv=None, targets_bar=TARGETS_BAR) -> dict:
     """The detailed EP valve's control-pressure responses (Pa abs on a common time base) to the
-    current steps that move it between each pair of pressures of targets_bar."""
-    p = _params(epv)
+    current steps that move it between each pair of pressures of targets_bar, its chambers
+    exchanging heat with the wall as in the detailed train model."""
+    p, thermal_time = _params(epv), detailed_thermal_time()
     time = np.arange(0.0, T_END + 1e-12, 0.005)
     out = {}
     for (a, b), (i0, i1) in _currents(p, targets_bar).items():
-        res = epv_step(p, current=i1, start_current=i0, t_end=T_END, t_step=T_STEP, n_points=time.size)
+        res = epv_step(p, current=i1, start_current=i0, t_end=T_END, t_step=T_STEP, n_points=time.size,
+                       thermal_time=thermal_time)
         out[(a, b)] = res["control"].p
     return {"time": time, "responses": out, "supply": p["ambient_pa"] + p["supply_bar"] * BAR,
             "volume": p["control_volume_l"] * 1e-3, "ambient": p["ambient_pa"], "cd": p["discharge_coefficient"]}
@@ -145,11 +155,38 @@ def fragment(result: dict) -> str:
     groups: dict[str, list[str]] = {}
     for name, (key, factor) in FRAGMENT_KEYS.items():
         group, leaf = key.split(".")
-        groups.setdefault(group, []).append(f"    {leaf}: {p[name] * factor:.4g}")
+        groups.setdefault(group, []).append(f"    {leaf}: {p[name] * factor:.6g}")
     lines = [f"# Reduced valve parameters of the real-time plant, derived {date.today().isoformat()} by",
              "# 'railbrake valve epv --reduce' from data/valves/epv.yaml and relay.yaml (docs/pneumatics.md):",
              f"# EP valve fitted to {len(f['steps_bar'])} detailed step responses (RMS {f['rms_bar']:.3f} bar, "
              f"largest {f['max_bar']:.3f} bar); relay and WSP from the design's geometry."]
     for group, rows in groups.items():
         lines += [f"  {group}:", *rows]
+    return "\n".join(lines) + "\n"
+
+
+_COMMENTS = {"ep_tau": "s, EP valve demand lag (fitted)", "ep_band": "Pa, error at full opening (fitted)",
+             "ep_area": "m^2, EP ports (fitted)", "relay_band": "Pa, membrane spring x d/4 / A_eff(0)",
+             "relay_supply_area": "m^2, seat pi d^2/4", "relay_exhaust_area": "m^2, seat pi d^2/4",
+             "hold_area": "m^2, WSP hold port", "vent_area": "m^2, WSP vent port",
+             "valve_delay": "s, WSP valve response delay"}
+
+
+def reduced_yaml(result: dict) -> str:
+    """data/valves/reduced.yaml: the reduced parameters (SI, plant names) with their provenance."""
+    p, f = result["params"], result["fit"]
+    lines = ["# Reduced valve parameters of the real-time plant (rb_plant_car), derived from the valve designs",
+             "# data/valves/epv.yaml (+ solenoid.yaml) and relay.yaml by",
+             "# 'railbrake valve epv --reduce --write src/railbrake/data/valves/reduced.yaml'",
+             "# (src/railbrake/valves/reduce.py, docs/pneumatics.md 'From the design to the plant'). Do not",
+             "# edit by hand: rerun the reduction after changing a design and copy the values into the train",
+             "# files' car types (the fragment the command prints). SI units.",
+             f'source: "Derived from the railbrake valve designs [T]: EP valve fitted to {len(f["steps_bar"])} step '
+             f'responses of the detailed valve (RMS {f["rms_bar"]:.3f} bar, largest {f["max_bar"]:.3f} bar); relay '
+             'and WSP valves from the design\'s geometry"',
+             "steps_bar: " + str(f["steps_bar"]),
+             f"static_ep: {{ep_band: {f['static']['ep_band']:.4g}, ep_area: {f['static']['ep_area']:.4g}}}"
+             "   # geometric start of the fit",
+             "plant:"]
+    lines += [f"  {k}: {p[k]:.10g}".ljust(36) + f" # {c}" for k, c in _COMMENTS.items()]
     return "\n".join(lines) + "\n"
