@@ -95,6 +95,7 @@ def _reduce(p: dict, plot, json: bool, write) -> None:
         plot_reduction(fit, prepare_output(plot))
     if json:
         print_json({"params_si": result["params"], "fit_rms_bar": fit["rms_bar"], "fit_max_bar": fit["max_bar"],
+                    "relay_check": result["relay"],
                     "steps_bar": fit["steps_bar"], "static_si": fit["static"], "fragment": R.fragment(result)})
         return
     typer.echo(R.fragment(result), nl=False)

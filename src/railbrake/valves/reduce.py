@@ -18,6 +18,7 @@ delay. The reduction:
 
 from __future__ import annotations
 
+import copy
 import ctypes
 import math
 from datetime import date
@@ -31,7 +32,7 @@ from railbrake import _core
 from railbrake.pneumatics.orifice import CRITICAL_RATIO_NOZZLE
 from railbrake.units import BAR
 from railbrake.valves.epv import _params, epv_characteristic, epv_step
-from railbrake.valves.relay import load_relay
+from railbrake.valves.relay import load_relay, relay_step
 
 MM, T_AIR = 1e-3, 293.15
 TARGETS_BAR = ((0.0, 1.0), (0.0, 2.0), (0.0, 3.0), (0.0, 3.8), (0.0, 4.3), (3.8, 2.0), (2.0, 0.0), (3.8, 0.0))
@@ -131,12 +132,39 @@ def fit_epv(epv=None, steps: dict | None = None) -> dict:
             "reduced": reduced_steps(steps, tau, band, area)}
 
 
+RELAY_TARGETS_BAR = (1.0, 2.0, 3.8)
+RELAY_STEP_ORIFICE_MM = 10.0   # control fill of the relay check: a near step of the control pressure
+
+
+def relay_check(relay=None, params: dict | None = None) -> dict:
+    """The relay valve's reduced model (no lag, relay_band, relay ports) against the detailed relay
+    (valves.relay_network, WSP hold valve shut: the output chamber alone) for control-pressure
+    steps to RELAY_TARGETS_BAR: RMS and largest difference of the output pressure (bar)."""
+    r = copy.deepcopy(relay or load_relay())
+    params = params or static_reduction(relay=r)
+    pa = r["ambient_pa"]
+    time = np.arange(0.0, T_END + 1e-12, 0.005)
+    det = []
+    for bar in RELAY_TARGETS_BAR:
+        r["control_step_bar"], r["control_orifice_diameter_mm"] = bar, RELAY_STEP_ORIFICE_MM
+        res = relay_step(r, t_end=T_END, t_step=T_STEP, hold=[(0.0, 0.0)], n_points=time.size)
+        det.append(res["output"].p)
+    det = np.array(det)
+    steps = {"time": time, "responses": dict(zip(RELAY_TARGETS_BAR, det)), "supply": pa + r["supply_bar"] * BAR,
+             "volume": r["output_volume_l"] * 1e-3, "ambient": pa, "cd": r["discharge_coefficient"]}
+    reduced = reduced_steps(steps, 0.0, params["relay_band"], params["relay_supply_area"])
+    diff = (reduced - det) / BAR
+    return {"rms_bar": float(np.sqrt(np.mean(diff ** 2))), "max_bar": float(np.max(np.abs(diff))),
+            "final_bar": float(np.max(np.abs(diff[:, -1]))), "steps_bar": list(RELAY_TARGETS_BAR)}
+
+
 def reduce(epv=None, relay=None) -> dict:
-    """All the plant's valve parameters: EP fitted, relay and WSP static (SI), with the fit's figures."""
+    """All the plant's valve parameters: EP fitted, relay and WSP static (SI), with the fit's figures
+    and the relay check."""
     fit = fit_epv(epv)
     params = {**fit["static"], "ep_tau": fit["ep_tau"], "ep_band": fit["ep_band"], "ep_area": fit["ep_area"]}
     params = {**params, **{k: v for k, v in static_reduction(epv, relay).items() if not k.startswith("ep_")}}
-    return {"params": params, "fit": fit}
+    return {"params": params, "fit": fit, "relay": relay_check(relay, params)}
 
 
 # train-file fragment (the car type's keys of railbrake.train/2): plant parameter -> (key, factor from SI)
@@ -159,7 +187,9 @@ def fragment(result: dict) -> str:
     lines = [f"# Reduced valve parameters of the real-time plant, derived {date.today().isoformat()} by",
              "# 'railbrake valve epv --reduce' from data/valves/epv.yaml and relay.yaml (docs/pneumatics.md):",
              f"# EP valve fitted to {len(f['steps_bar'])} detailed step responses (RMS {f['rms_bar']:.3f} bar, "
-             f"largest {f['max_bar']:.3f} bar); relay and WSP from the design's geometry."]
+             f"largest {f['max_bar']:.3f} bar); relay and WSP from the design's geometry"
+             + (f" (relay check: RMS {result['relay']['rms_bar']:.3f} bar, largest {result['relay']['max_bar']:.3f} "
+                "bar, output chamber alone)." if "relay" in result else ".")]
     for group, rows in groups.items():
         lines += [f"  {group}:", *rows]
     return "\n".join(lines) + "\n"

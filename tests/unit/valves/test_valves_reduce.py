@@ -52,3 +52,15 @@ def test_fragment_names_the_train_file_keys(fit):
     doc = yaml.safe_load(text)
     assert doc["ep_valve"]["response_s"] == pytest.approx(fit["ep_tau"], rel=1e-3)
     assert doc["wsp_valves"]["hold_area_mm2"] == pytest.approx(15.0, rel=1e-3)
+
+
+def test_relay_reduction_settles_where_the_detailed_relay_does():
+    """The statically reduced relay (isothermal output chamber) settles at the detailed relay's
+    output pressure; while filling it lags the adiabatic detailed chamber (the heat of compression
+    raises its pressure faster), which the check reports rather than hides."""
+    check = R.relay_check()
+    assert check["final_bar"] < 0.01
+    assert 0.0 < check["rms_bar"] < 0.2 and check["max_bar"] < 1.5
+    wide = R.relay_check(params={**R.static_reduction(), "relay_supply_area": 1.35 * R.static_reduction()[
+        "relay_supply_area"]})
+    assert wide["rms_bar"] < check["rms_bar"]   # a wider effective port makes up for the isothermal fill
