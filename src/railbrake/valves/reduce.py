@@ -11,9 +11,12 @@ delay. The reduction:
    pi d x reaches the port at x = d / 4), bands = the spring force at that opening (plus the lap)
    over the pressure face (A_eff of the membrane at mid-stroke), WSP ports and delays as designed;
 2. fitted, for the EP valve: tau, band and area by least squares to the detailed valve's
-   (valves.epv_network) control-pressure step responses over the operating range, into the train's
-   control volume. The reduced model is integrated here with the same orifice law (the C core's)
-   at a step well below the plant's; its difference to the detailed responses is reported.
+   (valves.epv_network, chambers with the detailed train model's wall heat exchange)
+   control-pressure step responses over the operating range, into the train's control volume. The
+   reduced model runs in the C core (rb_valve_reduced.h: the plant's law at a step well below the
+   plant's); its difference to the detailed responses is reported;
+3. checked, for the relay valve: the reduced relay against the detailed relay's output chamber for
+   control-pressure steps (relay_check).
 """
 
 from __future__ import annotations
