@@ -602,3 +602,68 @@ for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_re
     if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
         raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
                           "src/railbrake/_core.py is out of date")
+
+# ---------------------------------------------------------------- solenoid design model (rb_solenoid.h)
+
+BH_MAX_POINTS = 32
+
+
+class Solenoid(Structure):
+    _fields_ = [(n, c_double) for n in ("turns", "resistance_20c", "resistance_tempco", "iron_length",
+                                        "iron_area")] + [
+        ("bh_points", c_int), ("bh_h", c_double * BH_MAX_POINTS), ("bh_b", c_double * BH_MAX_POINTS),
+        ("pole_diameter", c_double), ("working_gaps", c_int)] + [
+        (n, c_double) for n in ("fringing", "parasitic_gap", "parasitic_area", "leakage_permeance")]
+
+
+class SolenoidState(Structure):
+    _fields_ = [(n, c_double) for n in ("flux", "gap_flux", "flux_linkage", "inductance",
+                                        "incremental_inductance", "force", "energy", "coenergy",
+                                        "iron_flux_density")]
+
+
+class SolenoidDrive(Structure):
+    _fields_ = [(n, c_double) for n in ("voltage", "pwm_frequency", "duty", "temperature_c", "mass",
+                                        "spring_rate", "spring_preload", "damping", "load_force", "gap_max",
+                                        "gap_min")]
+
+
+SOLENOID_SAMPLE_FIELDS = ("t", "voltage", "current", "flux_linkage", "gap", "velocity", "force", "e_electric",
+                          "e_copper", "e_magnetic", "e_mechanical", "e_damping", "e_impact")
+
+
+class SolenoidSample(Structure):
+    _fields_ = [(n, c_double) for n in SOLENOID_SAMPLE_FIELDS]
+
+
+rb_solenoid_check = _declare("rb_solenoid_check", c_int, POINTER(Solenoid), _err_p)
+rb_solenoid_eval = _declare("rb_solenoid_eval", c_int, POINTER(Solenoid), c_double, c_double,
+                            POINTER(SolenoidState), _err_p)
+rb_solenoid_force_table = _declare("rb_solenoid_force_table", c_int, POINTER(Solenoid), c_double_p, c_int,
+                                   c_double_p, c_int, POINTER(ForceTable), _err_p)
+rb_solenoid_simulate = _declare("rb_solenoid_simulate", c_int, POINTER(Solenoid), POINTER(SolenoidDrive),
+                                c_double, c_double, POINTER(SolenoidSample), c_size_t, _err_p)
+rb_solenoid_steady_temperature = _declare("rb_solenoid_steady_temperature", c_int, POINTER(Solenoid), c_double,
+                                          c_double, c_double, c_double, c_double_p, _err_p)
+rb_solenoid_thermal_transient = _declare("rb_solenoid_thermal_transient", c_int, POINTER(Solenoid), c_double,
+                                         c_double, c_double, c_double, c_double, c_double, c_size_t, c_double_p,
+                                         c_size_t, _err_p)
+
+for _struct, _size in ((Solenoid, "rb_solenoid_size"), (SolenoidState, "rb_solenoid_state_size"),
+                       (SolenoidDrive, "rb_solenoid_drive_size"), (SolenoidSample, "rb_solenoid_sample_size")):
+    if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
+        raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
+                          "src/railbrake/_core.py is out of date")
+
+# ---------------------------------------------------------------- reduced valve model (rb_valve_reduced.h)
+
+
+class ReducedValve(Structure):
+    _fields_ = [(n, c_double) for n in ("supply", "atmosphere", "volume", "temperature", "discharge_coefficient",
+                                        "critical_ratio", "tau", "band", "area")]
+
+
+rb_reduced_valve_steps = _declare("rb_reduced_valve_steps", c_int, POINTER(ReducedValve), c_double_p, c_double_p,
+                                  c_size_t, c_double, c_double_p, c_size_t, c_double, c_double_p, _err_p)
+if ctypes.sizeof(ReducedValve) != _declare("rb_reduced_valve_size", c_size_t)():
+    raise ImportError("rb_reduced_valve: ctypes size differs from the C core's; src/railbrake/_core.py is out of date")

@@ -1,9 +1,11 @@
 /* Pneumatic laws: ideal-gas lumped volume, orifice flow (ISO 6358 form), variable-area
  * elements and membranes.
  *
- * Sources (see shared/reference/README.md section 4): ideal gas with R = 287.05 J/(kg K),
- * gamma = 1.4; ISO 6358 flow-rate characteristic with sonic conductance C and critical
- * pressure ratio b, rho0 = 1.185 kg/m^3 at T0 = 293.15 K; ideal nozzle b = 0.528. */
+ * Sources: ideal gas with R = 287.05 J/(kg K), gamma = 1.4 (dry air, ISO 2533:1975 Standard
+ * Atmosphere, table 1);
+ * the flow-rate characteristic of ISO 6358-1:2013 (sec. 3, annex A) with sonic conductance C
+ * and critical pressure ratio b, reference density rho0 = 1.185 kg/m^3 at T0 = 293.15 K; ideal
+ * nozzle b = 0.528 (de Saint-Venant flow, (2 / (gamma + 1))^(gamma / (gamma - 1))). */
 #ifndef RAILBRAKE_PNEUMATICS_H
 #define RAILBRAKE_PNEUMATICS_H
 
