@@ -2,6 +2,7 @@
  * between the newest valid commands and the safe state, steps the plant, sends the plant frame,
  * records decimated channels and sleeps until the next absolute deadline. */
 #include "railbrake/rb_hil.h"
+#include "railbrake/rb_bounds.h"
 #include "channels_internal.h"
 
 #include <math.h>
@@ -107,6 +108,7 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
     memset(r, 0, sizeof *r);
     r->udp.fd = -1;
     if ((s = rb_plant_init(plant, &r->plant, err))) return s;
+    if ((s = rb_plant_bounds_check(plant, err))) return s;
     if ((s = rb_udp_open(&r->udp, bind_host, bind_port, err))) return s;
     if ((s = rb_udp_set_peer(&r->udp, bcu_host, bcu_port, err))) {
         rb_udp_close(&r->udp);

@@ -328,6 +328,35 @@ rb_plant_state_size = _declare("rb_plant_state_size", c_size_t)
 rb_run_state_size = _declare("rb_run_state_size", c_size_t)
 rb_plant_check = _declare("rb_plant_check", c_int, POINTER(PlantParams), _err_p)
 rb_wsp_default_params = _declare("rb_wsp_default_params", None, POINTER(WspParams))
+rb_wsp_check = _declare("rb_wsp_check", c_int, POINTER(WspParams), _err_p)
+rb_plant_bounds_check = _declare("rb_plant_bounds_check", c_int, POINTER(PlantParams), _err_p)
+
+
+class Bound(Structure):
+    """rb_bound (rb_bounds.h): one plausibility bound of the C table."""
+    _fields_ = [("name", c_char_p), ("unit", c_char_p), ("min", c_double), ("max", c_double), ("why", c_char_p)]
+
+
+rb_bound_count = _declare("rb_bound_count", c_int)
+rb_bound_at = _declare("rb_bound_at", POINTER(Bound), c_int)
+
+
+def _read_bounds() -> dict:
+    table = {}
+    for i in range(rb_bound_count()):
+        b = rb_bound_at(i).contents
+        table[b.name.decode()] = (b.min, b.max, b.unit.decode(), b.why.decode())
+    return table
+
+
+# The one table of plausibility bounds (core/src/bounds.c), SI: name -> (min, max, unit, why).
+BOUNDS = _read_bounds()
+
+
+def bound(name: str) -> tuple[float, float]:
+    """(min, max) in SI of the C bound `name`, e.g. "coupler.damping", "car.mass"."""
+    low, high, _, _ = BOUNDS[name]
+    return low, high
 rb_bcu_pressure_map = _declare("rb_bcu_pressure_map", None, POINTER(PlantParams), c_double,
                                POINTER(BcuParams))
 rb_run_init = _declare("rb_run_init", c_int, POINTER(PlantParams), POINTER(BcuParams), POINTER(WspParams),
