@@ -18,7 +18,8 @@ def write_mdf(result, path: Path) -> Path:
                comment=f"railbrake hil: {result.scenario}, {result.cars} cars")
     mdf.header.comment = json.dumps({"scenario": result.scenario, "cars": result.cars,
                                      "counters": result.counters, "timing": result.timing,
-                                     "kpis": result.kpis})
-    mdf.save(path, overwrite=True)
+                                     "kpis": result.kpis, "interrupted": getattr(result, "interrupted", False)},
+                                    default=float)
+    saved = mdf.save(path, overwrite=True)   # asammdf may change the suffix: report what it wrote
     mdf.close()
-    return Path(path)
+    return Path(saved)
