@@ -23,7 +23,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core
-from railbrake.config import parse_yaml
+from railbrake.config import parse_yaml, read_text
 from railbrake.errors import InputError
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import Train, load_train
@@ -161,7 +161,7 @@ def load_profile(profile: ProfileLike) -> Profile:
     if path.suffix == ".csv" and path.is_file():
         return read_profile_csv(path)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return _parse_profile(path.read_text(), str(path))
+        return _parse_profile(read_text(path), str(path))
     raise InputError(f"profile = {name!r}: not a preset ({', '.join(profile_names())}) nor a file")
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core
-from railbrake.config import parse_yaml
+from railbrake.config import parse_yaml, read_text
 from railbrake.errors import InputError
 from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
 
@@ -301,7 +301,7 @@ def load_train(name_or_path: Union[str, Path, Train], loaded: bool = True) -> Tr
         return parse_train((_preset_dir() / f"{name}.yaml").read_text(), f"train {name}", loaded)
     path = Path(name)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return parse_train(path.read_text(), str(path), loaded)
+        return parse_train(read_text(path), str(path), loaded)
     raise InputError(f"train = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
 

@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import _core
-from railbrake.config import parse_yaml
+from railbrake.config import parse_yaml, read_text
 from railbrake.contact import (
     HertzContact,
     PolachParams,
@@ -137,7 +137,7 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
         return _parse_condition_file(text, f"preset {name}")
     path = Path(name)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return _parse_condition_file(path.read_text(), str(path))
+        return _parse_condition_file(read_text(path), str(path))
     raise InputError(f"condition = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
 

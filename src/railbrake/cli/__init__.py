@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, compare, demo, fmu, hil, simulation, sizing, valve
+from railbrake.cli import _common, adhesion, compare, demo, fmu, hil, simulation, sizing, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -13,6 +13,14 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
+
+
+@app.callback()
+def _options(debug: bool = typer.Option(False, "--debug", help="Show the traceback of an error instead of "
+                                        "its one-line message.")):
+    _common.DEBUG = debug
+
+
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
 compare.register(app)

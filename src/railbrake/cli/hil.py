@@ -77,7 +77,7 @@ def register(app: typer.Typer) -> None:
         if duration is not None and duration <= 0:
             raise InputError(f"--duration = {duration}: must be > 0 s")
         sc = scenarios.load(scenario)
-        prepare_output(record)   # before the run, which cannot be repeated
+        prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
         err = Console(stderr=True)
         total = sc.spec.stop.max_time if duration is None else duration
         bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),

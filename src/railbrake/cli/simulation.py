@@ -13,7 +13,7 @@ from rich.table import Table
 
 from railbrake import scenario as scenarios
 from railbrake import simulation
-from railbrake.cli._common import print_json, reports_errors
+from railbrake.cli._common import prepare_folder, print_json, reports_errors
 from railbrake.units import cars_text
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
@@ -42,7 +42,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
     if out is not None:
         from railbrake.plots.simulation import plot_all
         from railbrake.simulation.io import write_kpis, write_parquet
-        out.mkdir(parents=True, exist_ok=True)
+        prepare_folder(out)
         write_parquet(result, out / "timeseries.parquet")
         write_kpis(result, out / "kpis.json")
         plot_all(result, out)

@@ -9,7 +9,7 @@ import numpy as np
 import typer
 
 from railbrake import valves
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import prepare_plot, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import BAR
 
@@ -49,7 +49,7 @@ def epv(
         c = valves.epv_characteristic(p, ramp_time=ramp_time)
         if plot:
             from railbrake.plots.valves import plot_characteristic
-            plot_characteristic(c, "EP valve characteristic", prepare_output(plot))
+            plot_characteristic(c, "EP valve characteristic", prepare_plot(plot))
         if json:
             print_json(c.as_dict())
             return
@@ -61,7 +61,7 @@ def epv(
         if plot:
             from railbrake.plots.valves import plot_step
             plot_step(res, ["pilot", "control"], p["ambient_pa"], f"EP valve step to {current:g} A",
-                      prepare_output(plot))
+                      prepare_plot(plot))
         if json:
             print_json({"current_a": current, **summary, "time": res.time,
                         "control_bar": (res["control"].p - p["ambient_pa"]) / BAR})
@@ -89,7 +89,7 @@ def relay(
     if plot:
         from railbrake.plots.valves import plot_step
         plot_step(res, ["control", "output", "cylinder"], p["ambient_pa"], "Relay valve step",
-                  prepare_output(plot))
+                  prepare_plot(plot))
     if json:
         print_json({**summary, "time": res.time, "cylinder_bar": (res["cylinder"].p - p["ambient_pa"]) / BAR})
         return

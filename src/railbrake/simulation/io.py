@@ -8,6 +8,8 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from railbrake import jsonio
+
 
 def write_parquet(result, path: Path) -> None:
     fields = [pa.field(name, pa.float64(), metadata={"unit": result.units[name]}) for name in result.outputs]
@@ -19,4 +21,4 @@ def write_parquet(result, path: Path) -> None:
 
 
 def write_kpis(result, path: Path) -> None:
-    path.write_text(json.dumps(result.kpis, indent=2) + "\n")
+    path.write_text(jsonio.dumps(result.kpis, indent=2) + "\n")   # NaN -> null: kpis.json stays JSON
