@@ -7,12 +7,13 @@ to it. Line numbers come from PyYAML's node marks.
 Before validation the text is checked as a whole, without recursion, so no input can hang the
 loader or end in a traceback: it must be UTF-8 (read_text), nest at most MAX_DEPTH levels, use no
 anchors or aliases (`&a`, `*a`: an alias bomb of 13 levels expands to 67 million items) and give
-no key twice in a mapping (both lines are named). Values are validated strictly: a string or a
+no key twice in a mapping (both lines are named), and no .nan or .inf anywhere. Values are validated strictly: a string or a
 Boolean is not read as a number (`load_t: "1_000"`, `wheelset_inertia_kgm2: true`).
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import TypeVar
 
@@ -62,6 +63,20 @@ def _check_events(text: str, origin: str) -> None:
                 raise InputError(f"{origin}, line {line}: nested deeper than {MAX_DEPTH} levels")
         elif isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
             depth -= 1
+
+
+def _check_finite(data, origin: str, index: dict, path=()) -> None:
+    """YAML's .nan and .inf are never a meaningful configuration value: refused wherever they appear."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            _check_finite(value, origin, index, path + (key,))
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            _check_finite(value, origin, index, path + (i,))
+    elif isinstance(data, float) and not math.isfinite(data):
+        line = _line_of(index, path)
+        key = ".".join(str(p) for p in path)
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: {key} = {data}: must be a finite number")
 
 
 def _key_text(node) -> str:
@@ -148,6 +163,7 @@ def parse_yaml(text: str, model: type[Model], origin: str) -> Model:
         raise InputError(f"{origin}: nested too deeply") from None
     if not isinstance(data, dict):
         raise InputError(f"{origin}: expected a mapping of keys at the top level")
+    _check_finite(data, origin, _line_index(node))
     try:
         return model.model_validate(data, strict=True)
     except ValidationError as exc:

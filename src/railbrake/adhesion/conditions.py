@@ -111,10 +111,30 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     cond = model.conditioning
-    return AdhesionCondition(
-        name=model.name, title=model.title, params=PolachParams(**model.params.model_dump()),
-        conditioning=RailConditioning(**cond.model_dump()) if cond else None,
-        source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets))
+    try:
+        return AdhesionCondition(
+            name=model.name, title=model.title, params=_located(PolachParams, model.params, "params", text, origin),
+            conditioning=_located(RailConditioning, cond, "conditioning", text, origin) if cond else None,
+            source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets))
+    except InputError as exc:
+        raise InputError(f"{origin}: {exc}") if origin not in str(exc) else exc from None
+
+
+def _located(kind, block, section: str, text: str, origin: str):
+    """kind(**block) with the core's range error located: file, line and the key under `section`."""
+    try:
+        return kind(**block.model_dump())
+    except InputError as exc:
+        key = str(exc).split(" = ", 1)[0].split(":", 1)[0].strip()
+        line = _config_lines(text).get((section, key))
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: {section}.{exc}") from None
+
+
+def _config_lines(text: str) -> dict:
+    import yaml
+
+    from railbrake.config import _line_index
+    return _line_index(yaml.compose(text, Loader=yaml.SafeLoader))
 
 
 ConditionLike = Union[str, Path, PolachParams, Mapping, AdhesionCondition]
