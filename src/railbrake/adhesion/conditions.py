@@ -79,12 +79,12 @@ class _ConditioningModel(BaseModel):
 
 class _TargetModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    speed_kmh: float = Field(ge=0.0)
-    peak: float = Field(gt=0.0)
-    rel_tolerance: float = Field(gt=0.0)
+    speed_kmh: float = Field(ge=0.0, le=600.0)
+    peak: float = Field(gt=0.0, le=1.0)            # an adhesion coefficient F/Q
+    rel_tolerance: float = Field(gt=0.0, le=1.0)
     source: str
-    peak_creep: float | None = None
-    car: int | None = Field(default=None, ge=1)
+    peak_creep: float | None = Field(default=None, gt=0.0, le=1.0)
+    car: int | None = Field(default=None, ge=1, le=16)
 
 
 class _ConditionFile(BaseModel):
