@@ -41,7 +41,7 @@ static const rb_bound bounds[] = {
     {"wsp.reapply_off", "s", 1e-3, 1.0, "hold-valve pulses of 1 ms to 1 s"},
     {"wsp.reapply_time", "s", 0.0, 30.0, "full re-application within 30 s"},
     {"wsp.filter_time", "s", 1e-3, 1.0, "a filter of 1 ms to 1 s"},
-    {"wsp.safety_time", "s", 0.5, 30.0, "0.5 to 30 s of continuous venting (EN 15595: a few s); 0 isolates every axle"},
+    {"wsp.safety_time", "s", 0.5, 30.0, "0.5 to 30 s of continuous venting (typically 5-10 s [T]); 0 isolates every axle"},
     {"wsp.min_speed", "m/s", 0.0, 10.0, "WSP active down to at most 36 km/h"},
 };
 
