@@ -5,9 +5,9 @@
 #include <stdio.h>
 #include <string.h>
 
-/* Sources of the physical ranges: high-speed EMU cars of 40 to 70 t ([T], UIC 544-1 mass classes
- * reach 80 t per car), reservoirs of 50 to 400 l and cylinders of 0.5 to 5 l ([T], typical of
- * EP-brake bogie units); the numerical limits are derived in rb_bounds.h. */
+/* The physical ranges are wide margins around typical values [T]: high-speed EMU cars of 40 to
+ * 70 t, reservoirs of 50 to 400 l, cylinders of 0.5 to 5 l (EP-brake bogie units); the numerical
+ * limits are derived in rb_bounds.h. */
 static const rb_bound bounds[] = {
     {"car.mass", "kg", 5e3, 2e5, "a car of 5 to 200 t; lighter makes the couplers too stiff for dt"},
     {"coupler.stiffness", "N/m", 1e4, 1e9, "stable mechanics: dt sqrt(4 k / m) < 2 at 5 t"},
