@@ -1,5 +1,6 @@
 /* Brake control unit: demand -> EP pressure per car, ED blending, WSP plug-in. */
 #include "railbrake/rb_bcu.h"
+#include "railbrake/rb_bounds.h"
 
 #include <string.h>
 
@@ -34,6 +35,7 @@ rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_s
     rb_status st;
     if ((st = rb_bcu_check(p, err))) return st;
     if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a BCU state is required");
+    if (wsp && (st = rb_wsp_check(wsp, err))) return st;
     memset(s, 0, sizeof *s);
     rb_wsp_params defaults;
     rb_wsp_default_params(&defaults);

@@ -1,6 +1,7 @@
 /* Scenario runner: BCU + plant, decimated time series, KPIs; and the plant benchmark. */
 #define _POSIX_C_SOURCE 199309L
 #include "run_internal.h"
+#include "railbrake/rb_bounds.h"
 #include "channels_internal.h"
 
 #include <math.h>
@@ -72,6 +73,7 @@ rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, co
     if ((s = rb_run_check_scenario(scenario, err))) return s;
     memset(run, 0, sizeof *run);
     if ((s = rb_plant_init(plant, &run->plant, err))) return s;
+    if ((s = rb_plant_bounds_check(plant, err))) return s;
     if ((s = rb_bcu_init(bcu, wsp, &run->bcu, err))) return s;
     if (bcu->n_cars != plant->n_cars)
         return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must equal the plant's n_cars = %d", bcu->n_cars, plant->n_cars);

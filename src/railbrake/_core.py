@@ -369,6 +369,35 @@ rb_plant_state_size = _declare("rb_plant_state_size", c_size_t)
 rb_run_state_size = _declare("rb_run_state_size", c_size_t)
 rb_plant_check = _declare("rb_plant_check", c_int, POINTER(PlantParams), _err_p)
 rb_wsp_default_params = _declare("rb_wsp_default_params", None, POINTER(WspParams))
+rb_wsp_check = _declare("rb_wsp_check", c_int, POINTER(WspParams), _err_p)
+rb_plant_bounds_check = _declare("rb_plant_bounds_check", c_int, POINTER(PlantParams), _err_p)
+
+
+class Bound(Structure):
+    """rb_bound (rb_bounds.h): one plausibility bound of the C table."""
+    _fields_ = [("name", c_char_p), ("unit", c_char_p), ("min", c_double), ("max", c_double), ("why", c_char_p)]
+
+
+rb_bound_count = _declare("rb_bound_count", c_int)
+rb_bound_at = _declare("rb_bound_at", POINTER(Bound), c_int)
+
+
+def _read_bounds() -> dict:
+    table = {}
+    for i in range(rb_bound_count()):
+        b = rb_bound_at(i).contents
+        table[b.name.decode()] = (b.min, b.max, b.unit.decode(), b.why.decode())
+    return table
+
+
+# The one table of plausibility bounds (core/src/bounds.c), SI: name -> (min, max, unit, why).
+BOUNDS = _read_bounds()
+
+
+def bound(name: str) -> tuple[float, float]:
+    """(min, max) in SI of the C bound `name`, e.g. "coupler.damping", "car.mass"."""
+    low, high, _, _ = BOUNDS[name]
+    return low, high
 rb_bcu_pressure_map = _declare("rb_bcu_pressure_map", None, POINTER(PlantParams), c_double,
                                POINTER(BcuParams))
 rb_run_init = _declare("rb_run_init", c_int, POINTER(PlantParams), POINTER(BcuParams), POINTER(WspParams),
@@ -514,7 +543,7 @@ from ctypes import c_float, c_uint32  # noqa: E402
 FRAME_MAX_CARS = 16
 FRAME_MAX_AXLES = 64
 HIL_LOG_TEXT = 120
-HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off")
+HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off", "foreign", "mismatch")
 RT_MEMORY_LOCKED = 1
 RT_FIFO_PRIORITY = 2
 
@@ -526,11 +555,12 @@ class PlantInputs(Structure):
 
 class HilConfig(Structure):
     _fields_ = (_doubles("hold_time", "late_time", "duration", "stop_speed", "record_interval")
-                + [("paced", c_int), ("safe", PlantInputs), ("adhesion_interval", c_double)])
+                + [("paced", c_int), ("safe", PlantInputs), ("adhesion_interval", c_double),
+                   ("session", c_uint32), ("config", c_uint32)])
 
 
 HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",
-                "safe_state_steps", "overruns")
+                "safe_state_steps", "overruns", "foreign")
 HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us", "work_mean_us",
               "work_p99_us", "work_max_us")
 
@@ -538,7 +568,8 @@ HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us
 class HilResult(Structure):
     _fields_ = ([(n, c_uint64) for n in HIL_COUNTERS] + _doubles(*HIL_TIMING)
                 + _doubles("time", "stopping_distance", "stopping_time")
-                + [("braking", c_int), ("stopped", c_int), ("finished", c_int), ("events", c_uint64)])
+                + [("braking", c_int), ("stopped", c_int), ("finished", c_int), ("events", c_uint64),
+                   ("mismatch", c_int), ("bcu_config", c_uint32), ("bcu_cars", c_int), ("bcu_axles", c_int)])
 
 
 class HilEvent(Structure):
@@ -546,7 +577,7 @@ class HilEvent(Structure):
 
 
 class FrameHeader(Structure):
-    _fields_ = [("sequence", c_uint32), ("step", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8)]
+    _fields_ = [("session", c_uint32), ("config", c_uint32), ("sequence", c_uint32), ("step", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8)]
 
 
 class PlantFrame(Structure):
@@ -571,6 +602,7 @@ rb_bcu_frame_encode = _declare("rb_bcu_frame_encode", c_int, POINTER(BcuFrame), 
                                POINTER(c_size_t), _err_p)
 rb_plant_frame_decode = _declare("rb_plant_frame_decode", c_int, c_char_p, c_size_t, POINTER(PlantFrame), _err_p)
 rb_bcu_frame_decode = _declare("rb_bcu_frame_decode", c_int, c_char_p, c_size_t, POINTER(BcuFrame), _err_p)
+rb_hil_config_digest = _declare("rb_hil_config_digest", c_uint32, c_char_p, c_int, c_int, c_double)
 
 rb_rt_request = _declare("rb_rt_request", c_int, c_int)
 rb_hil_runner_size = _declare("rb_hil_runner_size", c_size_t)
@@ -584,17 +616,20 @@ rb_hil_runner_kpis = _declare("rb_hil_runner_kpis", None, POINTER(PlantParams), 
 rb_hil_runner_result = _declare("rb_hil_runner_result", None, c_void_p, POINTER(HilResult))
 rb_hil_runner_event = _declare("rb_hil_runner_event", c_int, c_void_p, c_uint64, POINTER(HilEvent))
 rb_hil_runner_close = _declare("rb_hil_runner_close", None, c_void_p)
+rb_hil_runner_port = _declare("rb_hil_runner_port", c_int, c_void_p)
 rb_hil_channel_count = _declare("rb_hil_channel_count", c_int, c_int)
 rb_hil_channel_info = _declare("rb_hil_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
                                c_size_t, _err_p)
 rb_hil_bcu_size = _declare("rb_hil_bcu_size", c_size_t)
 rb_hil_bcu_open = _declare("rb_hil_bcu_open", c_int, POINTER(BcuParams), POINTER(WspParams), POINTER(Scenario),
-                           c_char_p, c_int, c_void_p, _err_p)
+                           c_uint32, c_char_p, c_int, c_void_p, _err_p)
+rb_hil_bcu_refusal = _declare("rb_hil_bcu_refusal", c_int, c_void_p, POINTER(c_uint32), POINTER(c_int),
+                              POINTER(c_int), c_char_p, c_size_t)
 rb_hil_bcu_port = _declare("rb_hil_bcu_port", c_int, c_void_p)
 rb_hil_bcu_serve = _declare("rb_hil_bcu_serve", c_int, POINTER(BcuParams), POINTER(Scenario), c_void_p, c_double,
                             c_double, c_double, POINTER(c_int), _err_p)
 rb_hil_bcu_close = _declare("rb_hil_bcu_close", None, c_void_p)
-HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles")
+HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles", "foreign", "refused")
 rb_hil_bcu_counters = _declare("rb_hil_bcu_counters", None, c_void_p, c_uint64 * len(HIL_BCU_COUNTERS))
 
 for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_result_size"),

@@ -258,5 +258,5 @@ def load(scenario: str | Path | Scenario) -> Scenario:
         return parse((_preset_dir() / f"{name}.yaml").read_text(), f"preset {name}")
     path = Path(name)
     if path.is_file():
-        return parse(path.read_text(), str(path))
+        return parse(config.read_text(path), str(path))
     raise InputError(f"scenario = {name!r}: not a preset ({', '.join(preset_names())}) nor a file")

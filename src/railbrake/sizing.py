@@ -23,7 +23,8 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core
-from railbrake.config import parse_yaml
+from railbrake._args import real, reals, text
+from railbrake.config import parse_yaml, read_text
 from railbrake.errors import InputError
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import Train, load_train
@@ -61,7 +62,7 @@ def _check_profile_points(speed_kmh, decel):
         raise ValueError(f"speed_kmh ({len(speed_kmh)} points) and deceleration_ms2 ({len(decel)}) "
                          "differ in length")
     if not 1 <= len(speed_kmh) <= _core.MAX_TABLE:
-        raise ValueError(f"{len(speed_kmh)} points: a profile has 1 to {_core.MAX_TABLE}")
+        raise ValueError(f"speed_kmh: {len(speed_kmh)} points: a profile has 1 to {_core.MAX_TABLE}")
     for i, v in enumerate(speed_kmh):
         if not v >= 0.0:
             raise ValueError(f"speed_kmh[{i}] = {v}: must be >= 0")
@@ -103,7 +104,10 @@ class Profile:
 def make_profile(speed_kmh, deceleration_ms2, name="user", title="User profile", source="user input",
                  delay=0.0, build_up=0.0) -> Profile:
     """A profile from points in km/h and m/s^2; checks that the speeds increase strictly."""
-    speed_kmh, decel = [float(v) for v in speed_kmh], [float(a) for a in deceleration_ms2]
+    speed_kmh = [float(v) for v in np.atleast_1d(reals("speed_kmh", speed_kmh))]
+    decel = [float(a) for a in np.atleast_1d(reals("deceleration_ms2", deceleration_ms2))]
+    name, title, source = text("name", name), text("title", title), text("source", source)
+    delay, build_up = real("delay", delay, 0.0), real("build_up", build_up, 0.0)
     try:
         _check_profile_points(speed_kmh, decel)
     except ValueError as exc:
@@ -161,7 +165,7 @@ def load_profile(profile: ProfileLike) -> Profile:
     if path.suffix == ".csv" and path.is_file():
         return read_profile_csv(path)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return _parse_profile(path.read_text(), str(path))
+        return _parse_profile(read_text(path), str(path))
     raise InputError(f"profile = {name!r}: not a preset ({', '.join(profile_names())}) nor a file")
 
 

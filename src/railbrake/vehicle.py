@@ -12,6 +12,8 @@ Pressures: the YAML files give gauge pressures in bar; inside, pressures are abs
 from __future__ import annotations
 
 import ctypes
+import math
+import numbers
 from dataclasses import dataclass, replace
 from importlib import resources
 import types
@@ -23,6 +25,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from railbrake import _core, config
+from railbrake._args import real, reals
 from railbrake.errors import InputError
 from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
 
@@ -570,7 +573,7 @@ def train_file_text(name_or_path: Union[str, Path]) -> tuple[str, str]:
         return (_preset_dir() / f"{name}.yaml").read_text(), f"train {name}"
     path = Path(name)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return path.read_text(), str(path)
+        return config.read_text(path), str(path)
     raise InputError(f"train = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
 
@@ -587,14 +590,23 @@ def load_train(name_or_path: Union[str, Path, Train], loaded: Union[bool, str] =
 def pad_friction_sintered(speed, low_speed_value: float = SINTERED_LOW_SPEED):
     """lambda(v) of the default sintered pad [T] at speed (m/s)."""
     pad = _core.PadFriction()
-    _core.call(_core.rb_pad_friction_sintered, low_speed_value, ctypes.byref(pad))
-    return _vectorised(lambda v: _core.rb_pad_friction_at(ctypes.byref(pad), v), speed)
+    _core.call(_core.rb_pad_friction_sintered, real("low_speed_value", low_speed_value), ctypes.byref(pad))
+    return _vectorised(lambda v: _core.rb_pad_friction_at(ctypes.byref(pad), v), _speeds(speed))
 
 
 def equivalent_rotating_mass(wheelsets) -> float:
     """Sum of J / r^2 (kg) over (wheel_radius m, inertia kg m^2, axle_load kg) triples."""
+    if isinstance(wheelsets, (str, bytes)) or not hasattr(wheelsets, "__iter__"):
+        raise TypeError(f"wheelsets = {wheelsets!r}: must be an iterable of (wheel_radius, inertia, axle_load)")
     wheelsets = list(wheelsets)
-    array = (_core.Wheelset * max(len(wheelsets), 1))(*[_core.Wheelset(*w) for w in wheelsets])
+    rows = []
+    for i, w in enumerate(wheelsets):
+        if isinstance(w, (str, bytes)) or not hasattr(w, "__len__") or len(w) != 3:
+            raise TypeError(f"wheelsets[{i}] = {w!r}: must be (wheel_radius m, inertia kg m^2, axle_load kg)")
+        rows.append(_core.Wheelset(real(f"wheelsets[{i}] wheel_radius", w[0], 0.0, low_open=True),
+                                   real(f"wheelsets[{i}] inertia", w[1], 0.0),
+                                   real(f"wheelsets[{i}] axle_load", w[2], 0.0)))
+    array = (_core.Wheelset * max(len(rows), 1))(*rows)
     out = ctypes.c_double()
     _core.call(_core.rb_equivalent_rotating_mass, array, len(wheelsets), ctypes.byref(out))
     return out.value
@@ -603,23 +615,32 @@ def equivalent_rotating_mass(wheelsets) -> float:
 def caliper_pad_force(cylinder_pressure: float, cylinder_area: float, return_spring: float,
                       lever_ratio: float, efficiency: float, atmospheric_pressure: float = P_ATM) -> float:
     """Pad normal force (N) from the absolute cylinder pressure (Pa), EN 14531 form (checked)."""
-    c = _core.Caliper(cylinder_area, return_spring, lever_ratio, efficiency, atmospheric_pressure)
+    # ranges of the API: beyond them the force overflows (areas to 10 m^2, ratios to 1000, 1 GPa)
+    c = _core.Caliper(real("cylinder_area", cylinder_area, 0.0, 10.0, low_open=True),
+                      real("return_spring", return_spring, 0.0, 1e9),
+                      real("lever_ratio", lever_ratio, 0.0, 1e3, low_open=True),
+                      real("efficiency", efficiency, 0.0, 1.0, low_open=True),
+                      real("atmospheric_pressure", atmospheric_pressure, 0.0, 1e9, low_open=True))
     _core.call(_core.rb_caliper_check, ctypes.byref(c))
-    return _core.rb_caliper_pad_force(ctypes.byref(c), cylinder_pressure)
+    return _core.rb_caliper_pad_force(ctypes.byref(c), real("cylinder_pressure", cylinder_pressure, 0.0, 1e9))
 
 
 def coupler_force(dx: float, dv: float, slack: float, stiffness: float, stiffness_cubic: float = 0.0,
                   damping: float = 0.0) -> float:
     """Coupler tension (N) at extension dx (m) and its rate dv (m/s) (checked)."""
-    c = _core.Coupler(slack, stiffness, stiffness_cubic, damping)
+    c = _core.Coupler(real("slack", slack, 0.0), real("stiffness", stiffness, 0.0, low_open=True),
+                      real("stiffness_cubic", stiffness_cubic, 0.0), real("damping", damping, 0.0))
     _core.call(_core.rb_coupler_check, ctypes.byref(c))
-    return _core.rb_coupler_force(ctypes.byref(c), dx, dv)
+    force = _core.rb_coupler_force(ctypes.byref(c), real("dx", dx), real("dv", dv))
+    if not math.isfinite(force):   # e.g. a cubic term of 1e308: not a force
+        raise InputError(f"coupler_force: dx = {dx:g} m, dv = {dv:g} m/s give a force beyond any float")
+    return force
 
 
 def with_constant_pad_friction(train: Train, speed: float | None = None) -> Train:
     """The same train with each pad's lambda frozen at its value at `speed` (m/s; default: top
     speed); comparing the two shows what lambda(v) does to the target pressure."""
-    v = train.max_speed if speed is None else float(speed)
+    v = train.max_speed if speed is None else real("speed", speed, 0.0)
     copy = train.to_c()
     for k in range(copy.n_cars):
         pad = copy.cars[k].brake.pad
@@ -633,4 +654,11 @@ def with_constant_pad_friction(train: Train, speed: float | None = None) -> Trai
 def pad_friction_of(car: Car, speed):
     """lambda(v) of a car's pads at speed (m/s)."""
     pad = ctypes.byref(car.c.brake.pad)
-    return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), speed)
+    return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), _speeds(speed))
+
+
+def _speeds(speed):
+    """speed (m/s): a number or an array of numbers, finite and >= 0, as the caller gave it."""
+    if isinstance(speed, numbers.Real) and not isinstance(speed, bool):
+        return real("speed", speed, 0.0)
+    return reals("speed", speed, 0.0)

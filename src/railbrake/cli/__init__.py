@@ -9,8 +9,8 @@ import typer
 import typer.core
 
 import railbrake
-from railbrake.cli import (adhesion, compare, compare_runs, config, demo, fmu, hil, plot, simulation, sizing, validate,
-                           valve)
+from railbrake.cli import (_common, adhesion, compare, compare_runs, config, demo, fmu, hil, plot, simulation, sizing,
+                           validate, valve)
 
 app = typer.Typer(
     name="railbrake",
@@ -47,8 +47,11 @@ def _version(value: bool) -> None:
 
 @app.callback()
 def _root(version: Optional[bool] = typer.Option(None, "--version", callback=_version, is_eager=True,
-                                                 help="Print the version and exit.")):
+                                                 help="Print the version and exit."),
+          debug: bool = typer.Option(False, "--debug", help="Show the traceback of an error instead of "
+                                     "its one-line message.")):
     """Design and test electro-pneumatic train brakes with wheel-slide protection."""
+    _common.DEBUG = debug
 
 
 app.add_typer(adhesion.app, name="adhesion")

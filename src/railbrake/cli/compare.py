@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from railbrake.cli._common import SET_HELP, prepare_output, print_json, reports_errors
+from railbrake.cli._common import SET_HELP, prepare_folder, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
@@ -67,7 +67,7 @@ def register(app: typer.Typer) -> None:
                         progress=lambda stage, done: bar.update(task, description=stage, completed=done))
         if plot is not None:
             from railbrake.plots.compare import plot_all
-            prepare_output(plot / "x")
+            prepare_folder(plot, "--plot")
             plot_all(c, plot)
         if json:
             print_json(c.as_dict())

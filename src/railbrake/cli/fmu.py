@@ -25,5 +25,6 @@ def register(app: typer.Typer) -> None:
     ):
         """Co-simulation FMU of the plant and BCU (1 ms fixed step) with its C sources and a binary
         for this platform (docs/fmu.md)."""
-        path = export_fmu(scenario, prepare_output(output), fmi, cars, sets=sets, kernel=kernel)
+        path = export_fmu(scenario, prepare_output(output, "--output", (".fmu",)), fmi, cars, sets=sets,
+                          kernel=kernel)
         typer.echo(f"{path}: FMI {fmi}.0 co-simulation, {path.stat().st_size / 1024:.0f} kB")

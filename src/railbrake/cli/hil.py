@@ -98,7 +98,7 @@ def register(app: typer.Typer) -> None:
         sc = resolved.scenario
         records.parse_axles(axles, resolved.cars)
         records.parse_window(window)
-        prepare_output(record)   # before the run, which cannot be repeated
+        prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
         err = Console(stderr=True)
         total = sc.spec.stop.max_time if duration is None else duration
         bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
@@ -110,13 +110,22 @@ def register(app: typer.Typer) -> None:
                 resolved, peer, duration=duration, hold_time=hold_time, late_time=late_time,
                 record_interval=record_interval, bind=local,
                 priority=priority, on_event=_event_printer(err), kernel=kernel,
+                on_start=lambda port, session, config: err.print(
+                    f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
+                    f"BCU {bcu}", highlight=False, soft_wrap=True),
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
-        if result.counters["received"] == 0:
+        if result.mismatch:
+            err.print(f"[red]error[/]: {result.mismatch}", highlight=False)
+        elif result.counters["received"] == 0:
             err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
                       highlight=False)
+        if result.interrupted:
+            err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
+                      "the recording and counters hold the run until then", highlight=False)
+        written = None
         if record is not None:
             from railbrake.hil.mdf import write_mdf
-            write_mdf(result, record, sc)
+            written = write_mdf(result, record, sc)
         if out is not None:
             from railbrake.results.outputs import write_outputs
             write_outputs(records.from_hil(result, sc), out, formats, axles, window,
@@ -130,10 +139,14 @@ def register(app: typer.Typer) -> None:
                                       "notes": result.real_time.notes()}})
         else:
             _print_report(result)
-        if record is not None:
-            typer.echo(f"recording: {record}", err=json)
+        if written is not None:
+            typer.echo(f"recording: {written}", err=json)
         if out is not None:
             typer.echo(f"outputs: {out}/", err=json)
+        if result.interrupted:
+            raise typer.Exit(code=130)
+        if result.mismatch:
+            raise typer.Exit(code=1)
 
     @app.command("bcu")
     @reports_errors
@@ -161,11 +174,20 @@ def register(app: typer.Typer) -> None:
             for note in real_time.notes() if real_time.requested else []:
                 err.print(f"note: {note}", highlight=False)
 
+        def refused(text):
+            err.print(f"[red]error[/]: {text}", highlight=False)   # once: later refusals only counted
+
         start = time.monotonic()
         counters = hil_runner.serve_bcu(resolve(scenario, cars, sets), (host, port), duration=duration,
-                                        idle_timeout=idle_timeout, priority=priority, ready=ready)
+                                        idle_timeout=idle_timeout, priority=priority, ready=ready,
+                                        on_refusal=refused)
         if json:
-            print_json(counters)
+            print_json(dict(counters))
         else:
             typer.echo(f"served {time.monotonic() - start:.1f} s: " +
                        ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in counters.items()))
+        if counters.interrupted:
+            err.print("interrupted: the counters above hold the run until then", highlight=False)
+            raise typer.Exit(code=130)
+        if counters.refusal and counters["received"] == 0:
+            raise typer.Exit(code=1)   # set up for another plant: served nothing

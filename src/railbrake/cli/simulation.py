@@ -12,7 +12,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import simulation
-from railbrake.cli._common import KERNEL_HELP, SET_HELP, print_json, reports_errors
+from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_folder, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
@@ -66,6 +66,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         bar.stop()
     if out is not None:
         from railbrake.results.outputs import write_outputs
+        prepare_folder(out)
         write_outputs(record.from_simulation(result, sc), out, formats, axles, window)
     return result
 

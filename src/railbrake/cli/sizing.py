@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.table import Table
 
 from railbrake import sizing, vehicle
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import prepare_plot, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
 
@@ -28,7 +28,7 @@ def _size(train: str, profile: str, profile_csv: Optional[Path], adhesion_limit:
         for car in t.cars:
             kind = "motor" if car.motor else "trailer"
             friction.setdefault(kind, vehicle.pad_friction_of(car, result.speed))
-        plot_target_pressure(result, frozen, friction, f"{t.title}: {prof.title}", prepare_output(plot))
+        plot_target_pressure(result, frozen, friction, f"{t.title}: {prof.title}", prepare_plot(plot))
     bar = {k: result.gauge_bar(getattr(result, f"p_{k}")) for k in ("motor", "trailer")}
     if json:
         print_json({"speed_kmh": ms_to_kmh(result.speed), "target_pressure_bar": bar,
@@ -126,7 +126,7 @@ def register(app: typer.Typer) -> None:
                 title += f", simulated response ta {delay:.2f} s, tb {build_up:.2f} s"
         if plot:
             from railbrake.plots.sizing import plot_stopping
-            plot_stopping(result, f"{title} from {v0_kmh:g} km/h", prepare_output(plot))
+            plot_stopping(result, f"{title} from {v0_kmh:g} km/h", prepare_plot(plot))
         if json:
             print_json({"stopping_distance_m": result.distance, "stopping_time_s": result.time,
                         "warnings": result.warnings})

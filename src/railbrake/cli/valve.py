@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 
 from railbrake import valves
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import prepare_output, prepare_plot, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import BAR
 
@@ -58,7 +58,7 @@ def _characteristic(p: dict, ramp_time: float, plot, json: bool) -> None:
     c = valves.epv_characteristic(p, ramp_time=ramp_time)
     if plot:
         from railbrake.plots.valves import plot_characteristic
-        plot_characteristic(c, "EP valve characteristic", prepare_output(plot))
+        plot_characteristic(c, "EP valve characteristic", prepare_plot(plot))
     if json:
         print_json(c.as_dict())
         return
@@ -72,7 +72,7 @@ def _step(p: dict, current: float, start_current: float, t_end: float, plot, jso
     if plot:
         from railbrake.plots.valves import plot_step
         plot_step(res, ["pilot", "control"], p["ambient_pa"], f"EP valve step {start_current:g} -> {current:g} A",
-                  prepare_output(plot))
+                  prepare_plot(plot))
     if json:
         print_json({"current_a": current, "start_current_a": start_current, **summary, "time": res.time,
                     "control_bar": (res["control"].p - p["ambient_pa"]) / BAR})
@@ -91,7 +91,7 @@ def _reduce(p: dict, plot, json: bool, write) -> None:
         prepare_output(write).write_text(R.reduced_yaml(result))
     if plot:
         from railbrake.plots.valves import plot_reduction
-        plot_reduction(fit, prepare_output(plot))
+        plot_reduction(fit, prepare_plot(plot))
     if json:
         print_json({"params_si": result["params"], "fit_rms_bar": fit["rms_bar"], "fit_max_bar": fit["max_bar"],
                     "relay_check": result["relay"],
@@ -135,7 +135,7 @@ def _table(S, p: dict, table, plot, json: bool) -> None:
         S.write_table(p, prepare_output(table))
     if plot:
         from railbrake.plots.valves import plot_force_table
-        plot_force_table(gap, current, force, prepare_output(plot))
+        plot_force_table(gap, current, force, prepare_plot(plot))
     rated, g_mid = p["rated_current_a"], gap[len(gap) // 2]
     st = S.state(p, g_mid, rated)
     figures = {"rated_current_a": rated, "airgap_mm": g_mid * 1e3, "force_n": st["force"],
@@ -156,7 +156,7 @@ def _thermal(S, p: dict, duty: float, ambient_c: float, current, plot, json: boo
     r = S.thermal(p, duty=duty, ambient_c=ambient_c, current=current)
     if plot:
         from railbrake.plots.valves import plot_thermal
-        plot_thermal(r, prepare_output(plot))
+        plot_thermal(r, prepare_plot(plot))
     if json:
         print_json(r)
         return
@@ -172,7 +172,7 @@ def _current_step(S, p: dict, current, plot, json: bool) -> None:
     r = S.current_step(p, valves.load_epv()["armature"], current)
     if plot:
         from railbrake.plots.valves import plot_current_step
-        plot_current_step(r, prepare_output(plot))
+        plot_current_step(r, prepare_plot(plot))
     e = {k: float(r[k][-1]) for k in ("e_electric", "e_copper", "e_magnetic", "e_mechanical", "e_damping", "e_impact")}
     balance = e["e_electric"] - sum(v for k, v in e.items() if k != "e_electric")
     if json:
@@ -199,7 +199,7 @@ def relay(
     if plot:
         from railbrake.plots.valves import plot_step
         plot_step(res, ["control", "output", "cylinder"], p["ambient_pa"], "Relay valve step",
-                  prepare_output(plot))
+                  prepare_plot(plot))
     if json:
         print_json({**summary, "time": res.time, "cylinder_bar": (res["cylinder"].p - p["ambient_pa"]) / BAR})
         return

@@ -13,4 +13,5 @@ def write_mdf(result, path: Path, scenario=None) -> Path:
     from railbrake.results import files, record
     sc = scenario if scenario is not None else scenarios.load(result.scenario)
     return files.write_mdf(record.from_hil(result, sc), path,
-                           {"counters": result.counters, "timing": result.timing})
+                           {"counters": result.counters, "timing": result.timing,
+                            "interrupted": getattr(result, "interrupted", False)})

@@ -81,9 +81,9 @@ def write_mdf(record: RunRecord, path: Path, extra: dict | None = None) -> Path:
     header = {"scenario": record.meta.get("scenario"), "cars": record.cars, "kpis": record.kpis,
               **(extra or {}), "railbrake": record.meta}
     mdf.header.comment = dumps(header)
-    mdf.save(path, overwrite=True)
+    saved = mdf.save(path, overwrite=True)   # asammdf may change the suffix: report what it wrote
     mdf.close()
-    return Path(path)
+    return Path(saved)
 
 
 _WRITERS = {"parquet": write_parquet, "csv": write_csv, "mf4": write_mdf}

@@ -46,4 +46,5 @@ def test_bcu_stops_after_its_duration_without_a_plant():
     assert result.exit_code == 0, result.output
     first, rest = result.output.split("\n", 1)
     assert first.startswith("listening on udp://127.0.0.1:")
-    assert json.loads(rest) == {"received": 0, "malformed": 0, "stale": 0, "sent": 0, "send_errors": 0, "cycles": 0}
+    assert json.loads(rest) == {"received": 0, "malformed": 0, "stale": 0, "sent": 0, "send_errors": 0, "cycles": 0,
+                                "foreign": 0, "refused": 0}
