@@ -152,22 +152,25 @@ def tank_pressure(inputs, x, case):
 
 # ------------------------------------------------------------------ valves
 
-def solenoid_force(inputs, x, case):
-    """EP solenoid force (N) from the packaged force table (C lookup) at airgaps x (mm)."""
+def solenoid_c_core(inputs, x, case):
+    """Force (N) of the solenoid design model (C core, rb_solenoid_eval) on a C-core with linear iron
+    at airgaps x (mm): turns, current_a, iron_length_mm, iron_area_mm2, mu_r, pole_diameter_mm,
+    working_gaps from the case; no fringing, leakage or parasitic gap (the closed form's assumptions)."""
     from railbrake import _core
-    from railbrake.valves.epv import read_force_table
-    gap, current, force = read_force_table(_need(inputs, "table"))
-    table = _core.ForceTable()
-    table.n_gap, table.n_current = len(gap), len(current)
-    for i, g in enumerate(gap):
-        table.gap[i] = g
-        for j, c in enumerate(current):
-            table.current[j] = c
-            table.force[i * len(current) + j] = force[i, j]
-    _core.call(_core.rb_force_table_check, ctypes.byref(table))
+    mm, mm2 = 1e-3, 1e-6
+    s = _core.Solenoid()
+    s.turns, s.resistance_20c = float(_need(inputs, "turns")), 1.0
+    s.iron_length, s.iron_area = float(_need(inputs, "iron_length_mm")) * mm, float(_need(inputs, "iron_area_mm2")) * mm2
+    mu0 = 4e-7 * math.pi
+    s.bh_points, s.bh_h[1], s.bh_b[1] = 2, 1e6, float(_need(inputs, "mu_r")) * mu0 * 1e6   # linear iron
+    s.pole_diameter, s.working_gaps = float(_need(inputs, "pole_diameter_mm")) * mm, int(_need(inputs, "working_gaps"))
     amps = float(_need(inputs, "current_a"))
-    mm = 1e-3
-    return ModelOutput([_core.rb_force_table_eval(ctypes.byref(table), g * mm, amps) for g in _x(x, "airgap, mm")])
+    out = []
+    for g in _x(x, "airgap, mm"):
+        state = _core.SolenoidState()
+        _core.call(_core.rb_solenoid_eval, ctypes.byref(s), g * mm, amps, ctypes.byref(state))
+        out.append(state.force)
+    return ModelOutput(out)
 
 
 # ------------------------------------------------------------------ vehicle and braking
@@ -290,5 +293,5 @@ def stop_ramp(inputs, x, case):
 
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, 
     hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
-    tank_pressure, stop_constant, caliper_force, train_stopping_distance, solenoid_force, pad_friction, pad_friction_drop, ed_brake_force,
+    tank_pressure, stop_constant, caliper_force, train_stopping_distance, solenoid_c_core, pad_friction, pad_friction_drop, ed_brake_force,
     running_resistance, plant_order)}

@@ -70,4 +70,4 @@ def test_gradient_needs_a_unit(tmp_path):
                     "track: {gradients: [{start: 0 m, gradient: 12}]}\n")
     result = CliRunner().invoke(app, ["run", str(path)])
     assert result.exit_code != 0 and "Traceback" not in result.output
-    assert "line 6: track.gradients.0.gradient = 12: Value error, a unit is required" in result.output
+    assert "line 6: track.gradients.0.gradient = 12: a unit is required" in result.output
