@@ -79,9 +79,9 @@ void rb_plant_train_init(const rb_plant_params *p, rb_plant_state *s);
 void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f, double dt);
 /* Force of gravity along the track on car c (N, positive pulling back when uphill). */
 double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s, int c);
-/* Friction brake energy and disc temperature of every axle over a sub-step dt at the cylinder
- * pressures it ran with. */
-void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, const double *cylinder, double dt);
+/* Friction brake energy and disc temperature of every axle over a sub-step dt, from the friction
+ * torque the wheelset kernel applied in it (s->brake_torque). */
+void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt);
 /* The outputs of plant_train.c. */
 void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
 

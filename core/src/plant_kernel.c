@@ -82,7 +82,9 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
             double stiffness = axle_load * (f / x.abs_probe[a]) * inv_vr;  /* N per m/s */
             /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
             double piston = (cylinder[a] - p_atm) * area - spring;
-            double torque = brake_gain * x.pad[a] * (piston > 0.0 ? piston : 0.0) + ed;
+            double friction = brake_gain * x.pad[a] * (piston > 0.0 ? piston : 0.0);
+            s->brake_torque[a] = friction;   /* for the discs' energy (plant_train.c) */
+            double torque = friction + ed;
             /* slip velocity, linearly implicit in this axle's own rail force */
             double others = others_all - s->force[a];
             double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * inv_mass)) / (1.0 + dt * stiffness * compliance);

@@ -255,7 +255,7 @@ void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_i
         cylinder_pressures(p, s, mean);
         for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + mean[a]);
         rb_plant_step_mechanics(p, s, in, &f, mean, s->derived.h);
-        rb_plant_discs(p, s, mean, s->derived.h);
+        rb_plant_discs(p, s, s->derived.h);
     }
     rb_plant_update_sensors(p, s, &f);
     s->step += 1;

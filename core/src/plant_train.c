@@ -97,16 +97,14 @@ double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s
     return p->car[c].vehicle.mass * RB_GRAVITY * g / sqrt(1.0 + g * g);
 }
 
-void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, const double *cylinder, double dt)
+void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
 {
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
-        double r = car->vehicle.wheelset.wheel_radius;
         double cooling = car->disc_cooling.n > 0 ? rb_speed_table_at(&car->disc_cooling, s->v[c]) : 0.0;
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
-            double w = s->omega[a];
-            double power = rb_plant_axle_brake_torque(car, cylinder[a], w * r) * w;   /* W into the discs */
+            double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
             s->brake_energy[a] += power * dt;
             if (car->disc_heat_capacity > 0.0)   /* implicit in the cooling: stable at any step */
                 s->disc_temperature[a] = (car->disc_heat_capacity * s->disc_temperature[a] +

@@ -268,6 +268,7 @@ typedef struct {
     double m_supply_side_initial; /* kg in the main reservoir and pipe at t = 0 */
     double disc_temperature[RB_PLANT_MAX_AXLES]; /* K */
     double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
+    double brake_torque[RB_PLANT_MAX_AXLES];     /* N m, friction brake torque of the last step (kernel) */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
