@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, compare, demo, fmu, hil, simulation, sizing, valve
+from railbrake.cli import adhesion, campaign, compare, demo, fmu, hil, simulation, sizing, valve
 
 app = typer.Typer(
     name="railbrake",
@@ -15,6 +15,7 @@ app = typer.Typer(
 )
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
+campaign.register(app)
 compare.register(app)
 demo.register(app)
 fmu.register(app)

@@ -1,0 +1,198 @@
+"""Running a study on dask.distributed: a LocalCluster (one single-threaded worker process per
+core) or an existing scheduler (``--scheduler tcp://HOST:PORT`` or DASK_SCHEDULER_ADDRESS).
+
+Runs go in batches, several per worker, so that scheduling stays a small share of the run time
+(bench/bench_campaign.py measures it) while a kill loses only the batches in flight. Each batch
+is written to the dataset as soon as it returns; a rerun skips the keys already there.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from railbrake.campaign import dataset, identity
+from railbrake.campaign.plan import Run, plan
+from railbrake.campaign.study import Study
+from railbrake.errors import InputError
+
+BATCHES_PER_WORKER = 8      # enough for the load to balance at the end of a study
+MAX_BATCH = 32              # runs; bounds what a kill loses
+CONNECT_TIMEOUT = 10.0      # s for a scheduler to answer
+RETRIES = 2                 # a batch whose worker died is rerun by Dask; these are for other errors
+
+
+@dataclass
+class Summary:
+    runs: int
+    done: int
+    skipped: int
+    failed: int
+    dataset: str
+    interrupted: bool = False
+    workers: int = 0
+    batches: int = 0
+    elapsed_s: float = 0.0          # from the first batch submitted to the last written
+    compute_s: float = 0.0          # sum of the batches' time on the workers
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def scheduler_share(self) -> float | None:
+        """Share of the workers' time not spent in runs (scheduling, transfer, idle at the end)."""
+        if not self.elapsed_s or not self.workers:
+            return None
+        return max(0.0, 1.0 - self.compute_s / (self.workers * self.elapsed_s))
+
+    def json(self) -> dict:
+        data = {k: v for k, v in asdict(self).items() if k != "extra"}
+        data["scheduler_share"] = self.scheduler_share
+        return data
+
+
+def scheduler_address(option: str | None) -> str | None:
+    return option or os.environ.get("DASK_SCHEDULER_ADDRESS") or None
+
+
+def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT_TIMEOUT):
+    """(client, cluster or None). A scheduler that does not answer is an InputError."""
+    from dask.distributed import Client, LocalCluster
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout=timeout)
+            client.wait_for_workers(1, timeout=timeout)
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"--scheduler {scheduler}: no Dask scheduler with workers answers within "
+                             f"{timeout:g} s ({exc.__class__.__name__}); start one with 'dask scheduler' "
+                             "and 'dask worker' (docs/campaigns.md)") from None
+        return client, None
+    n = workers or os.cpu_count() or 1
+    if n < 1:
+        raise InputError(f"--workers {n}: must be at least 1")
+    # no dashboards (they need free ports and bokeh), only errors in the log
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                           worker_dashboard_address=None, silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def batches(runs: list[Run], workers: int, size: int | None = None) -> list[list[Run]]:
+    size = size or max(1, min(MAX_BATCH, math.ceil(len(runs) / (workers * BATCHES_PER_WORKER))))
+    return [runs[i:i + size] for i in range(0, len(runs), size)]
+
+
+def _manifest(study: Study, out: Path, kpis: list[str] | None, n_runs: int) -> dict:
+    old = dataset.read_manifest(out) or {}
+    factors = {f.name: f.unit for f in study.factors}
+    if old and (old.get("factors") != factors or old.get("study") != study.name):
+        raise InputError(f"--out {out}: holds study {old.get('study')!r} with factors "
+                         f"{', '.join(old.get('factors', {}))}; use another folder")
+    return {"schema": "railbrake.campaign/1", "study": study.name, "base": study.spec.base,
+            "factors": factors, "kinds": {f.name: f.kind for f in study.factors},
+            "kpis": kpis if kpis is not None else old.get("kpis"), "runs": n_runs,
+            "design": study.spec.design.kind, "samples": study.spec.design.samples,
+            "railbrake_version": identity.railbrake_version(), "core_build_hash": identity.core_build_hash()}
+
+
+def _options(study: Study, out: Path, timeseries: bool) -> dict:
+    options = {"out": str(out), "timeseries": timeseries or study.spec.timeseries}
+    if study.spec.assessment is not None:
+        options["build_up"] = dict(study.spec.assessment.build_up)
+    return options
+
+
+def _payload(run: Run) -> dict:
+    return {"key": run.key, "index": run.index, "point": run.point, "replicate": run.replicate,
+            "seed": run.seed, "block": run.block, "sample": run.sample, "sets": run.sets,
+            "factors": run.factors}
+
+
+class _Writer:
+    """Writes finished batches; the KPI columns are fixed by the first successful run."""
+
+    def __init__(self, study: Study, out: Path, manifest: dict):
+        self.study, self.out, self.manifest = study, out, manifest
+        self.waiting: list[dict] = []
+        self.failed = self.written = 0
+
+    def _schema(self):
+        return dataset.schema(self.study.factors, self.manifest["kpis"], {"name": self.study.name})
+
+    def add(self, rows: list[dict]) -> None:
+        self.failed += sum(r["status"] != dataset.STATUS_OK for r in rows)
+        if self.manifest.get("kpis") is None:
+            ok = next((r for r in rows if r["status"] == dataset.STATUS_OK), None)
+            if ok is None:
+                self.waiting.append(rows)
+                return
+            self.manifest["kpis"] = list(ok["kpis"])
+            dataset.write_manifest(self.out, self.manifest)
+        for batch in self.waiting + [rows]:
+            dataset.write_batch(self.out, batch, self._schema())
+            self.written += len(batch)
+        self.waiting = []
+
+    def finish(self) -> None:
+        if self.waiting:   # every run failed: no KPI columns to be had
+            self.manifest["kpis"] = []
+            dataset.write_manifest(self.out, self.manifest)
+            self.add([])
+
+
+def run_study(study: Study, out: Path, workers: int | None = None, scheduler: str | None = None,
+              batch_size: int | None = None, timeseries: bool = False, progress=None) -> Summary:
+    """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch."""
+    out = Path(out)
+    runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
+    client, cluster = connect(scheduler_address(scheduler), workers)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        dataset.clean(out)
+        manifest = _manifest(study, out, None, len(runs))
+        dataset.write_manifest(out, manifest)
+        (out / "study.yaml").write_text(study.text)
+        done = dataset.existing_keys(out)
+        pending = [r for r in runs if r.key not in done]
+        n_workers = len(client.scheduler_info()["workers"])
+        summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out), workers=n_workers)
+        if progress:
+            progress(0, len(pending), 0)
+        _execute(client, study, out, manifest, batches(pending, n_workers, batch_size),
+                 _options(study, out, timeseries), summary, progress, len(pending))
+        return summary
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _execute(client, study, out, manifest, groups, options, summary, progress, total) -> None:
+    from dask.distributed import as_completed
+    writer = _Writer(study, out, manifest)
+    start = time.perf_counter()
+    futures = [client.submit(_batch_task, study.base, [_payload(r) for r in group], options,
+                             key=f"railbrake-{dataset.batch_name([r.key for r in group])[5:25]}",
+                             pure=False, retries=RETRIES) for group in groups]
+    summary.batches = len(futures)
+    try:
+        for future in as_completed(futures):
+            result = future.result()
+            writer.add(result["rows"])
+            summary.compute_s += result["compute_s"]
+            summary.done += len(result["rows"])
+            if progress:
+                progress(summary.done, total, writer.failed)
+        writer.finish()
+    except KeyboardInterrupt:
+        summary.interrupted = True
+        client.cancel(futures)
+    finally:
+        summary.failed = writer.failed
+        summary.elapsed_s = time.perf_counter() - start
+
+
+def _batch_task(base, runs, options):
+    from railbrake.campaign.worker import execute_batch
+    return execute_batch(base, runs, options)
