@@ -142,24 +142,27 @@ class _Writer:
 
 
 def run_study(study: Study, out: Path, workers: int | None = None, scheduler: str | None = None,
-              batch_size: int | None = None, timeseries: bool = False, progress=None) -> Summary:
+              batch_size: int | None = None, timeseries: bool = False, progress=None,
+              connect_timeout: float = CONNECT_TIMEOUT) -> Summary:
     """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch."""
     out = Path(out)
     runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
-    client, cluster = connect(scheduler_address(scheduler), workers)
+    done = dataset.existing_keys(out)
+    pending = [r for r in runs if r.key not in done]
+    summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out))
+    if not pending and dataset.read_manifest(out):
+        return summary
+    client, cluster = connect(scheduler_address(scheduler), workers, connect_timeout)
     try:
         out.mkdir(parents=True, exist_ok=True)
         dataset.clean(out)
         manifest = _manifest(study, out, None, len(runs))
         dataset.write_manifest(out, manifest)
         (out / "study.yaml").write_text(study.text)
-        done = dataset.existing_keys(out)
-        pending = [r for r in runs if r.key not in done]
-        n_workers = len(client.scheduler_info()["workers"])
-        summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out), workers=n_workers)
+        summary.workers = len(client.scheduler_info()["workers"])
         if progress:
             progress(0, len(pending), 0)
-        _execute(client, study, out, manifest, batches(pending, n_workers, batch_size),
+        _execute(client, study, out, manifest, batches(pending, summary.workers, batch_size),
                  _options(study, out, timeseries), summary, progress, len(pending))
         return summary
     finally:
