@@ -7,8 +7,9 @@ reference on dry rail:
   pressures so both runs lose the same build-up distance;
 - its increase dS % = 100 (s_d - s_d,ref) / s_d,ref and Kwet = 100 / (100 + dS %) (ETCS
   engineering rules: Kwet_rst from EN 15595 tests);
-- pass or fail: lock events, safety-timer trips, adhesion utilisation on reduced adhesion (the
-  reference is not adhesion-limited), and optional limits on dS % and air.
+- pass or fail: lock events, safety-timer trips, adhesion utilisation on the reduced-adhesion
+  cases named in the criteria (the reference and a short patch are not adhesion-limited over the
+  stop), and optional limits on dS % and air.
 """
 
 from __future__ import annotations
@@ -36,14 +37,22 @@ def _ref_value(value):
     return value["name"] if isinstance(value, dict) else value
 
 
-def _reasons(row: dict, criteria, is_reference: bool) -> list[str]:
+def _utilisation_applies(row: dict, criteria, reference: dict, is_reference: bool) -> bool:
+    if is_reference:
+        return False
+    if criteria.utilisation_cases is None:
+        return True
+    return any(row.get(k) in criteria.utilisation_cases for k in reference)
+
+
+def _reasons(row: dict, criteria, utilisation_applies: bool) -> list[str]:
     reasons = []
     if (row.get("wheel_lock_events") or 0) > criteria.max_lock_events:
         reasons.append(f"{row['wheel_lock_events']:.0f} lock events > {criteria.max_lock_events}")
     if (row.get("safety_timer_trips") or 0) > criteria.max_safety_timer_trips:
         reasons.append(f"{row['safety_timer_trips']:.0f} safety-timer trips > {criteria.max_safety_timer_trips}")
     utilisation = row.get("adhesion_utilisation")
-    if not is_reference and utilisation is not None and utilisation < criteria.min_utilisation:
+    if utilisation_applies and utilisation is not None and utilisation < criteria.min_utilisation:
         reasons.append(f"adhesion utilisation {utilisation:.3f} < {criteria.min_utilisation}")
     ds = row.get("delta_s_pct")
     if criteria.max_delta_s_pct is not None and ds is not None and ds > criteria.max_delta_s_pct:
@@ -60,7 +69,7 @@ def assess(rows: list[dict], factors: list[str], assessment, initial_speed) -> l
     refs = {_case_key(r, factors, reference): r for r in rows
             if r["status"] == STATUS_OK and _is_reference(r, reference)}
     out = []
-    for row in rows:
+    for row in sorted(rows, key=lambda r: (r.get("point", 0), r.get("replicate", 0))):
         case = dict(row)
         is_ref = _is_reference(row, reference)
         ref = refs.get(_case_key(row, factors, reference))
@@ -79,7 +88,8 @@ def assess(rows: list[dict], factors: list[str], assessment, initial_speed) -> l
         if row["status"] != STATUS_OK:
             case["passed"], case["reasons"] = False, [f"run failed: {row.get('error')}"]
         else:
-            reasons = _reasons(case, assessment.criteria, is_ref)
+            applies = _utilisation_applies(row, assessment.criteria, reference, is_ref)
+            reasons = _reasons(case, assessment.criteria, applies)
             if not row.get("stopped", 1):
                 reasons.append("the train did not stop within the run's time")
             case["passed"], case["reasons"] = not reasons, reasons

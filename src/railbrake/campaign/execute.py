@@ -90,7 +90,7 @@ def _manifest(study: Study, out: Path, kpis: list[str] | None, n_runs: int) -> d
         raise InputError(f"--out {out}: holds study {old.get('study')!r} with factors "
                          f"{', '.join(old.get('factors', {}))}; use another folder")
     return {"schema": "railbrake.campaign/1", "study": study.name, "base": study.spec.base,
-            "factors": factors, "kinds": {f.name: f.kind for f in study.factors},
+            "factors": factors, "factor_order": list(factors), "kinds": {f.name: f.kind for f in study.factors},
             "kpis": kpis if kpis is not None else old.get("kpis"), "runs": n_runs,
             "design": study.spec.design.kind, "samples": study.spec.design.samples,
             "railbrake_version": identity.railbrake_version(), "core_build_hash": identity.core_build_hash()}

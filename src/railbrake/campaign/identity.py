@@ -28,6 +28,8 @@ def core_build_hash() -> str:
         return hashlib.sha256(library.read()).hexdigest()
 
 
-def run_key(canonical: str) -> str:
-    text = "\n".join((canonical, railbrake_version(), core_build_hash()))
+def run_key(canonical: str, derived: str = "") -> str:
+    """derived: the settings of KPIs a study derives in the worker (the build-up fractions of an
+    assessment), so that changing them reruns the runs; empty for a plain study."""
+    text = "\n".join((canonical, railbrake_version(), core_build_hash()) + ((derived,) if derived else ()))
     return hashlib.sha256(text.encode()).hexdigest()

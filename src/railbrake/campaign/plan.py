@@ -8,6 +8,7 @@ a car the train lacks) fails before the first simulation.
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -87,6 +88,7 @@ def plan(study: Study) -> list[Run]:
     points = designs.points(study, np.random.default_rng(design_seq))
     noise = [int(s) for s in noise_seq.generate_state(study.spec.seeds)]
     base_tree = configuration.tree(configuration.resolve(study.base))
+    derived = json.dumps(study.spec.assessment.build_up, sort_keys=True) if study.spec.assessment else ""
     runs: list[Run] = []
     for p_index, point in enumerate(points):
         sets = point_sets(study, point.values, base_tree)
@@ -99,5 +101,5 @@ def plan(study: Study) -> list[Run]:
             except InputError as exc:
                 raise InputError(f"{study.origin}: design point {p_index} ({_describe(point.values)}): {exc}") from None
             runs.append(Run(len(runs), p_index, r, seed, run_sets, factors, point.block, point.sample,
-                            identity.run_key(resolved.canonical())))
+                            identity.run_key(resolved.canonical(), derived)))
     return runs

@@ -40,6 +40,8 @@ class Criteria(_Strict):
     """Pass/fail of an assessed case (EN 15595 style)."""
     max_lock_events: int = 0
     min_utilisation: float = 0.85
+    utilisation_cases: list[str] | None = None   # levels of the reference factor it applies to (None: all
+    #                                            but the reference)
     max_safety_timer_trips: int = 0
     max_delta_s_pct: float | None = None
     max_air_drawn_kg: float | None = None
@@ -50,6 +52,13 @@ class Assessment(_Strict):
     reference: dict[str, Any]           # factor values of the reference case (dry rail)
     build_up: dict[str, float] = Field(default_factory=lambda: {"delay": 0.10, "complete": 0.90})
     criteria: Criteria = Field(default_factory=Criteria)
+    source: str = ""
+
+
+class Tuning(_Strict):
+    """Ranges of the WSP parameters `wsp tune` may choose from, and the air limit."""
+    params: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    air_limit_kg: float | None = Field(default=None, gt=0)
     source: str = ""
 
 
@@ -65,6 +74,7 @@ class StudyFile(_Strict):
     seed: int = Field(default=0, ge=0)   # entropy of the study's numpy SeedSequence
     timeseries: bool = False
     assessment: Assessment | None = None
+    tuning: Tuning | None = None
     source: str = ""
 
 

@@ -16,18 +16,18 @@ from railbrake.campaign.dataset import STATUS_FAILED, STATUS_OK
 
 
 def equivalent_response_time(result, delay: float, complete: float) -> float | None:
-    """EN 14531 te = ta + tb/2 from the train's mean brake-cylinder pressure: ta until it reaches
-    `delay` of its peak, tb from there to `complete` of it (fractions from the study file)."""
-    names = result.axle_channels("cylinder")
-    if not names or result.time.size < 2:
+    """EN 14531 te = ta + tb/2 from the train's deceleration (pneumatic and ED brake together):
+    ta until it reaches `delay` of its median over the stop, tb from there to `complete` of it
+    (fractions from the study file). The median stands for the full brake effort: pad friction
+    rising at low speed makes the peak a poor one."""
+    decel = result.outputs.get("deceleration")
+    if decel is None or result.time.size < 2:
         return None
-    p = np.mean([result.outputs[n] for n in names], axis=0)
-    rise = p - p[0]
-    peak = rise.max()
-    if peak <= 0:
+    full = float(np.median(decel))
+    if full <= 0:
         return None
-    t_a = float(result.time[np.argmax(rise >= delay * peak)])
-    t_c = float(result.time[np.argmax(rise >= complete * peak)])
+    t_a = float(result.time[np.argmax(decel >= delay * full)])
+    t_c = float(result.time[np.argmax(decel >= complete * full)])
     return t_a + (t_c - t_a) / 2
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from railbrake.cli import adhesion, campaign, compare, demo, fmu, hil, simulation, sizing, valve
+from railbrake.cli import adhesion, campaign, compare, demo, fmu, hil, simulation, sizing, valve, wsp
 
 app = typer.Typer(
     name="railbrake",
@@ -22,6 +22,7 @@ fmu.register(app)
 hil.register(app)
 simulation.register(app)
 sizing.register(app)
+wsp.register(app)
 
 
 def main() -> None:
