@@ -57,10 +57,9 @@ def _describe(error: dict) -> str:
     return f"{key} = {value!r}: {error['msg']}"
 
 
-def parse_yaml(text: str, model: type[Model], origin: str) -> Model:
-    """Validate YAML text against a pydantic model; InputError names key, value and line."""
+def load_mapping(text: str, origin: str) -> dict:
+    """The YAML text as a mapping; InputError names the line of a syntax error."""
     try:
-        node = yaml.compose(text)
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
@@ -68,14 +67,38 @@ def parse_yaml(text: str, model: type[Model], origin: str) -> Model:
         raise InputError(f"{origin}{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from None
     if not isinstance(data, dict):
         raise InputError(f"{origin}: expected a mapping of keys at the top level")
+    return data
+
+
+def parse_yaml(text: str, model: type[Model], origin: str) -> Model:
+    """Validate YAML text against a pydantic model; InputError names key, value and line."""
+    data = load_mapping(text, origin)
+    node = yaml.compose(text)
+    return validate_data(data, model, locator(origin, _line_index(node)))
+
+
+def locator(origin: str, lines: dict, overrides: dict | None = None):
+    """locate(key path) -> 'file, line N', or the command-line override that set the key."""
+    overrides = overrides or {}
+
+    def locate(loc) -> str:
+        loc = tuple(loc)
+        for end in range(len(loc), 0, -1):
+            if loc[:end] in overrides:
+                return overrides[loc[:end]]
+        line = _line_of(lines, loc) if lines else None
+        return f"{origin}{f', line {line}' if line else ''}"
+
+    return locate
+
+
+def validate_data(data: dict, model: type[Model], locate) -> Model:
+    """Validate already-loaded data; ``locate(loc)`` names where a key path came from
+    (file and line, or a command-line override) for the error message."""
     try:
         return model.model_validate(data)
     except ValidationError as exc:
-        index = _line_index(node)
-        messages = []
-        for error in exc.errors():
-            line = _line_of(index, error["loc"])
-            messages.append(f"{origin}{f', line {line}' if line else ''}: {_describe(error)}")
+        messages = [f"{locate(tuple(error['loc']))}: {_describe(error)}" for error in exc.errors()]
         raise InputError("\n".join(messages)) from None
 
 

@@ -144,21 +144,26 @@ class ScenarioFile(_Strict):
 
 
 class Scenario:
-    """A validated scenario plus where each key sits in its file (for later error messages)."""
+    """A validated scenario plus where each key sits in its file (for later error messages).
 
-    def __init__(self, spec: ScenarioFile, origin: str, lines: dict):
+    ``data`` is the scenario as read (file units), ``overrides`` the key paths set on the command
+    line (``--set``): their errors name the override instead of a line of the file."""
+
+    def __init__(self, spec: ScenarioFile, origin: str, lines: dict, data: dict | None = None,
+                 overrides: dict | None = None):
         self.spec = spec
         self.origin = origin
         self._lines = lines
+        self.data = data if data is not None else {}
+        self.overrides = overrides or {}
 
     @property
     def name(self) -> str:
         return self.spec.name
 
     def where(self, *key) -> str:
-        line = config._line_of(self._lines, key) if self._lines else None
         dotted = ".".join(str(k) for k in key)
-        return f"{self.origin}{f', line {line}' if line else ''}: {dotted}"
+        return f"{config.locator(self.origin, self._lines, self.overrides)(key)}: {dotted}"
 
     def cars(self, override: int | None = None) -> int:
         from railbrake.vehicle import load_train
@@ -186,10 +191,15 @@ def preset_names() -> list[str]:
 
 
 def parse(text: str, origin: str) -> Scenario:
-    spec = config.parse_yaml(text, ScenarioFile, origin)
-    node = yaml.compose(text)
-    lines = config._line_index(node)
-    scenario = Scenario(spec, origin, lines)
+    data = config.load_mapping(text, origin)
+    lines = config._line_index(yaml.compose(text))
+    return from_data(data, origin, lines)
+
+
+def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = None) -> Scenario:
+    """Validate a scenario mapping (file units); lines and overrides say where each key came from."""
+    spec = config.validate_data(data, ScenarioFile, config.locator(origin, lines, overrides))
+    scenario = Scenario(spec, origin, lines, data, overrides)
     if spec.schema_ != SCHEMA:
         raise InputError(f"{scenario.where('schema')} = {spec.schema_!r}: expected {SCHEMA!r}")
     from railbrake.adhesion import load_condition

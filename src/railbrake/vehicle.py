@@ -17,10 +17,10 @@ from pathlib import Path
 from typing import Literal, Optional, Union
 
 import numpy as np
+import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from railbrake import _core
-from railbrake.config import parse_yaml
+from railbrake import _core, config
 from railbrake.errors import InputError
 from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
 
@@ -283,7 +283,14 @@ def preset_names() -> list[str]:
 
 
 def parse_train(text: str, origin: str, loaded: bool = True) -> Train:
-    model = parse_yaml(text, _TrainFile, origin)
+    data = config.load_mapping(text, origin)
+    return parse_train_data(data, origin, config._line_index(yaml.compose(text)), loaded)
+
+
+def parse_train_data(data: dict, origin: str, lines: dict, loaded: bool = True,
+                     overrides: dict | None = None) -> Train:
+    """A train from its file's mapping; lines and overrides say where each key came from."""
+    model = config.validate_data(data, _TrainFile, config.locator(origin, lines, overrides))
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     try:

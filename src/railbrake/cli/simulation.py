@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Optional
+from typing import Optional, Sequence
 
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from railbrake import scenario as scenarios
 from railbrake import simulation
 from railbrake.cli._common import print_json, reports_errors
+from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
@@ -22,9 +22,15 @@ _UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration
           "max_lock_duration_s": "s", "air_consumed_kg": "kg"}
 
 
-def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool):
+SET_HELP = ("Override a key of the resolved configuration, KEY=VALUE with the value as in a file, e.g. "
+            "--set initial_speed='300 km/h' (repeatable; `railbrake config show` lists the keys).")
+
+
+def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
+                 sets: Sequence[str] = ()):
     """Runs with a progress bar that appears once the run has lasted 2 s; writes the outputs."""
-    sc = scenarios.load(scenario)
+    resolved = resolve(scenario, cars, sets)
+    sc = resolved.scenario
     bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
                    TimeElapsedColumn(), console=Console(stderr=True), transient=True, disable=quiet)
     task = bar.add_task(sc.name, total=sc.spec.stop.max_time, speed="")
@@ -36,7 +42,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         bar.update(task, completed=t, speed=f"{3.6 * v:5.0f} km/h")
 
     try:
-        result = simulation.run(sc, cars=cars, wsp=wsp, progress=progress)
+        result = simulation.run(resolved, wsp=wsp, progress=progress)
     finally:
         bar.stop()
     if out is not None:
@@ -68,9 +74,10 @@ def register(app: typer.Typer) -> None:
         no_wsp: bool = typer.Option(False, "--no-wsp", help="Run without wheel-slide protection."),
         out: Optional[Path] = typer.Option(None, help="Folder for timeseries.parquet, kpis.json and plots."),
         json: bool = typer.Option(False, "--json", help="Print the KPIs as JSON."),
+        sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     ):
         """Whole-train brake simulation with WSP (default: 16 cars, emergency from 300 km/h in heavy rain)."""
-        result = run_scenario(scenario, cars, not no_wsp, out, quiet=json)
+        result = run_scenario(scenario, cars, not no_wsp, out, quiet=json, sets=sets)
         if json:
             print_json(result.kpis)
             return

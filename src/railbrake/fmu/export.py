@@ -25,6 +25,7 @@ import fmpy
 
 import railbrake
 from railbrake import scenario as scenarios
+from railbrake.resolve import resolve
 from railbrake import simulation, vehicle
 from railbrake.errors import InputError
 from railbrake.fmu.variables import UNITS, Variable, table
@@ -254,10 +255,7 @@ BASE_SCENARIO = "emergency-300-heavy-rain"
 def resolve_scenario(name) -> scenarios.Scenario:
     """A scenario (preset, file or Scenario), or a train preset: then BASE_SCENARIO with that train."""
     if isinstance(name, str) and name in vehicle.preset_names() and name not in scenarios.preset_names():
-        base = scenarios.load(BASE_SCENARIO)
-        spec = base.spec.model_copy(update={"train": scenarios.Train(preset=name),
-                                            "name": f"{BASE_SCENARIO} with train {name}"})
-        return scenarios.Scenario(spec, f"{base.origin} with train {name}", {})
+        return resolve(BASE_SCENARIO, sets={"train.preset": name, "name": f"{BASE_SCENARIO} with train {name}"}).scenario
     try:
         return scenarios.load(name)
     except InputError as exc:

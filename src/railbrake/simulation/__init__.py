@@ -18,6 +18,7 @@ from railbrake import _core
 from railbrake.adhesion import load_condition
 from railbrake.contact import wheel_rail_contact
 from railbrake.errors import InputError
+from railbrake.resolve import resolve
 from railbrake.scenario import Scenario, load
 from railbrake.vehicle import load_train
 
@@ -96,9 +97,11 @@ def _condition(name: str) -> _core.PlantCondition:
 _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
 
 
-def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int = SUBSTEPS) -> _core.PlantParams:
+def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int = SUBSTEPS,
+                 train=None) -> _core.PlantParams:
+    """The plant's C parameters; train: the resolved train (default: the scenario's preset)."""
     spec = scenario.spec
-    train = load_train(spec.train.preset)
+    train = load_train(spec.train.preset) if train is None else train
     p = _core.PlantParams()
     p.n_cars, p.dt, p.substeps, p.temperature, p.atmosphere = n_cars, dt, substeps, 293.15, ATMOSPHERE
     p.discharge_coefficient, p.critical_ratio = 0.8, 0.528
@@ -181,16 +184,16 @@ WspCallback = Callable[[_core.WspInputs, _core.WspCommands], None]
 def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
         wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
         record: bool = True, dt: float = DT, substeps: int = SUBSTEPS) -> Result:
-    """Run a scenario (preset name, file or Scenario) in the C core.
+    """Run a scenario (preset name, file, Scenario or railbrake.resolve.Resolved) in the C core.
 
     cars: override the train's number of cars; wsp=False: no WSP (valves never commanded);
     wsp_function(inputs, commands): a Python WSP replacing the default (prototyping; slower);
     progress(t, v): called after each chunk of simulated time with the time and speed (SI);
     dt: the plant's fixed step (s); substeps: sub-steps of air and wheelsets per step.
     """
-    sc = load(scenario)
-    n_cars = sc.cars(cars)
-    plant = plant_params(sc, n_cars, dt, substeps)
+    resolved = resolve(scenario, cars)
+    sc, n_cars = resolved.scenario, resolved.cars
+    plant = plant_params(sc, n_cars, dt, substeps, resolved.train)
     bcu = bcu_params(plant, sc, wsp)
     callback = None
     if wsp_function is not None:

@@ -38,3 +38,19 @@ def test_unknown_scenario_exits_non_zero():
     result = CliRunner().invoke(app, ["run", "no-such-scenario"])
     assert result.exit_code == 2
     assert "no-such-scenario" in result.output
+
+
+def test_set_reaches_the_run():
+    """From 100 km/h instead of 250 km/h: the stopping distance falls roughly with v^2."""
+    args = ["run", "emergency-250-dry", "--cars", "1", "--json"]
+    base = CliRunner().invoke(app, args)
+    slow = CliRunner().invoke(app, args + ["--set", "initial_speed=100 km/h"])
+    assert base.exit_code == 0 and slow.exit_code == 0, slow.output
+    ratio = json.loads(slow.output)["stopping_distance_m"] / json.loads(base.output)["stopping_distance_m"]
+    assert 0.1 < ratio < 0.3   # (100/250)^2 = 0.16, plus the response time's share
+
+
+def test_set_with_an_unknown_key_exits_2_naming_close_keys():
+    result = CliRunner().invoke(app, ["run", "emergency-250-dry", "--set", "wsp.speed_treshold=1 m/s"])
+    assert result.exit_code == 2
+    assert "wsp.speed_threshold" in result.output

@@ -1,0 +1,273 @@
+"""One resolved configuration: a scenario, its train, and the overrides given on top of them.
+
+files -> :func:`resolve` -> :class:`Resolved` (validated, SI inside) -> C structs -> results.
+
+The resolved tree is the scenario's keys with ``train`` holding the train file's keys plus
+``preset`` (the train preset or file) and ``cars``. Any key of that tree, or of the schemas
+behind it, can be overridden with ``KEY=VALUE`` (``--set`` on the command line, ``set:`` in a
+study): a dotted path, the value written as in a file, e.g. ``initial_speed=300 km/h`` or
+``train.car_types.motor.wheelset_inertia_kgm2=140``. An error names the file and line the value
+came from, or the override that set it; an unknown key names the closest valid keys.
+Relative file names inside a scenario file resolve against the scenario file's folder.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import hashlib
+import json
+import typing
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Mapping, Sequence, Union
+
+import yaml
+from pydantic import BaseModel
+
+from railbrake import __version__, config, vehicle
+from railbrake import scenario as scenarios
+from railbrake.errors import InputError
+
+SetsLike = Union[Sequence[str], Mapping[str, object]]
+_TRAIN_KEYS = ("preset", "cars")   # the scenario's own keys under `train`; the rest is the train file
+
+
+@dataclass(frozen=True)
+class Resolved:
+    """A scenario and its train after every override, validated; ``tree()`` shows it in file units."""
+
+    scenario: scenarios.Scenario
+    train: vehicle.Train
+    cars: int
+    _tree: dict
+
+    @property
+    def name(self) -> str:
+        return self.scenario.name
+
+    def tree(self) -> dict:
+        return copy.deepcopy(self._tree)
+
+    def canonical(self) -> str:
+        """Canonical JSON of the configuration a run uses: the scenario in SI, the train as resolved."""
+        body = {"scenario": self.scenario.spec.model_dump(mode="json", by_alias=True, exclude={"train"}),
+                "train": {k: v for k, v in self._tree["train"].items() if k != "preset"},
+                "cars": self.cars}
+        return json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+    def digest(self) -> str:
+        """SHA-256 (hex) of the canonical configuration and the railbrake version."""
+        return hashlib.sha256(f"{self.canonical()}\nrailbrake {__version__}".encode()).hexdigest()
+
+    def keys(self) -> list[str]:
+        return valid_keys(self._tree)
+
+
+# ------------------------------------------------------------------ reading the files
+
+@dataclass
+class _Source:
+    data: dict
+    origin: str
+    lines: dict
+    folder: Path | None   # where relative file names in it resolve; None for presets
+
+
+def _read(text: str, origin: str, folder: Path | None) -> _Source:
+    data = config.load_mapping(text, origin)
+    return _Source(data, origin, config._line_index(yaml.compose(text)), folder)
+
+
+def _from_spec(scenario: scenarios.Scenario, cars: int | None, sets: SetsLike) -> Resolved:
+    """A Scenario built in code (no file behind it): taken as it is, its train from its preset."""
+    if sets:
+        raise InputError(f"scenario {scenario.name}: built in code, so it takes no overrides; "
+                         "pass its preset name or file, or change the Scenario itself")
+    n_cars = scenario.cars(cars)
+    scenario.check_cars(n_cars)
+    train = vehicle.load_train(scenario.spec.train.preset)
+    tree = scenario.spec.model_dump(mode="json", by_alias=True)
+    tree["train"] = {"preset": scenario.spec.train.preset, "cars": n_cars}
+    return Resolved(scenario, train, n_cars, tree)
+
+
+def _read_scenario(name) -> _Source:
+    if isinstance(name, scenarios.Scenario):
+        return _Source(copy.deepcopy(name.data), name.origin, name._lines, None)
+    name = str(name)
+    if name in scenarios.preset_names():
+        text = (resources.files("railbrake") / "data" / "scenarios" / f"{name}.yaml").read_text()
+        return _read(text, f"preset {name}", None)
+    path = Path(name)
+    if path.is_file():
+        return _read(path.read_text(), str(path), path.resolve().parent)
+    raise InputError(f"scenario = {name!r}: not a preset ({', '.join(scenarios.preset_names())}) nor a file")
+
+
+def _in_folder(name: str, folder: Path | None, presets: list[str]) -> str:
+    """A file name relative to the scenario's folder made absolute (presets and absolute paths stay)."""
+    if folder is None or name in presets or Path(name).is_absolute():
+        return name
+    candidate = folder / name
+    return str(candidate) if candidate.exists() else name
+
+
+def _read_train(preset: str) -> _Source:
+    if preset in vehicle.preset_names():
+        text = (resources.files("railbrake") / "data" / "trains" / f"{preset}.yaml").read_text()
+        return _read(text, f"train {preset}", None)
+    path = Path(preset)
+    if path.suffix in (".yaml", ".yml") and path.is_file():
+        return _read(path.read_text(), str(path), path.resolve().parent)
+    raise InputError(f"train = {preset!r}: not a preset ({', '.join(vehicle.preset_names())}) nor a YAML file")
+
+
+# ------------------------------------------------------------------ overrides
+
+def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
+    """(key path, value, label) per override; a mapping's values are taken as they are."""
+    if isinstance(sets, Mapping):
+        items = [(str(k), v, f"set {k}") for k, v in sets.items()]
+    else:
+        items = []
+        for text in sets:
+            key, sep, raw = str(text).partition("=")
+            if not sep or not key.strip():
+                raise InputError(f"--set {text!r}: expected KEY=VALUE, e.g. --set initial_speed='300 km/h'")
+            try:
+                value = yaml.safe_load(raw) if raw.strip() else ""
+            except yaml.YAMLError:
+                value = raw
+            items.append((key.strip(), value, f"--set {key.strip()}"))
+    return [(tuple(int(p) if p.isdigit() else p for p in key.split(".")), value, label)
+            for key, value, label in items]
+
+
+def _assign(tree: dict, path: tuple, value, label: str, known: set) -> None:
+    dotted = ".".join(str(p) for p in path)
+    if dotted not in known:
+        close = difflib.get_close_matches(dotted, sorted(known), n=3, cutoff=0.5)
+        hint = f"; closest valid keys: {', '.join(close)}" if close else ""
+        raise InputError(f"{label}: no such key{hint} (`railbrake config show` lists them)")
+    node = tree
+    for part in path[:-1]:
+        if isinstance(node, list) and isinstance(part, int) and part < len(node):
+            node = node[part]
+        elif isinstance(node, dict):
+            node = node.setdefault(part, {})
+        else:
+            raise InputError(f"{label}: {part!r} is not a key of {dotted}")
+    if isinstance(node, list):
+        if not (isinstance(path[-1], int) and path[-1] < len(node)):
+            raise InputError(f"{label}: index {path[-1]!r} is outside the list")
+    node[path[-1]] = value
+
+
+# ------------------------------------------------------------------ the keys the schemas know
+
+def _unwrap(annotation):
+    """The model, dict or list type inside Optional[...] / Annotated[...]."""
+    while True:
+        origin = typing.get_origin(annotation)
+        if origin is typing.Annotated:
+            annotation = typing.get_args(annotation)[0]
+        elif origin is Union or str(origin) == "types.UnionType":
+            args = [a for a in typing.get_args(annotation) if a is not type(None)]
+            if len(args) != 1:
+                return annotation
+            annotation = args[0]
+        else:
+            return annotation
+
+
+def _keys_of(model: type[BaseModel], data, prefix: str, out: set) -> None:
+    data = data if isinstance(data, dict) else {}
+    for name, field in model.model_fields.items():
+        key = field.alias or name
+        path = f"{prefix}{key}"
+        out.add(path)
+        kind = _unwrap(field.annotation)
+        origin, args = typing.get_origin(kind), typing.get_args(kind)
+        sub = data.get(key)
+        if isinstance(kind, type) and issubclass(kind, BaseModel):
+            _keys_of(kind, sub, f"{path}.", out)
+        elif origin is dict and args and isinstance(_unwrap(args[1]), type) \
+                and issubclass(_unwrap(args[1]), BaseModel) and isinstance(sub, dict):
+            for item_key, item in sub.items():
+                out.add(f"{path}.{item_key}")
+                _keys_of(_unwrap(args[1]), item, f"{path}.{item_key}.", out)
+        elif origin is list and args and isinstance(_unwrap(args[0]), type) \
+                and issubclass(_unwrap(args[0]), BaseModel) and isinstance(sub, list):
+            for i, item in enumerate(sub):
+                out.add(f"{path}.{i}")
+                _keys_of(_unwrap(args[0]), item, f"{path}.{i}.", out)
+
+
+def valid_keys(tree: dict) -> list[str]:
+    """Every dotted key a resolved tree may hold (those of the schemas and of the tree itself)."""
+    known: set = set()
+    _keys_of(scenarios.ScenarioFile, tree, "", known)
+    _keys_of(vehicle._TrainFile, tree.get("train", {}), "train.", known)
+    return sorted(known)
+
+
+# ------------------------------------------------------------------ resolving
+
+def resolve(scenario="emergency-300-heavy-rain", cars: int | None = None, sets: SetsLike = ()) -> Resolved:
+    """The scenario (preset, file or Scenario), its train and the overrides, validated together.
+
+    cars: the number of cars (as ``--set train.cars=N``); sets: ``KEY=VALUE`` strings or a mapping."""
+    if isinstance(scenario, Resolved):
+        if cars is None and not sets:
+            return scenario
+        scenario = scenario.scenario
+    if isinstance(scenario, scenarios.Scenario) and not scenario.data:
+        return _from_spec(scenario, cars, sets)
+    source = _read_scenario(scenario)
+    overrides = _parse_sets(sets)
+    if cars is not None:
+        overrides.append((("train", "cars"), cars, "--cars"))
+    tree = copy.deepcopy(source.data)
+    train_block = tree.setdefault("train", {})
+    if not isinstance(train_block, dict):
+        raise InputError(f"{source.origin}: train must be a mapping (preset, cars)")
+    adhesion = tree.get("adhesion")
+    if isinstance(adhesion, dict):   # relative adhesion files: against the scenario's folder
+        from railbrake.adhesion import preset_names as adhesion_presets
+        names = adhesion_presets()
+        if isinstance(adhesion.get("condition"), str):
+            adhesion["condition"] = _in_folder(adhesion["condition"], source.folder, names)
+        for zone in adhesion.get("zones") or []:
+            if isinstance(zone, dict) and isinstance(zone.get("condition"), str):
+                zone["condition"] = _in_folder(zone["condition"], source.folder, names)
+    preset = train_block.get("preset", scenarios.Train.model_fields["preset"].default)
+    preset = _in_folder(str(preset), source.folder, vehicle.preset_names())
+    labels = {}
+    for path, value, label in overrides:   # the train preset first: it says which file the train is
+        if path == ("train", "preset"):
+            preset, labels[path] = str(value), label
+    train_source = _read_train(preset)
+    train_block.clear()
+    train_block.update({"preset": preset, "cars": source.data["train"].get("cars")
+                        if isinstance(source.data.get("train"), dict) else None})
+    train_block.update(copy.deepcopy(train_source.data))
+    for path, value, label in overrides:
+        if path == ("train", "preset"):
+            continue
+        _assign(tree, path, value, label, set(valid_keys(tree)))
+        labels[path] = label
+    if train_block["cars"] is None:
+        train_block["cars"] = len(train_block.get("formation") or []) or None
+    return _validate(tree, source, train_source, labels)
+
+
+def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) -> Resolved:
+    scenario_data = {k: v for k, v in tree.items() if k != "train"}
+    scenario_data["train"] = {k: tree["train"][k] for k in _TRAIN_KEYS if tree["train"].get(k) is not None}
+    spec = scenarios.from_data(scenario_data, source.origin, source.lines, labels)
+    train_data = {k: v for k, v in tree["train"].items() if k not in _TRAIN_KEYS}
+    train_labels = {k[1:]: v for k, v in labels.items() if k[:1] == ("train",)}
+    train = vehicle.parse_train_data(train_data, train_source.origin, train_source.lines, overrides=train_labels)
+    return Resolved(spec, train, spec.cars(), tree)
