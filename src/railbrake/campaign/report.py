@@ -156,7 +156,8 @@ def sobol(c: Campaign, kpis: list[str]) -> dict | None:
                                          "f_AB": np.stack([f(f"AB{i}") for i in range(d)])}, n=n)
         except (KeyError, ValueError):   # a failed run leaves a hole: no indices for this KPI
             continue
-        out[kpi] = {factor: {"first": float(result.first_order[0][i]), "total": float(result.total_order[0][i])}
+        first, total = np.ravel(result.first_order), np.ravel(result.total_order)   # one output: (d,)
+        out[kpi] = {factor: {"first": float(first[i]), "total": float(total[i])}
                     for i, factor in enumerate(c.factors)}
     return out
 
