@@ -12,6 +12,7 @@ import logging
 import math
 import os
 import time
+import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -38,19 +39,30 @@ class Summary:
     batches: int = 0
     elapsed_s: float = 0.0          # from the first batch submitted to the last written
     compute_s: float = 0.0          # sum of the batches' time on the workers
+    scheduler_share: float | None = None   # of the workers' time until their last batch: waiting
+    #                                        for a batch (dispatch, transfer), not running one
+    tail_share: float | None = None        # of workers x elapsed: idle after their last batch
     extra: dict = field(default_factory=dict)
 
-    @property
-    def scheduler_share(self) -> float | None:
-        """Share of the workers' time not spent in runs (scheduling, transfer, idle at the end)."""
-        if not self.elapsed_s or not self.workers:
-            return None
-        return max(0.0, 1.0 - self.compute_s / (self.workers * self.elapsed_s))
-
     def json(self) -> dict:
-        data = {k: v for k, v in asdict(self).items() if k != "extra"}
-        data["scheduler_share"] = self.scheduler_share
-        return data
+        return {k: v for k, v in asdict(self).items() if k != "extra"}
+
+
+def scheduling_figures(submitted: float, ended: float, spans: list[tuple[str, float, float]]) -> tuple:
+    """(scheduler share, tail share) from the (worker, began, ended) of each batch (wall clock):
+    a worker's time from the submission to its last batch's end, less its batches, is scheduling."""
+    by_worker: dict = {}
+    for worker, began, end in spans:
+        by_worker.setdefault(worker, []).append((began, end))
+    busy_span = waiting = tail = 0.0
+    for items in by_worker.values():
+        last = max(e for _, e in items)
+        busy_span += last - submitted
+        waiting += (last - submitted) - sum(e - b for b, e in items)
+        tail += max(0.0, ended - last)
+    if busy_span <= 0:
+        return None, None
+    return max(0.0, waiting / busy_span), tail / (busy_span + tail)
 
 
 def scheduler_address(option: str | None) -> str | None:
@@ -70,6 +82,8 @@ def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT
                              "and 'dask worker' (docs/campaigns.md)") from None
         return client, None
     n = workers or os.cpu_count() or 1
+    # the scheduler's HTTP routes move to a free port by themselves; the warning only alarms
+    warnings.filterwarnings("ignore", message="Port .* is already in use")
     if n < 1:
         raise InputError(f"--workers {n}: must be at least 1")
     # no dashboards (they need free ports and bokeh), only errors in the log
@@ -174,7 +188,7 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
 def _execute(client, study, out, manifest, groups, options, summary, progress, total) -> None:
     from dask.distributed import as_completed
     writer = _Writer(study, out, manifest)
-    start = time.perf_counter()
+    start, submitted, spans = time.perf_counter(), time.time(), []
     futures = [client.submit(_batch_task, study.base, [_payload(r) for r in group], options,
                              key=f"railbrake-{dataset.batch_name([r.key for r in group])[5:25]}",
                              pure=False, retries=RETRIES) for group in groups]
@@ -184,6 +198,7 @@ def _execute(client, study, out, manifest, groups, options, summary, progress, t
             result = future.result()
             writer.add(result["rows"])
             summary.compute_s += result["compute_s"]
+            spans.append((result["worker"], result["began"], result["ended"]))
             summary.done += len(result["rows"])
             if progress:
                 progress(summary.done, total, writer.failed)
@@ -194,6 +209,7 @@ def _execute(client, study, out, manifest, groups, options, summary, progress, t
     finally:
         summary.failed = writer.failed
         summary.elapsed_s = time.perf_counter() - start
+        summary.scheduler_share, summary.tail_share = scheduling_figures(submitted, time.time(), spans)
 
 
 def _batch_task(base, runs, options):
