@@ -41,12 +41,16 @@ def run(
                    TimeRemainingColumn(), console=Console(stderr=True), disable=json)
     task = bar.add_task(spec.name, total=None, failed=0)
 
-    def progress(done, total, failed):
+    def progress(done, total, failed):   # the bar appears once the runs start
+        if not bar.live.is_started:
+            bar.start()
         bar.update(task, completed=done, total=total, failed=failed)
 
-    with bar:
+    try:
         summary = execute.run_study(spec, folder, workers=workers, scheduler=scheduler,
                                     batch_size=batch_size, timeseries=timeseries, progress=progress)
+    finally:
+        bar.stop()
     if json:
         print_json(summary.json())
     else:
