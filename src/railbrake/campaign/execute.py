@@ -8,9 +8,12 @@ is written to the dataset as soon as it returns; a rerun skips the keys already 
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import os
+import signal
+import threading
 import time
 import warnings
 from dataclasses import asdict, dataclass, field
@@ -180,9 +183,22 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
                  _options(study, out, timeseries), summary, progress, len(pending))
         return summary
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with _no_interrupt():   # a second Ctrl-C must not break the cluster's shutdown
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+@contextlib.contextmanager
+def _no_interrupt():
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _execute(client, study, out, manifest, groups, options, summary, progress, total) -> None:
@@ -205,7 +221,8 @@ def _execute(client, study, out, manifest, groups, options, summary, progress, t
         writer.finish()
     except KeyboardInterrupt:
         summary.interrupted = True
-        client.cancel(futures)
+        with _no_interrupt():
+            client.cancel(futures)
     finally:
         summary.failed = writer.failed
         summary.elapsed_s = time.perf_counter() - start
