@@ -44,13 +44,48 @@ def bench(cars: int, runs: int, workers: int) -> dict:
             "total_s": total}
 
 
+def kill_and_resume(runs: int = 200, workers: int = 2, at: float = 0.4) -> dict:
+    """The issue's check: a `runs`-run 4-car study run uninterrupted, then again killed with
+    SIGKILL (client and workers) once `at` of it is in the dataset, and resumed; the resumed dataset
+    must hold every key once with the same KPIs."""
+    import signal
+    import subprocess
+    import sys
+    from railbrake.campaign import dataset
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "study.yaml"
+        path.write_text(STUDY.format(cars=4, runs=runs))
+        whole, killed = Path(folder) / "whole", Path(folder) / "killed"
+        start = time.perf_counter()
+        execute.run_study(study.load(path), whole, workers=workers)
+        uninterrupted = time.perf_counter() - start
+        process = subprocess.Popen([sys.executable, "-c", "from railbrake.cli import main; main()", "campaign", "run",
+                                    str(path), "--out", str(killed), "--workers", str(workers), "--json"],
+                                   start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        while len(dataset.existing_keys(killed)) < at * runs and process.poll() is None:
+            time.sleep(0.2)
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+        before = len(dataset.existing_keys(killed))
+        summary = execute.run_study(study.load(path), killed, workers=workers)
+        a, b = dataset.read(whole).drop(["wall_time_s"]), dataset.read(killed).drop(["wall_time_s"])
+        keys = b.column("key").to_pylist()
+        return {"runs": runs, "uninterrupted_s": uninterrupted, "in_dataset_at_kill": before,
+                "resumed_done": summary.done, "keys_once": len(keys) == len(set(keys)) == runs,
+                "identical": a.equals(b)}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--runs", type=int, default=40)
     parser.add_argument("--workers", type=int, default=os.cpu_count())
     parser.add_argument("--cars", default="4,8,16")
     parser.add_argument("--big", action="store_true", help="also the 200-run 4-car study")
+    parser.add_argument("--kill-resume", action="store_true", help="only the 200-run SIGKILL-and-resume check")
     args = parser.parse_args()
+    if args.kill_resume:
+        print(kill_and_resume(workers=args.workers), flush=True)
+        return
     cases = [(int(c), args.runs) for c in args.cars.split(",")] + ([(4, 200)] if args.big else [])
     for cars, runs in cases:
         f = bench(cars, runs, args.workers)

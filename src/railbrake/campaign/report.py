@@ -241,7 +241,9 @@ def sections(c: Campaign) -> tuple[list[tuple[str, list, list]], dict]:
         rows = [["default", _fmt(t["default"]["worst_delta_s_pct"]), _fmt(t["default"]["locks"]), ""],
                 ["tuned", _fmt(t["tuned"]["worst_delta_s_pct"]), _fmt(t["tuned"]["locks"]),
                  ", ".join(f"{k} = {v:.4g}" for k, v in t["tuned"]["params"].items())]]
-        tables.append((f"WSP tuning ({t['evaluations']} evaluations)", ["WSP", "worst dS (%)", "locks", "parameters"],
+        cases = t.get("cases", "all")
+        cases = "all cases" if cases == "all" else "cases " + ", ".join(cases)
+        tables.append((f"WSP tuning ({t['evaluations']} evaluations, {t.get('objective', '')}, {cases})", ["WSP", "worst dS (%)", "locks", "parameters"],
                        rows))
         summary["tuning"] = t
     indices = sobol(c, [k for k in c.kpis if k in PLOTTED or k == "stopping_distance_m"])

@@ -188,7 +188,7 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
         client.close()
         if cluster is not None:
             cluster.close()
-    return summarise(trials, params, objective, air_limit, out)
+    return summarise(trials, params, objective, air_limit, out, list(only))
 
 
 def _figures(trial) -> dict:
@@ -196,7 +196,7 @@ def _figures(trial) -> dict:
             "air_drawn_kg": trial.user_attrs["air_drawn_kg"]}
 
 
-def summarise(trials, params: list[Parameter], objective: str, air_limit, out: Path) -> dict:
+def summarise(trials, params: list[Parameter], objective: str, air_limit, out: Path, only=()) -> dict:
     complete = [t for t in trials.trials if t.state.name == "COMPLETE"]
     default = next(t for t in complete if t.user_attrs.get("default") or t.number == 0)
     if objective == "pareto":
@@ -207,6 +207,7 @@ def summarise(trials, params: list[Parameter], objective: str, air_limit, out: P
     summary = {"default": _figures(default),
                "tuned": {**_figures(best), "params": {p.key.split(".", 1)[1]: best.params[p.key] for p in params}},
                "evaluations": len(complete), "objective": objective, "air_limit_kg": air_limit,
+               "cases": list(only) or "all",
                "units": {p.key.split(".", 1)[1]: p.factor.unit for p in params}}
     if objective == "pareto":
         summary["front"] = [{**_figures(t), "params": t.params} for t in sorted(front, key=lambda t: t.values[0])]
@@ -228,7 +229,10 @@ def write_outputs(summary: dict, complete, params, objective, air_limit, out: Pa
     ds = [t.user_attrs["worst_delta_s_pct"] for t in complete]
     ok = [t.user_attrs["locks"] == 0 for t in complete]
     best = np.minimum.accumulate([d if k else np.inf for d, k in zip(ds, ok)])
-    ax.plot(range(len(ds)), ds, "o", alpha=0.5, label="trial (worst dS %)")
+    numbers = np.arange(len(ds))
+    ok_mask = np.array(ok, dtype=bool)
+    ax.plot(numbers[ok_mask], np.array(ds)[ok_mask], "o", alpha=0.6, label="trial without lock")
+    ax.plot(numbers[~ok_mask], np.array(ds)[~ok_mask], "x", color="tab:red", alpha=0.6, label="trial with locks")
     ax.plot(range(len(ds)), best, "-", label="best without lock")
     ax.axhline(summary["default"]["worst_delta_s_pct"], color="grey", ls="--", label="default WSP")
     ax.set_xlabel("evaluation")
