@@ -52,20 +52,22 @@ class Summary:
 
 
 def scheduling_figures(submitted: float, ended: float, spans: list[tuple[str, float, float]]) -> tuple:
-    """(scheduler share, tail share) from the (worker, began, ended) of each batch (wall clock):
-    a worker's time from the submission to its last batch's end, less its batches, is scheduling."""
+    """(scheduler share, tail share) from the (worker, began, ended) of each batch (wall clock).
+    Scheduling: a worker's gaps between its batches (result sent, next batch dispatched) over its
+    time from its first batch's start to its last one's end; a worker's start-up (imports before
+    its first batch) is not scheduling and is left out. Tail: idle after a worker's last batch."""
     by_worker: dict = {}
     for worker, began, end in spans:
         by_worker.setdefault(worker, []).append((began, end))
-    busy_span = waiting = tail = 0.0
+    span = waiting = tail = 0.0
     for items in by_worker.values():
-        last = max(e for _, e in items)
-        busy_span += last - submitted
-        waiting += (last - submitted) - sum(e - b for b, e in items)
+        first, last = min(b for b, _ in items), max(e for _, e in items)
+        span += last - first
+        waiting += (last - first) - sum(e - b for b, e in items)
         tail += max(0.0, ended - last)
-    if busy_span <= 0:
+    if span <= 0:
         return None, None
-    return max(0.0, waiting / busy_span), tail / (busy_span + tail)
+    return max(0.0, waiting / span), tail / (span + tail)
 
 
 def scheduler_address(option: str | None) -> str | None:

@@ -123,3 +123,10 @@ def test_a_run_that_raises_is_recorded_and_the_batch_goes_on(monkeypatch):
     sch = dataset.schema(s.factors, list(rows[0]["kpis"]), {"name": s.name})
     table = dataset.table(rows, sch)
     assert table.column("stopping_distance_m").to_pylist()[2] is None
+
+
+def test_scheduling_share_counts_the_gaps_between_a_workers_batches():
+    spans = [("a", 10.0, 11.0), ("a", 11.1, 12.0), ("b", 10.5, 12.5)]
+    share, tail = execute.scheduling_figures(9.0, 13.0, spans)
+    assert share == pytest.approx(0.1 / (2.0 + 2.0))
+    assert tail == pytest.approx((1.0 + 0.5) / (4.0 + 1.5))
