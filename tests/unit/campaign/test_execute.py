@@ -130,3 +130,19 @@ def test_scheduling_share_counts_the_gaps_between_a_workers_batches():
     share, tail = execute.scheduling_figures(9.0, 13.0, spans)
     assert share == pytest.approx(0.1 / (2.0 + 2.0))
     assert tail == pytest.approx((1.0 + 0.5) / (4.0 + 1.5))
+
+
+def test_a_lost_workers_batch_is_run_again(reference, tmp_path):
+    import psutil
+    killed = []
+
+    def kill_a_worker(done, total, failed):
+        if done >= 1 and not killed:   # a batch is in flight on each worker: kill one worker process
+            workers = [p for p in psutil.Process().children(recursive=True)
+                       if "spawn_main" in " ".join(p.cmdline())]   # not the resource tracker
+            workers[0].kill()
+            killed.append(workers[0].pid)
+
+    summary = execute.run_study(study.load(SMALL), tmp_path, workers=2, batch_size=1, progress=kill_a_worker)
+    assert killed and summary.done == 8 and summary.failed == 0
+    assert content(tmp_path) == content(reference)
