@@ -14,11 +14,11 @@ Relative file names inside a scenario file resolve against the scenario file's f
 from __future__ import annotations
 
 import copy
+import dataclasses
 import difflib
 import hashlib
 import json
 import typing
-from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Mapping, Sequence, Union
@@ -34,7 +34,7 @@ SetsLike = Union[Sequence[str], Mapping[str, object]]
 _TRAIN_KEYS = ("preset", "cars")   # the scenario's own keys under `train`; the rest is the train file
 
 
-@dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True)
 class Resolved:
     """A scenario and its train after every override, validated; ``tree()`` shows it in file units."""
 
@@ -42,6 +42,8 @@ class Resolved:
     train: vehicle.Train
     cars: int
     _tree: dict
+    _base: object = None          # what it was resolved from, and the overrides applied to it
+    _overrides: tuple = ()
 
     @property
     def name(self) -> str:
@@ -67,7 +69,7 @@ class Resolved:
 
 # ------------------------------------------------------------------ reading the files
 
-@dataclass
+@dataclasses.dataclass
 class _Source:
     data: dict
     origin: str
@@ -219,16 +221,22 @@ def resolve(scenario="emergency-300-heavy-rain", cars: int | None = None, sets: 
     """The scenario (preset, file or Scenario), its train and the overrides, validated together.
 
     cars: the number of cars (as ``--set train.cars=N``); sets: ``KEY=VALUE`` strings or a mapping."""
-    if isinstance(scenario, Resolved):
-        if cars is None and not sets:
-            return scenario
-        scenario = scenario.scenario
-    if isinstance(scenario, scenarios.Scenario) and not scenario.data:
-        return _from_spec(scenario, cars, sets)
-    source = _read_scenario(scenario)
     overrides = _parse_sets(sets)
     if cars is not None:
         overrides.append((("train", "cars"), cars, "--cars"))
+    if isinstance(scenario, Resolved):   # more overrides on top of those it has
+        if not overrides:
+            return scenario
+        if scenario._base is None:
+            raise InputError(f"scenario {scenario.name}: built in code, so it takes no overrides")
+        return _resolve(scenario._base, list(scenario._overrides) + overrides)
+    if isinstance(scenario, scenarios.Scenario) and not scenario.data:
+        return _from_spec(scenario, cars, sets)
+    return _resolve(scenario, overrides)
+
+
+def _resolve(scenario, overrides: list) -> Resolved:
+    source = _read_scenario(scenario)
     tree = copy.deepcopy(source.data)
     train_block = tree.setdefault("train", {})
     if not isinstance(train_block, dict):
@@ -260,7 +268,8 @@ def resolve(scenario="emergency-300-heavy-rain", cars: int | None = None, sets: 
         labels[path] = label
     if train_block["cars"] is None:
         train_block["cars"] = len(train_block.get("formation") or []) or None
-    return _validate(tree, source, train_source, labels)
+    resolved = _validate(tree, source, train_source, labels)
+    return dataclasses.replace(resolved, _base=scenario, _overrides=tuple(overrides))
 
 
 def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) -> Resolved:

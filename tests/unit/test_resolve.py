@@ -81,3 +81,11 @@ def test_valid_keys_cover_schema_defaults_and_file_keys():
     for key in ("initial_speed", "wsp.speed_threshold", "train.cars", "train.preset",
                 "train.car_types.motor.caliper.cylinder_area_m2", "demand.0.time"):
         assert key in keys
+
+
+def test_overrides_stack_on_a_resolved_configuration():
+    first = resolve("emergency-250-dry", sets={"train.preset": "velaro-8"})
+    second = resolve(first, cars=2, sets=["initial_speed=120 km/h"])
+    assert second.train.name == "velaro-8" and second.cars == 2
+    assert second.scenario.spec.initial_speed == pytest.approx(120 * KMH)
+    assert resolve(first) is first

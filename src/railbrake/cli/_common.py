@@ -14,6 +14,10 @@ import typer
 from railbrake.errors import InputError
 
 
+SET_HELP = ("Override a key of the resolved configuration: KEY=VALUE, the value as in a file, e.g. "
+            "--set initial_speed='300 km/h' (repeatable; `railbrake config show` lists the keys).")
+
+
 def parse_float_list(text: str, option: str) -> list[float]:
     """'20,60,300' -> [20.0, 60.0, 300.0]; an error names the option and the bad item."""
     values = []

@@ -10,7 +10,8 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import SET_HELP, prepare_output, print_json, reports_errors
+from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
 
@@ -50,6 +51,7 @@ def register(app: typer.Typer) -> None:
         plot: Optional[Path] = typer.Option(None, help="Folder for the comparison plots."),
         json: bool = typer.Option(False, "--json", help="Print the comparison as JSON."),
         no_steps: bool = typer.Option(False, "--no-steps", help="Skip the step-size study."),
+        sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     ):
         """Run the real-time plant and the detailed model; report their differences and the
         real-time plant's step-size study (0.25 to 5 ms)."""
@@ -59,7 +61,7 @@ def register(app: typer.Typer) -> None:
                        console=Console(stderr=True), transient=True, disable=json)
         task = bar.add_task("detailed model", total=1.0)
         with bar:
-            c = compare(scenario, cars, steps_ms=() if no_steps else None,
+            c = compare(resolve(scenario, cars, sets), steps_ms=() if no_steps else None,
                         progress=lambda stage, done: bar.update(task, description=stage, completed=done))
         if plot is not None:
             from railbrake.plots.compare import plot_all

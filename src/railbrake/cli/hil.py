@@ -13,9 +13,9 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import hil as hil_runner
-from railbrake import scenario as scenarios
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import SET_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
+from railbrake.resolve import resolve
 from railbrake.units import cars_text, ms_to_kmh
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
@@ -70,13 +70,15 @@ def register(app: typer.Typer) -> None:
         bind: str = typer.Option("udp://0.0.0.0:0", help="Local address of the plant, udp://HOST:PORT (0: any)."),
         priority: int = typer.Option(hil_runner.DEFAULT_PRIORITY, help="SCHED_FIFO priority to ask for (0: none)."),
         json: bool = typer.Option(False, "--json", help="Print counters, timing and KPIs as JSON."),
+        sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
         peer = hil_runner.parse_udp_url(bcu, "--bcu")
         local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
         if duration is not None and duration <= 0:
             raise InputError(f"--duration = {duration}: must be > 0 s")
-        sc = scenarios.load(scenario)
+        resolved = resolve(scenario, cars, sets)
+        sc = resolved.scenario
         prepare_output(record)   # before the run, which cannot be repeated
         err = Console(stderr=True)
         total = sc.spec.stop.max_time if duration is None else duration
@@ -86,7 +88,7 @@ def register(app: typer.Typer) -> None:
         task = bar.add_task(f"HIL {sc.name}", total=total, speed="")
         with bar:
             result = hil_runner.run(
-                sc, peer, cars=cars, duration=duration, hold_time=hold_time, late_time=late_time,
+                resolved, peer, duration=duration, hold_time=hold_time, late_time=late_time,
                 record_interval=record_interval, bind=local,
                 priority=priority, on_event=_event_printer(err),
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
@@ -121,6 +123,7 @@ def register(app: typer.Typer) -> None:
         priority: int = typer.Option(hil_runner.DEFAULT_BCU_PRIORITY, help="SCHED_FIFO priority to ask for (0: "
                                      "none); below the plant's 80 by default."),
         json: bool = typer.Option(False, "--json", help="Print the counters as JSON at the end."),
+        sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     ):
         """The reference BCU: the simulation's BCU and WSP logic answering plant frames over UDP."""
         host, port = hil_runner.parse_udp_url(listen, "--listen", allow_any_port=True)
@@ -134,7 +137,7 @@ def register(app: typer.Typer) -> None:
                 err.print(f"note: {note}", highlight=False)
 
         start = time.monotonic()
-        counters = hil_runner.serve_bcu(scenario, (host, port), cars=cars, duration=duration,
+        counters = hil_runner.serve_bcu(resolve(scenario, cars, sets), (host, port), duration=duration,
                                         idle_timeout=idle_timeout, priority=priority, ready=ready)
         if json:
             print_json(counters)

@@ -12,7 +12,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import simulation
-from railbrake.cli._common import print_json, reports_errors
+from railbrake.cli._common import SET_HELP, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
@@ -20,10 +20,6 @@ DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 
 _UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration": "m/s^2",
           "max_lock_duration_s": "s", "air_consumed_kg": "kg"}
-
-
-SET_HELP = ("Override a key of the resolved configuration, KEY=VALUE with the value as in a file, e.g. "
-            "--set initial_speed='300 km/h' (repeatable; `railbrake config show` lists the keys).")
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,

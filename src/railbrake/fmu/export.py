@@ -252,25 +252,25 @@ def _zip(folder: Path, output: Path) -> None:
 BASE_SCENARIO = "emergency-300-heavy-rain"
 
 
-def resolve_scenario(name) -> scenarios.Scenario:
-    """A scenario (preset, file or Scenario), or a train preset: then BASE_SCENARIO with that train."""
+def resolve_scenario(name):
+    """A scenario (preset, file, Scenario or Resolved), or a train preset: then BASE_SCENARIO with that train."""
     if isinstance(name, str) and name in vehicle.preset_names() and name not in scenarios.preset_names():
-        return resolve(BASE_SCENARIO, sets={"train.preset": name, "name": f"{BASE_SCENARIO} with train {name}"}).scenario
+        return resolve(BASE_SCENARIO, sets={"train.preset": name, "name": f"{BASE_SCENARIO} with train {name}"})
     try:
-        return scenarios.load(name)
+        return resolve(name)
     except InputError as exc:
         raise InputError(f"{exc}; nor a train preset ({', '.join(vehicle.preset_names())})") from None
 
 
 def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.fmu", fmi_version: str = "2",
-               cars: int | None = None, binary: bool = True) -> Path:
+               cars: int | None = None, binary: bool = True, sets=()) -> Path:
     """Writes the scenario's plant (with its BCU) as a co-simulation FMU; returns its path."""
     version = str(fmi_version)
     if version not in PLATFORM:
         raise InputError(f"FMI version {fmi_version!r}: must be 2 or 3")
-    sc = resolve_scenario(scenario)
-    n_cars = sc.cars(cars)
-    plant = simulation.plant_params(sc, n_cars)
+    resolved = resolve(resolve_scenario(scenario), cars, sets)
+    sc, n_cars = resolved.scenario, resolved.cars
+    plant = simulation.plant_params(sc, n_cars, train=resolved.train)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc),
              "scenario": simulation._scenario_struct(sc)}
     variables = table(roots, n_cars, plant.atmosphere)

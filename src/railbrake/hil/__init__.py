@@ -20,7 +20,8 @@ import numpy as np
 
 from railbrake import _core
 from railbrake.errors import InputError
-from railbrake.scenario import Scenario, load
+from railbrake.resolve import resolve
+from railbrake.scenario import Scenario
 from railbrake.simulation import _scenario_struct, bcu_params, plant_params, wsp_params
 
 DT = 1e-3                  # s, fixed by the interface
@@ -167,9 +168,9 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
     watchdog event logged (malformed, late, lost, safe_on, safe_off)."""
-    sc = load(scenario)
-    n_cars = sc.cars(cars)
-    plant = plant_params(sc, n_cars)
+    resolved = resolve(scenario, cars)
+    sc, n_cars = resolved.scenario, resolved.cars
+    plant = plant_params(sc, n_cars, train=resolved.train)
     config = hil_config(sc, bcu_params(plant, sc, True), duration, hold_time, late_time, record_interval, paced)
     names = channels(n_cars)
     state = ctypes.create_string_buffer(_core.rb_hil_runner_size())
@@ -220,9 +221,9 @@ def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0
     ready(port, real_time) once listening (port: the one bound, useful with port 0). Returns the counters."""
     if idle_timeout < 0 or duration < 0:
         raise InputError(f"idle_timeout = {idle_timeout}, duration = {duration}: must be >= 0")
-    sc = load(scenario)
-    n_cars = sc.cars(cars)
-    bcu = bcu_params(plant_params(sc, n_cars), sc, True)
+    resolved = resolve(scenario, cars)
+    sc, n_cars = resolved.scenario, resolved.cars
+    bcu = bcu_params(plant_params(sc, n_cars, train=resolved.train), sc, True)
     wsp, spec = wsp_params(sc), _scenario_struct(sc)
     state = ctypes.create_string_buffer(_core.rb_hil_bcu_size())
     _core.call(_core.rb_hil_bcu_open, ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec), listen[0].encode(),

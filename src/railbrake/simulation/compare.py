@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from railbrake.scenario import load
+from railbrake.resolve import resolve
 from railbrake.simulation import Result, run
 from railbrake.simulation.detailed import run_detailed
 from railbrake.units import BAR
@@ -103,13 +103,13 @@ def _distance_pct(a: Result, b: Result) -> float:
     return 100.0 * (a.kpis["stopping_distance_m"] / b.kpis["stopping_distance_m"] - 1.0)
 
 
-def step_study(scenario, cars: int, detailed: Result, steps_ms=STEPS_MS, progress=None) -> list[dict]:
-    """The real-time plant at each step (ms) against the detailed model."""
+def step_study(scenario, detailed: Result, steps_ms=STEPS_MS, progress=None) -> list[dict]:
+    """The real-time plant at each step (ms) against the detailed model (scenario: a resolved one)."""
     rows = []
     for i, dt in enumerate(steps_ms):
         if progress is not None:
             progress(f"real-time plant at {dt:g} ms", i / len(steps_ms))
-        r = run(scenario, cars=cars, dt=dt * 1e-3)
+        r = run(scenario, dt=dt * 1e-3)
         ok, why = stable(r)
         rms = [pressure_difference(r, detailed, c) for c in detailed.axle_channels("cylinder")]
         rows.append({"dt_ms": dt, "stopping_distance_m": r.kpis["stopping_distance_m"],
@@ -125,12 +125,12 @@ def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=None
     """Both models on one scenario; steps_ms: the study's steps (default STEPS_MS; () skips it);
     progress(stage, fraction of that stage done) while it works."""
     steps_ms = STEPS_MS if steps_ms is None else steps_ms
-    sc = load(scenario)
-    n = sc.cars(cars)
+    resolved = resolve(scenario, cars)
+    sc, n = resolved.scenario, resolved.cars
     v0 = sc.spec.initial_speed
     on_speed = None if progress is None else (lambda _t, v: progress("detailed model", 1.0 - v / v0))
-    det = run_detailed(sc, cars=n, progress=on_speed)
-    rt = run(sc, cars=n)
+    det = run_detailed(resolved, progress=on_speed)
+    rt = run(resolved)
     axles = {}
     for channel in det.axle_channels("cylinder"):
         axle = channel.split("_", 1)[1]
@@ -148,5 +148,5 @@ def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=None
         "detailed_wall_s": det.kpis["wall_s"], "detailed_ode_steps": det.kpis["ode_steps"],
         "detailed_air_balance_error": det.kpis["air_balance_error"],
     }
-    steps = step_study(sc, n, det, steps_ms, progress) if steps_ms else []
+    steps = step_study(resolved, det, steps_ms, progress) if steps_ms else []
     return Comparison(sc.name, n, rt, det, summary, axles, steps)

@@ -18,6 +18,7 @@ import numpy as np
 import yaml
 
 from railbrake import _core
+from railbrake.resolve import resolve
 from railbrake.scenario import load
 from railbrake.simulation import (CHUNK, Result, _scenario_struct, bcu_params, channels, plant_params,
                                   wsp_params)
@@ -86,9 +87,9 @@ def run_detailed(scenario="emergency-300-heavy-rain", cars: int | None = None, v
                  progress: Callable[[float, float], None] | None = None) -> Result:
     """Run a scenario with the detailed model; the same Result shape as simulation.run. The kpis
     add the solver's work (ode_steps, ode_rejected, rhs_calls) and the wall time (wall_s)."""
-    sc = load(scenario)
-    n_cars = sc.cars(cars)
-    plant = plant_params(sc, n_cars)
+    resolved = resolve(scenario, cars)
+    sc, n_cars = resolved.scenario, resolved.cars
+    plant = plant_params(sc, n_cars, train=resolved.train)
     bcu = bcu_params(plant, sc, True)
     wsp, spec, det = wsp_params(sc), _scenario_struct(sc), detailed_params(valves)
     state = ctypes.create_string_buffer(_core.rb_detailed_state_size())
