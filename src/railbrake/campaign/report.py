@@ -22,6 +22,7 @@ PLOTTED = ("delta_s_pct", "kwet", "adhesion_utilisation", "air_drawn_kg", "air_c
            "stopping_distance_m", "min_supply_bar", "max_slip")
 UNITS = {"stopping_distance_m": "m", "deceleration_distance_m": "m", "delta_s_pct": "%", "air_drawn_kg": "kg",
          "air_consumed_kg": "kg", "min_supply_bar": "bar", "stopping_time_s": "s"}
+LEVELS_AS_CELLS = 8     # a numeric factor with this many levels or fewer gets one heat-map cell per level
 SI_TO_DISPLAY = {"m/s": ("km/h", 3.6), "Pa": ("bar", 1e-5)}   # factor axes in the units engineers read
 
 
@@ -97,6 +98,7 @@ def kpi_plots(c: Campaign, rows: list[dict], kpis: list[str]) -> list[tuple[str,
             ax.set_xlabel(f"{factor}{f' ({label})' if label else ''}")
             ax.set_ylabel(f"{kpi}{f' ({UNITS[kpi]})' if kpi in UNITS else ''}")
             ax.grid(alpha=0.3)
+        fig.tight_layout()
         plots.append((f"{kpi} against the factors", _png(fig)))
     return plots
 
@@ -114,6 +116,10 @@ def heat_map(c: Campaign, rows: list[dict], kpi: str) -> tuple[str, str] | None:
     for k, f in enumerate((fx, fy)):
         values, label = _display(c, f, [cell[k] for cell in cells])
         pos, cats = _positions(values)
+        if cats is None and len(set(pos)) <= LEVELS_AS_CELLS:   # few levels: one cell each
+            levels = sorted(set(pos))
+            pos, cats = [levels.index(v) for v in pos], [f"{v:.4g}" for v in levels]
+            f = f"{f} ({label})" if label else f
         if cats is None:
             edges = np.unique(np.quantile(pos, np.linspace(0, 1, 7)))
             index = np.clip(np.searchsorted(edges, pos, side="right") - 1, 0, max(len(edges) - 2, 0))

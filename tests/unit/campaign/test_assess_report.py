@@ -100,15 +100,19 @@ def test_report_is_self_contained_and_shows_the_cases(assessed):
     assert low["worst_delta_s_pct"] > 0 and low["failed_runs"] == 0   # low adhesion stops longer
 
 
+@pytest.mark.slow
 def test_tuning_stores_its_trials_and_resumes(assessed, tmp_path):
     s, _ = assessed
-    first = tune.tune(s, ["decel_threshold"], "worst-delta-s", 2, tmp_path, workers=1)
-    assert first["evaluations"] == 2
-    assert first["default"]["worst_delta_s_pct"] >= first["tuned"]["worst_delta_s_pct"]
-    again = tune.tune(s, ["decel_threshold"], "worst-delta-s", 3, tmp_path, workers=1)
-    assert again["evaluations"] == 3            # one more trial, the first two from the storage
+    first = tune.tune(s, ["decel_threshold"], "worst-delta-s", 1, tmp_path, workers=1)
+    assert first["evaluations"] == 1                     # the default WSP
+    default = tune.default_values(tune.parameters(s, ["decel_threshold"]))["wsp.decel_threshold"]
+    assert first["tuned"] == {**first["default"], "params": {"decel_threshold": default}}
+    again = tune.tune(s, ["decel_threshold"], "worst-delta-s", 2, tmp_path, workers=1)
+    assert again["evaluations"] == 2            # one more trial, the first from the storage
+    assert again["default"] == first["default"]
+    assert again["default"]["worst_delta_s_pct"] >= again["tuned"]["worst_delta_s_pct"]
     assert (tmp_path / "wsp-fragment.yaml").read_text().count("decel_threshold") == 1
-    assert json.loads((tmp_path / "summary.json").read_text())["evaluations"] == 3
+    assert json.loads((tmp_path / "summary.json").read_text())["evaluations"] == 2
     assert (tmp_path / "convergence.png").stat().st_size > 0
     assert 1.5 <= again["tuned"]["params"]["decel_threshold"] <= 4.0
     assert np.isfinite(again["tuned"]["worst_delta_s_pct"])
