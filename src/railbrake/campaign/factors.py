@@ -74,6 +74,8 @@ class Factor:
         """File value at the unit-cube coordinate u in [0, 1): a level, or a point of the range."""
         if self.levels is not None and self.low is None:
             return self.levels[min(int(u * len(self.levels)), len(self.levels) - 1)]
+        if self.kind == "integer":   # every integer of [low, high] equally likely
+            return int(min(self.high, math.floor(self.low + u * (self.high - self.low + 1))))
         x = self.low + u * (self.high - self.low)
         return self.file_value(x)
 

@@ -116,3 +116,10 @@ def test_named_cases_set_several_keys():
     assert runs[1].sets["adhesion.zones"][0]["end"] == "150 m"
     with pytest.raises(InputError, match=r"line 7: factors.case.0.adhesion.conditon: unknown path"):
         parse("factors:\n  case:\n    - {name: dry, adhesion.conditon: dry-medium}\ndesign: {kind: grid}\n")
+
+
+def test_an_integer_range_gives_every_integer_alike():
+    s = parse("factors:\n  fault.type: [vent_stuck_open]\n  fault.car: [1]\n"
+              "  fault.axle: {low: 1, high: 4}\ndesign: {kind: latin-hypercube, samples: 8}\n")
+    axles = [p.values["fault.axle"] for p in designs.points(s, np.random.default_rng(3))]
+    assert sorted(axles) == [1, 1, 2, 2, 3, 3, 4, 4]   # the hypercube's strata, two per axle
