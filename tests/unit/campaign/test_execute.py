@@ -1,6 +1,7 @@
 """Running studies on Dask: same dataset for 1 and 2 workers, on an external scheduler, after a
 SIGKILL and a resume; failed runs recorded; a silent scheduler refused before any run."""
 
+import json
 import os
 import signal
 import socket
@@ -51,8 +52,13 @@ def test_one_and_two_workers_give_identical_datasets(reference, tmp_path):
 
 
 def test_rerun_skips_every_key_already_there(reference):
-    summary = execute.run_study(study.load(SMALL), reference, workers=1)
-    assert (summary.done, summary.skipped) == (0, 8)
+    from typer.testing import CliRunner
+    from railbrake.cli import app
+    result = CliRunner().invoke(app, ["campaign", "run", str(SMALL), "--out", str(reference), "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert {k: summary[k] for k in ("runs", "done", "skipped", "failed", "dataset")} == \
+        {"runs": 8, "done": 0, "skipped": 8, "failed": 0, "dataset": str(reference)}
     assert len(dataset.read(reference)) == 8
 
 
