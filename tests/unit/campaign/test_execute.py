@@ -75,6 +75,7 @@ def test_a_scheduler_that_does_not_answer_fails_before_any_run(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow   # separate processes and clusters: not under the sanitizers
 def test_the_study_runs_on_a_dask_scheduler_and_worker_started_here(reference, tmp_path):
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
@@ -95,6 +96,7 @@ def test_the_study_runs_on_a_dask_scheduler_and_worker_started_here(reference, t
             p.wait(timeout=30)
 
 
+@pytest.mark.slow   # separate processes and clusters: not under the sanitizers
 def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(reference, tmp_path):
     command = [sys.executable, "-c", "from railbrake.cli import main; main()", "campaign", "run", str(SMALL),
                "--out", str(tmp_path), "--workers", "1", "--batch-size", "1", "--json"]
@@ -138,6 +140,7 @@ def test_scheduling_share_counts_the_gaps_between_a_workers_batches():
     assert tail == pytest.approx((1.0 + 0.5) / (4.0 + 1.5))
 
 
+@pytest.mark.slow   # separate processes and clusters: not under the sanitizers
 def test_a_lost_workers_batch_is_run_again(reference, tmp_path):
     import psutil
     killed = []
