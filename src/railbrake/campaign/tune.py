@@ -152,8 +152,11 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
     defaults = default_values(params)
     seed = int(np.random.SeedSequence(study.spec.seed).generate_state(1)[0])
     optuna.logging.set_verbosity(optuna.logging.WARNING)
+    # "no lock" as a constraint: Trial.set_constraint from Optuna 5, constraints_func before it
+    set_constraint = hasattr(optuna.trial.Trial, "set_constraint")
     if objective == "pareto":
-        sampler = optuna.samplers.NSGAIISampler(seed=seed, constraints_func=lambda t: [t.user_attrs["locks"] - 0.5])
+        old_style = {} if set_constraint else {"constraints_func": lambda t: [t.user_attrs["locks"] - 0.5]}
+        sampler = optuna.samplers.NSGAIISampler(seed=seed, **old_style)
         directions = ["minimize", "minimize"]
     else:
         sampler = optuna.samplers.TPESampler(seed=seed, n_startup_trials=min(8, max(1, budget // 3)))
@@ -176,6 +179,8 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
             if progress:
                 progress(len(trials.trials), budget)
             if objective == "pareto":
+                if set_constraint:
+                    trial.set_constraint("locks", figures["locks"] - 0.5)
                 ds = figures["worst_delta_s_pct"]
                 return (ds if math.isfinite(ds) else PENALTY * 10), figures["air_drawn_kg"]
             return _objective_value(figures, air_limit)
@@ -210,7 +215,8 @@ def summarise(trials, params: list[Parameter], objective: str, air_limit, out: P
                "cases": list(only) or "all",
                "units": {p.key.split(".", 1)[1]: p.factor.unit for p in params}}
     if objective == "pareto":
-        summary["front"] = [{**_figures(t), "params": t.params} for t in sorted(front, key=lambda t: t.values[0])]
+        summary["front"] = [{**_figures(t), "params": {k.split(".", 1)[1]: v for k, v in t.params.items()}}
+                            for t in sorted(front, key=lambda t: t.values[0])]
     write_outputs(summary, complete, params, objective, air_limit, out)
     return summary
 
