@@ -9,7 +9,7 @@ JOBS ?= 2
 OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
-.PHONY: demo test install ctest ctest-sanitize pytest pytest-sanitize bench clean
+.PHONY: demo test install ctest ctest-sanitize pytest pytest-sanitize bench validate clean
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -45,6 +45,12 @@ pytest-sanitize: install ctest-sanitize
 	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
 	RAILBRAKE_CORE_LIBRARY=$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
 	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
+
+# Every verification and validation case (docs/validation-cases.md): the HTML report into out/,
+# the Markdown summary into docs/validation.md. Failing validation cases are findings, so only a
+# failing verification case or a broken case folder fails the target (--strict).
+validate: install
+	$(VENV)/bin/railbrake validate --report $(OUT)/validation.html --markdown docs/validation.md --strict
 
 bench: install
 	$(PY) bench/run_all.py

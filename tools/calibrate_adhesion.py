@@ -67,6 +67,26 @@ def calibrate_heavy_rain():
     return PolachParams(fit.x[0], fit.x[1], fit.x[2], 0.3, 0.1), fit.x[3:]
 
 
+def calibrate_hs_wet():
+    """mu0, A, B (kA, kS from Polach's wet set) so that the peak follows the Shinkansen design
+    adhesion 13.6/(v+85) from 30 to 320 km/h, with a falling tail (F/Q at 30 % creep <= 0.8 peak).
+    The fit drives A to its lower bound 0.05 [T]: the design curve says nothing about full slide,
+    and A = 0 would let the friction of a locked wheel vanish."""
+    speeds = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 250.0, 300.0, 320.0])
+
+    def residual(x):
+        p = PolachParams(x[0], x[1], x[2], 0.3, 0.1)
+        r = [peak(p, v) / (13.6 / (v + 85.0)) - 1.0 for v in speeds]
+        r += [3.0 * max(0.0, tail_ratio(p, v) - 0.8) for v in (60.0, 300.0)]
+        return r
+
+    fits = [least_squares(residual, x0, bounds=([0.01, 0.05, 0.0], [1.0, 1.0, 20.0]))
+            for x0 in ([0.2, 0.2, 1.0], [0.3, 0.1, 0.5], [0.15, 0.3, 2.0])]
+    best = min(fits, key=lambda f: f.cost)
+    print("hs-wet residuals (peak / design - 1 at 30..320 km/h, tails):", np.round(best.fun, 3))
+    return PolachParams(best.x[0], best.x[1], best.x[2], 0.3, 0.1)
+
+
 def main():
     dry = PolachParams(0.55, 0.40, 0.60, 1.00, 0.40)
     print("dry-medium mu0 (0.30 at 30 km/h):", scale_mu0(dry, 30.0, 0.30))
@@ -77,6 +97,7 @@ def main():
     print("leaves mu0 (0.03 at 100 km/h):", scale_mu0(wet_shape, 100.0, 0.03))
     base, (f0, n_rec) = calibrate_heavy_rain()
     print("heavy-rain base:", base, "leading_factor:", f0, "recovery_axles:", n_rec)
+    print("hs-wet:", calibrate_hs_wet())
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
-/* Default wheel-slide protection (shared/reference/README.md, section 5). */
+/* Default wheel-slide protection: structure after EN 15595 (Railway applications - Braking - Wheel
+ * slide protection) and UIC 541-05; thresholds are typical values [T] (docs/references.md). */
 #include "railbrake/rb_bcu.h"
 
 #include <string.h>

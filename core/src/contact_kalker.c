@@ -1,6 +1,6 @@
 /* Kalker's creepage and spin coefficients (Kalker 1990, Table E.3).
- * The table is the one in shared/reference/kalker_coefficients.csv; the Python tests check
- * that every node here equals the CSV. Outside the table the asymptotic forms are used,
+ * The table is also kept as validation/code-to-code/kalker-creepage-table/reference.csv; the
+ * Python tests and the validation cases check that every node here equals it. Outside the table the asymptotic forms are used,
  * scaled to meet the table at its edge so the coefficient stays continuous:
  *   a/b -> 0  (g = a/b): C11 -> pi^2/(4(1-nu)), C22 -> pi^2/4, C23 ~ sqrt(g);
  *   a/b -> oo (g = b/a): C11 ~ 2 pi / (g (L - 2 nu)) (1 + (3 - ln 4)/(L - 2 nu)),

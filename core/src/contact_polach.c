@@ -35,6 +35,9 @@ double rb_polach_coefficient_fast(double creep, double speed, double normal_forc
 {
     double slip_velocity = fabs(creep) * speed;
     double mu = p->mu0 * ((1.0 - p->A) * exp(-p->B * slip_velocity) + p->A);
+    /* With A = 0 the friction underflows to 0 at large slip velocity: no force (the limit), not 0/0. */
+    if (!(mu > 0.0))
+        return 0.0;
     /* Gradient of the tangential stress in the area of adhesion, times creep. */
     double eps = c->shear_modulus * M_PI * c->a * c->b * c->c11 / (4.0 * normal_force * mu) * fabs(creep);
     double ka_eps = p->kA * eps;

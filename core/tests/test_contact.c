@@ -111,8 +111,20 @@ static void test_polach(void)
     CHECK(strstr(err.message, "kS") != NULL);
 }
 
+/* A = 0 lets the friction underflow to exactly 0 at a large slip velocity: the force is then 0
+ * (its limit), never 0/0. */
+static void test_polach_vanishing_friction(void)
+{
+    rb_creep_contact c = {0.006, 0.005, 4.0, 8.1e10};
+    rb_polach_params p = {0.5, 0.0, 20.0, 0.3, 0.1};
+    double f = rb_polach_coefficient_fast(-1.0, 83.3, 83e3, &c, &p);
+    CHECK(isfinite(f));
+    CHECK(f == 0.0);
+}
+
 int main(void)
 {
+    test_polach_vanishing_friction();
     test_elliptic_integrals();
     test_hertz_sphere();
     test_hertz_orientation();

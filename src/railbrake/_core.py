@@ -79,6 +79,7 @@ def _declare(name, restype, *argtypes):
 _err_p = POINTER(RbError)
 
 rb_version = _declare("rb_version", ctypes.c_char_p)
+rb_build_hash = _declare("rb_build_hash", ctypes.c_char_p)
 
 # ---------------------------------------------------------------- contact (rb_contact.h)
 
@@ -106,6 +107,20 @@ rb_polach_coefficient = _declare("rb_polach_coefficient", c_int, c_double_p, c_d
 rb_polach_peak = _declare("rb_polach_peak", c_int, c_double, c_double, POINTER(CreepContact),
                           POINTER(PolachParamsC), c_double_p, c_double_p, _err_p)
 rb_conditioning_factor = _declare("rb_conditioning_factor", c_double, c_double, c_double, c_double)
+
+
+class ConditioningEnergy(Structure):
+    _fields_ = [(n, c_double) for n in ("leading_factor", "reference_energy")]
+
+
+rb_conditioning_energy_check = _declare("rb_conditioning_energy_check", c_int, POINTER(ConditioningEnergy), _err_p)
+rb_conditioning_energy_size = _declare("rb_conditioning_energy_size", c_size_t)
+rb_dissipated_energy_density = _declare("rb_dissipated_energy_density", c_double, c_double, c_double, c_double,
+                                        c_double)
+rb_conditioning_energy_factor = _declare("rb_conditioning_energy_factor", c_double, POINTER(ConditioningEnergy),
+                                         c_double)
+if ctypes.sizeof(ConditioningEnergy) != rb_conditioning_energy_size():
+    raise ImportError("rb_conditioning_energy: ctypes size differs from the C core's; src/railbrake/_core.py is out of date")
 rb_polach_check = _declare("rb_polach_check", c_int, POINTER(PolachParamsC), _err_p)
 
 # ---------------------------------------------------------------- vehicle (rb_vehicle.h)

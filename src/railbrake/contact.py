@@ -3,7 +3,7 @@
 The laws are implemented once, in the C core (``core/src/contact_*.c``); this module
 validates, vectorises and documents them.
 
-Sources (``shared/reference/README.md``): Johnson, *Contact Mechanics* (1985) ch. 4 for Hertz;
+Sources (docs/references.md): Johnson, *Contact Mechanics* (1985) ch. 4 for Hertz;
 Kalker (1990) Table E.3 for c11, c22, c23; Polach, Wear 258 (2005) 992-1000 for the creep force.
 """
 

@@ -2,7 +2,7 @@
  * car (load-weighed), ED/pneumatic blending, and wheel-slide protection (WSP) behind a plug-in
  * interface. It reads rb_plant_outputs (what a real BCU measures) and writes rb_plant_inputs.
  *
- * WSP defaults (shared/reference/README.md, section 5): reference speed from the fastest axle with
+ * WSP defaults (structure after EN 15595 and UIC 541-05; values typical [T], docs/references.md): reference speed from the fastest axle with
  * a limited rate of change; detection on speed difference (km/h plus a percentage), wheel
  * deceleration and slip; vent / hold / re-apply states; a safety timer on continuous venting.
  */

@@ -1,7 +1,7 @@
 /* Wheel-rail contact: Hertz ellipse, Kalker's linear-theory coefficients and
  * Polach's creep-force model.
  *
- * Sources (see shared/reference/README.md):
+ * Sources (bibliography: docs/references.md):
  *  - Hertz: K. L. Johnson, Contact Mechanics (1985), ch. 4, eqs. (4.39)-(4.41).
  *  - Kalker: J. J. Kalker, Three-dimensional elastic bodies in rolling contact (1990), Table E.3.
  *  - Polach: O. Polach, Wear 258 (2005) 992-1000, eqs. for F, eps and mu(w). */
@@ -76,6 +76,30 @@ rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_conta
 /* Rail conditioning by the axles ahead (heavy rain): factor on mu0 for the axle with
  * index axle (0 = leading): 1 - (1 - leading_factor) * exp(-axle / recovery_axles). */
 double rb_conditioning_factor(double axle, double leading_factor, double recovery_axles);
+
+/* Rail conditioning by energy (core/src/contact_conditioning.c), an option beside the axle count:
+ * each axle's friction power, creep force x slip velocity, is spread over the rail strip its
+ * contact (width 2b) passes, so the axle leaves on the rail the energy density
+ *     e = |F w| / (2 b v)   [J/m^2]   (v: train speed; 0 at standstill: no rail passes under it).
+ * The rail conditioned by the energy E dissipated by the axles ahead blends mu0 from the
+ * contaminated towards the cleaned characteristic. The blend 1 - exp(-E/E_ref) follows the
+ * degraded-adhesion model of B. Allotta, E. Meli, A. Ridolfi, A. Rindi, Tribology International
+ * 69 (2014) 128-140 (there of the specific friction power at the contact; here of the energy the
+ * axles ahead left on the rail):
+ *     factor(E) = 1 - (1 - leading_factor) exp(-E / reference_energy).
+ * With the same e for every axle, E = n e and this is the axle-count law with
+ * recovery_axles = reference_energy / e. reference_energy has no published value for high-speed
+ * rain: it is an input [T] (identify it from measured car-by-car adhesion where available). */
+typedef struct {
+    double leading_factor;    /* mu0 factor on the uncleaned rail, (0, 1] */
+    double reference_energy;  /* J/m^2, energy density that cleans 63 % of the contamination */
+} rb_conditioning_energy;
+
+rb_status rb_conditioning_energy_check(const rb_conditioning_energy *c, rb_error *err);
+size_t rb_conditioning_energy_size(void);  /* sizeof, for the bindings' check */
+double rb_dissipated_energy_density(double creep_force, double slip_velocity, double speed,
+                                    double contact_width);
+double rb_conditioning_energy_factor(const rb_conditioning_energy *c, double energy_density);
 
 #ifdef __cplusplus
 }

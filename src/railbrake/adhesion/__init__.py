@@ -3,7 +3,9 @@
 from railbrake.adhesion.conditions import (
     AXLES_PER_CAR,
     AdhesionCondition,
+    AdhesionRangeWarning,
     CreepCurve,
+    EnergyConditioning,
     Peak,
     RailConditioning,
     car_axles,
@@ -13,11 +15,13 @@ from railbrake.adhesion.conditions import (
     load_condition,
     peak_adhesion,
     preset_names,
+    warn_outside_range,
 )
 from railbrake.adhesion.fit import PolachFit, identify_polach
 
 __all__ = [
-    "AXLES_PER_CAR", "AdhesionCondition", "CreepCurve", "Peak", "PolachFit", "RailConditioning",
+    "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",
+    "Peak", "PolachFit", "RailConditioning",
     "car_axles", "car_of_axle", "conditions", "creep_curves", "identify_polach", "load_condition",
-    "peak_adhesion", "preset_names",
+    "peak_adhesion", "preset_names", "warn_outside_range",
 ]

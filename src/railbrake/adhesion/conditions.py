@@ -8,6 +8,8 @@ mapping with the five parameters.
 
 from __future__ import annotations
 
+import ctypes
+import warnings
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
@@ -26,6 +28,7 @@ from railbrake.contact import (
     polach_peak,
 )
 from railbrake.errors import InputError
+from railbrake.units import ms_to_kmh
 
 AXLES_PER_CAR = 4
 SCHEMA = "railbrake.adhesion/1"
@@ -42,6 +45,53 @@ class RailConditioning:
         return _core.rb_conditioning_factor(float(axle), self.leading_factor, self.recovery_axles)
 
 
+class AdhesionRangeWarning(UserWarning):
+    """A condition used outside the speed range of the measurements it was identified from."""
+
+
+@dataclass(frozen=True)
+class Validity:
+    """Where a preset holds: the speed range (km/h) and conditions of its measurements, and why."""
+
+    speed_min_kmh: float
+    speed_max_kmh: float
+    conditions: str
+    source: str
+
+    def contains(self, speed_kmh: float) -> bool:
+        return self.speed_min_kmh <= speed_kmh <= self.speed_max_kmh
+
+
+@dataclass(frozen=True)
+class EnergyConditioning:
+    """Rail conditioning by dissipated energy (option; law in core/src/contact_conditioning.c).
+
+    An axle leaves on the rail e = |F w| / (2 b v) J/m^2; the axles behind see mu0 scaled by
+    1 - (1 - leading_factor) exp(-E / reference_energy), E the energy left by those ahead. Not yet
+    used by the real-time plant. reference_energy (J/m^2) has no published value: an input [T].
+    """
+
+    leading_factor: float
+    reference_energy: float
+    source: str = "user input [T]"
+
+    def __post_init__(self):
+        _core.call(_core.rb_conditioning_energy_check, ctypes.byref(self._c()))
+
+    def _c(self) -> _core.ConditioningEnergy:
+        return _core.ConditioningEnergy(float(self.leading_factor), float(self.reference_energy))
+
+    @staticmethod
+    def energy_density(creep_force: float, slip_velocity: float, speed: float, contact_width: float) -> float:
+        """J/m^2 an axle leaves on the rail (0 at standstill)."""
+        return _core.rb_dissipated_energy_density(float(creep_force), float(slip_velocity), float(speed),
+                                                  float(contact_width))
+
+    def factor(self, energy: float) -> float:
+        """mu0 factor on rail that the axles ahead left `energy` (J/m^2) on."""
+        return _core.rb_conditioning_energy_factor(ctypes.byref(self._c()), float(energy))
+
+
 @dataclass(frozen=True)
 class AdhesionCondition:
     name: str
@@ -50,6 +100,7 @@ class AdhesionCondition:
     conditioning: RailConditioning | None = None
     source: str = "user parameters"
     targets: tuple = ()
+    validity: Validity | None = None
 
     def params_at_axle(self, axle: int = 0) -> PolachParams:
         """Polach parameters seen by the given axle (counted from the front of the train)."""
@@ -87,6 +138,13 @@ class _TargetModel(BaseModel):
     car: int | None = Field(default=None, ge=1)
 
 
+class _ValidityModel(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    speed_kmh: tuple[float, float]
+    conditions: str
+    source: str
+
+
 class _ConditionFile(BaseModel):
     model_config = ConfigDict(extra="forbid")
     schema_: str = Field(alias="schema")
@@ -95,6 +153,7 @@ class _ConditionFile(BaseModel):
     params: _ParamsModel
     conditioning: _ConditioningModel | None = None
     source: str
+    validity: _ValidityModel | None = None
     targets: list[_TargetModel] = []
 
 
@@ -110,11 +169,18 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
     model = parse_yaml(text, _ConditionFile, origin)
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
-    cond = model.conditioning
+    cond, valid = model.conditioning, model.validity
+    if valid is not None and not 0.0 <= valid.speed_kmh[0] < valid.speed_kmh[1]:
+        raise InputError(f"{origin}: validity.speed_kmh = {list(valid.speed_kmh)}: give [min, max] "
+                         "with 0 <= min < max (km/h)")
+    validity = None if valid is None else Validity(valid.speed_kmh[0], valid.speed_kmh[1],
+                                                   " ".join(valid.conditions.split()),
+                                                   " ".join(valid.source.split()))
     return AdhesionCondition(
         name=model.name, title=model.title, params=PolachParams(**model.params.model_dump()),
         conditioning=RailConditioning(**cond.model_dump()) if cond else None,
-        source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets))
+        source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets),
+        validity=validity)
 
 
 ConditionLike = Union[str, Path, PolachParams, Mapping, AdhesionCondition]
@@ -145,6 +211,28 @@ def conditions() -> list[AdhesionCondition]:
     return [load_condition(n) for n in preset_names()]
 
 
+# ------------------------------------------------------------------ range of validity
+
+_warned: set = set()
+
+
+def warn_outside_range(condition: AdhesionCondition, speed_kmh: float, what: str = "used") -> bool:
+    """Warn (once per condition and process) if speed_kmh lies outside the condition's validity.
+
+    Returns True if the speed is outside. Conditions without a declared range never warn.
+    """
+    valid = condition.validity
+    if valid is None or valid.contains(speed_kmh):
+        return False
+    if condition.name not in _warned:
+        _warned.add(condition.name)
+        warnings.warn(
+            f"adhesion condition {condition.name!r} {what} at {speed_kmh:.0f} km/h, outside "
+            f"{valid.speed_min_kmh:.0f}-{valid.speed_max_kmh:.0f} km/h where it holds "
+            f"({valid.conditions}; {valid.source})", AdhesionRangeWarning, stacklevel=3)
+    return True
+
+
 # ------------------------------------------------------------------ peaks and curves
 
 @dataclass(frozen=True)
@@ -164,7 +252,9 @@ def peak_adhesion(condition: ConditionLike, speed: float, axle: int = 0,
     contact=None: the default high-speed wheelset (railbrake.contact.default_contact).
     """
     contact = _contact(contact)
-    params = load_condition(condition).params_at_axle(axle)
+    cond = load_condition(condition)
+    warn_outside_range(cond, ms_to_kmh(speed))
+    params = cond.params_at_axle(axle)
     coefficient, creep = polach_peak(speed, contact.normal_force, contact, params)
     return Peak(coefficient, creep)
 
@@ -181,7 +271,10 @@ def creep_curves(condition: ConditionLike, speeds, axle: int = 0,
                  contact: HertzContact | None = None, creep=None) -> list[CreepCurve]:
     """Creep-force curves F/Q(creep) at each speed (m/s); creep defaults to 0..40 %."""
     contact = _contact(contact)
-    params = load_condition(condition).params_at_axle(axle)
+    cond = load_condition(condition)
+    for v in speeds:
+        warn_outside_range(cond, ms_to_kmh(float(v)))
+    params = cond.params_at_axle(axle)
     creep = np.linspace(0.0, 0.4, 401) if creep is None else np.asarray(creep, dtype=float)
     curves = []
     for v in speeds:

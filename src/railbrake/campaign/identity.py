@@ -18,12 +18,12 @@ def railbrake_version() -> str:
 
 @functools.lru_cache(maxsize=1)
 def core_build_hash() -> str:
-    """The core's own build hash when it exports one (rb_build_hash), else the SHA-256 of the
-    loaded shared library's bytes (any rebuild with other code changes it)."""
+    """The core's own build hash (rb_build_hash: a digest of its sources, set at configure time),
+    else, for a core that lacks it, the SHA-256 of the loaded shared library's bytes."""
     from railbrake import _core
-    function = getattr(_core, "build_hash", None)
+    function = getattr(_core, "rb_build_hash", None)
     if function is not None:
-        return str(function())
+        return function().decode()
     with open(_core.lib._name, "rb") as library:
         return hashlib.sha256(library.read()).hexdigest()
 

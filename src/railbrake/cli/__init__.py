@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import warnings
+
 import typer
 
-from railbrake.cli import adhesion, campaign, compare, demo, fmu, hil, simulation, sizing, valve, wsp
+from railbrake.cli import adhesion, campaign, compare, demo, fmu, hil, simulation, sizing, validate, valve, wsp
 
 app = typer.Typer(
     name="railbrake",
@@ -22,8 +24,15 @@ fmu.register(app)
 hil.register(app)
 simulation.register(app)
 sizing.register(app)
+validate.register(app)
 wsp.register(app)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings (e.g. an adhesion preset outside its range) as one line, without source lines."""
+    typer.echo(f"warning: {message}", err=True)
+
+
 def main() -> None:
+    warnings.showwarning = _show_warning
     app()

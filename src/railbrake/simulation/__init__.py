@@ -15,12 +15,13 @@ from typing import Callable
 import numpy as np
 
 from railbrake import _core
-from railbrake.adhesion import load_condition
+from railbrake.adhesion import load_condition, warn_outside_range
 from railbrake.contact import wheel_rail_contact
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario, load
 from railbrake.vehicle import load_train
+from railbrake.units import ms_to_kmh
 
 DT = 1e-3
 # Air and wheelsets advance in 4 sub-steps of 0.25 ms inside each 1 ms step: under WSP cycling the
@@ -85,8 +86,11 @@ def _resistance(train, n_cars: int) -> _core.Resistance:
     return _core.Resistance(r.A * mass_ratio, r.B * mass_ratio, r.C * (0.2 + 0.8 * n_cars / n))
 
 
-def _condition(name: str) -> _core.PlantCondition:
+def _condition(name: str, initial_speed: float) -> _core.PlantCondition:
     cond = load_condition(name)
+    # A stop passes every speed below the initial one; only starting above the range is flagged.
+    if cond.validity is not None and ms_to_kmh(initial_speed) > cond.validity.speed_max_kmh:
+        warn_outside_range(cond, ms_to_kmh(initial_speed), "run from")
     c = _core.PlantCondition()
     c.polach = cond.params.to_c()
     c.leading_factor = cond.conditioning.leading_factor if cond.conditioning else 1.0
@@ -119,7 +123,7 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
         raise InputError(f"{scenario.where('adhesion', 'zones')}: at most {_core.MAX_CONDITIONS} conditions")
     p.n_conditions = len(unique)
     for i, name in enumerate(unique):
-        p.condition[i] = _condition(name)
+        p.condition[i] = _condition(name, spec.initial_speed)
     p.n_zones = len(spec.adhesion.zones)
     for i, z in enumerate(spec.adhesion.zones):
         p.zone[i] = _core.TrackZone(z.start, z.end, unique.index(z.condition))

@@ -1,9 +1,13 @@
-"""Adhesion presets against their published targets (shared/reference/README.md, section 1)."""
+"""Adhesion presets against their published targets (sources in each preset file, docs/references.md)."""
+
+import sys
+import warnings
 
 import numpy as np
 import pytest
 
 from railbrake.adhesion import (
+    AdhesionRangeWarning,
     car_axles,
     conditions,
     load_condition,
@@ -14,7 +18,9 @@ from railbrake.contact import PolachParams, default_contact, polach_coefficient
 from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms
 
-PRESETS = ["dry-high", "dry-medium", "dry-contaminated", "wet", "heavy-rain", "oil-film", "leaves"]
+conditions_module = sys.modules["railbrake.adhesion.conditions"]  # the module, not the function
+
+PRESETS = ["dry-high", "dry-medium", "dry-contaminated", "wet", "hs-wet", "heavy-rain", "oil-film", "leaves"]
 
 
 def car_mean_peak(condition, car, v_kmh):
@@ -120,3 +126,71 @@ def test_unknown_condition_and_bad_axle_are_named():
         peak_adhesion("wet", 10.0, axle=-1)
     with pytest.raises(InputError, match="missing"):
         peak_adhesion({"mu0": 0.3}, 10.0)
+
+
+def test_every_preset_declares_its_range_of_validity():
+    for condition in conditions():
+        valid = condition.validity
+        assert valid is not None, condition.name
+        assert 0 <= valid.speed_min_kmh < valid.speed_max_kmh <= 400
+        assert valid.conditions and valid.source
+
+
+def _peaks_warnings(name, speeds_kmh):
+    conditions_module._warned.discard(name)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for v in speeds_kmh:
+            peak_adhesion(name, kmh_to_ms(v))
+    return [w for w in caught if issubclass(w.category, AdhesionRangeWarning)]
+
+
+def test_wet_preset_warns_once_above_its_speed_range():
+    caught = _peaks_warnings("wet", [300, 250, 300])
+    assert len(caught) == 1
+    assert "'wet'" in str(caught[0].message) and "300 km/h" in str(caught[0].message)
+    assert _peaks_warnings("wet", [60, 100]) == []
+
+
+def test_user_parameters_without_a_range_never_warn():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        peak_adhesion(PolachParams(0.3, 0.4, 0.2, 0.3, 0.1), kmh_to_ms(350))
+    assert not [w for w in caught if issubclass(w.category, AdhesionRangeWarning)]
+
+
+def test_high_speed_wet_peak_at_300_lies_within_the_shinkansen_scatter():
+    """Heavy-rain measurements at 300 km/h: about 0.02 (front car) to 0.05 (car 4); the design
+    adhesion 13.6/(v+85) = 0.0353 lies between them."""
+    peak = peak_adhesion("hs-wet", kmh_to_ms(300)).coefficient
+    assert 0.02 <= peak <= 0.05
+    assert peak == pytest.approx(13.6 / (300 + 85), rel=0.05)
+
+
+def test_a_bad_validity_range_is_refused(tmp_path):
+    text = (conditions_module._preset_dir() / "wet.yaml").read_text().replace("speed_kmh: [0, 120]", "speed_kmh: [120, 0]")
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(InputError, match="validity.speed_kmh"):
+        load_condition(str(path))
+
+
+def test_energy_conditioning_matches_the_axle_law_for_equal_axles():
+    """Every axle leaving the same energy e: factor(n e) is the axle-count law with N = E_ref / e."""
+    from railbrake.adhesion import EnergyConditioning, RailConditioning
+    law = EnergyConditioning(leading_factor=0.2, reference_energy=4e4)
+    e = law.energy_density(creep_force=-6e3, slip_velocity=1.2, speed=80.0, contact_width=0.011)
+    assert e == pytest.approx(6e3 * 1.2 / (0.011 * 80.0))
+    axle_law = RailConditioning(leading_factor=0.2, recovery_axles=4e4 / e)
+    for n in range(0, 40, 3):
+        assert law.factor(n * e) == pytest.approx(axle_law.factor(n), rel=1e-12)
+    assert law.factor(0.0) == pytest.approx(0.2) and law.factor(1e12) == pytest.approx(1.0)
+    assert law.energy_density(1e4, 1.0, 0.0, 0.01) == 0.0  # standstill: no rail passes
+
+
+def test_energy_conditioning_refuses_bad_parameters():
+    from railbrake.adhesion import EnergyConditioning
+    with pytest.raises(InputError, match="leading_factor"):
+        EnergyConditioning(leading_factor=0.0, reference_energy=1e4)
+    with pytest.raises(InputError, match="reference_energy"):
+        EnergyConditioning(leading_factor=0.5, reference_energy=-1.0)

@@ -1,0 +1,294 @@
+"""The model side of each case: small adapters from a case's inputs to railbrake's public API.
+
+Each function takes (inputs, x, case): the case's ``model.inputs`` mapping, the reference's x
+column (or None) and the case itself (for files beside it), and returns a ModelOutput with one
+model value per reference row, in the case's quantity unit. No law is written here: every value
+comes from the C core through railbrake's modules; only unit conversions at the edges.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from railbrake import adhesion, contact, sizing, units, vehicle
+from railbrake.errors import InputError
+from railbrake.pneumatics import Network
+from railbrake.pneumatics.orifice import orifice_mass_flow
+
+BAR = 1e5
+
+
+@dataclass
+class ModelOutput:
+    values: object
+    details: dict = field(default_factory=dict)
+    curve: dict | None = None  # {"x": [...], "y": [...]} dense model curve for the plot
+
+
+def _need(inputs: dict, key: str):
+    if key not in inputs:
+        raise InputError(f"model.inputs: missing {key!r}")
+    return inputs[key]
+
+
+def _x(x, what: str) -> np.ndarray:
+    if x is None:
+        raise InputError(f"reference.x: this model needs an x column ({what})")
+    return np.asarray(x, dtype=float)
+
+
+# ------------------------------------------------------------------ contact
+
+def hertz(inputs, x, case):
+    """Hertz a, b (m) or p0 (Pa) against the normal force x (N); radii rx, ry (m; 'inf' = flat)."""
+    rx, ry = (float(inputs.get(k, math.inf)) for k in ("rx", "ry"))
+    output = _need(inputs, "output")
+    e, nu = float(inputs.get("youngs_modulus", contact.STEEL_YOUNGS_MODULUS)), float(inputs.get("poisson", 0.3))
+    values = [getattr(contact.hertz_contact(q, rx, ry, e, nu), output) for q in _x(x, "normal force, N")]
+    return ModelOutput(values)
+
+
+def kalker(inputs, x, case):
+    """Kalker's c11, c22 or c23 (inputs.coefficient) against a/b (x) for the given Poisson ratio."""
+    nu = float(_need(inputs, "poisson"))
+    function = {"c11": contact.kalker_c11, "c22": contact.kalker_c22, "c23": contact.kalker_c23}.get(
+        _need(inputs, "coefficient"))
+    if function is None:
+        raise InputError(f"model.inputs.coefficient = {inputs['coefficient']!r}: c11, c22 or c23")
+    ratios = _x(x, "a/b")
+    dense = np.geomspace(0.1, 10.0, 60)
+    return ModelOutput([function(r, nu) for r in ratios], curve={"x": dense.tolist(), "y": [function(r, nu) for r in dense]})
+
+
+def _params(inputs) -> contact.PolachParams:
+    return contact.PolachParams(**{k: float(v) for k, v in _need(inputs, "params").items()})
+
+
+def polach_initial_slope_ratio(inputs, x, case):
+    """(F/Q)/s at a tiny creep over Kalker's linear slope G a b c11 / Q (dimensionless)."""
+    c = contact.default_contact()
+    params = _params(inputs)
+    ratios = []
+    for s in _x(x, "creep"):
+        fq = contact.polach_coefficient(s, float(inputs.get("speed", 0.0)), c.normal_force, c, params)
+        kalker = c.shear_modulus * c.a * c.b * c.c11 / c.normal_force
+        ratios.append(fq / s / kalker)
+    return ModelOutput(ratios, {"a_m": c.a, "b_m": c.b, "c11": c.c11})
+
+
+def polach_coefficient_at(inputs, x, case):
+    """F/Q at creep x on the default wheelset."""
+    c = contact.default_contact()
+    values = contact.polach_coefficient(_x(x, "creep"), float(inputs.get("speed", 0.0)), c.normal_force, c,
+                                        _params(inputs))
+    return ModelOutput(values)
+
+
+def polach_on_contact(inputs, x, case):
+    """F/(mu0 Q) at creep x on a given contact ellipse (a, b in m), as other codes tabulate it."""
+    a, b, q, g, nu = (float(_need(inputs, k)) for k in ("a_m", "b_m", "normal_force", "shear_modulus", "poisson"))
+    ellipse = contact.HertzContact(a, b, 0.0, q, 2.0 * g * (1.0 + nu), nu, g)
+    params = _params(inputs)
+    creep = _x(x, "creep")
+    dense = np.geomspace(max(float(creep.min()), 1e-5), float(creep.max()), 80)
+    f = lambda s: contact.polach_coefficient(s, float(inputs.get("speed", 0.0)), q, ellipse, params) / params.mu0  # noqa: E731
+    return ModelOutput(f(creep), {"c11": ellipse.c11}, {"x": dense.tolist(), "y": f(dense).tolist()})
+
+
+# ------------------------------------------------------------------ adhesion
+
+def peak_adhesion(inputs, x, case):
+    """Peak F/Q of a condition against speed x (km/h): on one axle, or the mean over a car or a train."""
+    cond = adhesion.load_condition(_need(inputs, "condition"))
+    speeds = _x(x, "speed, km/h")
+    if "car" in inputs:
+        axles = list(adhesion.car_axles(int(inputs["car"])))
+    elif "cars" in inputs:
+        axles = list(range(adhesion.AXLES_PER_CAR * int(inputs["cars"])))
+    else:
+        axles = [int(inputs.get("axle", 0))]
+
+    def mean_peak(v_kmh):
+        return float(np.mean([adhesion.peak_adhesion(cond, units.kmh_to_ms(v_kmh), a).coefficient for a in axles]))
+
+    dense = np.linspace(max(min(speeds) - 20.0, 0.0), max(speeds) + 20.0, 41)
+    return ModelOutput([mean_peak(v) for v in speeds], {"condition": cond.name, "axles": len(axles)},
+                       {"x": dense.tolist(), "y": [mean_peak(v) for v in dense]})
+
+
+# ------------------------------------------------------------------ pneumatics
+
+def orifice_flow(inputs, x, case):
+    """Mass flow (kg/s) through an ISO 6358 orifice against the pressure ratio x = p2/p1."""
+    p1, t1 = float(_need(inputs, "p_up_pa")), float(inputs.get("T_up_k", 293.15))
+    values = orifice_mass_flow(p1, t1, p1 * _x(x, "p2/p1"), sonic_conductance=float(_need(inputs, "C")),
+                               critical_ratio=float(_need(inputs, "b")))
+    return ModelOutput(np.atleast_1d(values))
+
+
+def _tank_network(inputs, filling: bool):
+    net = Network()
+    p_supply, p0 = float(_need(inputs, "p_supply_pa")), float(_need(inputs, "p0_pa"))
+    t = float(inputs.get("T_k", 293.15))
+    net.add_reservoir("supply", p_supply, t)
+    net.add_volume("tank", float(_need(inputs, "volume_m3")), p0, t)
+    a, b = ("supply", "tank") if filling else ("tank", "supply")
+    net.add_orifice("orifice", a, b, sonic_conductance=float(_need(inputs, "C")),
+                    critical_ratio=float(_need(inputs, "b")))
+    return net
+
+
+def tank_pressure(inputs, x, case):
+    """Adiabatic tank pressure (Pa) at times x (s), filled from or emptied into a reservoir."""
+    filling = _need(inputs, "mode") == "fill"
+    times = _x(x, "time, s")
+    result = _tank_network(inputs, filling).simulate(float(times.max()), times=times, rtol=1e-9, atol=1e-11)
+    return ModelOutput(result["tank"].p)
+
+
+# ------------------------------------------------------------------ valves
+
+def solenoid_force(inputs, x, case):
+    """EP solenoid force (N) from the packaged force table (C lookup) at airgaps x (mm)."""
+    from railbrake import _core
+    from railbrake.valves.epv import read_force_table
+    gap, current, force = read_force_table(_need(inputs, "table"))
+    table = _core.ForceTable()
+    table.n_gap, table.n_current = len(gap), len(current)
+    for i, g in enumerate(gap):
+        table.gap[i] = g
+        for j, c in enumerate(current):
+            table.current[j] = c
+            table.force[i * len(current) + j] = force[i, j]
+    _core.call(_core.rb_force_table_check, ctypes.byref(table))
+    amps = float(_need(inputs, "current_a"))
+    mm = 1e-3
+    return ModelOutput([_core.rb_force_table_eval(ctypes.byref(table), g * mm, amps) for g in _x(x, "airgap, mm")])
+
+
+# ------------------------------------------------------------------ vehicle and braking
+
+def stop_constant(inputs, x, case):
+    """Stopping distance (m) from v0 = x (km/h) at a constant deceleration after a response time."""
+    a, te = float(_need(inputs, "deceleration")), float(_need(inputs, "response_time"))
+    values = [sizing.stopping_distance(units.kmh_to_ms(v), deceleration=a, response_time=te,
+                                       dt=float(inputs.get("dt", 0.01))).distance for v in _x(x, "v0, km/h")]
+    return ModelOutput(values)
+
+
+def caliper_force(inputs, x, case):
+    """Pad normal force (N) against the gauge cylinder pressure x (bar)."""
+    p_atm = float(inputs.get("atmospheric_pressure", 101325.0))
+    values = [vehicle.caliper_pad_force(p * BAR + p_atm, float(_need(inputs, "cylinder_area")),
+                                        float(_need(inputs, "return_spring")), float(_need(inputs, "lever_ratio")),
+                                        float(_need(inputs, "efficiency")), p_atm) for p in _x(x, "bar")]
+    return ModelOutput(values)
+
+
+def train_stopping_distance(inputs, x, case):
+    """Emergency stopping distance (m) of a train preset from v0 = x (km/h), EN 14531 manner."""
+    train = vehicle.load_train(_need(inputs, "train"))
+    profile = inputs.get("profile", "emergency")
+    out, warns = [], []
+    for v in _x(x, "v0, km/h"):
+        r = sizing.stopping_distance(units.kmh_to_ms(v), train=train, profile=profile)
+        out.append(r.distance)
+        warns += r.warnings
+    return ModelOutput(out, {"train": train.name, "profile": str(profile), "sizing_warnings": sorted(set(warns))})
+
+
+def _car_of_type(train, kind: str):
+    car = next((c for c in train.cars if c.type_name == kind), None)
+    if car is None:
+        raise InputError(f"model.inputs.car_type = {kind!r}: {train.name} has {sorted({c.type_name for c in train.cars})}")
+    return car
+
+
+def pad_friction(inputs, x, case):
+    """Pad friction coefficient of a train preset's car type at speed x (km/h)."""
+    train = vehicle.load_train(_need(inputs, "train"))
+    car = _car_of_type(train, inputs.get("car_type", "trailer"))
+    speeds = _x(x, "speed, km/h")
+    dense = np.linspace(0.0, float(max(speeds)), 40)
+    return ModelOutput(np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(speeds))), {"train": train.name},
+                       {"x": dense.tolist(), "y": np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(dense))).tolist()})
+
+
+def pad_friction_drop(inputs, x, case):
+    """Fall of the pad friction coefficient between two speeds (km/h), inputs.speeds_kmh = [from, to]."""
+    train = vehicle.load_train(_need(inputs, "train"))
+    car = _car_of_type(train, inputs.get("car_type", "trailer"))
+    low, high = (units.kmh_to_ms(float(v)) for v in _need(inputs, "speeds_kmh"))
+    at_low, at_high = (float(vehicle.pad_friction_of(car, v)) for v in (low, high))
+    return ModelOutput([at_low - at_high], {"train": train.name, "friction_from": at_low, "friction_to": at_high})
+
+
+def ed_brake_force(inputs, x, case):
+    """Whole-train ED brake force (kN) of a train preset at speed x (km/h)."""
+    train = vehicle.load_train(_need(inputs, "train"))
+    return ModelOutput(np.atleast_1d(train.ed_brake_force(units.kmh_to_ms(_x(x, "km/h")))) / 1e3)
+
+
+def running_resistance(inputs, x, case):
+    """Whole-train running resistance (kN) of a train preset at speed x (km/h)."""
+    train = vehicle.load_train(_need(inputs, "train"))
+    return ModelOutput(np.atleast_1d(train.running_resistance(units.kmh_to_ms(_x(x, "km/h")))) / 1e3)
+
+
+# ------------------------------------------------------------------ real-time plant and detailed model
+
+def _observed_order(values: list[float], ratio: float) -> float:
+    """Order p from three solutions at steps h, h/r, h/r^2: p = log(|e1| / |e2|) / log(r)."""
+    e1, e2 = values[0] - values[1], values[1] - values[2]
+    if e2 == 0.0 or e1 == 0.0:
+        raise InputError(f"solutions {values}: differences vanish, the order cannot be observed")
+    return math.log(abs(e1 / e2)) / math.log(ratio)
+
+
+def plant_order(inputs, x, case):
+    """Observed order of convergence of the real-time plant in its step (one value)."""
+    from railbrake.simulation import run
+    scenario = case.folder / _need(inputs, "scenario")
+    steps = [float(s) * 1e-3 for s in _need(inputs, "steps_ms")]
+    quantity = inputs.get("quantity", "stopping_distance_m")
+    values = [run(scenario, cars=int(inputs.get("cars", 1)), wsp=bool(inputs.get("wsp", False)), dt=dt,
+                  substeps=int(inputs.get("substeps", 1)), record=False).kpis[quantity] for dt in steps]
+    ratio = steps[0] / steps[1]
+    order = _observed_order(values, ratio)
+    # Richardson: the error left at the middle step, from the observed order.
+    error = (values[1] - values[2]) * ratio ** order / (ratio ** order - 1.0)
+    return ModelOutput([order], {"steps_ms": [s * 1e3 for s in steps], quantity: values,
+                                 f"error_at_{steps[1] * 1e3:g}_ms": error})
+
+
+def detailed_order(inputs, x, case):
+    """Observed order of the detailed model in its mechanics step (air solver held tight)."""
+    from railbrake.simulation.detailed import load_valves, run_detailed
+    scenario = case.folder / _need(inputs, "scenario")
+    steps = [float(s) * 1e-3 for s in _need(inputs, "steps_ms")]
+    solver = {"rtol": float(inputs.get("rtol", 1e-6)), "atol": float(inputs.get("atol", 1e-8))}
+    values = [run_detailed(scenario, cars=int(inputs.get("cars", 1)),
+                           valves=load_valves({"solver": {**solver, "mechanics_dt_s": dt}})).kpis["stopping_distance_m"]
+              for dt in steps]
+    return ModelOutput([_observed_order(values, steps[0] / steps[1])],
+                       {"steps_ms": [s * 1e3 for s in steps], "stopping_distance_m": values})
+
+
+def stop_ramp(inputs, x, case):
+    """Stopping distance (m) from v0 = x (km/h): delay ta, then a linear build-up over tb to a
+    constant deceleration (EN 14531's ramp, not its equivalent step)."""
+    a, ta, tb = (float(_need(inputs, k)) for k in ("deceleration", "delay", "build_up"))
+    values = [sizing.stopping_distance(units.kmh_to_ms(v), deceleration=a, delay=ta, build_up=tb,
+                                       equivalent_response=False, dt=float(inputs.get("dt", 0.001))).distance
+              for v in _x(x, "v0, km/h")]
+    return ModelOutput(values)
+
+
+REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, 
+    hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
+    tank_pressure, stop_constant, caliper_force, train_stopping_distance, solenoid_force, pad_friction, pad_friction_drop, ed_brake_force,
+    running_resistance, plant_order)}

@@ -1,0 +1,106 @@
+"""Write the reference.csv of the analytic verification cases from their closed forms.
+
+Run from the repository root: python validation/tools/analytic_references.py
+Pure numpy: no railbrake code is used, so the references are independent of the model.
+Each formula is stated again in its case.yaml with its source.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+BASE = Path(__file__).resolve().parents[1]
+ROOT = BASE / "verification"
+GAMMA, R_AIR = 1.4, 287.05             # ideal air (ISO 6358 reference conditions)
+RHO0, T0_REF = 1.185, 293.15           # ISO 6358 reference density and temperature
+
+
+def write(case: str, header: str, rows, comment: str, kind: str = "verification") -> None:
+    path = BASE / kind / case / "reference.csv"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = [f"# {comment}", header] + [",".join(f"{v:.10g}" for v in row) for row in rows]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def hertz_sphere():
+    """Johnson (1985) eq. 4.22-4.23: a = (3 Q R / (4 E*))^(1/3), p0 = 3 Q / (2 pi a^2)."""
+    e, nu, r = 2.1e11, 0.3, 0.46
+    e_star = e / (2.0 * (1.0 - nu ** 2))
+    loads = [10e3, 30e3, 60e3, 83.4e3, 120e3]
+    a = [(3.0 * q * r / (4.0 * e_star)) ** (1.0 / 3.0) for q in loads]
+    write("hertz-sphere-radius", "normal_force_N,a_m", zip(loads, a), "Johnson 1985 eq. 4.22, R = 0.46 m")
+    write("hertz-sphere-pressure", "normal_force_N,p0_Pa",
+          [(q, 3.0 * q / (2.0 * math.pi * ai ** 2)) for q, ai in zip(loads, a)], "Johnson 1985 eq. 4.23")
+
+
+def orifice():
+    """ISO 6358-1: qm = C p1 rho0 sqrt(T0/T1) [choked]; times sqrt(1 - ((r - b)/(1 - b))^2) above b."""
+    c, b, p1, t1 = 5e-9, 0.528, 6e5, 313.15
+    choked = c * p1 * RHO0 * math.sqrt(T0_REF / t1)
+    ratios = [0.1, 0.2, 0.3, 0.4, 0.5, 0.528]
+    write("orifice-choked", "pressure_ratio,mass_flow_kg_s", [(r, choked) for r in ratios],
+          "ISO 6358-1:2013 eq. (choked), C = 5e-9 m^3/(s Pa), b = 0.528, p1 = 6 bar abs, T1 = 313.15 K")
+    sub = [0.6, 0.7, 0.8, 0.9, 0.95]
+    write("orifice-subsonic", "pressure_ratio,mass_flow_kg_s",
+          [(r, choked * math.sqrt(1.0 - ((r - b) / (1.0 - b)) ** 2)) for r in sub],
+          "ISO 6358-1:2013 eq. (subsonic), same orifice")
+
+
+def tank_fill():
+    """Adiabatic filling at a constant choked inflow: d(pV/(g-1))/dt = cp Ts qm -> dp/dt = g R Ts qm / V."""
+    c, b, ps, ts, v, p0 = 1e-8, 0.528, 10e5, 293.15, 0.01, 1.01325e5
+    qm = c * ps * RHO0 * math.sqrt(T0_REF / ts)
+    rate = GAMMA * R_AIR * ts * qm / v
+    times = np.linspace(0.0, 2.5, 11)
+    assert p0 + rate * times[-1] <= b * ps, "must stay choked"
+    write("tank-fill-choked", "time_s,pressure_Pa", [(t, p0 + rate * t) for t in times],
+          "energy balance of an adiabatic volume, constant choked inflow (linear rise)")
+
+
+def tank_discharge():
+    """Isentropic discharge through a choked orifice: (p/p0)^(-k/2) = 1 + (k/2) g R C rho0 sqrt(Tref T0) t / V,
+    k = (g - 1)/g; valid while p_atm / p <= b."""
+    c, b, p0, t0, v, p_atm = 1e-8, 0.528, 10e5, 293.15, 0.01, 1.01325e5
+    k = (GAMMA - 1.0) / GAMMA
+    rate = 0.5 * k * GAMMA * R_AIR * c * RHO0 * math.sqrt(T0_REF * t0) / v
+    times = np.linspace(0.0, 12.0, 13)
+    p = p0 * (1.0 + rate * times) ** (-2.0 / k)
+    assert p_atm / p[-1] <= b, "must stay choked"
+    write("tank-discharge-choked", "time_s,pressure_Pa", zip(times, p),
+          "isentropic blow-down through a choked orifice")
+
+
+def stops():
+    """s = v0 te + v0^2 / (2 a); with a linear build-up over tb after ta: s = v0 (ta + tb/2) + v0^2/(2a) - a tb^2 / 24."""
+    speeds = [100.0, 200.0, 250.0, 300.0, 350.0]
+    a, te = 1.0, 2.0
+    write("stop-constant-deceleration", "v0_kmh,distance_m",
+          [(v, v / 3.6 * te + (v / 3.6) ** 2 / (2 * a)) for v in speeds], "a = 1.0 m/s^2, te = 2.0 s")
+    ta, tb = 1.0, 3.0
+    write("stop-en14531-build-up", "v0_kmh,distance_m",
+          [(v, v / 3.6 * (ta + tb / 2) + (v / 3.6) ** 2 / (2 * a) - a * tb ** 2 / 24) for v in speeds],
+          "a = 1.0 m/s^2, ta = 1.0 s, tb = 3.0 s (linear build-up)")
+
+
+def crh380al_published_curves():
+    """TB/T 1407.2 traction-calculation data of the CRH380AL, whole train: ED brake force
+    F = min(509.6, 544.34 - 1.787 v, 42942.9/v - 121, 33033/v) kN (v in m/s) and running
+    resistance R = 3.3 + 0.0469 V + 0.000921 V^2 kN (V in km/h, open track)."""
+    speeds = [20.0, 50.0, 100.0, 150.0, 200.0, 250.0, 300.0, 350.0]
+    ed = [min(509.6, 544.34 - 1.787 * v / 3.6, 42942.9 / (v / 3.6) - 121.0, 33033.0 / (v / 3.6)) for v in speeds]
+    write("crh380al-ed-brake", "speed_kmh,force_kN", zip(speeds, ed), "TB/T 1407.2 CRH380AL ED brake", "code-to-code")
+    write("crh380al-running-resistance", "speed_kmh,force_kN",
+          [(v, 3.3 + 0.0469 * v + 0.000921 * v * v) for v in [0.0] + speeds],
+          "TB/T 1407.2 CRH380AL running resistance, open track", "code-to-code")
+
+
+if __name__ == "__main__":
+    crh380al_published_curves()
+    hertz_sphere()
+    orifice()
+    tank_fill()
+    tank_discharge()
+    stops()
