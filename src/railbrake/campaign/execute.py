@@ -148,7 +148,7 @@ class _Writer:
                 return
             self.manifest["kpis"] = list(ok["kpis"])
             dataset.write_manifest(self.out, self.manifest)
-        for batch in self.waiting + [rows]:
+        for batch in [b for b in self.waiting + [rows] if b]:
             dataset.write_batch(self.out, batch, self._schema())
             self.written += len(batch)
         self.waiting = []
