@@ -81,10 +81,10 @@ tuning:
 
 
 @pytest.fixture(scope="module")
-def assessed(tmp_path_factory):
+def assessed(tmp_path_factory, two_workers):
     out = tmp_path_factory.mktemp("assessed")
     s = study.parse(ASSESSED, "tiny.yaml")
-    summary = execute.run_study(s, out, workers=1)
+    summary = execute.run_study(s, out, scheduler=two_workers)
     assert summary.done == 2
     return s, out
 
@@ -101,13 +101,13 @@ def test_report_is_self_contained_and_shows_the_cases(assessed):
 
 
 @pytest.mark.slow
-def test_tuning_stores_its_trials_and_resumes(assessed, tmp_path):
+def test_tuning_stores_its_trials_and_resumes(assessed, two_workers, tmp_path):
     s, _ = assessed
-    first = tune.tune(s, ["decel_threshold"], "worst-delta-s", 1, tmp_path, workers=1)
+    first = tune.tune(s, ["decel_threshold"], "worst-delta-s", 1, tmp_path, scheduler=two_workers)
     assert first["evaluations"] == 1                     # the default WSP
     default = tune.default_values(tune.parameters(s, ["decel_threshold"]))["wsp.decel_threshold"]
     assert first["tuned"] == {**first["default"], "params": {"decel_threshold": default}}
-    again = tune.tune(s, ["decel_threshold"], "worst-delta-s", 2, tmp_path, workers=1)
+    again = tune.tune(s, ["decel_threshold"], "worst-delta-s", 2, tmp_path, scheduler=two_workers)
     assert again["evaluations"] == 2            # one more trial, the first from the storage
     assert again["default"] == first["default"]
     assert again["default"]["worst_delta_s_pct"] >= again["tuned"]["worst_delta_s_pct"]

@@ -28,16 +28,16 @@ def content(folder: Path) -> dict:
 
 
 @pytest.fixture(scope="module")
-def reference(tmp_path_factory) -> Path:
+def reference(tmp_path_factory, one_worker) -> Path:
     """The study run once, uninterrupted, by one worker."""
     out = tmp_path_factory.mktemp("one-worker")
-    summary = execute.run_study(study.load(SMALL), out, workers=1)
+    summary = execute.run_study(study.load(SMALL), out, scheduler=one_worker)
     assert (summary.runs, summary.done, summary.skipped, summary.failed) == (8, 8, 0, 0)
     return out
 
 
-def test_one_and_two_workers_give_identical_datasets(reference, tmp_path):
-    summary = execute.run_study(study.load(SMALL), tmp_path, workers=2, batch_size=1)
+def test_one_and_two_workers_give_identical_datasets(reference, two_workers, tmp_path):
+    summary = execute.run_study(study.load(SMALL), tmp_path, scheduler=two_workers, batch_size=1)
     assert summary.workers == 2 and summary.batches == 8
     assert content(tmp_path) == content(reference)
     data = content(reference)
@@ -97,7 +97,7 @@ def test_the_study_runs_on_a_dask_scheduler_and_worker_started_here(reference, t
 
 
 @pytest.mark.slow   # separate processes and clusters: not under the sanitizers
-def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(reference, tmp_path):
+def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(reference, one_worker, tmp_path):
     command = [sys.executable, "-c", "from railbrake.cli import main; main()", "campaign", "run", str(SMALL),
                "--out", str(tmp_path), "--workers", "1", "--batch-size", "1", "--json"]
     process = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL,
@@ -109,7 +109,7 @@ def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(refe
     process.wait()
     partial = dataset.existing_keys(tmp_path)
     assert 2 <= len(partial) < 8, "the kill came too late to test a resume"
-    summary = execute.run_study(study.load(SMALL), tmp_path, workers=1)
+    summary = execute.run_study(study.load(SMALL), tmp_path, scheduler=one_worker)
     assert summary.skipped == len(partial) and summary.done == 8 - len(partial)
     assert content(tmp_path) == content(reference)
 
@@ -141,17 +141,18 @@ def test_scheduling_share_counts_the_gaps_between_a_workers_batches():
 
 
 @pytest.mark.slow   # separate processes and clusters: not under the sanitizers
-def test_a_lost_workers_batch_is_run_again(reference, tmp_path):
-    import psutil
+def test_a_lost_workers_batch_is_run_again(reference, two_workers, tmp_path):
+    from dask.distributed import Client
+    with Client(two_workers) as client:
+        pids = sorted(client.run(os.getpid).values())
     killed = []
 
     def kill_a_worker(done, total, failed):
         if done >= 1 and not killed:   # a batch is in flight on each worker: kill one worker process
-            workers = [p for p in psutil.Process().children(recursive=True)
-                       if "spawn_main" in " ".join(p.cmdline())]   # not the resource tracker
-            workers[0].kill()
-            killed.append(workers[0].pid)
+            os.kill(pids[0], signal.SIGKILL)
+            killed.append(pids[0])
 
-    summary = execute.run_study(study.load(SMALL), tmp_path, workers=2, batch_size=1, progress=kill_a_worker)
+    summary = execute.run_study(study.load(SMALL), tmp_path, scheduler=two_workers, batch_size=1,
+                                progress=kill_a_worker, connect_timeout=60.0)
     assert killed and summary.done == 8 and summary.failed == 0
     assert content(tmp_path) == content(reference)
