@@ -67,8 +67,8 @@ def _with_sets(study: Study, sets: dict) -> Study:
 
 
 def select(study: Study, only: list[str]) -> callable:
-    """--only FACTOR=VALUE (repeatable): keep the design points at those levels."""
-    wanted = []
+    """--only FACTOR=VALUE (repeatable; several values of one factor: any of them): keep those points."""
+    wanted: dict = {}
     for item in only:
         name, _, value = item.partition("=")
         if name not in {f.name for f in study.factors}:
@@ -76,11 +76,13 @@ def select(study: Study, only: list[str]) -> callable:
         factor = study.factor(name)
         si = value if factor.kind in ("category", "case") else factor.si(value if factor.kind == "quantity"
                                                                           else float(value))
-        wanted.append((name, si))
+        wanted.setdefault(name, []).append(si)
+
+    def matches(got, value) -> bool:
+        return got == value or (isinstance(value, float) and math.isclose(got, value, rel_tol=1e-9))
 
     def keep(run) -> bool:
-        return all(run.factors[n] == v or (isinstance(v, float) and math.isclose(run.factors[n], v, rel_tol=1e-9))
-                   for n, v in wanted)
+        return all(any(matches(run.factors[n], v) for v in values) for n, values in wanted.items())
     return keep
 
 

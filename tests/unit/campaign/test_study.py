@@ -123,3 +123,14 @@ def test_an_integer_range_gives_every_integer_alike():
               "  fault.axle: {low: 1, high: 4}\ndesign: {kind: latin-hypercube, samples: 8}\n")
     axles = [p.values["fault.axle"] for p in designs.points(s, np.random.default_rng(3))]
     assert sorted(axles) == [1, 1, 2, 2, 3, 3, 4, 4]   # the hypercube's strata, two per axle
+
+
+def test_only_keeps_the_points_at_any_of_the_values_given_per_factor():
+    from railbrake.campaign import tune
+    s = parse("factors:\n  initial_speed: [\"60 km/h\", \"100 km/h\"]\n"
+              "  adhesion.condition: [dry-medium, wet, oil-film]\ndesign: {kind: grid}\n")
+    keep = tune.select(s, ["initial_speed=100 km/h", "adhesion.condition=wet", "adhesion.condition=oil-film"])
+    kept = [(r.factors["initial_speed"], r.factors["adhesion.condition"]) for r in plan.plan(s) if keep(r)]
+    assert kept == [(pytest.approx(100 / 3.6), "wet"), (pytest.approx(100 / 3.6), "oil-film")]
+    with pytest.raises(InputError, match="--only speed=1: 'speed' is not a factor"):
+        tune.select(s, ["speed=1"])
