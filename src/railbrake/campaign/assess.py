@@ -105,5 +105,6 @@ def worst(cases: list[dict]) -> dict:
     return {"worst_delta_s_pct": max(ds) if ds and not failed_runs else math.inf,
             "locks": int(sum(c.get("wheel_lock_events") or 0 for c in cases)),
             "air_drawn_kg": float(sum(c.get("air_drawn_kg_assessed") or 0.0 for c in cases)),
+            "max_case_air_drawn_kg": float(max((c.get("air_drawn_kg_assessed") or 0.0 for c in cases), default=0.0)),
             "safety_timer_trips": int(sum(c.get("safety_timer_trips") or 0 for c in cases)),
             "passed": all(c["passed"] for c in cases), "failed_runs": failed_runs}

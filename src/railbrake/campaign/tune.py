@@ -132,8 +132,9 @@ def _objective_value(figures: dict, air_limit: float | None) -> float:
     if not math.isfinite(value):
         return PENALTY * 10
     value += PENALTY * figures["locks"]
-    if air_limit is not None and figures["air_drawn_kg"] > air_limit:
-        value += PENALTY * (figures["air_drawn_kg"] - air_limit) / air_limit
+    air = figures["max_case_air_drawn_kg"]   # the limit holds per case, whichever cases are tuned on
+    if air_limit is not None and air > air_limit:
+        value += PENALTY * (air - air_limit) / air_limit
     return value
 
 
@@ -175,7 +176,8 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
         def run_trial(trial):
             values = {p.key: trial.suggest_float(p.key, p.factor.low, p.factor.high) for p in params}
             figures = evaluate(values, params)
-            for k in ("worst_delta_s_pct", "locks", "air_drawn_kg", "safety_timer_trips", "failed_runs"):
+            for k in ("worst_delta_s_pct", "locks", "air_drawn_kg", "max_case_air_drawn_kg", "safety_timer_trips",
+                      "failed_runs"):
                 trial.set_user_attr(k, figures[k])
             trial.set_user_attr("cases", figures["cases"])
             if progress:
