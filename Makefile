@@ -9,7 +9,8 @@ JOBS ?= 2
 OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
-.PHONY: demo test install ctest ctest-sanitize pytest pytest-sanitize bench validate clean
+.PHONY: demo test install ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
+        fuzz-frames fuzz-python
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -51,6 +52,37 @@ pytest-sanitize: install ctest-sanitize
 # failing verification case or a broken case folder fails the target (--strict).
 validate: install
 	$(VENV)/bin/railbrake validate --report $(OUT)/validation.html --markdown docs/validation.md --strict
+
+# The fuzz suite, long runs (bounded smoke runs of each are part of `make test`): FMI call sequences
+# (10^6 calls per FMI version), the HIL frame decoder (libFuzzer with clang, else a gcc mutational
+# loop), the configuration mutator and the Python API argument fuzzer.
+FUZZ_FMI_CALLS ?= 1000000
+FUZZ_FRAMES ?= 20000000
+FUZZ_CONFIG_VARIANTS ?= 20000
+FUZZ_API_CALLS ?= 50000
+FUZZ_SANITIZE := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+
+fuzz: fuzz-fmi fuzz-frames fuzz-python
+
+fuzz-fmi: install
+	RAILBRAKE_FUZZ_FMI_CALLS=$(FUZZ_FMI_CALLS) $(PY) -m pytest -q -s -p no:cacheprovider tests/unit/fmu/test_fmu_fuzz.py
+
+fuzz-frames:
+	mkdir -p $(BUILD)/fuzz
+	if command -v clang >/dev/null 2>&1; then \
+	  clang -std=c99 $(FUZZ_SANITIZE) -fsanitize=fuzzer -DRB_LIBFUZZER -Icore/include core/tests/fuzz_hil_frame.c \
+	    core/src/hil_frame.c core/src/common.c -o $(BUILD)/fuzz/hil_frame_fuzz -lm && \
+	  $(BUILD)/fuzz/hil_frame_fuzz -runs=$(FUZZ_FRAMES) -max_len=1024; \
+	else \
+	  echo "clang not found: the gcc mutational loop instead of libFuzzer"; \
+	  gcc -std=c99 $(FUZZ_SANITIZE) -Icore/include core/tests/fuzz_hil_frame.c core/src/hil_frame.c \
+	    core/src/common.c -o $(BUILD)/fuzz/hil_frame_fuzz -lm && \
+	  $(BUILD)/fuzz/hil_frame_fuzz $(FUZZ_FRAMES); \
+	fi
+
+fuzz-python: install
+	RAILBRAKE_FUZZ_CONFIG_VARIANTS=$(FUZZ_CONFIG_VARIANTS) RAILBRAKE_FUZZ_API_CALLS=$(FUZZ_API_CALLS) \
+	$(PY) -m pytest -q -p no:cacheprovider tests/unit/fuzz
 
 bench: install
 	$(PY) bench/run_all.py

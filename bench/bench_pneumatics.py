@@ -1,12 +1,17 @@
-"""Wall time of the EPV characteristic (20 s ramp up and down) and of a 10-volume network over 1 s.
+"""Wall time of the EPV characteristic (100 s ramp and its quasi-static check), the solenoid force
+table, the reduction to the plant, the `valve epv --characteristic --json` command, and of a
+10-volume network over 1 s.
 
 Run: .venv/bin/python bench/bench_pneumatics.py (prints figures; not a test)."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import time
 
 from railbrake import valves
+from railbrake.valves import reduce, solenoid
 from railbrake.pneumatics import Network
 
 
@@ -35,8 +40,14 @@ def ten_volume_chain():
 
 
 if __name__ == "__main__":
-    c = timed("EPV characteristic, 20 s ramp up and down", lambda: valves.epv_characteristic(ramp_time=20.0))
-    print(f"  hysteresis {c.hysteresis_bar:.3f} bar")
+    c = timed("EPV characteristic, 100 s ramp + 200 s check", valves.epv_characteristic)
+    print(f"  hysteresis {c.hysteresis_bar:.3f} bar, quasi-static {c.quasi_static}")
+    timed("solenoid force table (11 x 13)", lambda: solenoid.force_table(solenoid.load_solenoid()))
+    f = timed("EPV reduction (8 detailed steps + fit)", reduce.fit_epv, repeat=2)
+    print(f"  tau {f['ep_tau'] * 1e3:.1f} ms, RMS {f['rms_bar']:.3f} bar")
+    cli = [sys.executable, "-c", "from railbrake.cli import main; main()", "valve", "epv", "--characteristic", "--json"]
+    timed("railbrake valve epv --characteristic --json (process)",
+          lambda: subprocess.run(cli, check=True, capture_output=True), repeat=3)
     r = timed("10-volume network over 1 s", ten_volume_chain)
     print(f"  {r.steps} steps, {r.rejected} rejected")
     timed("EPV step response over 1 s", lambda: valves.epv_step(current=0.8, t_end=1.0))

@@ -1,6 +1,8 @@
 /* FMI 2.0 co-simulation interface over the model API (fmu_model.h). Every function checks its
- * instance and state; what the plant does not offer (FMU state, derivatives, asynchronous steps)
- * returns fmi2Error with a log message. */
+ * instance and its state against a mask of the states the standard allows it in; what the plant
+ * does not offer (FMU state, derivatives, asynchronous steps) returns fmi2Error with a log message.
+ * Any fmi2Error puts the instance in the error state: then only reading values (for diagnosis),
+ * fmi2Reset and fmi2FreeInstance are allowed. */
 #include <stdio.h>
 
 #include "fmi2Functions.h"
@@ -9,6 +11,24 @@
 #define MODEL(c) ((fmu_instance *)(c))
 /* Every function starts here: a NULL instance cannot even be logged to. */
 #define REQUIRE_INSTANCE(c) do { if (!(c)) return fmi2Error; } while (0)
+/* ... and the states it may be called in (FMI 2.0.4, section 4.2.4, the co-simulation state
+ * machine; stepComplete, stepFailed and stepCanceled are all "step mode" here: no step fails
+ * without an fmi2Error, none is asynchronous). */
+#define REQUIRE_STATE(c, function, mask)                                                       \
+    do {                                                                                       \
+        if (!(c)) return fmi2Error;                                                            \
+        if (fmu_check_mode(MODEL(c), function, mask) != FMU_OK) return fmi2Error;              \
+    } while (0)
+#define M(mode) FMU_IN(FMU_##mode)
+#define MASK_SetupExperiment M(INSTANTIATED)
+#define MASK_EnterInitializationMode M(INSTANTIATED)
+#define MASK_ExitInitializationMode M(INITIALIZATION)
+#define MASK_Terminate M(STEP)
+#define MASK_Reset FMU_ANY_MODE
+#define MASK_GetValues (M(INITIALIZATION) | M(STEP) | M(TERMINATED) | M(ERROR_STATE))
+#define MASK_SetValues (M(INSTANTIATED) | M(INITIALIZATION) | M(STEP))
+#define MASK_DoStep M(STEP)
+#define MASK_GetStatus (M(STEP) | M(TERMINATED))
 
 /* The message goes as the format itself, '%' doubled: importers that print it unformatted (FMPy)
  * and those that format it (the standard's printf convention) both show the text. */
@@ -39,7 +59,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
 {
     (void)nCategories;
     (void)categories;
-    REQUIRE_INSTANCE(c);
+    REQUIRE_INSTANCE(c);   /* allowed in every state */
     MODEL(c)->debug_logging = loggingOn != fmi2False;
     return fmi2OK;
 }
@@ -71,34 +91,34 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
     (void)tolerance;
     (void)stopTimeDefined;
     (void)stopTime;
-    REQUIRE_INSTANCE(c);
-    fmu_status s = fmu_check_mode(MODEL(c), "fmi2SetupExperiment", FMU_IN(FMU_INSTANTIATED));
-    if (s == FMU_OK && startTime != 0.0)
-        s = fmu_log(MODEL(c), FMU_ERROR, "fmi2SetupExperiment: startTime = %g s: must be 0", startTime);
-    return (fmi2Status)s;
+    REQUIRE_STATE(c, "fmi2SetupExperiment", MASK_SetupExperiment);
+    if (startTime != 0.0)
+        return (fmi2Status)fmu_log(MODEL(c), FMU_ERROR, "fmi2SetupExperiment: startTime = %g s: must be 0",
+                                   startTime);
+    return fmi2OK;
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c)
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2EnterInitializationMode", MASK_EnterInitializationMode);
     return (fmi2Status)fmu_enter_initialization(MODEL(c), 0.0);
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2ExitInitializationMode", MASK_ExitInitializationMode);
     return (fmi2Status)fmu_exit_initialization(MODEL(c));
 }
 
 fmi2Status fmi2Terminate(fmi2Component c)
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2Terminate", MASK_Terminate);
     return (fmi2Status)fmu_terminate(MODEL(c));
 }
 
 fmi2Status fmi2Reset(fmi2Component c)
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2Reset", MASK_Reset);
     return (fmi2Status)fmu_reset(MODEL(c));
 }
 
@@ -106,32 +126,38 @@ fmi2Status fmi2Reset(fmi2Component c)
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2GetReal", MASK_GetValues);
+    if (fmu_check_arrays(MODEL(c), "fmi2GetReal", nvr, vr, value) != FMU_OK) return fmi2Error;
     return (fmi2Status)fmu_get_real(MODEL(c), vr, nvr, value);
 }
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[])
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2SetReal", MASK_SetValues);
+    if (fmu_check_arrays(MODEL(c), "fmi2SetReal", nvr, vr, value) != FMU_OK) return fmi2Error;
     return (fmi2Status)fmu_set_real(MODEL(c), vr, nvr, value);
 }
 
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2GetBoolean", MASK_GetValues);
+    if (fmu_check_arrays(MODEL(c), "fmi2GetBoolean", nvr, vr, value) != FMU_OK) return fmi2Error;
     return (fmi2Status)fmu_get_boolean(MODEL(c), vr, nvr, value);
 }
 
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[])
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2SetBoolean", MASK_SetValues);
+    if (fmu_check_arrays(MODEL(c), "fmi2SetBoolean", nvr, vr, value) != FMU_OK) return fmi2Error;
     return (fmi2Status)fmu_set_boolean(MODEL(c), vr, nvr, value);
 }
 
 /* No Integer or String variables: any value reference is unknown. */
-static fmi2Status no_variables(fmi2Component c, const char *function, const fmi2ValueReference vr[], size_t nvr)
+static fmi2Status no_variables(fmi2Component c, const char *function, unsigned mask,
+                               const fmi2ValueReference vr[], size_t nvr, const void *value)
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, function, mask);
+    if (fmu_check_arrays(MODEL(c), function, nvr, vr, value) != FMU_OK) return fmi2Error;
     if (nvr == 0) return fmi2OK;
     return (fmi2Status)fmu_log(MODEL(c), FMU_ERROR, "%s: value reference %u is not of this type (the FMU has "
                                "Real and Boolean variables only)", function, vr[0]);
@@ -139,26 +165,22 @@ static fmi2Status no_variables(fmi2Component c, const char *function, const fmi2
 
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
 {
-    (void)value;
-    return no_variables(c, "fmi2GetInteger", vr, nvr);
+    return no_variables(c, "fmi2GetInteger", MASK_GetValues, vr, nvr, value);
 }
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[])
 {
-    (void)value;
-    return no_variables(c, "fmi2SetInteger", vr, nvr);
+    return no_variables(c, "fmi2SetInteger", MASK_SetValues, vr, nvr, value);
 }
 
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
 {
-    (void)value;
-    return no_variables(c, "fmi2GetString", vr, nvr);
+    return no_variables(c, "fmi2GetString", MASK_GetValues, vr, nvr, value);
 }
 
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[])
 {
-    (void)value;
-    return no_variables(c, "fmi2SetString", vr, nvr);
+    return no_variables(c, "fmi2SetString", MASK_SetValues, vr, nvr, value);
 }
 
 /* ---- co-simulation */
@@ -167,7 +189,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint)
 {
     (void)noSetFMUStatePriorToCurrentPoint;
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2DoStep", MASK_DoStep);
     return (fmi2Status)fmu_do_step(MODEL(c), currentCommunicationPoint, communicationStepSize);
 }
 
@@ -182,8 +204,9 @@ fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *va
 
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value)
 {
-    REQUIRE_INSTANCE(c);
+    REQUIRE_STATE(c, "fmi2GetRealStatus", MASK_GetStatus);
     if (s != fmi2LastSuccessfulTime) return unsupported(c, "fmi2GetRealStatus");
+    if (!value) return (fmi2Status)fmu_log(MODEL(c), FMU_ERROR, "fmi2GetRealStatus: value = NULL");
     *value = fmu_time(MODEL(c));
     return fmi2OK;
 }

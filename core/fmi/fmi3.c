@@ -1,6 +1,8 @@
 /* FMI 3.0 co-simulation interface over the model API (fmu_model.h). Every function checks its
- * instance and state; what the plant does not offer (model exchange, scheduled execution, clocks,
- * FMU state, derivatives, event mode) returns fmi3Error with a log message. */
+ * instance and its state against a mask of the states the standard allows it in; what the plant
+ * does not offer (model exchange, scheduled execution, clocks, FMU state, derivatives, event mode)
+ * returns fmi3Error with a log message. After any fmi3Error only fmi3Reset and fmi3FreeInstance
+ * are allowed (FMI 3.0, section 2.2.3). */
 #include <stdbool.h>
 
 #include "fmi3Functions.h"
@@ -9,6 +11,20 @@
 #define MODEL(i) ((fmu_instance *)(i))
 /* Every function starts here: a NULL instance cannot even be logged to. */
 #define REQUIRE_INSTANCE(i) do { if (!(i)) return fmi3Error; } while (0)
+/* ... and the states it may be called in (FMI 3.0, section 4.3, co-simulation without event mode). */
+#define REQUIRE_STATE(i, function, mask)                                                       \
+    do {                                                                                       \
+        if (!(i)) return fmi3Error;                                                            \
+        if (fmu_check_mode(MODEL(i), function, mask) != FMU_OK) return fmi3Error;              \
+    } while (0)
+#define M(mode) FMU_IN(FMU_##mode)
+#define MASK_EnterInitializationMode M(INSTANTIATED)
+#define MASK_ExitInitializationMode M(INITIALIZATION)
+#define MASK_Terminate M(STEP)
+#define MASK_Reset FMU_ANY_MODE
+#define MASK_GetValues (M(INITIALIZATION) | M(STEP) | M(TERMINATED))
+#define MASK_SetValues (M(INSTANTIATED) | M(INITIALIZATION) | M(STEP))
+#define MASK_DoStep M(STEP)
 
 static void fmi3_log(fmu_callback callback, void *environment, const char *name, fmu_status status,
                      const char *category, const char *message)
@@ -24,17 +40,23 @@ static fmi3Status unsupported(fmi3Instance instance, const char *function)
 }
 
 /* The FMU has Float64 and Boolean variables only: a value reference of any other type is unknown. */
-static fmi3Status no_variables(fmi3Instance instance, const char *function, const fmi3ValueReference vr[], size_t n)
+static fmi3Status no_variables(fmi3Instance instance, const char *function, unsigned mask,
+                               const fmi3ValueReference vr[], size_t n, const void *values, size_t nValues)
 {
-    REQUIRE_INSTANCE(instance);
+    REQUIRE_STATE(instance, function, mask);
+    if (nValues != n)
+        return (fmi3Status)fmu_log(MODEL(instance), FMU_ERROR, "%s: nValues = %zu: must equal "
+                                   "nValueReferences = %zu", function, nValues, n);
+    if (fmu_check_arrays(MODEL(instance), function, n, vr, values) != FMU_OK) return fmi3Error;
     if (n == 0) return fmi3OK;
     return (fmi3Status)fmu_log(MODEL(instance), FMU_ERROR, "%s: value reference %u is not of this type (the FMU "
                                "has Float64 and Boolean variables only)", function, vr[0]);
 }
 
-static fmi3Status check_sizes(fmi3Instance instance, const char *function, size_t nvr, size_t nValues)
+static fmi3Status check_sizes(fmi3Instance instance, const char *function, size_t nvr, size_t nValues,
+                              const void *vr, const void *values)
 {
-    if (nvr == nValues) return fmi3OK;
+    if (nvr == nValues) return (fmi3Status)fmu_check_arrays(MODEL(instance), function, nvr, vr, values);
     return (fmi3Status)fmu_log(MODEL(instance), FMU_ERROR, "%s: nValues = %zu: must equal nValueReferences = %zu "
                                "(every variable is a scalar)", function, nValues, nvr);
 }
@@ -46,7 +68,7 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, siz
 {
     (void)nCategories;
     (void)categories;
-    REQUIRE_INSTANCE(instance);
+    REQUIRE_INSTANCE(instance);   /* allowed in every state */
     MODEL(instance)->debug_logging = loggingOn;
     return fmi3OK;
 }
@@ -124,27 +146,28 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
 {
     (void)toleranceDefined;
     (void)tolerance;
-    (void)stopTimeDefined;
-    (void)stopTime;
-    REQUIRE_INSTANCE(instance);
+    REQUIRE_STATE(instance, "fmi3EnterInitializationMode", MASK_EnterInitializationMode);
+    if (stopTimeDefined && !(stopTime >= startTime))
+        return (fmi3Status)fmu_log(MODEL(instance), FMU_ERROR, "fmi3EnterInitializationMode: stopTime = %g s: "
+                                   "must not precede startTime = %g s", stopTime, startTime);
     return (fmi3Status)fmu_enter_initialization(MODEL(instance), startTime);
 }
 
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
 {
-    REQUIRE_INSTANCE(instance);
+    REQUIRE_STATE(instance, "fmi3ExitInitializationMode", MASK_ExitInitializationMode);
     return (fmi3Status)fmu_exit_initialization(MODEL(instance));
 }
 
 fmi3Status fmi3Terminate(fmi3Instance instance)
 {
-    REQUIRE_INSTANCE(instance);
+    REQUIRE_STATE(instance, "fmi3Terminate", MASK_Terminate);
     return (fmi3Status)fmu_terminate(MODEL(instance));
 }
 
 fmi3Status fmi3Reset(fmi3Instance instance)
 {
-    REQUIRE_INSTANCE(instance);
+    REQUIRE_STATE(instance, "fmi3Reset", MASK_Reset);
     return (fmi3Status)fmu_reset(MODEL(instance));
 }
 
@@ -153,16 +176,18 @@ fmi3Status fmi3Reset(fmi3Instance instance)
 fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                           size_t nValueReferences, fmi3Float64 values[], size_t nValues)
 {
-    REQUIRE_INSTANCE(instance);
-    if (check_sizes(instance, "fmi3GetFloat64", nValueReferences, nValues) != fmi3OK) return fmi3Error;
+    REQUIRE_STATE(instance, "fmi3GetFloat64", MASK_GetValues);
+    if (check_sizes(instance, "fmi3GetFloat64", nValueReferences, nValues, valueReferences, values) != fmi3OK)
+        return fmi3Error;
     return (fmi3Status)fmu_get_real(MODEL(instance), valueReferences, nValueReferences, values);
 }
 
 fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                           size_t nValueReferences, const fmi3Float64 values[], size_t nValues)
 {
-    REQUIRE_INSTANCE(instance);
-    if (check_sizes(instance, "fmi3SetFloat64", nValueReferences, nValues) != fmi3OK) return fmi3Error;
+    REQUIRE_STATE(instance, "fmi3SetFloat64", MASK_SetValues);
+    if (check_sizes(instance, "fmi3SetFloat64", nValueReferences, nValues, valueReferences, values) != fmi3OK)
+        return fmi3Error;
     return (fmi3Status)fmu_set_real(MODEL(instance), valueReferences, nValueReferences, values);
 }
 
@@ -170,8 +195,9 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference valueR
 fmi3Status fmi3GetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                           size_t nValueReferences, fmi3Boolean values[], size_t nValues)
 {
-    REQUIRE_INSTANCE(instance);
-    if (check_sizes(instance, "fmi3GetBoolean", nValueReferences, nValues) != fmi3OK) return fmi3Error;
+    REQUIRE_STATE(instance, "fmi3GetBoolean", MASK_GetValues);
+    if (check_sizes(instance, "fmi3GetBoolean", nValueReferences, nValues, valueReferences, values) != fmi3OK)
+        return fmi3Error;
     for (size_t i = 0; i < nValueReferences; ++i) {
         int value;
         fmu_status s = fmu_get_boolean(MODEL(instance), &valueReferences[i], 1, &value);
@@ -184,8 +210,9 @@ fmi3Status fmi3GetBoolean(fmi3Instance instance, const fmi3ValueReference valueR
 fmi3Status fmi3SetBoolean(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                           size_t nValueReferences, const fmi3Boolean values[], size_t nValues)
 {
-    REQUIRE_INSTANCE(instance);
-    if (check_sizes(instance, "fmi3SetBoolean", nValueReferences, nValues) != fmi3OK) return fmi3Error;
+    REQUIRE_STATE(instance, "fmi3SetBoolean", MASK_SetValues);
+    if (check_sizes(instance, "fmi3SetBoolean", nValueReferences, nValues, valueReferences, values) != fmi3OK)
+        return fmi3Error;
     for (size_t i = 0; i < nValueReferences; ++i) {
         int value = values[i] ? 1 : 0;
         fmu_status s = fmu_set_boolean(MODEL(instance), &valueReferences[i], 1, &value);
@@ -202,7 +229,7 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
                       fmi3Float64 *lastSuccessfulTime)
 {
     (void)noSetFMUStatePriorToCurrentPoint;
-    REQUIRE_INSTANCE(instance);
+    REQUIRE_STATE(instance, "fmi3DoStep", MASK_DoStep);
     fmu_status s = fmu_do_step(MODEL(instance), currentCommunicationPoint, communicationStepSize);
     if (eventHandlingNeeded) *eventHandlingNeeded = false;
     if (terminateSimulation) *terminateSimulation = false;
@@ -216,163 +243,164 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
 fmi3Status fmi3GetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                           size_t nValueReferences, fmi3Float32 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetFloat32", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetFloat32", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                        size_t nValueReferences, fmi3Int8 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetInt8", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetInt8", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, fmi3UInt8 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetUInt8", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetUInt8", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, fmi3Int16 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetInt16", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetInt16", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, fmi3UInt16 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetUInt16", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetUInt16", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, fmi3Int32 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetInt32", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetInt32", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, fmi3UInt32 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetUInt32", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetUInt32", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, fmi3Int64 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetInt64", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetInt64", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, fmi3UInt64 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetUInt64", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetUInt64", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, fmi3String values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetString", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3GetString", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3GetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, size_t valueSizes[], fmi3Binary values[], size_t nValues)
 {
-    (void)valueSizes; (void)values; (void)nValues;
-    return no_variables(instance, "fmi3GetBinary", valueReferences, nValueReferences);
+    (void)valueSizes;
+    return no_variables(instance, "fmi3GetBinary", MASK_GetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetFloat32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                           size_t nValueReferences, const fmi3Float32 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetFloat32", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetFloat32", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                        size_t nValueReferences, const fmi3Int8 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetInt8", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetInt8", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetUInt8(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, const fmi3UInt8 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetUInt8", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetUInt8", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, const fmi3Int16 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetInt16", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetInt16", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetUInt16(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, const fmi3UInt16 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetUInt16", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetUInt16", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, const fmi3Int32 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetInt32", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetInt32", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetUInt32(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, const fmi3UInt32 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetUInt32", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetUInt32", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                         size_t nValueReferences, const fmi3Int64 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetInt64", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetInt64", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, const fmi3UInt64 values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetUInt64", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetUInt64", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetString(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, const fmi3String values[], size_t nValues)
 {
-    (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetString", valueReferences, nValueReferences);
+    return no_variables(instance, "fmi3SetString", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 fmi3Status fmi3SetBinary(fmi3Instance instance, const fmi3ValueReference valueReferences[],
                          size_t nValueReferences, const size_t valueSizes[], const fmi3Binary values[],
                          size_t nValues)
 {
-    (void)valueSizes; (void)values; (void)nValues;
-    return no_variables(instance, "fmi3SetBinary", valueReferences, nValueReferences);
+    (void)valueSizes;
+    return no_variables(instance, "fmi3SetBinary", MASK_SetValues, valueReferences, nValueReferences,
+                        values, nValues);
 }
 
 /* ---- not offered: model exchange, scheduled execution, clocks, FMU state, derivatives, event mode */
 
 fmi3Status fmi3EnterEventMode(fmi3Instance instance)
 {
-    
     return unsupported(instance, "fmi3EnterEventMode");
 }
 
@@ -466,13 +494,11 @@ fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueRefere
 
 fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance)
 {
-    
     return unsupported(instance, "fmi3EnterConfigurationMode");
 }
 
 fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance)
 {
-    
     return unsupported(instance, "fmi3ExitConfigurationMode");
 }
 
@@ -538,7 +564,6 @@ fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference 
 
 fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance)
 {
-    
     return unsupported(instance, "fmi3EvaluateDiscreteStates");
 }
 
@@ -555,7 +580,6 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discrete
 
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance)
 {
-    
     return unsupported(instance, "fmi3EnterContinuousTimeMode");
 }
 
@@ -619,7 +643,6 @@ fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t* nConti
 
 fmi3Status fmi3EnterStepMode(fmi3Instance instance)
 {
-    
     return unsupported(instance, "fmi3EnterStepMode");
 }
 

@@ -3,13 +3,16 @@
  * the native run. */
 #include "fmu_model.h"
 
+#include "railbrake/rb_bounds.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const mode_names[] = {"instantiated", "initialization mode", "step mode", "terminated"};
+static const char *const mode_names[] = {"instantiated", "initialization mode", "step mode", "terminated",
+                                         "in the error state (only reset or free it)"};
 static const char *const causality_names[] = {"independent", "parameter", "input", "output"};
 
 static void log_message(fmu_log_function log, fmu_callback callback, void *environment, const char *name,
@@ -23,6 +26,7 @@ static void log_message(fmu_log_function log, fmu_callback callback, void *envir
 
 fmu_status fmu_log(fmu_instance *m, fmu_status status, const char *format, ...)
 {
+    if (status >= FMU_ERROR) m->mode = FMU_ERROR_STATE;
     if (status >= FMU_ERROR || m->debug_logging) {
         va_list args;
         va_start(args, format);
@@ -47,6 +51,49 @@ fmu_status fmu_check_mode(fmu_instance *m, const char *function, unsigned allowe
     return fmu_log(m, FMU_ERROR, "%s: not allowed when the instance is %s", function, mode_names[m->mode]);
 }
 
+fmu_status fmu_check_arrays(fmu_instance *m, const char *function, size_t n, const void *vr, const void *values)
+{
+    if (n == 0 || (vr && values)) return FMU_OK;
+    return fmu_log(m, FMU_ERROR, "%s: %zu values with a NULL %s array", function, n,
+                   vr ? "value" : "value reference");
+}
+
+/* The first output of the instance's cars and axles that is not finite, or NULL. */
+static const char *nonfinite_output(const fmu_instance *m, double *value)
+{
+    const rb_plant_outputs *o = &m->out;
+    const double scalars[] = {o->time, o->speed, o->position, o->deceleration, o->main_reservoir, o->pipe_end,
+                              o->air_in_system, o->air_vented, o->air_compressed};
+    static const char *const scalar_names[] = {"time", "speed", "position", "deceleration", "main_reservoir",
+                                               "pipe_end", "air_in_system", "air_vented", "air_compressed"};
+    for (size_t i = 0; i < sizeof scalars / sizeof scalars[0]; ++i)
+        if (!isfinite(scalars[i])) { *value = scalars[i]; return scalar_names[i]; }
+    for (int c = 0; c < m->plant.n_cars; ++c) {
+        const double per_car[] = {o->supply[c], o->pilot[c], o->relay[c], o->ed_force[c], o->car_speed[c]};
+        static const char *const car_names[] = {"supply", "pilot", "relay", "ed_force", "car_speed"};
+        for (size_t i = 0; i < sizeof per_car / sizeof per_car[0]; ++i)
+            if (!isfinite(per_car[i])) { *value = per_car[i]; return car_names[i]; }
+    }
+    for (int a = 0; a < m->plant.n_cars * RB_AXLES_PER_CAR; ++a) {
+        const double per_axle[] = {o->wheel_speed[a], o->wheel_speed_measured[a], o->slip[a], o->adhesion[a],
+                                   o->cylinder[a]};
+        static const char *const axle_names[] = {"wheel_speed", "wheel_speed_measured", "slip", "adhesion",
+                                                 "cylinder"};
+        for (size_t i = 0; i < sizeof per_axle / sizeof per_axle[0]; ++i)
+            if (!isfinite(per_axle[i])) { *value = per_axle[i]; return axle_names[i]; }
+    }
+    return NULL;
+}
+
+static fmu_status check_finite(fmu_instance *m, const char *function)
+{
+    double value;
+    const char *name = nonfinite_output(m, &value);
+    if (!name) return FMU_OK;
+    return fmu_log(m, FMU_ERROR, "%s: output %s = %g at t = %.6f s is not finite: the parameters lie outside "
+                   "what the plant's numerics bear", function, name, value, fmu_time(m));
+}
+
 double fmu_time(const fmu_instance *m) { return (double)m->step * m->plant.dt; }
 
 /* ---- setup: the BCU's load-weighed pressure map follows the (possibly tuned) plant, as
@@ -54,7 +101,8 @@ double fmu_time(const fmu_instance *m) { return (double)m->step * m->plant.dt; }
 static fmu_status setup(fmu_instance *m)
 {
     rb_error err;
-    if (rb_plant_check(&m->plant, &err) != RB_OK)
+    if (rb_plant_check(&m->plant, &err) != RB_OK || rb_plant_bounds_check(&m->plant, &err) != RB_OK ||
+        rb_wsp_check(&m->wsp, &err) != RB_OK)
         return fmu_log(m, FMU_ERROR, "invalid parameter: %s", err.message);
     double supply = m->plant.car[0].vehicle.supply_pressure;
     for (int c = 1; c < m->plant.n_cars; ++c)
@@ -69,7 +117,7 @@ static fmu_status setup(fmu_instance *m)
     memset(&m->in, 0, sizeof m->in);
     rb_plant_get_outputs(&m->plant, &m->state, &m->out);
     m->step = 0;
-    return FMU_OK;
+    return check_finite(m, "initialization");
 }
 
 static fmu_status load_defaults(fmu_instance *m)
@@ -78,7 +126,9 @@ static fmu_status load_defaults(fmu_instance *m)
     memset(m, 0, keep);
     fmu_scenario_defaults(m);
     m->mode = FMU_INSTANTIATED;
-    return setup(m);
+    fmu_status s = setup(m);
+    if (s == FMU_OK) m->mode = FMU_INSTANTIATED;
+    return s;
 }
 
 fmu_instance *fmu_instantiate(const char *name, const char *token, fmu_log_function log, fmu_callback log_callback,
@@ -111,10 +161,9 @@ void fmu_free(fmu_instance *m) { free(m); }
 
 fmu_status fmu_reset(fmu_instance *m) { return load_defaults(m); }
 
+/* The FMI layers check the state (each function its own mask); these only move it on. */
 fmu_status fmu_enter_initialization(fmu_instance *m, double start_time)
 {
-    fmu_status s = fmu_check_mode(m, "enterInitializationMode", FMU_IN(FMU_INSTANTIATED));
-    if (s != FMU_OK) return s;
     if (start_time != 0.0)
         return fmu_log(m, FMU_ERROR, "startTime = %g s: must be 0 (the scenario starts at t = 0)", start_time);
     m->mode = FMU_INITIALIZATION;
@@ -123,17 +172,16 @@ fmu_status fmu_enter_initialization(fmu_instance *m, double start_time)
 
 fmu_status fmu_exit_initialization(fmu_instance *m)
 {
-    fmu_status s = fmu_check_mode(m, "exitInitializationMode", FMU_IN(FMU_INITIALIZATION));
-    if (s != FMU_OK || (s = setup(m)) != FMU_OK) return s;
+    fmu_status s = setup(m);
+    if (s != FMU_OK) return s;
     m->mode = FMU_STEP;
     return FMU_OK;
 }
 
 fmu_status fmu_terminate(fmu_instance *m)
 {
-    fmu_status s = fmu_check_mode(m, "terminate", FMU_IN(FMU_INITIALIZATION) | FMU_IN(FMU_STEP));
-    if (s == FMU_OK) m->mode = FMU_TERMINATED;
-    return s;
+    m->mode = FMU_TERMINATED;
+    return FMU_OK;
 }
 
 /* ---- variable access */
@@ -175,6 +223,8 @@ fmu_status fmu_get_real(fmu_instance *m, const unsigned *vr, size_t n, double *v
         const fmu_variable *v = lookup(m, "getReal", vr[i], FMU_REAL);
         if (!v) return FMU_ERROR;
         memcpy(&values[i], (const char *)m + v->offset, sizeof(double));
+        if (!isfinite(values[i]))   /* only after a failed step; never handed out as OK */
+            return fmu_log(m, FMU_ERROR, "getReal: %s = %g is not finite", v->name, values[i]);
     }
     return FMU_OK;
 }
@@ -247,17 +297,23 @@ static void step_once(fmu_instance *m)
 
 fmu_status fmu_do_step(fmu_instance *m, double t, double h)
 {
-    fmu_status s = fmu_check_mode(m, "doStep", FMU_IN(FMU_STEP));
-    if (s != FMU_OK) return s;
-    double dt = m->plant.dt, steps = h / dt;
-    int64_t n = (int64_t)llround(steps);
-    if (!isfinite(h) || n < 1 || fabs(steps - (double)n) > 1e-6)
+    double dt = m->plant.dt;
+    if (!isfinite(h) || !(h > 0.0) || h > FMU_MAX_STEP_SIZE)
+        return fmu_log(m, FMU_ERROR, "doStep: communicationStepSize = %g s: must be a whole number (>= 1) of "
+                       "the fixed step %g s, at most %g s", h, dt, FMU_MAX_STEP_SIZE);
+    double steps = h / dt;
+    int64_t n = (int64_t)llround(steps);   /* h <= FMU_MAX_STEP_SIZE: in range */
+    if (n < 1 || fabs(steps - (double)n) > 1e-6)
         return fmu_log(m, FMU_ERROR, "doStep: communicationStepSize = %g s: must be a whole number (>= 1) of "
                        "the fixed step %g s", h, dt);
     if (!isfinite(t) || fabs(t - fmu_time(m)) > 1e-6 * dt)
         return fmu_log(m, FMU_ERROR, "doStep: currentCommunicationPoint = %.9g s: must equal the FMU's time "
                        "%.9g s", t, fmu_time(m));
     switch_faults(m);
-    for (int64_t i = 0; i < n; ++i) step_once(m);
+    for (int64_t i = 0; i < n; ++i) {
+        step_once(m);
+        fmu_status s = check_finite(m, "doStep");
+        if (s != FMU_OK) return s;
+    }
     return FMU_OK;
 }

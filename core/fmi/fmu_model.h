@@ -20,7 +20,13 @@
 /* Status codes, numbered as fmi2Status and fmi3Status. */
 typedef enum { FMU_OK = 0, FMU_WARNING = 1, FMU_DISCARD = 2, FMU_ERROR = 3, FMU_FATAL = 4 } fmu_status;
 
-typedef enum { FMU_INSTANTIATED, FMU_INITIALIZATION, FMU_STEP, FMU_TERMINATED } fmu_mode;
+/* The co-simulation states both FMI versions share; FMU_ERROR_STATE is entered by every call that
+ * returns Error (the standard then allows only reset, free and, in FMI 2, reading values). */
+typedef enum { FMU_INSTANTIATED, FMU_INITIALIZATION, FMU_STEP, FMU_TERMINATED, FMU_ERROR_STATE } fmu_mode;
+
+/* Longest communication step one doStep accepts: 10 min of plant time, longer than any stop,
+ * short enough that the call returns (600 000 plant steps of 1 ms). */
+#define FMU_MAX_STEP_SIZE 600.0
 
 typedef enum { FMU_REAL, FMU_BOOLEAN } fmu_type;
 typedef enum { FMU_INDEPENDENT, FMU_PARAMETER, FMU_INPUT, FMU_OUTPUT } fmu_causality;
@@ -88,19 +94,26 @@ fmu_status fmu_get_real(fmu_instance *m, const unsigned *vr, size_t n, double *v
 fmu_status fmu_set_real(fmu_instance *m, const unsigned *vr, size_t n, const double *values);
 fmu_status fmu_get_boolean(fmu_instance *m, const unsigned *vr, size_t n, int *values);
 fmu_status fmu_set_boolean(fmu_instance *m, const unsigned *vr, size_t n, const int *values);
-/* Advances from time t by h, a whole number of plant steps. */
+/* Advances from time t by h, a whole number of plant steps (at most FMU_MAX_STEP_SIZE); Error
+ * when an output stops being finite (the step stops there). */
 fmu_status fmu_do_step(fmu_instance *m, double t, double h);
 double fmu_time(const fmu_instance *m);
 
-/* Logs (errors always, other messages when debug logging is on) and returns status. */
+/* Logs (errors always, other messages when debug logging is on) and returns status; an Error
+ * or Fatal status puts the instance in FMU_ERROR_STATE. */
 fmu_status fmu_log(fmu_instance *m, fmu_status status, const char *format, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
-/* Error unless the instance is in one of the allowed modes (a bit mask of 1 << fmu_mode). */
+/* Error (and the error state) unless the instance is in one of the allowed modes, a bit mask of
+ * 1 << fmu_mode: each FMI function has its own mask (fmi2.c, fmi3.c), from the standard's
+ * state-machine tables (FMI 2.0.4 section 4.2.4, FMI 3.0 section 4.3). */
 fmu_status fmu_check_mode(fmu_instance *m, const char *function, unsigned allowed);
 #define FMU_IN(mode) (1u << (mode))
-#define FMU_ANY_MODE (FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION) | FMU_IN(FMU_STEP) | FMU_IN(FMU_TERMINATED))
+#define FMU_ANY_MODE (FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION) | FMU_IN(FMU_STEP) | \
+                      FMU_IN(FMU_TERMINATED) | FMU_IN(FMU_ERROR_STATE))
+/* Error unless n == 0 or both arrays are given. */
+fmu_status fmu_check_arrays(fmu_instance *m, const char *function, size_t n, const void *vr, const void *values);
 
 #endif

@@ -1,5 +1,6 @@
 /* Brake control unit: demand -> EP pressure per car, ED blending, WSP plug-in. */
 #include "railbrake/rb_bcu.h"
+#include "railbrake/rb_bounds.h"
 
 #include <string.h>
 
@@ -16,6 +17,15 @@ rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err)
         if ((s = rb_check_positive(err, "bcu.car_mass", p->car_mass[c]))) return s;
         if ((s = rb_check_nonnegative(err, "bcu.pressure_gain", p->pressure_gain[c]))) return s;
         if ((s = rb_check_range(err, "bcu.pressure_max", p->pressure_max[c], p->atmosphere, 2e6))) return s;
+        if (!p->demand_tables) continue;
+        if ((s = rb_speed_table_check(&p->emergency_force[c], "bcu.emergency_force", 0.0, 1e7, err))) return s;
+        if ((s = rb_speed_table_check(&p->service_force[c], "bcu.service_force", 0.0, 1e7, err))) return s;
+        if ((s = rb_speed_table_check(&p->pressure_per_newton[c], "bcu.pressure_per_newton", 0.0, 1e3, err)))
+            return s;
+    }
+    if (p->demand_tables) {
+        if ((s = rb_speed_table_check(&p->emergency_profile, "bcu.emergency_profile", 0.0, 5.0, err))) return s;
+        if ((s = rb_speed_table_check(&p->service_profile, "bcu.service_profile", 0.0, 5.0, err))) return s;
     }
     return RB_OK;
 }
@@ -25,6 +35,7 @@ rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_s
     rb_status st;
     if ((st = rb_bcu_check(p, err))) return st;
     if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a BCU state is required");
+    if (wsp && (st = rb_wsp_check(wsp, err))) return st;
     memset(s, 0, sizeof *s);
     rb_wsp_params defaults;
     rb_wsp_default_params(&defaults);
@@ -50,10 +61,10 @@ void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_b
     }
 }
 
-static double car_pressure(const rb_bcu_params *p, int c, double force)
+static double car_pressure(const rb_bcu_params *p, int c, double pa_per_n, double force)
 {
     if (force <= 0.0) return p->atmosphere;
-    double pressure = p->pressure_offset[c] + p->pressure_gain[c] * force;
+    double pressure = p->pressure_offset[c] + pa_per_n * force;
     return pressure < p->pressure_max[c] ? pressure : p->pressure_max[c];
 }
 
@@ -67,11 +78,41 @@ static void share_bogie_commands(rb_wsp_commands *c, int n_axles)
     }
 }
 
+double rb_bcu_speed(const rb_plant_outputs *out, int n_cars)
+{
+    double v = 0.0;
+    for (int a = 0; a < n_cars * RB_AXLES_PER_CAR; ++a)
+        if (out->wheel_speed_measured[a] > v) v = out->wheel_speed_measured[a];
+    return v;
+}
+
+double rb_bcu_demand_deceleration(const rb_bcu_params *p, const rb_brake_demand *d, double speed)
+{
+    int emergency = d->emergency > 0.5;
+    if (!p->demand_tables) return emergency ? p->emergency_decel : d->service * p->service_decel;
+    return emergency ? rb_speed_table_at(&p->emergency_profile, speed)
+                     : d->service * rb_speed_table_at(&p->service_profile, speed);
+}
+
+/* Brake force car c must give (N, ED plus pneumatic) and the Pa per N of its pneumatic law. */
+static double car_force(const rb_bcu_params *p, int c, int emergency, double service, double speed,
+                        double *pa_per_n)
+{
+    if (!p->demand_tables) {
+        *pa_per_n = p->pressure_gain[c];
+        return (emergency ? p->emergency_decel : service * p->service_decel) * p->car_mass[c];
+    }
+    *pa_per_n = rb_speed_table_at(&p->pressure_per_newton[c], speed);
+    return emergency ? rb_speed_table_at(&p->emergency_force[c], speed)
+                     : service * rb_speed_table_at(&p->service_force[c], speed);
+}
+
 static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *d,
                       const rb_plant_outputs *out)
 {
     int emergency = d->emergency > 0.5;
-    double decel = emergency ? p->emergency_decel : d->service * p->service_decel;
+    double speed = rb_bcu_speed(out, p->n_cars);   /* the tables' speed: the fastest measured wheel */
+    int ed_step = emergency ? p->ed_in_emergency : (p->demand_tables ? p->ed_in_service : 1);
     rb_wsp_inputs *w = &s->wsp_in;
     w->time = out->time;
     w->cycle = out->time - s->last_cycle;
@@ -80,11 +121,12 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
     for (int c = 0; c < p->n_cars; ++c) {
         int wsp_active = 0;
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) wsp_active |= s->wsp.active[c * RB_AXLES_PER_CAR + k];
-        double needed = decel * p->car_mass[c];
-        int ed_allowed = p->motor[c] && (!emergency || p->ed_in_emergency) && !wsp_active;
+        double gain = 0.0;
+        double needed = car_force(p, c, emergency, d->service, speed, &gain);
+        int ed_allowed = p->motor[c] && ed_step && !wsp_active;
         s->command.ed_demand[c] = ed_allowed ? needed : 0.0;
         double ed = ed_allowed ? out->ed_force[c] : 0.0;
-        s->command.pressure_demand[c] = car_pressure(p, c, needed - ed);
+        s->command.pressure_demand[c] = car_pressure(p, c, gain, needed - ed);
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
             w->wheel_speed[a] = out->wheel_speed_measured[a];
@@ -112,3 +154,5 @@ void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand 
     }
     *in = s->command;
 }
+
+size_t rb_bcu_params_size(void) { return sizeof(rb_bcu_params); }

@@ -1,7 +1,8 @@
-#include "railbrake/rb_build.h"
+/* Build identification: a hash of the core's sources, so a result file can name the exact core
+ * that made it. CMake computes RB_BUILD_HASH at configure time (core/CMakeLists.txt); a build
+ * without it (an FMU compiled from the shipped sources) reports "unknown". */
+#include "railbrake/rb_common.h"
 
-/* RB_BUILD_HASH is defined for this file only (core/CMakeLists.txt), so a source edit recompiles
- * this one file, not the whole core. */
 #ifndef RB_BUILD_HASH
 #define RB_BUILD_HASH "unknown"
 #endif

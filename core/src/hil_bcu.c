@@ -10,7 +10,7 @@
 size_t rb_hil_bcu_size(void) { return sizeof(rb_hil_bcu); }
 
 rb_status rb_hil_bcu_open(const rb_bcu_params *bcu, const rb_wsp_params *wsp, const rb_scenario *scenario,
-                          const char *host, int port, rb_hil_bcu *b, rb_error *err)
+                          uint32_t config, const char *host, int port, rb_hil_bcu *b, rb_error *err)
 {
     rb_status s;
     if (!b || !scenario) return rb_fail(err, RB_EINVAL, "server and scenario must not be NULL");
@@ -18,7 +18,10 @@ rb_status rb_hil_bcu_open(const rb_bcu_params *bcu, const rb_wsp_params *wsp, co
         return rb_fail(err, RB_EINVAL, "n_demand = %d: must be in [1, %d]", scenario->n_demand, RB_MAX_DEMAND_STEPS);
     memset(b, 0, sizeof *b);
     b->udp.fd = -1;
-    if ((s = rb_bcu_init(bcu, wsp, &b->state, err))) return s;
+    if (wsp) b->wsp = *wsp;
+    else rb_wsp_default_params(&b->wsp);
+    b->config = config;
+    if ((s = rb_bcu_init(bcu, &b->wsp, &b->state, err))) return s;
     if ((s = rb_udp_open(&b->udp, host, port, err))) return s;
     b->start_ns = rb_monotonic_ns();
     return RB_OK;
@@ -28,8 +31,19 @@ int rb_hil_bcu_port(const rb_hil_bcu *b) { return rb_udp_local_port(&b->udp); }
 
 void rb_hil_bcu_counters(const rb_hil_bcu *b, uint64_t counts[RB_HIL_BCU_COUNTERS])
 {
-    uint64_t c[RB_HIL_BCU_COUNTERS] = {b->received, b->malformed, b->stale, b->sent, b->send_errors, b->cycles};
+    uint64_t c[RB_HIL_BCU_COUNTERS] = {b->received, b->malformed, b->stale, b->sent, b->send_errors, b->cycles,
+                                       b->foreign, b->refused};
     memcpy(counts, c, sizeof c);
+}
+
+int rb_hil_bcu_refusal(const rb_hil_bcu *b, uint32_t *config, int *cars, int *axles, char *from, size_t from_size)
+{
+    if (!b->refused) return 0;
+    if (config) *config = b->refused_config;
+    if (cars) *cars = b->refused_cars;
+    if (axles) *axles = b->refused_axles;
+    if (from && from_size) rb_udp_format(b->refused_from, from, from_size);
+    return 1;
 }
 
 void rb_hil_bcu_close(rb_hil_bcu *b)
@@ -58,6 +72,8 @@ static void send_commands(const rb_bcu_params *p, rb_hil_bcu *b, const rb_brake_
     size_t size = 0;
     const rb_plant_inputs *in = &b->state.command;
     int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    f.header.session = b->session;
+    f.header.config = b->config;
     f.header.sequence = b->sequence++;
     f.header.step = step;
     f.header.n_cars = (uint8_t)p->n_cars;
@@ -73,27 +89,96 @@ static void send_commands(const rb_bcu_params *p, rb_hil_bcu *b, const rb_brake_
         b->send_errors++;
 }
 
-/* One datagram: a valid plant frame of this train, newer than the last, runs the BCU. */
+/* A plant of another configuration: counted, remembered (the first), and told at most every 0.1 s
+ * with a frame that carries this BCU's digest and the plant's session (released commands). */
+static void refuse(const rb_bcu_params *p, rb_hil_bcu *b, const rb_plant_frame *f, const uint8_t from[16], int64_t now)
+{
+    if (!b->refused++) {
+        b->refused_config = f->header.config;
+        b->refused_cars = f->header.n_cars;
+        b->refused_axles = f->header.n_axles;
+        memcpy(b->refused_from, from, sizeof b->refused_from);
+    }
+    if (b->last_refusal_ns && now - b->last_refusal_ns < 100000000) return;
+    b->last_refusal_ns = now;
+    rb_bcu_frame r;
+    size_t size = 0;
+    memset(&r, 0, sizeof r);
+    r.header.session = f->header.session;
+    r.header.config = b->config;
+    r.header.sequence = b->sequence++;
+    r.header.step = f->header.step;
+    r.header.n_cars = (uint8_t)p->n_cars;
+    r.header.n_axles = (uint8_t)(p->n_cars * RB_AXLES_PER_CAR);
+    for (int c = 0; c < p->n_cars; ++c) r.pressure_demand[c] = (float)p->atmosphere;
+    if (rb_bcu_frame_encode(&r, b->buffer, sizeof b->buffer, &size, NULL) == RB_OK &&
+        rb_udp_send_to(&b->udp, from, b->buffer, size) == (long)size)
+        b->sent++;
+    else
+        b->send_errors++;
+}
+
+/* Opens a session for the plant at `from` (the first, or after the last one fell silent): the BCU
+ * starts afresh at the frame's time. */
+static void open_session(const rb_bcu_params *p, rb_hil_bcu *b, const rb_plant_frame *f, const uint8_t from[16])
+{
+    if (b->session) rb_bcu_init(p, &b->wsp, &b->state, NULL);   /* checked at open: cannot fail */
+    b->session = f->header.session;
+    memcpy(b->udp.peer, from, sizeof b->udp.peer);
+    b->udp.have_peer = 1;
+    b->have_frame = 0;
+}
+
+/* Is the frame from the session's plant, or may it open a session? 0: foreign. */
+static int in_session(const rb_bcu_params *p, rb_hil_bcu *b, const rb_plant_frame *f, const uint8_t from[16],
+                      int64_t now)
+{
+    int same = b->session && f->header.session == b->session && rb_udp_same_address(from, b->udp.peer);
+    if (!same) {
+        int silent = !b->session || (double)(now - b->last_frame_ns) * 1e-9 >= RB_HIL_SESSION_IDLE;
+        if (!silent) return 0;
+        open_session(p, b, f, from);
+        return 1;
+    }
+    /* a step far ahead of the wall time since the last frame is forged or corrupt: not applied */
+    uint64_t ahead = RB_HIL_MAX_STEP_JUMP + (uint64_t)((now - b->last_frame_ns) / 1000000);
+    return !(b->have_frame && f->header.step > b->last_step && f->header.step - b->last_step > ahead);
+}
+
+/* One datagram: a valid plant frame of this BCU's configuration, from its session, newer than the
+ * last, runs the BCU. */
 static void take_datagram(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_bcu *b, long size,
                           const uint8_t from[16])
 {
     rb_plant_frame f;
-    if ((size_t)size > sizeof b->buffer || rb_plant_frame_decode(b->buffer, (size_t)size, &f, NULL) != RB_OK ||
-        f.header.n_cars != p->n_cars || f.header.n_axles != p->n_cars * RB_AXLES_PER_CAR) {
-        b->malformed++;
+    int64_t now = rb_monotonic_ns();
+    int from_peer = b->session && rb_udp_same_address(from, b->udp.peer);
+    if ((size_t)size > sizeof b->buffer || rb_plant_frame_decode(b->buffer, (size_t)size, &f, NULL) != RB_OK) {
+        if (b->session && !from_peer) b->foreign++;
+        else b->malformed++;
+        return;
+    }
+    if (!b->first_datagram_ns) b->first_datagram_ns = now;   /* a plant frame: the idle clock runs */
+    if (f.header.config != b->config || f.header.n_cars != p->n_cars ||
+        f.header.n_axles != p->n_cars * RB_AXLES_PER_CAR) {
+        if (b->session && !from_peer) b->foreign++;
+        else refuse(p, b, &f, from, now);
+        return;
+    }
+    if (!in_session(p, b, &f, from, now)) {
+        b->foreign++;
         return;
     }
     b->received++;
     if (b->have_frame && f.header.step <= b->last_step) {
         b->stale++;   /* duplicated or reordered: the BCU does not go back in time */
+        b->last_frame_ns = now;
         return;
     }
     if (!b->have_frame) b->state.next_cycle = b->state.last_cycle = (double)f.header.step * RB_HIL_DT;
     b->have_frame = 1;
     b->last_step = f.header.step;
-    b->last_frame_ns = rb_monotonic_ns();
-    memcpy(b->udp.peer, from, sizeof b->udp.peer);   /* answer whoever sends the plant frames */
-    b->udp.have_peer = 1;
+    b->last_frame_ns = now;
     outputs_from_frame(&f, &b->out);
     rb_brake_demand d = rb_scenario_demand(sc, b->out.time);
     double next = b->state.next_cycle;
@@ -116,10 +201,14 @@ static void drain(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_bcu *b)
     }
 }
 
+/* The idle clock runs from the last session frame, or from the first plant frame of any
+ * configuration while no session frame came (a plant of another configuration does not keep the
+ * BCU up forever; garbage does not start the clock). */
 static int over(const rb_hil_bcu *b, double duration, double idle_timeout, int64_t now)
 {
     if (duration > 0.0 && (double)(now - b->start_ns) * 1e-9 >= duration) return 1;
-    return b->have_frame && idle_timeout > 0.0 && (double)(now - b->last_frame_ns) * 1e-9 >= idle_timeout;
+    int64_t since = b->have_frame ? b->last_frame_ns : b->first_datagram_ns;
+    return since && idle_timeout > 0.0 && (double)(now - since) * 1e-9 >= idle_timeout;
 }
 
 rb_status rb_hil_bcu_serve(const rb_bcu_params *bcu, const rb_scenario *scenario, rb_hil_bcu *b, double for_s,

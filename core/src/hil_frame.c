@@ -3,6 +3,7 @@
 #include "railbrake/rb_hil_frame.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 uint32_t rb_crc32(const uint8_t *data, size_t size)
@@ -13,6 +14,14 @@ uint32_t rb_crc32(const uint8_t *data, size_t size)
         for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
     }
     return ~crc;
+}
+
+uint32_t rb_hil_config_digest(const char *train, int n_cars, int n_axles, double dt)
+{
+    char text[256];
+    int n = snprintf(text, sizeof text, "railbrake-hil/2 train=%.180s cars=%d axles=%d step_us=%lld",
+                     train ? train : "", n_cars, n_axles, (long long)llround(dt * 1e6));
+    return rb_crc32((const uint8_t *)text, n < 0 ? 0 : (size_t)n < sizeof text ? (size_t)n : sizeof text - 1);
 }
 
 /* ---- little-endian writer/reader over a bounded buffer */
@@ -57,6 +66,8 @@ static void put_header(writer *w, const rb_frame_header *h, rb_frame_type type, 
     put_u8(w, (uint8_t)RB_FRAME_VERSION);
     put_u8(w, (uint8_t)type);
     put_u16(w, payload);
+    put_u32(w, h->session);
+    put_u32(w, h->config);
     put_u32(w, h->sequence);
     put_u64(w, h->step);
     put_u8(w, h->n_cars);
@@ -130,6 +141,8 @@ static rb_status read_header(reader *r, size_t size, rb_frame_type type, rb_fram
     if (version != RB_FRAME_VERSION) return rb_fail(err, RB_EINVAL, "version = %u: expected %u", version, RB_FRAME_VERSION);
     if (got_type != (unsigned)type) return rb_fail(err, RB_EINVAL, "type = %u: expected %u", got_type, (unsigned)type);
     unsigned payload = get_u16(r);
+    h->session = get_u32(r);
+    h->config = get_u32(r);
     h->sequence = get_u32(r);
     h->step = get_u64(r);
     h->n_cars = get_u8(r);
@@ -138,9 +151,14 @@ static rb_status read_header(reader *r, size_t size, rb_frame_type type, rb_fram
     rb_status s = check_counts(h, err);
     if (s) return s;
     size_t expected = frame_size(h->n_cars, h->n_axles);
-    if (size != expected || payload != expected - RB_FRAME_HEADER_SIZE - RB_FRAME_CRC_SIZE)
+    size_t expected_payload = expected - RB_FRAME_HEADER_SIZE - RB_FRAME_CRC_SIZE;
+    if (size != expected)
         return rb_fail(err, RB_EINVAL, "size = %zu: expected %zu for %d cars and %d axles", size, expected,
                        h->n_cars, h->n_axles);
+    if (payload != expected_payload)
+        return rb_fail(err, RB_EINVAL, "payload_size = %u: expected %zu for %d cars and %d axles", payload,
+                       expected_payload, h->n_cars, h->n_axles);
+    if (h->session == 0) return rb_fail(err, RB_EINVAL, "session = 0: a plant opens a non-zero session");
     reader crc_at = {r->p, size - RB_FRAME_CRC_SIZE};
     uint32_t crc = get_u32(&crc_at), computed = rb_crc32(r->p, size - RB_FRAME_CRC_SIZE);
     if (crc != computed) return rb_fail(err, RB_EINVAL, "crc = 0x%08x: computed 0x%08x", crc, computed);

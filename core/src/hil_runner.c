@@ -2,6 +2,7 @@
  * between the newest valid commands and the safe state, steps the plant, sends the plant frame,
  * records decimated channels and sleeps until the next absolute deadline. */
 #include "railbrake/rb_hil.h"
+#include "railbrake/rb_bounds.h"
 #include "channels_internal.h"
 
 #include <math.h>
@@ -91,6 +92,8 @@ static rb_status check_config(const rb_plant_params *plant, const rb_hil_config 
     if ((s = rb_check_range(err, "duration", c->duration, RB_HIL_DT, 86400.0))) return s;
     if ((s = rb_check_nonnegative(err, "stop_speed", c->stop_speed))) return s;
     if ((s = rb_check_range(err, "record_interval", c->record_interval, RB_HIL_DT, 60.0))) return s;
+    if ((s = rb_check_range(err, "adhesion_interval", c->adhesion_interval, 0.0, 60.0))) return s;
+    if (c->session == 0) return rb_fail(err, RB_EINVAL, "session = 0: a run needs a non-zero session id");
     for (int i = 0; i < plant->n_cars; ++i)
         if ((s = rb_check_range(err, "safe.pressure_demand", c->safe.pressure_demand[i], 0.0, 2e6))) return s;
     return RB_OK;
@@ -107,6 +110,7 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
     memset(r, 0, sizeof *r);
     r->udp.fd = -1;
     if ((s = rb_plant_init(plant, &r->plant, err))) return s;
+    if ((s = rb_plant_bounds_check(plant, err))) return s;
     if ((s = rb_udp_open(&r->udp, bind_host, bind_port, err))) return s;
     if ((s = rb_udp_set_peer(&r->udp, bcu_host, bcu_port, err))) {
         rb_udp_close(&r->udp);
@@ -117,11 +121,15 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
     r->record_every = to_steps(config->record_interval);
     r->duration_steps = to_steps(config->duration);
     rb_plant_get_outputs(plant, &r->plant, &r->out);
+    r->kpi.plant = r->plant;
+    r->kpi.out = r->out;
     r->safe = 1;   /* until the first valid frame */
     r->applied = config->safe;
     r->applied_demand = 2.0f;
     return RB_OK;
 }
+
+int rb_hil_runner_port(const rb_hil_runner *r) { return rb_udp_local_port(&r->udp); }
 
 void rb_hil_runner_close(rb_hil_runner *r)
 {
@@ -177,12 +185,55 @@ static int frame_problem(const rb_plant_params *p, const rb_hil_runner *r, long 
     return 1;
 }
 
+/* A datagram not from the BCU's address and this run's session: counted as foreign, the first one
+ * logged; it touches no other counter and no command. */
+static void foreign(rb_hil_runner *r, const uint8_t from[16], const char *why)
+{
+    if (!r->foreign++) {
+        char text[2 * RB_HIL_LOG_TEXT], address[24];
+        rb_udp_format(from, address, sizeof address);
+        snprintf(text, sizeof text, "datagram from %.23s %.40s: ignored, further ones only counted", address, why);
+        log_event(r, RB_HIL_EVENT_FOREIGN, text);
+    }
+}
+
+/* The BCU answers in this session for another configuration: it refuses this plant; the run ends. */
+static void mismatch(rb_hil_runner *r, const rb_hil_config *c, const rb_bcu_frame *f)
+{
+    char text[RB_HIL_LOG_TEXT];
+    r->mismatch = 1;
+    r->bcu_config = f->header.config;
+    r->bcu_cars = f->header.n_cars;
+    r->bcu_axles = f->header.n_axles;
+    r->finished = 1;
+    snprintf(text, sizeof text, "the BCU is set up for configuration 0x%08x (%d cars, %d axles), the plant runs "
+             "0x%08x: run ended", (unsigned)f->header.config, f->header.n_cars, f->header.n_axles,
+             (unsigned)c->config);
+    log_event(r, RB_HIL_EVENT_MISMATCH, text);
+}
+
 /* One datagram: check it, account for it, keep its commands if on time. */
-static void take_datagram(const rb_plant_params *p, rb_hil_runner *r, long size)
+static void take_datagram(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r, long size,
+                          const uint8_t from[16])
 {
     rb_bcu_frame f;
     char text[RB_HIL_LOG_TEXT];
     int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    if (!rb_udp_same_address(from, r->udp.peer)) {
+        foreign(r, from, "(not the BCU's address)");
+        return;
+    }
+    rb_error err;
+    if ((size_t)size <= sizeof r->buffer && rb_bcu_frame_decode(r->buffer, (size_t)size, &f, &err) == RB_OK) {
+        if (f.header.session != c->session) {
+            foreign(r, from, "(another session)");
+            return;
+        }
+        if (f.header.config != c->config) {
+            mismatch(r, c, &f);
+            return;
+        }
+    }
     if (frame_problem(p, r, size, &f, text, sizeof text)) {
         malformed(r, text);
         return;
@@ -202,21 +253,26 @@ static void take_datagram(const rb_plant_params *p, rb_hil_runner *r, long size)
     }
     r->last_demand = f.brake_demand;
     memset(&r->last, 0, sizeof r->last);
-    for (int c = 0; c < p->n_cars; ++c) r->last.pressure_demand[c] = f.pressure_demand[c];
+    for (int k = 0; k < p->n_cars; ++k) r->last.pressure_demand[k] = f.pressure_demand[k];
     memcpy(r->last.hold, f.hold, (size_t)n_axles);
     memcpy(r->last.vent, f.vent, (size_t)n_axles);
 }
 
-static void receive(const rb_plant_params *p, rb_hil_runner *r)
+static void receive(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r)
 {
-    for (int i = 0; i < RB_HIL_MAX_DATAGRAMS; ++i) {
+    for (int i = 0; i < RB_HIL_MAX_DATAGRAMS && !r->mismatch; ++i) {
         uint8_t from[16];
         long n = rb_udp_recv_from(&r->udp, r->buffer, sizeof r->buffer, from);
         if (n == 0) return;
         r->datagrams++;
-        if (n == RB_UDP_EMPTY) malformed(r, "size = 0: empty datagram");
-        else if (n < 0) malformed(r, "receive error");
-        else take_datagram(p, r, n);
+        if (n == RB_UDP_EMPTY) {
+            if (rb_udp_same_address(from, r->udp.peer)) malformed(r, "size = 0: empty datagram");
+            else foreign(r, from, "(not the BCU's address)");
+        } else if (n < 0) {
+            malformed(r, "receive error");
+        } else {
+            take_datagram(p, c, r, n, from);
+        }
     }
 }
 
@@ -231,12 +287,14 @@ static void choose_commands(const rb_hil_config *c, rb_hil_runner *r)
     r->applied_demand = safe ? 2.0f : r->last_demand;
 }
 
-static void send_frame(const rb_plant_params *p, rb_hil_runner *r)
+static void send_frame(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r)
 {
     rb_plant_frame f;
     size_t size = 0;
     const rb_plant_outputs *o = &r->out;
     int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    f.header.session = c->session;
+    f.header.config = c->config;
     f.header.sequence = r->sequence++;
     f.header.step = r->step;
     f.header.n_cars = (uint8_t)p->n_cars;
@@ -248,7 +306,7 @@ static void send_frame(const rb_plant_params *p, rb_hil_runner *r)
         f.wheel_speed[a] = (float)o->wheel_speed_measured[a];
         f.cylinder_pressure[a] = (float)o->cylinder[a];
     }
-    for (int c = 0; c < p->n_cars; ++c) f.supply_pressure[c] = (float)o->supply[c];
+    for (int k = 0; k < p->n_cars; ++k) f.supply_pressure[k] = (float)o->supply[k];
     if (rb_plant_frame_encode(&f, r->buffer, sizeof r->buffer, &size, NULL) == RB_OK &&
         rb_udp_send(&r->udp, r->buffer, size) == (long)size)
         r->frames_sent++;
@@ -271,6 +329,66 @@ static void check_braking(const rb_plant_params *p, rb_hil_runner *r)
     r->braking = 1;
     r->brake_time = r->out.time;
     r->brake_position = r->out.position;
+    r->kpi.braking = 1;
+    r->kpi.brake_time = r->out.time;
+    r->kpi.brake_position = r->out.position;
+    r->kpi.brake_speed = r->out.speed;
+    r->kpi.out = r->out;
+    rb_run_start_kpis(p, &r->kpi);
+    r->next_peak = r->out.time;
+}
+
+/* The available peak adhesion for adhesion_utilisation, sampled as rb_run_accumulate samples it
+ * (every adhesion_interval above 10 km/h, the mean over the axles of cars not isolated) but one
+ * axle per step: a whole sweep costs about 40 us per axle, more than the 1 ms step for 16 cars. */
+#define PEAK_SPEED (10.0 / 3.6)   /* m/s, as LOCK_SPEED in run.c */
+
+static int car_isolated(const rb_plant_params *p, int car)
+{
+    for (int i = 0; i < p->n_faults; ++i)
+        if (p->fault[i].kind == RB_FAULT_CAR_ISOLATED && p->fault[i].car == car) return 1;
+    return 0;
+}
+
+static void sample_peak_adhesion(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r)
+{
+    int n = p->n_cars * RB_AXLES_PER_CAR, a = r->peak_axle;
+    if (a == 0 && (r->out.time < r->next_peak - 1e-9 || r->out.speed <= PEAK_SPEED)) return;
+    if (!car_isolated(p, a / RB_AXLES_PER_CAR)) {
+        r->peak_sum += rb_plant_peak_adhesion(p, &r->plant, a);
+        r->peak_count++;
+    }
+    if (++r->peak_axle < n) return;
+    if (r->peak_count > 0) {
+        r->kpi.peak_sum += r->peak_sum / r->peak_count;
+        r->kpi.peak_samples++;
+    }
+    r->peak_axle = r->peak_count = 0;
+    r->peak_sum = 0.0;
+    r->next_peak += c->adhesion_interval;
+}
+
+/* The MIL run's KPI accumulation (rb_run_accumulate) on this loop's plant after each braking step;
+ * it reads the plant state (forces, air masses): a copy, 8 kB for 8 cars, with the accumulation
+ * 0.7 us a step. Its own peak-adhesion sampling is off (next_adhesion infinite): see above. */
+static void accumulate_kpis(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r)
+{
+    rb_scenario sc;
+    if (!r->braking) return;
+    memset(&sc, 0, sizeof sc);
+    sc.adhesion_interval = c->adhesion_interval;
+    r->kpi.plant = r->plant;
+    r->kpi.out = r->out;
+    r->kpi.in = r->applied;   /* the BCU's commands in force: the cylinder demand */
+    r->kpi.stopped = r->stopped;
+    r->kpi.next_adhesion = HUGE_VAL;
+    rb_run_accumulate(p, &sc, &r->kpi);
+    sample_peak_adhesion(p, c, r);
+}
+
+void rb_hil_runner_kpis(const rb_plant_params *plant, const rb_hil_runner *r, rb_kpis *k)
+{
+    rb_run_kpis(plant, &r->kpi, k);
 }
 
 static void check_stop(const rb_hil_config *c, rb_hil_runner *r)
@@ -298,20 +416,22 @@ rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_confi
     if (!r->started) {
         if (config->paced && (s = rb_pacer_start(&r->pacer, (int64_t)(RB_HIL_DT * 1e9), err))) return s;
         r->started = 1;
-        send_frame(plant, r);
+        send_frame(plant, config, r);
         record_due(plant, r, series, max_rows, &written);
         if (config->paced) rb_pacer_wait(&r->pacer);
     }
     for (uint64_t i = 0; i < steps && !r->finished; ++i) {
         if (series && written >= max_rows) break;
-        receive(plant, r);               /* frames echo at most r->step, the last step sent */
+        receive(plant, config, r);       /* frames echo at most r->step, the last step sent */
+        if (r->mismatch) break;          /* the BCU refuses this plant: nothing to wait for */
         choose_commands(config, r);
         check_braking(plant, r);
         rb_plant_step(plant, &r->plant, &r->applied);
         r->step++;
         rb_plant_get_outputs(plant, &r->plant, &r->out);
         check_stop(config, r);
-        if (!r->finished) send_frame(plant, r);
+        accumulate_kpis(plant, config, r);
+        if (!r->finished) send_frame(plant, config, r);
         record_due(plant, r, series, max_rows, &written);
         if (config->paced && !r->finished) rb_pacer_wait(&r->pacer);
     }
@@ -350,4 +470,9 @@ void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res)
     res->stopped = r->stopped;
     res->finished = r->finished;
     res->events = r->events;
+    res->foreign = r->foreign;
+    res->mismatch = r->mismatch;
+    res->bcu_config = r->bcu_config;
+    res->bcu_cars = r->bcu_cars;
+    res->bcu_axles = r->bcu_axles;
 }

@@ -5,7 +5,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#define RB_G 9.80665
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
 
 size_t rb_plant_params_size(void) { return sizeof(rb_plant_params); }
 size_t rb_plant_state_size(void) { return sizeof(rb_plant_state); }
@@ -121,6 +123,10 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if ((s = rb_check_range(err, "governor_off", p->governor_off, p->governor_on, 2e6))) return s;
     if ((s = rb_check_range(err, "initial_speed", p->initial_speed, 0.0, 150.0))) return s;
     if ((s = check_adhesion(p, err))) return s;
+    if (p->kernel != RB_PLANT_KERNEL_AUTO && p->kernel != RB_PLANT_KERNEL_PORTABLE)
+        return rb_fail(err, RB_EINVAL, "kernel = %d: must be %d (auto) or %d (portable)", p->kernel,
+                       RB_PLANT_KERNEL_AUTO, RB_PLANT_KERNEL_PORTABLE);
+    if ((s = rb_plant_train_check(p, err))) return s;
     return check_faults(p, err);
 }
 
@@ -141,8 +147,109 @@ int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, 
     if (condition != s->zone_of[axle]) {
         s->zone_of[axle] = condition;
         s->polach[axle] = condition_at_axle(&p->condition[condition], axle);
+        rb_plant_derived *d = &s->derived;
+        const rb_polach_params *q = &s->polach[axle];
+        d->mu_static[axle] = q->mu0 * q->A;
+        d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
+        d->polach_B[axle] = q->B;
+        d->polach_kA[axle] = q->kA;
+        d->polach_kS[axle] = q->kS;
     }
     return condition;
+}
+
+/* Number of links of car c's MR pipe node (the stiff-link limit divides by it). */
+static double pipe_links(const rb_plant_params *p, int c)
+{
+    return 1.0 + (c > 0) + (c < p->n_cars - 1) + (c == p->compressor_car);
+}
+
+/* The air system's constants: node stiffness R T / V, link conductances, 1 / (n_i k_i + n_j k_j). */
+static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
+{
+    double rt = RB_AIR_R * p->temperature;
+    d->h = p->dt / p->substeps;
+    d->g_unit = rb_orifice_unit_conductance(p->discharge_coefficient, p->temperature);
+    rb_orifice_law_init(p->critical_ratio, &d->orifice);
+    d->k_mr = rt / p->main_reservoir_volume;
+    d->g_mr = d->g_unit * p->main_reservoir_area;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        d->k_pipe[c] = rt / car->pipe_volume;
+        d->k_supply[c] = rt / car->supply_volume;
+        d->k_pilot[c] = rt / car->pilot_volume;
+        d->k_relay[c] = rt / car->relay_volume;
+        d->k_cyl[c] = rt / car->cylinder_volume;
+    }
+    const double supply_links = 3.0, pilot_links = 2.0, relay_links = 2.0 + RB_AXLES_PER_CAR, cyl_links = 3.0;
+    int cc = p->compressor_car;
+    d->ik_mr = 1.0 / (d->k_mr + pipe_links(p, cc) * d->k_pipe[cc]);
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        double n_pipe = pipe_links(p, c);
+        d->g_pipe[c] = c + 1 < p->n_cars ? d->g_unit * car->pipe_area : 0.0;
+        d->ik_pipe[c] = c + 1 < p->n_cars ? 1.0 / (n_pipe * d->k_pipe[c] + pipe_links(p, c + 1) * d->k_pipe[c + 1]) : 0.0;
+        d->g_charge[c] = d->g_unit * car->charge_area;
+        d->ik_charge[c] = 1.0 / (n_pipe * d->k_pipe[c] + supply_links * d->k_supply[c]);
+        d->g_ep[c] = d->g_unit * car->ep_area;
+        d->ik_ep_in[c] = 1.0 / (supply_links * d->k_supply[c] + pilot_links * d->k_pilot[c]);
+        d->ik_ep_out[c] = 1.0 / (pilot_links * d->k_pilot[c]);
+        d->g_relay_supply[c] = d->g_unit * car->relay_supply_area;
+        d->g_relay_exhaust[c] = d->g_unit * car->relay_exhaust_area;
+        d->ik_relay_supply[c] = 1.0 / (supply_links * d->k_supply[c] + relay_links * d->k_relay[c]);
+        d->ik_relay_exhaust[c] = 1.0 / (relay_links * d->k_relay[c]);
+        d->g_hold[c] = d->g_unit * car->hold_area;
+        d->g_vent[c] = d->g_unit * car->vent_area;
+        d->ik_hold[c] = 1.0 / (relay_links * d->k_relay[c] + cyl_links * d->k_cyl[c]);
+        d->ik_vent[c] = 1.0 / (cyl_links * d->k_cyl[c]);
+        d->inv_ep_band[c] = 1.0 / car->ep_band;
+        d->inv_relay_band[c] = 1.0 / car->relay_band;
+        d->ep_lag[c] = d->h / (car->ep_tau + d->h);
+    }
+}
+
+/* The mechanics' constants per car and per axle (the step's own dt stays an argument: the detailed
+   model steps the same mechanics at its own step). */
+static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
+{
+    double total_mass = 0.0;
+    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        const rb_wheelset *w = &car->vehicle.wheelset;
+        const rb_axle_brake *b = &car->vehicle.brake;
+        const rb_creep_contact *k = &car->contact;
+        d->inv_mass[c] = 1.0 / car->vehicle.mass;
+        d->mass_share[c] = car->vehicle.mass / total_mass;
+        double axle_load = w->axle_load * RB_G, wheel_load = 0.5 * axle_load;
+        d->radius[c] = w->wheel_radius;
+        d->inv_inertia[c] = 1.0 / w->inertia;
+        d->axle_load[c] = axle_load;
+        d->compliance[c] = w->wheel_radius * w->wheel_radius / w->inertia + 1.0 / car->vehicle.mass;
+        d->polach_gain[c] = k->shear_modulus * M_PI * k->a * k->b * k->c11 / (4.0 * wheel_load);
+        d->brake_gain[c] = b->discs * 2.0 * b->mean_radius * b->caliper.lever_ratio * b->caliper.efficiency;
+        d->caliper_atmosphere[c] = b->caliper.atmospheric_pressure;
+        d->caliper_area[c] = b->caliper.cylinder_area;
+        d->caliper_spring[c] = b->caliper.return_spring;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->pad_bracket[a] = 0;
+    }
+}
+
+int rb_plant_resolve_kernel(int requested)
+{
+#if RB_PLANT_HAVE_AVX2
+    if (requested == RB_PLANT_KERNEL_AUTO) {
+        __builtin_cpu_init();
+        if (__builtin_cpu_supports("avx2")) return RB_PLANT_KERNEL_AVX2;
+    }
+#endif
+    (void)requested;
+    return RB_PLANT_KERNEL_PORTABLE;
+}
+
+const char *rb_plant_kernel_name(const rb_plant_state *s)
+{
+    return s->kernel == RB_PLANT_KERNEL_AVX2 ? "avx2" : "portable";
 }
 
 rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *err)
@@ -151,6 +258,9 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a state is required");
     if ((st = rb_plant_check(p, err))) return st;
     memset(s, 0, sizeof *s);
+    derive_air(p, &s->derived);
+    derive_mechanics(p, &s->derived);
+    s->kernel = rb_plant_resolve_kernel(p->kernel);
     double rt = 287.05 * p->temperature;
     double pos = 0.0;
     s->m_mr = p->initial_pressure * p->main_reservoir_volume / rt;
@@ -175,6 +285,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     s->compressor_on = p->initial_pressure < p->governor_on;
     s->rng = p->noise_seed ? p->noise_seed : 0x9E3779B97F4A7C15ULL;
     s->m_initial = rb_plant_air_mass(p, s);
+    rb_plant_train_init(p, s);
     return RB_OK;
 }
 
@@ -237,4 +348,5 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
     out->air_in_system = rb_plant_air_mass(p, s);
     out->air_vented = s->m_vented;
     out->air_compressed = s->m_compressed;
+    rb_plant_train_outputs(p, s, out);
 }

@@ -5,6 +5,36 @@
 #include "railbrake/rb_plant.h"
 #include "railbrake/rb_pneumatics.h"
 
+/* The vector wheelset kernel is compiled where GCC or Clang target x86 (function-level target
+   attributes, run-time CPU check); -DRB_PLANT_PORTABLE_ONLY leaves it out. */
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(RB_PLANT_PORTABLE_ONLY)
+#define RB_PLANT_HAVE_AVX2 1
+#else
+#define RB_PLANT_HAVE_AVX2 0
+#endif
+
+#define RB_G 9.80665
+
+#include <math.h>
+
+/* Mass (kg) one link moves from node i to node j (pressures pi, pj) in a step of d->h, through
+ * conductance g (kg/(s Pa)); ik = 1 / (n_i k_i + n_j k_j), so (pi - pj) ik is the mass that would
+ * equalise the nodes (each node's volume shared among its links). The exponential solution of the
+ * link linearised in its pressure difference: dm = dm_eq (1 - exp(-h q / dm_eq)), h q when the link
+ * is slow, never beyond equalisation when it is stiff. */
+static inline double rb_plant_link_mass(const rb_plant_derived *d, double pi, double pj, double g, double ik)
+{
+    double diff = pi - pj;
+    if (!(g > 0.0) || fabs(diff) < 0.01) return 0.0;   /* closed, or balanced to 0.01 Pa */
+    double flow = d->h * rb_orifice_flow_law(pi, pj, g, &d->orifice);
+    double equalise = diff * ik;
+    return equalise * rb_one_minus_exp_neg(flow / equalise);
+}
+
+/* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */
+int rb_plant_resolve_kernel(int requested);
+
 /* Zone (condition index) of axle `axle` at track position x; refreshes its cached Polach set. */
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x);
 
@@ -24,7 +54,35 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
    implementation of the mechanics, shared by the real-time plant and the detailed model. */
 void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                              const rb_plant_faults *f, const double *cylinder, double dt);
+/* Each car's state as the wheelset kernel needs it (filled per car by the mechanics). */
+typedef struct {
+    double speed[RB_PLANT_MAX_CARS];             /* m/s */
+    double inv_creep_speed[RB_PLANT_MAX_CARS];   /* 1 / max(speed, creep_speed_min) */
+    double others[RB_PLANT_MAX_CARS];            /* N: coupler, resistance and every rail force on the car */
+    double ed_torque[RB_PLANT_MAX_CARS];         /* N m per axle, its share of the ED brake */
+} rb_wheelset_inputs;
+
+/* Every wheelset of the train over dt (plant_kernel.c, in s->kernel): torque balance with Polach
+   adhesion, the slip velocity linearly implicit; cylinder: pressures per axle (Pa). Updates omega,
+   force and coefficient per axle. */
+void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
+                        const double *cylinder, double dt);
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
+
+/* ---- train equipment (plant_train.c): each called from plant.c / plant_step.c in one line */
+/* Checks the parameters of plant_train.c (compressors, gradients, discs). */
+rb_status rb_plant_train_check(const rb_plant_params *p, rb_error *err);
+/* Initial state of the compressors, discs and the air-drawn booking (after the air is set). */
+void rb_plant_train_init(const rb_plant_params *p, rb_plant_state *s);
+/* The compressors over a step dt: governors, delivery into the MR or the MR pipe. */
+void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f, double dt);
+/* Force of gravity along the track on car c (N, positive pulling back when uphill). */
+double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s, int c);
+/* Friction brake energy and disc temperature of every axle over a sub-step dt at the cylinder
+ * pressures it ran with. */
+void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, const double *cylinder, double dt);
+/* The outputs of plant_train.c. */
+void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
 
 #endif

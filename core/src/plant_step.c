@@ -4,7 +4,6 @@
 #include <math.h>
 #include <string.h>
 
-#define RB_G 9.80665
 
 void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
 {
@@ -50,155 +49,143 @@ static double gaussian(uint64_t *x)
 
 /* ------------------------------------------------------------------ air */
 
-typedef struct {
-    double dt, rt, T, patm, cd, b;
-    double vented;
-} air_ctx;
-
-/* Moves air from node i to node j (j = NULL: atmosphere) through an orifice of `area`;
- * k = R T / V turns a node's mass into its pressure; n_i, n_j: number of links of each node
- * (see rb_plant.h on the stiff-link limit). */
-static void transfer(air_ctx *x, double *mi, double ki, double ni, double *mj, double kj, double nj,
-                     double area)
-{
-    if (area <= 0.0) return;
-    double pi = *mi * ki, pj = mj ? *mj * kj : x->patm;
-    if (fabs(pi - pj) < 0.01) return;   /* balanced to 0.01 Pa: nothing worth moving */
-    double q = rb_orifice_mass_flow_fast(pi, x->T, pj, x->T, area, x->cd, x->b);
-    if (q == 0.0) return;
-    double flow = x->dt * fabs(q);
-    double equalise = fabs(pi - pj) / (ni * ki + (mj ? nj * kj : 0.0));
-    double dm = flow * equalise / (flow + equalise);
-    if (q < 0.0) dm = -dm;
-    *mi -= dm;
-    if (mj) *mj += dm;
-    else x->vented += dm;
-}
-
 static double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 
-/* Valve switching after the response delay; a stuck valve ignores its command. */
-static uint8_t valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *timer, double delay,
-                     double dt, signed char stuck)
+/* A WSP valve with its response delay over one step h: returns the fraction of the step it is on
+ * (hold: closed, vent: open). A command starts the delay timer; the valve switches the moment the
+ * timer runs out, and is on for the part of the step after that, so the delay is the same at any
+ * step. *effective: its state at the end of the step; a stuck valve ignores its command. */
+static double valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *timer, double delay,
+                    double h, signed char stuck, uint8_t *effective)
 {
     if (cmd != *pending) { *pending = cmd; *timer = delay; }
+    double on = *actual;
     if (*actual != *pending) {
-        *timer -= dt;
-        if (*timer <= 0.0) *actual = *pending;
+        if (*timer < h * (1.0 - 1e-9)) {   /* runs out within this step (not at its very end) */
+            double after = *timer > 0.0 ? (h - *timer) / h : 1.0;
+            on = *pending ? after : 1.0 - after;
+            *actual = *pending;
+            *timer = 0.0;
+        } else {
+            *timer -= h;
+        }
     }
-    return stuck >= 0 ? (uint8_t)stuck : *actual;
+    if (stuck >= 0) { *effective = (uint8_t)stuck; return stuck; }
+    *effective = *actual;
+    return on;
 }
 
-static void step_air(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                     const rb_plant_faults *f, double dt, uint8_t *hold_eff, uint8_t *vent_eff)
+/* Phase 1, supply: compressor with on/off governor, main reservoir, the MR pipe along the train,
+ * and each car's check valve and choke into its supply reservoir. */
+static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
-    air_ctx x = {dt, RB_AIR_R * p->temperature, p->temperature, p->atmosphere,
-                 p->discharge_coefficient, p->critical_ratio, 0.0};
-    double rt = x.rt;
-    /* compressor with on/off governor */
-    double p_mr = s->m_mr * rt / p->main_reservoir_volume;
-    if (p_mr < p->governor_on) s->compressor_on = 1;
-    if (p_mr > p->governor_off) s->compressor_on = 0;
-    if (s->compressor_on && !f->compressor_off) {
-        s->m_mr += p->compressor_flow * dt;
-        s->m_compressed += p->compressor_flow * dt;
+    const rb_plant_derived *d = &s->derived;
+    rb_plant_compressors(p, s, f, d->h);   /* governors, delivery (plant_train.c) */
+    int cc = p->compressor_car;
+    double dm = rb_plant_link_mass(d, s->m_mr * d->k_mr, s->m_pipe[cc] * d->k_pipe[cc], d->g_mr, d->ik_mr);
+    s->m_mr -= dm;
+    s->m_pipe[cc] += dm;
+    for (int c = 0; c + 1 < p->n_cars; ++c) {
+        dm = rb_plant_link_mass(d, s->m_pipe[c] * d->k_pipe[c], s->m_pipe[c + 1] * d->k_pipe[c + 1], d->g_pipe[c], d->ik_pipe[c]);
+        s->m_pipe[c] -= dm;
+        s->m_pipe[c + 1] += dm;
     }
-    int last = p->n_cars - 1;
-    double k_mr = rt / p->main_reservoir_volume, k_next_pipe = rt / p->car[0].pipe_volume;
     for (int c = 0; c < p->n_cars; ++c) {
-        const rb_plant_car *car = &p->car[c];
-        double k_pipe = k_next_pipe, k_supply = rt / car->supply_volume, k_pilot = rt / car->pilot_volume;
-        double k_relay = rt / car->relay_volume, k_cyl = rt / car->cylinder_volume;
-        if (c < last) k_next_pipe = rt / p->car[c + 1].pipe_volume;
-        double pipe_links = 1.0 + (c > 0) + (c < last) + (c == p->compressor_car);
-        if (c == p->compressor_car)
-            transfer(&x, &s->m_mr, k_mr, 1.0, &s->m_pipe[c], k_pipe, pipe_links, p->main_reservoir_area);
-        if (c < last)
-            transfer(&x, &s->m_pipe[c], k_pipe, pipe_links, &s->m_pipe[c + 1], k_next_pipe,
-                     1.0 + 1.0 + (c + 1 < last) + (c + 1 == p->compressor_car), car->pipe_area);
-        /* check valve and choke: only towards the supply reservoir */
-        if (s->m_pipe[c] * k_pipe > s->m_supply[c] * k_supply)
-            transfer(&x, &s->m_pipe[c], k_pipe, pipe_links, &s->m_supply[c], k_supply, 3.0, car->charge_area);
-        /* EP valve: lagged demand, ports open in proportion to the error */
-        double demand = in->pressure_demand[c] > p->atmosphere ? in->pressure_demand[c] : p->atmosphere;
-        s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * dt / (car->ep_tau + dt);
-        double p_pilot = s->m_pilot[c] * k_pilot;
+        double p_pipe = s->m_pipe[c] * d->k_pipe[c], p_supply = s->m_supply[c] * d->k_supply[c];
+        if (p_pipe <= p_supply) continue;   /* check valve: only towards the supply reservoir */
+        dm = rb_plant_link_mass(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c]);
+        s->m_pipe[c] -= dm;
+        s->m_supply[c] += dm;
+    }
+}
+
+/* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
+ * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. */
+static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                             const rb_plant_faults *f)
+{
+    const rb_plant_derived *d = &s->derived;
+    double patm = p->atmosphere, vented = 0.0;
+    for (int c = 0; c < p->n_cars; ++c) {
+        double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
+        s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
+        double p_pilot = s->m_pilot[c] * d->k_pilot[c];
         if (!f->ep_failed[c]) {
-            double e = (s->ep_demand_lag[c] - p_pilot) / car->ep_band;
-            transfer(&x, &s->m_supply[c], k_supply, 3.0, &s->m_pilot[c], k_pilot, 2.0, car->ep_area * clamp01(e));
-            transfer(&x, &s->m_pilot[c], k_pilot, 2.0, NULL, 0.0, 0.0, car->ep_area * clamp01(-e));
-            p_pilot = s->m_pilot[c] * k_pilot;
+            double e = (s->ep_demand_lag[c] - p_pilot) * d->inv_ep_band[c];
+            if (e > 0.0) {
+                double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot, d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
+                s->m_supply[c] -= dm;
+                s->m_pilot[c] += dm;
+            } else if (e < 0.0) {
+                double dm = rb_plant_link_mass(d, p_pilot, patm, d->g_ep[c] * clamp01(-e), d->ik_ep_out[c]);
+                s->m_pilot[c] -= dm;
+                vented += dm;
+            }
+            p_pilot = s->m_pilot[c] * d->k_pilot[c];
         }
-        /* relay valve: output follows the pilot; an isolated car is cut off and vented */
-        double target = f->isolated[c] ? p->atmosphere : p_pilot;
-        double e = (target - s->m_relay[c] * k_relay) / car->relay_band;
-        double relay_links = 2.0 + RB_AXLES_PER_CAR;
-        transfer(&x, &s->m_supply[c], k_supply, 3.0, &s->m_relay[c], k_relay, relay_links,
-                 f->isolated[c] ? 0.0 : car->relay_supply_area * clamp01(e));
-        transfer(&x, &s->m_relay[c], k_relay, relay_links, NULL, 0.0, 0.0,
-                 car->relay_exhaust_area * (f->isolated[c] ? 1.0 : clamp01(-e)));
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-            int a = c * RB_AXLES_PER_CAR + k;
-            hold_eff[a] = valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a],
-                                car->valve_delay, dt, f->hold[a]);
-            vent_eff[a] = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a],
-                                car->valve_delay, dt, f->vent[a]);
-            if (!hold_eff[a])
-                transfer(&x, &s->m_relay[c], k_relay, relay_links, &s->m_cyl[a], k_cyl, 3.0, car->hold_area);
-            if (vent_eff[a])
-                transfer(&x, &s->m_cyl[a], k_cyl, 3.0, NULL, 0.0, 0.0, car->vent_area);
-            transfer(&x, &s->m_cyl[a], k_cyl, 3.0, NULL, 0.0, 0.0, f->leak[a]);
+        double p_relay = s->m_relay[c] * d->k_relay[c];
+        double e = ((f->isolated[c] ? patm : p_pilot) - p_relay) * d->inv_relay_band[c];
+        if (e > 0.0 && !f->isolated[c]) {
+            double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_relay, d->g_relay_supply[c] * clamp01(e),
+                                  d->ik_relay_supply[c]);
+            s->m_supply[c] -= dm;
+            s->m_relay[c] += dm;
+        } else if (e < 0.0 || f->isolated[c]) {
+            double open = f->isolated[c] ? 1.0 : clamp01(-e);
+            double dm = rb_plant_link_mass(d, p_relay, patm, d->g_relay_exhaust[c] * open, d->ik_relay_exhaust[c]);
+            s->m_relay[c] -= dm;
+            vented += dm;
         }
     }
-    s->m_vented += x.vented;
+    return vented;
+}
+
+/* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
+ * each port's area weighted by the part of the step it is open, and cylinder leaks. The axles of a
+ * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
+ * volume among its links, so together they never overshoot). */
+static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                            const rb_plant_faults *f)
+{
+    const rb_plant_derived *d = &s->derived;
+    const int n = p->n_cars * RB_AXLES_PER_CAR;
+    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
+    double vented = 0.0;
+    for (int c = 0; c < p->n_cars; ++c) {
+        double delay = p->car[c].valve_delay;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            hold_open[a] = 1.0 - valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
+                                       d->h, f->hold[a], &s->hold_effective[a]);
+            double vent = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a], delay,
+                                d->h, f->vent[a], &s->vent_effective[a]);
+            outlet[a] = d->g_vent[c] * vent + d->g_unit * f->leak[a];
+        }
+    }
+    for (int a = 0; a < n; ++a) {
+        int c = a / RB_AXLES_PER_CAR;
+        taken[a] = rb_plant_link_mass(d, s->m_relay[c] * d->k_relay[c], s->m_cyl[a] * d->k_cyl[c],
+                                      d->g_hold[c] * hold_open[a], d->ik_hold[c]);
+        s->m_cyl[a] += taken[a];
+        double dm = rb_plant_link_mass(d, s->m_cyl[a] * d->k_cyl[c], p->atmosphere, outlet[a], d->ik_vent[c]);
+        s->m_cyl[a] -= dm;
+        vented += dm;
+    }
+    for (int c = 0; c < p->n_cars; ++c) {
+        double to_cylinders = 0.0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) to_cylinders += taken[a];
+        s->m_relay[c] -= to_cylinders;
+    }
+    return vented;
 }
 
 /* ------------------------------------------------------------------ mechanics */
 
-/* Advances the wheelsets of car c; returns the sum of their rail forces on the car (N). */
-static double step_wheelsets(const rb_plant_params *p, rb_plant_state *s, int c, double other_force,
-                             double mass, const rb_plant_faults *f, const double *cylinder, double dt)
-{
-    const rb_plant_car *car = &p->car[c];
-    double r = car->vehicle.wheelset.wheel_radius, J = car->vehicle.wheelset.inertia;
-    double v = s->v[c], vr = v > p->creep_speed_min ? v : p->creep_speed_min;
-    double axle_load = car->vehicle.wheelset.axle_load * RB_G, wheel_load = 0.5 * axle_load;
-    double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * r;
-    double old_sum = 0.0, new_sum = 0.0;
-    for (int k = 0; k < RB_AXLES_PER_CAR; ++k) old_sum += s->force[c * RB_AXLES_PER_CAR + k];
-    for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-        int a = c * RB_AXLES_PER_CAR + k;
-        rb_plant_zone_update(p, s, a, s->x[c] - car->axle_position[k]);
-        double w = s->omega[a] * r - v;
-        double creep = w / vr;
-        double probe = fabs(creep) > 1e-7 ? creep : -1e-7;
-        double f_probe = rb_polach_coefficient_fast(probe, v, wheel_load, &car->contact, &s->polach[a]);
-        double stiffness = axle_load * (f_probe / probe) / vr;   /* secant, N per m/s of slip velocity */
-        double torque = rb_plant_axle_brake_torque(car, cylinder[a], s->omega[a] * r)
-                        + ed_axle;
-        /* slip velocity, linearly implicit in this axle's own rail force */
-        double others = other_force + old_sum - s->force[a];
-        double w_new = (w + dt * (-r * torque / J - others / mass))
-                       / (1.0 + dt * stiffness * (r * r / J + 1.0 / mass));
-        double force = stiffness * w_new;
-        double omega = s->omega[a] + dt * (-force * r - torque) / J;
-        if (omega < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
-            omega = 0.0;
-            force = axle_load * rb_polach_coefficient_fast(-v / vr, v, wheel_load, &car->contact, &s->polach[a]);
-        }
-        s->omega[a] = omega;
-        s->force[a] = force;
-        s->coefficient[a] = force / axle_load;
-        new_sum += force;
-    }
-    return new_sum;
-}
-
 void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                              const rb_plant_faults *f, const double *cylinder, double dt)
 {
-    double total_mass = 0.0, coupler[RB_PLANT_MAX_CARS + 1] = {0.0};
-    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
+    const rb_plant_derived *d = &s->derived;
+    double coupler[RB_PLANT_MAX_CARS + 1] = {0.0}, other[RB_PLANT_MAX_CARS];
+    rb_wheelset_inputs w;
     for (int c = 0; c + 1 < p->n_cars; ++c)  /* tension positive */
         coupler[c + 1] = rb_coupler_force(&p->coupler, s->x[c] - s->x[c + 1] - p->car[c].length,
                                           s->v[c] - s->v[c + 1]);
@@ -209,11 +196,26 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
         double ed_target = ed < ed_max ? ed : ed_max;
         s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
-        double mass = car->vehicle.mass;
-        double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * mass / total_mass : 0.0;
-        double other = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
-        double rail = step_wheelsets(p, s, c, other, mass, f, cylinder, dt);
-        s->a[c] = (rail + other) / mass;
+        double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * d->mass_share[c] : 0.0;
+        other[c] = coupler[c] - coupler[c + 1] - resistance   /* tension pulls c back */
+                   - rb_plant_gradient_force(p, s, c);
+        if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
+            for (int k = 0; k < RB_AXLES_PER_CAR; ++k)
+                rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - car->axle_position[k]);
+        double vr = v > p->creep_speed_min ? v : p->creep_speed_min, inv_vr = 1.0 / vr;
+        double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * car->vehicle.wheelset.wheel_radius;
+        double others = other[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
+        w.speed[c] = v;
+        w.inv_creep_speed[c] = inv_vr;
+        w.others[c] = others;
+        w.ed_torque[c] = ed_axle;
+    }
+    rb_plant_wheelsets(p, s, &w, cylinder, dt);
+    for (int c = 0; c < p->n_cars; ++c) {
+        double rail = 0.0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) rail += s->force[a];
+        s->a[c] = (rail + other[c]) * d->inv_mass[c];
     }
     for (int c = 0; c < p->n_cars; ++c) {
         s->v[c] += dt * s->a[c];
@@ -230,17 +232,30 @@ void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const 
     }
 }
 
+/* Cylinder pressures (Pa) per axle. */
+static void cylinder_pressures(const rb_plant_params *p, const rb_plant_state *s, double *out)
+{
+    for (int c = 0; c < p->n_cars; ++c)
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) out[a] = s->m_cyl[a] * s->derived.k_cyl[c];
+}
+
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
 {
     rb_plant_faults f;
-    double cylinder[RB_PLANT_MAX_AXLES];
+    double start[RB_PLANT_MAX_AXLES], mean[RB_PLANT_MAX_AXLES];
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
     rb_plant_gather_faults(p, s, &f);
-    double h = p->dt / p->substeps;
     for (int k = 0; k < p->substeps; ++k) {
-        step_air(p, s, in, &f, h, s->hold_effective, s->vent_effective);
-        for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
-            cylinder[a] = s->m_cyl[a] * (RB_AIR_R * p->temperature) / p->car[a / RB_AXLES_PER_CAR].cylinder_volume;
-        rb_plant_step_mechanics(p, s, in, &f, cylinder, h);
+        cylinder_pressures(p, s, start);
+        /* air, in phases */
+        air_supply(p, s, &f);
+        s->m_vented += air_car_valves(p, s, in, &f);
+        s->m_vented += air_cylinders(p, s, in, &f);
+        /* mechanics, braked by the step-mean cylinder pressure */
+        cylinder_pressures(p, s, mean);
+        for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + mean[a]);
+        rb_plant_step_mechanics(p, s, in, &f, mean, s->derived.h);
+        rb_plant_discs(p, s, mean, s->derived.h);
     }
     rb_plant_update_sensors(p, s, &f);
     s->step += 1;

@@ -51,6 +51,21 @@ double rb_orifice_mass_flow_iso_fast(double p1, double T1, double p2, double T2,
     return flow(p1, T1, p2, T2, G, critical_ratio);
 }
 
+void rb_orifice_law_init(double critical_ratio, rb_orifice_law *law)
+{
+    double b = critical_ratio, lam = RB_ORIFICE_LAMINAR_RATIO;
+    law->b = b;
+    law->inv_one_minus_b = 1.0 / (1.0 - b);
+    law->laminar_only = b >= lam;
+    double s = (lam - b) / (1.0 - b);
+    law->laminar_slope = law->laminar_only ? 0.0 : sqrt(1.0 - s * s) / (1.0 - lam);
+}
+
+double rb_orifice_unit_conductance(double discharge_coefficient, double temperature)
+{
+    return discharge_coefficient * choked_factor() / sqrt(temperature);
+}
+
 rb_status rb_orifice_check(const rb_orifice *o, rb_error *err)
 {
     rb_status s;

@@ -5,6 +5,7 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <stdio.h>
 #include <netinet/in.h>
 #include <string.h>
 #include <sys/socket.h>
@@ -84,6 +85,29 @@ long rb_udp_recv(rb_udp *u, uint8_t *buf, size_t capacity)
         u->have_peer = 1;
     }
     return n;
+}
+
+int rb_udp_same_address(const uint8_t a[16], const uint8_t b[16])
+{
+    struct sockaddr_in x, y;
+    memcpy(&x, a, sizeof x);
+    memcpy(&y, b, sizeof y);
+    return x.sin_family == y.sin_family && x.sin_port == y.sin_port && x.sin_addr.s_addr == y.sin_addr.s_addr;
+}
+
+void rb_udp_format(const uint8_t address[16], char *text, size_t size)
+{
+    struct sockaddr_in a;
+    char host[INET_ADDRSTRLEN] = "?";
+    memcpy(&a, address, sizeof a);
+    inet_ntop(AF_INET, &a.sin_addr, host, sizeof host);
+    snprintf(text, size, "%s:%u", host, (unsigned)ntohs(a.sin_port));
+}
+
+long rb_udp_send_to(rb_udp *u, const uint8_t to[16], const uint8_t *data, size_t size)
+{
+    if (u->fd < 0) return -1;
+    return (long)sendto(u->fd, data, size, 0, (const struct sockaddr *)to, sizeof(struct sockaddr_in));
 }
 
 void rb_udp_close(rb_udp *u)

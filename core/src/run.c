@@ -1,6 +1,7 @@
 /* Scenario runner: BCU + plant, decimated time series, KPIs; and the plant benchmark. */
 #define _POSIX_C_SOURCE 199309L
 #include "run_internal.h"
+#include "railbrake/rb_bounds.h"
 #include "channels_internal.h"
 
 #include <math.h>
@@ -10,19 +11,21 @@
 
 #define RB_G 9.80665
 #define LOCK_SPEED (10.0 / 3.6)   /* m/s: locks count above 10 km/h */
+#define SLIDE_SLIP 0.02           /* |slip| above which an axle slid (worst_axle) [T] */
 
 size_t rb_run_state_size(void) { return sizeof(rb_run_state); }
+size_t rb_kpis_size(void) { return sizeof(rb_kpis); }
 
-enum { GLOBAL_CHANNELS = 9, CAR_CHANNELS = 4, AXLE_CHANNELS = 6 };
+enum { GLOBAL_CHANNELS = 10, CAR_CHANNELS = 4, AXLE_CHANNELS = 8 };
 static const rb_channel_name global_names[GLOBAL_CHANNELS] = {
     {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
     {"demand_deceleration", "m/s^2"}, {"main_reservoir", "Pa"}, {"pipe_end", "Pa"},
-    {"compressor_on", "1"}, {"air_vented", "kg"}};
+    {"compressor_on", "1"}, {"air_vented", "kg"}, {"air_drawn", "kg"}};
 static const rb_channel_name car_names[CAR_CHANNELS] = {
     {"supply", "Pa"}, {"pilot", "Pa"}, {"relay", "Pa"}, {"ed_force", "N"}};
 static const rb_channel_name axle_names[AXLE_CHANNELS] = {
     {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"},
-    {"adhesion", "1"}};
+    {"adhesion", "1"}, {"disc_temperature", "K"}, {"brake_energy", "J"}};
 
 static const rb_channel_layout layout = {global_names, car_names, axle_names,
                                          GLOBAL_CHANNELS, CAR_CHANNELS, AXLE_CHANNELS};
@@ -70,11 +73,23 @@ rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, co
     if ((s = rb_run_check_scenario(scenario, err))) return s;
     memset(run, 0, sizeof *run);
     if ((s = rb_plant_init(plant, &run->plant, err))) return s;
+    if ((s = rb_plant_bounds_check(plant, err))) return s;
     if ((s = rb_bcu_init(bcu, wsp, &run->bcu, err))) return s;
     if (bcu->n_cars != plant->n_cars)
         return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must equal the plant's n_cars = %d", bcu->n_cars, plant->n_cars);
     rb_plant_get_outputs(plant, &run->plant, &run->out);
+    rb_run_start_kpis(plant, run);
     return RB_OK;
+}
+
+void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
+{
+    run->min_main_reservoir = run->out.main_reservoir;
+    run->min_supply = HUGE_VAL;
+    for (int c = 0; c < plant->n_cars; ++c)
+        if (run->out.supply[c] < run->min_supply) run->min_supply = run->out.supply[c];
+    run->min_supply_margin = HUGE_VAL;
+    run->max_disc_temperature = plant->ambient_temperature;
 }
 
 void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, const rb_bcu_params *bcu,
@@ -83,8 +98,9 @@ void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, cons
     int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
     rb_brake_demand d = rb_scenario_demand(sc, o->time);
     double g[GLOBAL_CHANNELS] = {o->time, o->speed, o->position, o->deceleration,
-                                 d.emergency > 0.5 ? bcu->emergency_decel : d.service * bcu->service_decel,
-                                 o->main_reservoir, o->pipe_end, (double)o->compressor_on, o->air_vented};
+                                 rb_bcu_demand_deceleration(bcu, &d, rb_bcu_speed(o, n)),
+                                 o->main_reservoir, o->pipe_end, (double)o->compressor_on, o->air_vented,
+                                 o->air_drawn};
     memcpy(row, g, sizeof g);
     row += GLOBAL_CHANNELS;
     for (int c = 0; c < n; ++c) {
@@ -101,6 +117,8 @@ void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, cons
         row[3 * na + a] = o->hold[a];
         row[4 * na + a] = o->vent[a];
         row[5 * na + a] = o->adhesion[a];
+        row[6 * na + a] = o->disc_temperature[a];
+        row[7 * na + a] = o->brake_energy[a];
     }
 }
 
@@ -111,11 +129,33 @@ static int car_isolated(const rb_plant_params *p, int car)
     return 0;
 }
 
+/* Air supply, cylinders and discs after one step: minima, shortfalls, hottest disc. */
+static void accumulate_air(const rb_plant_params *p, rb_run_state *r)
+{
+    const rb_plant_outputs *o = &r->out;
+    if (o->main_reservoir < r->min_main_reservoir) r->min_main_reservoir = o->main_reservoir;
+    for (int c = 0; c < p->n_cars; ++c) {
+        if (o->supply[c] < r->min_supply) r->min_supply = o->supply[c];
+        double demand = r->in.pressure_demand[c];
+        if (r->braking && demand > p->atmosphere && o->supply[c] - demand < r->min_supply_margin)
+            r->min_supply_margin = o->supply[c] - demand;
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            /* short of demand with the WSP valves at rest: the air did not get there */
+            int short_of = r->braking && !o->hold[a] && !o->vent[a] && demand - o->cylinder[a] > RB_SHORTFALL_PA;
+            r->shortfall_time[a] = short_of ? r->shortfall_time[a] + p->dt : 0.0;
+            if (r->shortfall_time[a] > r->max_shortfall) r->max_shortfall = r->shortfall_time[a];
+            if (o->disc_temperature[a] > r->max_disc_temperature) r->max_disc_temperature = o->disc_temperature[a];
+        }
+    }
+}
+
 /* KPI accumulation after one step. */
 static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
 {
     const rb_plant_outputs *o = &r->out;
     double dt = p->dt, total_mass = 0.0, rail = 0.0;
+    accumulate_air(p, r);
     if (!r->braking) return;
     for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
@@ -124,8 +164,9 @@ static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_s
         rail -= r->plant.force[a];
         if (v > LOCK_SPEED) {
             if (fabs(o->slip[a]) > r->max_slip) r->max_slip = fabs(o->slip[a]);
+            if (fabs(o->slip[a]) > r->axle_max_slip[a]) r->axle_max_slip[a] = fabs(o->slip[a]);
             if (o->wheel_speed[a] < 0.1 * v) {
-                if (r->lock_time[a] == 0.0) r->lock_events++;
+                if (r->lock_time[a] == 0.0) { r->lock_events++; r->axle_locks[a]++; }
                 r->lock_time[a] += dt;
                 if (r->lock_time[a] > r->max_lock) r->max_lock = r->lock_time[a];
             } else {
@@ -183,6 +224,11 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
     return RB_OK;
 }
 
+void rb_run_accumulate(const rb_plant_params *plant, const rb_scenario *scenario, rb_run_state *run)
+{
+    accumulate(plant, scenario, run);
+}
+
 void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k)
 {
     const rb_plant_outputs *o = &r->out;
@@ -203,7 +249,25 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
     k->safety_timer_trips = r->bcu.wsp_default.trips;
     double m0 = r->plant.m_initial;
     k->air_balance_error = fabs(o->air_in_system + o->air_vented - o->air_compressed - m0) / m0;
-    (void)plant;
+    k->min_main_reservoir = r->min_main_reservoir;
+    k->min_supply = r->min_supply;
+    k->air_drawn_kg = o->air_drawn;
+    k->air_vented_kg = o->air_vented;
+    k->cylinder_shortfall_s = r->max_shortfall;
+    k->worst_axle = -1.0;
+    double worst_locks = 0.0, worst_slip = 0.0;
+    for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a) {
+        k->brake_energy += o->brake_energy[a];
+        int worse = r->axle_locks[a] > worst_locks ||
+                    (r->axle_locks[a] == worst_locks && r->axle_max_slip[a] > worst_slip);
+        if (worse && (r->axle_locks[a] > 0 || r->axle_max_slip[a] > SLIDE_SLIP)) {
+            k->worst_axle = a;
+            worst_locks = r->axle_locks[a];
+            worst_slip = r->axle_max_slip[a];
+        }
+    }
+    k->max_disc_temperature = r->max_disc_temperature;
+    k->min_supply_margin = r->min_supply_margin == HUGE_VAL ? 0.0 : r->min_supply_margin;
 }
 
 static double now_us(void)
@@ -214,9 +278,10 @@ static double now_us(void)
 }
 
 rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, long steps,
-                         double *step_us_mean, double *step_us_p99, rb_error *err)
+                         double *step_us_mean, double *step_us_p99, double *step_us_max, char *kernel,
+                         size_t kernel_size, rb_error *err)
 {
-    enum { BINS = 4000 };          /* 0.05 us bins up to 200 us */
+    enum { BINS = 10000 };         /* 0.02 us bins up to 200 us */
     long histogram[BINS + 1] = {0};
     rb_plant_state s;
     rb_plant_inputs in;
@@ -225,19 +290,24 @@ rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, l
     if ((st = rb_plant_init(plant, &s, err))) return st;
     memset(&in, 0, sizeof in);
     for (int c = 0; c < RB_PLANT_MAX_CARS; ++c) in.pressure_demand[c] = pressure_demand;
-    double total = 0.0;
+    long warm_up = steps / 10 < 1000 ? steps / 10 : 1000;
+    for (long i = 0; i < warm_up; ++i) rb_plant_step(plant, &s, &in);
+    double total = 0.0, largest = 0.0;
     for (long i = 0; i < steps; ++i) {
         double t0 = now_us();
         rb_plant_step(plant, &s, &in);
         double us = now_us() - t0;
         total += us;
-        int bin = (int)(us / 0.05);
+        if (us > largest) largest = us;
+        int bin = (int)(us / 0.02);
         histogram[bin < BINS ? bin : BINS]++;
     }
     long target = (long)ceil(0.99 * steps), count = 0;
     int bin = 0;
     for (; bin <= BINS && (count += histogram[bin]) < target; ++bin) {}
     *step_us_mean = total / steps;
-    *step_us_p99 = (bin + 1) * 0.05;
+    *step_us_p99 = (bin + 1) * 0.02;
+    if (step_us_max) *step_us_max = largest;
+    if (kernel && kernel_size) snprintf(kernel, kernel_size, "%s", rb_plant_kernel_name(&s));
     return RB_OK;
 }

@@ -60,7 +60,7 @@ rb_status rb_pad_friction_check(const rb_pad_friction *f, rb_error *err)
 
 rb_status rb_pad_friction_sintered(double low_speed_value, rb_pad_friction *out, rb_error *err)
 {
-    const double high = 0.35, knee = 100.0 / 3.6;  /* [T] shared/reference/README.md s. 2 */
+    const double high = 0.35, knee = 100.0 / 3.6;  /* [T] sintered pads: about 0.35, rising below 100 km/h */
     rb_status s = rb_check_range(err, "low_speed_value", low_speed_value, high, 0.6);
     if (s != RB_OK)
         return s;

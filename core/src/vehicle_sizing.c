@@ -60,8 +60,8 @@ static double car_pneumatic(const rb_car *c, double speed, double p)
     return p > a.threshold ? a.gain * (p - a.threshold) : 0.0;
 }
 
-static void size_one_speed(const rb_train *t, double v, double a, double gradient, double *p_motor,
-                           double *p_trailer, double *ed_total, double *adhesion)
+static void size_one_speed(const rb_train *t, double v, double a, double gradient, int ed_on,
+                           double *p_motor, double *p_trailer, double *ed_total, double *adhesion)
 {
     double ed[RB_MAX_CARS], demand[2] = {0.0, 0.0};  /* pneumatic demand: [trailer, motor] */
     *ed_total = 0.0;
@@ -69,7 +69,7 @@ static void size_one_speed(const rb_train *t, double v, double a, double gradien
         const rb_car *c = &t->cars[k];
         double f = rb_car_brake_demand(t, k, v, a, gradient);
         ed[k] = 0.0;
-        if (c->motor) {
+        if (c->motor && ed_on) {
             double max = rb_ed_brake_force_max(&c->ed, v);
             ed[k] = f < max ? (f > 0.0 ? f : 0.0) : max;
         }
@@ -87,15 +87,9 @@ static void size_one_speed(const rb_train *t, double v, double a, double gradien
     }
 }
 
-rb_status rb_size_target_pressure(const rb_train *t, const double *speed, const double *decel,
-                                  size_t n, double gradient, double *p_motor, double *p_trailer,
-                                  double *ed_force, double *adhesion, rb_error *err)
+static rb_status check_points(const double *speed, const double *decel, size_t n, rb_error *err)
 {
-    rb_status s = rb_train_check(t, err);
-    if (s != RB_OK)
-        return s;
-    if ((s = rb_check_finite(err, "gradient", gradient)) != RB_OK)
-        return s;
+    rb_status s;
     char field[48];
     for (size_t i = 0; i < n; ++i) {
         snprintf(field, sizeof field, "speed[%zu]", i);
@@ -105,8 +99,53 @@ rb_status rb_size_target_pressure(const rb_train *t, const double *speed, const 
         if ((s = rb_check_range(err, field, decel[i], 0.0, 5.0)) != RB_OK)
             return s;
     }
+    return RB_OK;
+}
+
+rb_status rb_size_target_pressure(const rb_train *t, const double *speed, const double *decel,
+                                  size_t n, double gradient, double *p_motor, double *p_trailer,
+                                  double *ed_force, double *adhesion, rb_error *err)
+{
+    return rb_size_target_pressure_ed(t, speed, decel, n, gradient, 1, p_motor, p_trailer, ed_force,
+                                      adhesion, err);
+}
+
+rb_status rb_size_target_pressure_ed(const rb_train *t, const double *speed, const double *decel,
+                                     size_t n, double gradient, int ed_on, double *p_motor,
+                                     double *p_trailer, double *ed_force, double *adhesion,
+                                     rb_error *err)
+{
+    rb_status s = rb_train_check(t, err);
+    if (s != RB_OK)
+        return s;
+    if ((s = rb_check_finite(err, "gradient", gradient)) != RB_OK)
+        return s;
+    if ((s = check_points(speed, decel, n, err)) != RB_OK)
+        return s;
     for (size_t i = 0; i < n; ++i)
-        size_one_speed(t, speed[i], decel[i], gradient, &p_motor[i], &p_trailer[i], &ed_force[i],
-                       &adhesion[i * (size_t)t->n_cars]);
+        size_one_speed(t, speed[i], decel[i], gradient, ed_on != 0, &p_motor[i], &p_trailer[i],
+                       &ed_force[i], &adhesion[i * (size_t)t->n_cars]);
+    return RB_OK;
+}
+
+rb_status rb_size_car_demand(const rb_train *t, int car, const double *speed, const double *decel,
+                             size_t n, double gradient, double *force, double *pressure_per_newton,
+                             double *threshold, rb_error *err)
+{
+    rb_status s = rb_train_check(t, err);
+    if (s != RB_OK)
+        return s;
+    if (car < 0 || car >= t->n_cars)
+        return rb_fail(err, RB_EINVAL, "car = %d: must be in [0, %d]", car, t->n_cars - 1);
+    if ((s = rb_check_finite(err, "gradient", gradient)) != RB_OK ||
+        (s = check_points(speed, decel, n, err)) != RB_OK)
+        return s;
+    for (size_t i = 0; i < n; ++i) {
+        affine_brake a = car_affine(&t->cars[car], speed[i]);
+        double f = rb_car_brake_demand(t, car, speed[i], decel[i], gradient);
+        force[i] = f > 0.0 ? f : 0.0;
+        pressure_per_newton[i] = a.gain > 0.0 ? 1.0 / a.gain : 0.0;
+        *threshold = a.threshold;
+    }
     return RB_OK;
 }

@@ -4,8 +4,19 @@
 
 #include <math.h>
 
-/* Deceleration (m/s^2, positive slowing) at speed v with brake effort 0..1. */
-typedef double (*decel_fn)(const void *ctx, double speed, double effort);
+/* Deceleration (m/s^2, positive slowing) at speed v with brake effort 0..1 on a gradient. */
+typedef double (*decel_fn)(const void *ctx, double speed, double effort, double gradient);
+
+/* The gradient at distance s from the brake's start: the piecewise profile if given. */
+static double gradient_at(const rb_stop_options *o, double s)
+{
+    if (o->n_gradients <= 0)
+        return o->gradient;
+    int i = 0;
+    while (i + 1 < o->n_gradients && s >= o->gradient_start[i + 1])
+        ++i;
+    return o->gradient_value[i];
+}
 
 /* Brake effort at time t; t_mid is the middle of the current step, which never straddles a
  * break point, so the step response of the equivalent mode is taken from its side of te. */
@@ -43,6 +54,16 @@ static rb_status check_options(const rb_stop_options *o, rb_error *err)
         (s = rb_check_range(err, "dt_out", o->dt_out, o->dt, 1e3)) != RB_OK ||
         (s = rb_check_positive(err, "t_max", o->t_max)) != RB_OK)
         return s;
+    if (o->n_gradients < 0 || o->n_gradients > RB_MAX_STOP_GRADIENTS)
+        return rb_fail(err, RB_EINVAL, "n_gradients = %d: must be in [0, %d]", o->n_gradients,
+                       RB_MAX_STOP_GRADIENTS);
+    for (int i = 0; i < o->n_gradients; ++i) {
+        if ((s = rb_check_range(err, "gradient_value", o->gradient_value[i], -0.1, 0.1)) != RB_OK)
+            return s;
+        if (i > 0 && !(o->gradient_start[i] > o->gradient_start[i - 1]))
+            return rb_fail(err, RB_EINVAL, "gradient_start[%d] = %g m: must exceed gradient_start[%d] = %g m",
+                           i, o->gradient_start[i], i - 1, o->gradient_start[i - 1]);
+    }
     if (o->equivalent_response != 0 && o->equivalent_response != 1)
         return rb_fail(err, RB_EINVAL, "equivalent_response = %d: must be 0 or 1",
                        o->equivalent_response);
@@ -76,11 +97,12 @@ static rb_status record(recorder *r, double t, double v, double s, int force, rb
 static void rk4_step(decel_fn a, const void *ctx, const rb_stop_options *o, double t, double h,
                      double *v, double *s)
 {
+    double g = gradient_at(o, *s);   /* held over the step (a few metres at most) */
     double tm = t + 0.5 * h;
-    double k1 = -a(ctx, *v, effort_at(o, t, tm));
-    double k2 = -a(ctx, *v + 0.5 * h * k1, effort_at(o, tm, tm));
-    double k3 = -a(ctx, *v + 0.5 * h * k2, effort_at(o, tm, tm));
-    double k4 = -a(ctx, *v + h * k3, effort_at(o, t + h, tm));
+    double k1 = -a(ctx, *v, effort_at(o, t, tm), g);
+    double k2 = -a(ctx, *v + 0.5 * h * k1, effort_at(o, tm, tm), g);
+    double k3 = -a(ctx, *v + 0.5 * h * k2, effort_at(o, tm, tm), g);
+    double k4 = -a(ctx, *v + h * k3, effort_at(o, t + h, tm), g);
     *s += h * (*v + h * (k1 + k2 + k3) / 6.0);
     *v += h * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
 }
@@ -95,7 +117,7 @@ static rb_status integrate(decel_fn a, const void *ctx, const rb_stop_options *o
             return rb_fail(err, RB_ENOCONV, "t_max = %g s: the train has not slowed to v_end = %g m/s "
                            "(speed %g m/s)", o->t_max, o->v_end, v);
         double h = step_length(o, t);
-        double a0 = a(ctx, v, effort_at(o, t, t + 0.5 * h));
+        double a0 = a(ctx, v, effort_at(o, t, t + 0.5 * h), gradient_at(o, s));
         double v1 = v, s1 = s;
         rk4_step(a, ctx, o, t, h, &v1, &s1);
         if (a0 > 0.0 && (v1 <= o->v_end || v - a0 * h <= o->v_end)) {
@@ -130,7 +152,7 @@ static double pressure_at(const rb_speed_table *table, double p_atm, double spee
     return table->n > 0 ? rb_speed_table_at(table, speed) : p_atm;
 }
 
-static double train_decel(const void *ctx, double speed, double effort)
+static double train_decel(const void *ctx, double speed, double effort, double gradient)
 {
     const train_ctx *c = ctx;
     rb_brake_state state = {pressure_at(&c->cmd->p_motor, c->p_atm_motor, speed),
@@ -138,7 +160,7 @@ static double train_decel(const void *ctx, double speed, double effort)
                             c->cmd->ed_mode,
                             c->cmd->ed_mode == RB_ED_BLENDED ? rb_speed_table_at(&c->cmd->ed_demand, speed) : 0.0,
                             effort};
-    return rb_train_deceleration(c->train, &state, speed, c->gradient, NULL);
+    return rb_train_deceleration(c->train, &state, speed, gradient, NULL);
 }
 
 /* Checks a pressure table of one car type against [atmospheric, supply] of those cars. */
@@ -183,8 +205,9 @@ rb_status rb_stop_train(const rb_train *t, const rb_brake_command *cmd, const rb
 
 /* ------------------------------------------------------------------ a given deceleration */
 
-static double profile_decel(const void *ctx, double speed, double effort)
+static double profile_decel(const void *ctx, double speed, double effort, double gradient)
 {
+    (void)gradient;   /* the profile is the deceleration itself */
     return effort * rb_speed_table_at((const rb_speed_table *)ctx, speed);
 }
 

@@ -35,7 +35,7 @@ static inline void fill_car(rb_plant_car *c)
 static inline void fill_plant(rb_plant_params *p, int n_cars, double speed)
 {
     memset(p, 0, sizeof *p);
-    p->n_cars = n_cars; p->dt = 1e-3; p->substeps = 1; p->temperature = 293.15; p->atmosphere = 1.01325e5;
+    p->n_cars = n_cars; p->dt = 1e-3; p->substeps = 1; p->temperature = 293.15; p->ambient_temperature = 293.15; p->atmosphere = 1.01325e5;
     p->discharge_coefficient = 0.8; p->critical_ratio = 0.528;
     for (int i = 0; i < n_cars; ++i) fill_car(&p->car[i]);
     p->coupler = (rb_coupler){0.01, 1e7, 0.0, 2e5};

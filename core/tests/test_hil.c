@@ -18,6 +18,9 @@ static rb_hil_runner runner;
 static rb_hil_bcu server;
 static rb_run_state mil;
 static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+#define SESSION 0x5e55104du
+
+static uint32_t digest(int n_cars) { return rb_hil_config_digest("fixture", n_cars, 4 * n_cars, 1e-3); }
 
 static void setup(int n_cars, double speed)
 {
@@ -29,7 +32,8 @@ static void setup(int n_cars, double speed)
     rb_bcu_pressure_map(p, p->atmosphere + 3.8e5, &bcu);
     memset(&config, 0, sizeof config);
     config.hold_time = 0.05; config.late_time = 0.02; config.duration = 10.0;
-    config.stop_speed = 0.05; config.record_interval = 0.01;
+    config.stop_speed = 0.05; config.record_interval = 0.01; config.adhesion_interval = scenario.adhesion_interval;
+    config.session = SESSION; config.config = digest(n_cars);
     CHECK(rb_hil_safe_state(&bcu, &config.safe, NULL) == RB_OK);
 }
 
@@ -59,7 +63,7 @@ static void test_loop_matches_mil(void)
 {
     setup(1, 100 / 3.6);
     rb_error err;
-    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, "127.0.0.1", 0, &server, &err) == RB_OK);
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(bcu.n_cars), "127.0.0.1", 0, &server, &err) == RB_OK);
     CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_hil_bcu_port(&server), &runner,
                              &err) == RB_OK);
     int finished = 0, bcu_finished = 0;
@@ -81,6 +85,19 @@ static void test_loop_matches_mil(void)
     CHECK(res.safe_state_steps == 1);          /* step 0 only: no BCU frame yet */
     CHECK(server.malformed == 0 && server.received == res.frames_sent);
     CHECK(res.braking && !bcu_finished);
+    /* the KPIs by the MIL run's own accumulation: the same to the loop's transport delay */
+    rb_kpis hil_k, mil_k;
+    rb_hil_runner_kpis(&plant, &runner, &hil_k);
+    rb_run_kpis(&plant, &mil, &mil_k);
+    printf("KPIs HIL / MIL: distance %.4f / %.4f m, adhesion utilisation %.4f / %.4f, air vented %.3g / %.3g kg\n",
+           hil_k.stopping_distance_m, mil_k.stopping_distance_m, hil_k.adhesion_utilisation,
+           mil_k.adhesion_utilisation, hil_k.air_consumed_kg, mil_k.air_consumed_kg);
+    CHECK_CLOSE(hil_k.stopping_distance_m, res.stopping_distance, 1e-12, 0);
+    CHECK_CLOSE(hil_k.stopping_distance_m, mil_k.stopping_distance_m, 1e-3, 0);
+    CHECK_CLOSE(hil_k.mean_deceleration, mil_k.mean_deceleration, 2e-2, 0);
+    CHECK_CLOSE(hil_k.adhesion_utilisation, mil_k.adhesion_utilisation, 2e-2, 0);
+    CHECK_CLOSE(hil_k.air_consumed_kg, mil_k.air_consumed_kg, 2e-2, 1e-9);
+    CHECK(hil_k.air_balance_error < 1e-9 && hil_k.adhesion_utilisation > 0.0);
     rb_hil_runner_close(&runner);
     rb_hil_bcu_close(&server);
 }
@@ -94,7 +111,7 @@ static void valid_frame(uint8_t *buf, size_t *size, uint32_t sequence, uint64_t 
 {
     rb_bcu_frame f;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){sequence, step, (uint8_t)n_cars, (uint8_t)(4 * n_cars)};
+    f.header = (rb_frame_header){SESSION, config.config, sequence, step, (uint8_t)n_cars, (uint8_t)(4 * n_cars)};
     for (int c = 0; c < n_cars; ++c) f.pressure_demand[c] = demand;
     CHECK(rb_bcu_frame_encode(&f, buf, 1024, size, NULL) == RB_OK);
 }
@@ -161,12 +178,13 @@ static void test_hostile_frames(void)
     rb_udp_close(&peer);
 }
 
-static size_t plant_frame(uint8_t *buf, uint64_t step, int n_cars)
+static size_t session_frame(uint8_t *buf, uint32_t session, uint64_t step, int n_cars)
 {
     rb_plant_frame f;
     size_t size = 0;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){(uint32_t)step, step, (uint8_t)n_cars, (uint8_t)(4 * n_cars)};
+    f.header = (rb_frame_header){session, digest(n_cars), (uint32_t)step, step, (uint8_t)n_cars,
+                                 (uint8_t)(4 * n_cars)};
     f.train_speed = 30.0f;
     for (int a = 0; a < 4 * n_cars; ++a) f.wheel_speed[a] = 30.0f, f.cylinder_pressure[a] = 1.01325e5f;
     for (int c = 0; c < n_cars; ++c) f.supply_pressure[c] = 5.5e5f;
@@ -174,15 +192,17 @@ static size_t plant_frame(uint8_t *buf, uint64_t step, int n_cars)
     return size;
 }
 
-/* The reference BCU drops garbage and frames of another train, ignores repeated steps (stale), and
- * answers each due BCU cycle to the sender of the plant frames. */
+static size_t plant_frame(uint8_t *buf, uint64_t step, int n_cars) { return session_frame(buf, SESSION, step, n_cars); }
+
+/* The reference BCU drops garbage, refuses frames of another train (answering with its own digest),
+ * ignores repeated steps (stale), and answers each due BCU cycle to the plant of its session. */
 static void test_bcu_server_input(void)
 {
     setup(1, 30.0);
     rb_udp plant_side;
     uint8_t buf[1024];
     int finished = 0;
-    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, "127.0.0.1", 0, &server, NULL) == RB_OK);
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(bcu.n_cars), "127.0.0.1", 0, &server, NULL) == RB_OK);
     CHECK(rb_udp_open(&plant_side, "127.0.0.1", 0, NULL) == RB_OK);
     CHECK(rb_udp_set_peer(&plant_side, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
     send_raw(&plant_side, (const uint8_t *)"garbage", 7);
@@ -194,10 +214,18 @@ static void test_bcu_server_input(void)
     CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.05, 0.0, 1.0, &finished, NULL) == RB_OK);
     uint64_t c[RB_HIL_BCU_COUNTERS];
     rb_hil_bcu_counters(&server, c);
-    CHECK(c[0] == 4 && c[1] == 2 && c[2] == 1);                   /* received, malformed, stale */
-    CHECK(c[3] == 2 && c[5] == 2);                                /* sent, cycles */
+    CHECK(c[0] == 4 && c[1] == 1 && c[2] == 1);                   /* received, malformed, stale */
+    CHECK(c[3] == 3 && c[5] == 2 && c[6] == 0 && c[7] == 1);      /* sent, cycles, foreign, refused */
     rb_bcu_frame answer;
-    long n = rb_udp_recv(&plant_side, buf, sizeof buf);
+    long n = rb_udp_recv(&plant_side, buf, sizeof buf);            /* the refusal: this BCU's digest */
+    CHECK(n > 0 && rb_bcu_frame_decode(buf, (size_t)n, &answer, NULL) == RB_OK);
+    CHECK(answer.header.config == digest(1) && answer.header.session == SESSION && answer.header.n_cars == 1);
+    uint32_t refused_config = 0;
+    int cars = 0, axles = 0;
+    char from[32];
+    CHECK(rb_hil_bcu_refusal(&server, &refused_config, &cars, &axles, from, sizeof from) == 1);
+    CHECK(refused_config == digest(2) && cars == 2 && axles == 8 && strncmp(from, "127.0.0.1:", 10) == 0);
+    n = rb_udp_recv(&plant_side, buf, sizeof buf);
     CHECK(n > 0 && rb_bcu_frame_decode(buf, (size_t)n, &answer, NULL) == RB_OK);
     CHECK(answer.header.step == 0 && answer.brake_demand == 2.0f);
     CHECK(answer.pressure_demand[0] == (float)config.safe.pressure_demand[0]);   /* emergency, no WSP action */
@@ -205,6 +233,120 @@ static void test_bcu_server_input(void)
     CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 2.0, 0.0, 0.1, &finished, NULL) == RB_OK);
     CHECK(finished);                                              /* idle for 0.1 s after the last frame */
     rb_udp_close(&plant_side);
+    rb_hil_bcu_close(&server);
+}
+
+/* Hostile peers against the BCU: a CRC-valid plant frame with step 2^64 - 1 from another address,
+ * or from the plant's own address and session, or a frame of another session, is foreign: the BCU
+ * keeps serving its plant, no other counter moves. */
+static void test_bcu_keeps_its_plant(void)
+{
+    setup(1, 30.0);
+    rb_udp plant_side, hostile;
+    uint8_t buf[1024];
+    int finished = 0;
+    uint64_t c[RB_HIL_BCU_COUNTERS], before[RB_HIL_BCU_COUNTERS];
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(1), "127.0.0.1", 0, &server, NULL) == RB_OK);
+    CHECK(rb_udp_open(&plant_side, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_udp_open(&hostile, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&plant_side, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&hostile, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.02, 0.0, 5.0, &finished, NULL) == RB_OK);
+    rb_hil_bcu_counters(&server, before);
+    send_raw(&hostile, buf, plant_frame(buf, UINT64_MAX, 1));              /* another address */
+    send_raw(&hostile, buf, session_frame(buf, 0x0badf00du, UINT64_MAX, 1));
+    send_raw(&plant_side, buf, plant_frame(buf, UINT64_MAX, 1));           /* spoofed: a forged jump */
+    send_raw(&plant_side, buf, session_frame(buf, 0x0badf00du, 20, 1));    /* another session */
+    send_raw(&hostile, (const uint8_t *)"garbage", 7);
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.02, 0.0, 5.0, &finished, NULL) == RB_OK);
+    rb_hil_bcu_counters(&server, c);
+    CHECK(c[6] == before[6] + 5);
+    for (int k = 0; k < 6; ++k) CHECK(c[k] == before[k]);
+    CHECK(c[7] == 0 && server.udp.have_peer && server.session == SESSION);
+    /* the plant's next frames are served: received, a cycle, an answer to the plant */
+    for (uint64_t step = 10; step <= 30; step += 10) send_raw(&plant_side, buf, plant_frame(buf, step, 1));
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.02, 0.0, 5.0, &finished, NULL) == RB_OK);
+    rb_hil_bcu_counters(&server, c);
+    CHECK(c[0] == before[0] + 3 && c[2] == before[2] && c[5] == before[5] + 3);
+    int answers = 0;
+    for (long n; (n = rb_udp_recv_from(&plant_side, buf, sizeof buf, (uint8_t[16]){0})) > 0;) answers++;
+    CHECK(answers == 4);    /* the first cycle and the three since */
+    CHECK(rb_udp_recv_from(&hostile, buf, sizeof buf, (uint8_t[16]){0}) == 0);   /* nothing to the hostile */
+    rb_udp_close(&plant_side);
+    rb_udp_close(&hostile);
+    rb_hil_bcu_close(&server);
+}
+
+/* Foreign datagrams at the plant (another address, another session) are counted as foreign and
+ * touch nothing else: no lost frames from their sequence numbers, no command applied. */
+static void test_plant_takes_only_its_bcu(void)
+{
+    setup(1, 30.0);
+    rb_udp bcu_side, hostile;
+    uint8_t buf[1024];
+    size_t size;
+    CHECK(rb_udp_open(&bcu_side, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_udp_open(&hostile, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_udp_local_port(&bcu_side), &runner,
+                             NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&bcu_side, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(&hostile, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
+    step_runner(1);
+    valid_frame(buf, &size, 1, 1, 1, 2e5f);
+    send_raw(&bcu_side, buf, size);
+    step_runner(1);
+    CHECK(!runner.safe && runner.applied.pressure_demand[0] == 2e5);
+    valid_frame(buf, &size, 0x80000000u, runner.step, 1, 6e5f);      /* a recent echo, a huge sequence jump */
+    send_raw(&hostile, buf, size);
+    send_raw(&hostile, (const uint8_t *)"garbage", 7);
+    rb_bcu_frame f;
+    memset(&f, 0, sizeof f);
+    f.header = (rb_frame_header){0x0badf00du, digest(1), 2, runner.step, 1, 4};
+    f.pressure_demand[0] = 6e5f;
+    CHECK(rb_bcu_frame_encode(&f, buf, sizeof buf, &size, NULL) == RB_OK);
+    send_raw(&bcu_side, buf, size);                                   /* the BCU's address, another session */
+    step_runner(1);
+    rb_hil_result res;
+    rb_hil_runner_result(&runner, &res);
+    CHECK(res.foreign == 3 && res.received == 1 && res.lost == 0 && res.late == 0 && res.malformed == 0);
+    CHECK(runner.applied.pressure_demand[0] == 2e5);
+    CHECK(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_FOREIGN);
+    CHECK(strstr(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].text, "not the BCU's address") != NULL);
+    valid_frame(buf, &size, 2, runner.step, 1, 3e5f);
+    send_raw(&bcu_side, buf, size);
+    step_runner(1);
+    rb_hil_runner_result(&runner, &res);
+    CHECK(res.received == 2 && res.lost == 0 && runner.applied.pressure_demand[0] == 3e5);
+    rb_hil_runner_close(&runner);
+    rb_udp_close(&bcu_side);
+    rb_udp_close(&hostile);
+}
+
+/* A BCU set up for another train: it refuses the plant and says so (refusal), the plant learns
+ * why from the refusal frame and ends its run; the BCU reaches its idle timeout without valid frames. */
+static void test_mismatch(void)
+{
+    setup(1, 30.0);
+    rb_error err;
+    int finished = 0, bcu_finished = 0;
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, rb_hil_config_digest("other", 1, 4, 1e-3), "127.0.0.1", 0,
+                          &server, &err) == RB_OK);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_hil_bcu_port(&server), &runner,
+                             &err) == RB_OK);
+    for (int i = 0; i < 100 && !finished; ++i) {
+        CHECK(rb_hil_runner_advance(&plant, &config, &runner, 1, NULL, 0, NULL, &finished, &err) == RB_OK);
+        rb_hil_bcu_serve(&bcu, &scenario, &server, 0.0, 0.0, 0.2, &bcu_finished, &err);
+    }
+    rb_hil_result res;
+    rb_hil_runner_result(&runner, &res);
+    CHECK(finished && res.mismatch && res.bcu_config == rb_hil_config_digest("other", 1, 4, 1e-3));
+    CHECK(res.steps < 5 && res.received == 0);
+    CHECK(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_MISMATCH);
+    CHECK(server.refused >= 1 && server.received == 0 && server.session == 0);
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 2.0, 0.0, 0.2, &bcu_finished, NULL) == RB_OK);
+    CHECK(bcu_finished);
+    rb_hil_runner_close(&runner);
     rb_hil_bcu_close(&server);
 }
 
@@ -300,6 +442,9 @@ int main(void)
     test_loop_matches_mil();
     test_hostile_frames();
     test_bcu_server_input();
+    test_bcu_keeps_its_plant();
+    test_plant_takes_only_its_bcu();
+    test_mismatch();
     test_paced_without_bcu();
     test_flood();
     return rb_test_summary("test_hil");

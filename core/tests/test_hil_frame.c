@@ -8,6 +8,8 @@ static rb_plant_frame sample_plant(void)
 {
     rb_plant_frame f;
     memset(&f, 0, sizeof f);
+    f.header.session = 0xfeedbeefu;
+    f.header.config = 0x12345678u;
     f.header.sequence = 41;
     f.header.step = 1234567890123ull;
     f.header.n_cars = 8;
@@ -35,6 +37,7 @@ static void test_plant_round_trip_and_corruption(void)
     CHECK(n == rb_plant_frame_size(8, 32));
     CHECK(rb_plant_frame_decode(buf, n, &back, NULL) == RB_OK);
     CHECK(back.header.step == f.header.step && back.header.sequence == 41);
+    CHECK(back.header.session == 0xfeedbeefu && back.header.config == 0x12345678u);
     CHECK(memcmp(back.wheel_speed, f.wheel_speed, 32 * sizeof(float)) == 0);
     CHECK(back.supply_pressure[7] == f.supply_pressure[7]);
 
@@ -49,12 +52,33 @@ static void test_plant_round_trip_and_corruption(void)
     CHECK(rb_plant_frame_decode(buf, n - 1, &back, &err) != RB_OK);
     CHECK(strstr(err.message, "size") != NULL);
     CHECK(rb_plant_frame_encode(&f, buf, 10, &n, &err) == RB_ESIZE);
+    /* only payload_size wrong: the message says which field, not "size = N: expected N" */
+    CHECK(rb_plant_frame_encode(&f, buf, sizeof buf, &n, NULL) == RB_OK);
+    buf[6] ^= 1;
+    uint32_t crc = rb_crc32(buf, n - 4);
+    for (int k = 0; k < 4; ++k) buf[n - 4 + (size_t)k] = (uint8_t)(crc >> (8 * k));
+    CHECK(rb_plant_frame_decode(buf, n, &back, &err) != RB_OK);
+    CHECK(strstr(err.message, "payload_size = ") == err.message);
+    /* a session of 0 is no session */
+    f.header.session = 0;
+    CHECK(rb_plant_frame_encode(&f, buf, sizeof buf, &n, NULL) == RB_OK);
+    CHECK(rb_plant_frame_decode(buf, n, &back, &err) != RB_OK && strstr(err.message, "session = 0"));
+}
+
+static void test_config_digest(void)
+{
+    uint32_t d = rb_hil_config_digest("velaro-8", 8, 32, 1e-3);
+    CHECK(d == rb_crc32((const uint8_t *)"railbrake-hil/2 train=velaro-8 cars=8 axles=32 step_us=1000", 59));
+    CHECK(d != rb_hil_config_digest("velaro-8", 4, 16, 1e-3));
+    CHECK(d != rb_hil_config_digest("crh380a-8", 8, 32, 1e-3));
+    CHECK(d != rb_hil_config_digest("velaro-8", 8, 32, 2e-3));
 }
 
 static void test_bcu_validation(void)
 {
     rb_bcu_frame f, back;
     memset(&f, 0, sizeof f);
+    f.header.session = 7;
     f.header.n_cars = 2;
     f.header.n_axles = 8;
     f.brake_demand = 1.5f;
@@ -100,6 +124,7 @@ static void test_garbage_never_crashes(void)
 int main(void)
 {
     test_crc_reference();
+    test_config_digest();
     test_plant_round_trip_and_corruption();
     test_bcu_validation();
     test_garbage_never_crashes();

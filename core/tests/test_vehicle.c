@@ -1,5 +1,5 @@
 /* Tests of the vehicle laws against hand calculations and closed forms
- * (shared/reference/README.md, sections 2 and 3). */
+ * (EN 14531-1 cylinder force and equivalent response time; TB/T 1407.2 CRH380AL data). */
 #include "railbrake/rb_vehicle.h"
 #include "rb_test.h"
 
@@ -31,7 +31,7 @@ static rb_car motor_car(double ed_scale)
     c.motor = 1;
     c.mass = 50e3;
     c.wheelset.axle_load = 50e3 / 4;
-    c.ed.terms = 4;  /* CRH380AL whole-train curve, kN -> N (README s. 2) */
+    c.ed.terms = 4;  /* CRH380AL whole-train curve, kN -> N (TB/T 1407.2) */
     const double c0[4] = {509.6e3, 544.34e3, -121e3, 0.0};
     const double c1[4] = {0.0, -1.787e3, 0.0, 0.0};
     const double c2[4] = {0.0, 0.0, 42942.9e3, 33033e3};
@@ -185,7 +185,7 @@ static void test_stopping(void)
     size_t n;
     /* constant deceleration after the equivalent response time: v0 te + v0^2 / 2a */
     rb_speed_table a = {1, {0.0}, {0.9}};
-    rb_stop_options o = {250 / 3.6, 0.0, 0.0, 0.5, 2.5, 1, 0.01, 0.5, 600.0};
+    rb_stop_options o = {250 / 3.6, 0.0, 0.0, 0.5, 2.5, 1, 0.01, 0.5, 600.0, 0, {0.0}, {0.0}};
     CHECK(rb_stop_profile(&a, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
     CHECK(rb_stop_constant(o.v0, 0.9, 0.5 + 1.25, &s_ref, &t_ref, &err) == RB_OK);
     CHECK_CLOSE(s, s_ref, 1e-9, 0);
@@ -204,12 +204,37 @@ static void test_stopping(void)
     t.resistance = (rb_resistance){4000.0, 0.0, 8.0};
     rb_brake_command cmd;
     memset(&cmd, 0, sizeof cmd);
-    o = (rb_stop_options){300 / 3.6, 100 / 3.6, 0.0, 0.0, 0.0, 1, 0.05, 5.0, 1e4};
+    o = (rb_stop_options){300 / 3.6, 100 / 3.6, 0.0, 0.0, 0.0, 1, 0.05, 5.0, 1e4, 0, {0.0}, {0.0}};
     CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
     double M = rb_train_mass(&t) + rb_train_rotating_mass(&t), A = 4000.0, C = 8.0;
     CHECK_CLOSE(s, M / (2 * C) * log((A + C * o.v0 * o.v0) / (A + C * o.v_end * o.v_end)), 1e-6, 0);
     double k = sqrt(C / A);
     CHECK_CLOSE(tt, M / sqrt(A * C) * (atan(k * o.v0) - atan(k * o.v_end)), 1e-6, 0);
+
+    /* piecewise gradient: one piece from 0 is the constant gradient; one beyond the stop is level;
+     * a 2 % climb from 1000 m on lies between the two */
+    double s_level = s;
+    o.gradient = 0.02;
+    double s_const, t_const;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s_const, &t_const, &err) == RB_OK);
+    o.gradient = 0.0;
+    o.n_gradients = 1;
+    o.gradient_start[0] = 0.0; o.gradient_value[0] = 0.02;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
+    CHECK_CLOSE(s, s_const, 1e-12, 0);
+    o.n_gradients = 2;
+    o.gradient_value[0] = 0.0;
+    o.gradient_start[1] = 1e6;   /* beyond the stop: level */
+    o.gradient_value[1] = 0.02;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
+    CHECK_CLOSE(s, s_level, 1e-12, 0);
+    o.gradient_start[1] = 1000.0;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_OK);
+    CHECK(s < s_level && s > s_const);
+    o.gradient_start[1] = -5.0;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "gradient_start[1] = -5 m") != NULL);
+    o.n_gradients = 0;
 
     /* a pressure beyond the supply is refused and named */
     cmd.p_trailer = (rb_speed_table){1, {0.0}, {P_ATM + 6e5}};
@@ -217,8 +242,43 @@ static void test_stopping(void)
     CHECK(strstr(err.message, "p_trailer.value[0]") != NULL);
 }
 
+/* The BCU's per-car tables: threshold + Pa/N * force is the sizing's per-type pressure (the two
+ * trailers and the two motor cars of small_train are alike); with the ED brake off the motor cars
+ * need the whole demand from the air. */
+static void test_car_demand_tables(void)
+{
+    rb_train t = small_train();
+    t.cars[2] = t.cars[1];   /* cars of a type alike */
+    t.cars[3] = t.cars[0];
+    rb_error err;
+    enum { N = 3 };
+    const double v[N] = {5.0, 40.0, 80.0}, a[N] = {1.2, 1.0, 0.7};
+    double pm[N], pt[N], ed[N], adh[N * 4], pm_ed[N], pt_ed[N];
+    CHECK(rb_size_target_pressure_ed(&t, v, a, N, 0.0, 0, pm, pt, ed, adh, &err) == RB_OK);
+    for (int i = 0; i < N; ++i) CHECK(ed[i] == 0.0);
+    CHECK(rb_size_target_pressure_ed(&t, v, a, N, 0.0, 1, pm_ed, pt_ed, ed, adh, &err) == RB_OK);
+    for (int i = 0; i < N; ++i) {
+        CHECK(pm[i] > pm_ed[i]);
+        CHECK_CLOSE(pt[i], pt_ed[i], 1e-12, 0);
+    }
+    for (int car = 0; car < 4; ++car) {
+        double force[N], per_n[N], threshold;
+        CHECK(rb_size_car_demand(&t, car, v, a, N, 0.0, force, per_n, &threshold, &err) == RB_OK);
+        CHECK_CLOSE(threshold, P_ATM + 700.0 / 0.02, 1e-12, 0);
+        for (int i = 0; i < N; ++i) {
+            CHECK_CLOSE(force[i], rb_car_brake_demand(&t, car, v[i], a[i], 0.0), 1e-12, 0);
+            double p = t.cars[car].motor ? pm[i] : pt[i];
+            CHECK_CLOSE(threshold + per_n[i] * force[i], p, 1e-9, 0);
+        }
+    }
+    double force[N], per_n[N], threshold;
+    CHECK(rb_size_car_demand(&t, 4, v, a, N, 0.0, force, per_n, &threshold, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "car = 4") != NULL);
+}
+
 int main(void)
 {
+    test_car_demand_tables();
     test_table_and_friction();
     test_caliper_and_axle();
     test_wheelset_resistance_ed_coupler();

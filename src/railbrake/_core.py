@@ -126,8 +126,10 @@ rb_polach_check = _declare("rb_polach_check", c_int, POINTER(PolachParamsC), _er
 # ---------------------------------------------------------------- vehicle (rb_vehicle.h)
 
 MAX_TABLE = 64
+MAX_STOP_GRADIENTS = 16
 MAX_ED_TERMS = 8
 MAX_CARS = 20
+MAX_COMPRESSORS = 4
 ED_OFF, ED_MAX, ED_BLENDED = 0, 1, 2
 
 
@@ -184,7 +186,8 @@ class BrakeCommand(Structure):
 class StopOptions(Structure):
     _fields_ = [("v0", c_double), ("v_end", c_double), ("gradient", c_double), ("delay", c_double),
                 ("build_up", c_double), ("equivalent_response", c_int), ("dt", c_double),
-                ("dt_out", c_double), ("t_max", c_double)]
+                ("dt_out", c_double), ("t_max", c_double), ("n_gradients", c_int),
+                ("gradient_start", c_double * MAX_STOP_GRADIENTS), ("gradient_value", c_double * MAX_STOP_GRADIENTS)]
 
 
 def speed_table(speed, value) -> SpeedTable:
@@ -227,6 +230,11 @@ rb_train_deceleration_curve = _declare("rb_train_deceleration_curve", c_int, POI
 rb_size_target_pressure = _declare("rb_size_target_pressure", c_int, POINTER(TrainC), c_double_p,
                                    c_double_p, c_size_t, c_double, c_double_p, c_double_p,
                                    c_double_p, c_double_p, _err_p)
+rb_size_target_pressure_ed = _declare("rb_size_target_pressure_ed", c_int, POINTER(TrainC), c_double_p,
+                                      c_double_p, c_size_t, c_double, c_int, c_double_p, c_double_p,
+                                      c_double_p, c_double_p, _err_p)
+rb_size_car_demand = _declare("rb_size_car_demand", c_int, POINTER(TrainC), c_int, c_double_p, c_double_p,
+                              c_size_t, c_double, c_double_p, c_double_p, c_double_p, _err_p)
 rb_stop_train = _declare("rb_stop_train", c_int, POINTER(TrainC), POINTER(BrakeCommand),
                          POINTER(StopOptions), c_double_p, c_double_p, c_double_p, c_size_t, _size_p,
                          c_double_p, c_double_p, _err_p)
@@ -247,6 +255,7 @@ MAX_CONDITIONS = 4
 MAX_ZONES = 8
 MAX_FAULTS = 16
 MAX_DEMAND_STEPS = 16
+MAX_GRADIENTS = 16
 
 
 def _doubles(*names):
@@ -259,7 +268,8 @@ class PlantCar(Structure):
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
                            "charge_area", "ep_area", "ep_tau", "ep_band", "relay_supply_area",
                            "relay_exhaust_area", "relay_band", "hold_area", "vent_area", "valve_delay",
-                           "pipe_area"))
+                           "pipe_area", "disc_heat_capacity")
+                + [("disc_cooling", SpeedTable)])
 
 
 class PlantCondition(Structure):
@@ -288,7 +298,16 @@ class PlantParams(Structure):
                            "governor_on", "governor_off", "initial_pressure", "initial_speed")
                 + [("n_conditions", c_int), ("condition", PlantCondition * MAX_CONDITIONS),
                    ("n_zones", c_int), ("zone", TrackZone * MAX_ZONES), ("creep_speed_min", c_double),
-                   ("n_faults", c_int), ("fault", Fault * MAX_FAULTS), ("noise_seed", c_uint64)])
+                   ("n_faults", c_int), ("fault", Fault * MAX_FAULTS), ("noise_seed", c_uint64),
+                   ("kernel", c_int)]
+                + [("n_compressors", c_int), ("compressor_position", c_int * MAX_COMPRESSORS),
+                   ("compressor_delivery", c_double * MAX_COMPRESSORS),
+                   ("n_gradients", c_int), ("gradient_start", c_double * MAX_GRADIENTS),
+                   ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)])
+
+
+# rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.
+KERNELS = {"auto": 0, "portable": 1}
 
 
 class WspInputs(Structure):
@@ -319,7 +338,11 @@ class BcuParams(Structure):
                                                       "pressure_max")]
                 + [("motor", c_int * PLANT_MAX_CARS), ("wsp_enabled", c_int), ("wsp_per_bogie", c_int),
                    ("wsp", WSP_FUNCTION),
-                   ("wsp_context", c_void_p)])
+                   ("wsp_context", c_void_p)]
+                + [("demand_tables", c_int), ("ed_in_service", c_int)]
+                + [(n, SpeedTable * PLANT_MAX_CARS) for n in ("emergency_force", "service_force",
+                                                             "pressure_per_newton")]
+                + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)])
 
 
 class Scenario(Structure):
@@ -331,7 +354,10 @@ class Scenario(Structure):
 
 KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max_slip",
              "wheel_lock_events", "max_lock_duration_s", "air_consumed_kg", "adhesion_utilisation",
-             "safety_timer_trips", "air_balance_error", "stopped")
+             "safety_timer_trips", "air_balance_error", "stopped",
+             "min_main_reservoir", "min_supply", "air_drawn_kg", "air_vented_kg", "cylinder_shortfall_s",
+             "worst_axle", "brake_energy", "max_disc_temperature", "min_supply_margin")
+SHORTFALL_PA = 0.2e5  # RB_SHORTFALL_PA
 
 
 class Kpis(Structure):
@@ -343,6 +369,35 @@ rb_plant_state_size = _declare("rb_plant_state_size", c_size_t)
 rb_run_state_size = _declare("rb_run_state_size", c_size_t)
 rb_plant_check = _declare("rb_plant_check", c_int, POINTER(PlantParams), _err_p)
 rb_wsp_default_params = _declare("rb_wsp_default_params", None, POINTER(WspParams))
+rb_wsp_check = _declare("rb_wsp_check", c_int, POINTER(WspParams), _err_p)
+rb_plant_bounds_check = _declare("rb_plant_bounds_check", c_int, POINTER(PlantParams), _err_p)
+
+
+class Bound(Structure):
+    """rb_bound (rb_bounds.h): one plausibility bound of the C table."""
+    _fields_ = [("name", c_char_p), ("unit", c_char_p), ("min", c_double), ("max", c_double), ("why", c_char_p)]
+
+
+rb_bound_count = _declare("rb_bound_count", c_int)
+rb_bound_at = _declare("rb_bound_at", POINTER(Bound), c_int)
+
+
+def _read_bounds() -> dict:
+    table = {}
+    for i in range(rb_bound_count()):
+        b = rb_bound_at(i).contents
+        table[b.name.decode()] = (b.min, b.max, b.unit.decode(), b.why.decode())
+    return table
+
+
+# The one table of plausibility bounds (core/src/bounds.c), SI: name -> (min, max, unit, why).
+BOUNDS = _read_bounds()
+
+
+def bound(name: str) -> tuple[float, float]:
+    """(min, max) in SI of the C bound `name`, e.g. "coupler.damping", "car.mass"."""
+    low, high, _, _ = BOUNDS[name]
+    return low, high
 rb_bcu_pressure_map = _declare("rb_bcu_pressure_map", None, POINTER(PlantParams), c_double,
                                POINTER(BcuParams))
 rb_run_init = _declare("rb_run_init", c_int, POINTER(PlantParams), POINTER(BcuParams), POINTER(WspParams),
@@ -354,8 +409,12 @@ rb_run_channel_count = _declare("rb_run_channel_count", c_int, c_int)
 rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
                                c_size_t, _err_p)
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
-                          c_double_p, _err_p)
+                          c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
 
+for _struct, _size in ((BcuParams, "rb_bcu_params_size"), (Kpis, "rb_kpis_size")):
+    if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
+        raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
+                          "src/railbrake/_core.py is out of date")
 if ctypes.sizeof(PlantParams) != rb_plant_params_size():
     raise ImportError(f"rb_plant_params: ctypes size {ctypes.sizeof(PlantParams)} differs from the C core's "
                       f"{rb_plant_params_size()}; src/railbrake/_core.py is out of date")
@@ -484,7 +543,7 @@ from ctypes import c_float, c_uint32  # noqa: E402
 FRAME_MAX_CARS = 16
 FRAME_MAX_AXLES = 64
 HIL_LOG_TEXT = 120
-HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off")
+HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off", "foreign", "mismatch")
 RT_MEMORY_LOCKED = 1
 RT_FIFO_PRIORITY = 2
 
@@ -496,11 +555,12 @@ class PlantInputs(Structure):
 
 class HilConfig(Structure):
     _fields_ = (_doubles("hold_time", "late_time", "duration", "stop_speed", "record_interval")
-                + [("paced", c_int), ("safe", PlantInputs)])
+                + [("paced", c_int), ("safe", PlantInputs), ("adhesion_interval", c_double),
+                   ("session", c_uint32), ("config", c_uint32)])
 
 
 HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",
-                "safe_state_steps", "overruns")
+                "safe_state_steps", "overruns", "foreign")
 HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us", "work_mean_us",
               "work_p99_us", "work_max_us")
 
@@ -508,7 +568,8 @@ HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us
 class HilResult(Structure):
     _fields_ = ([(n, c_uint64) for n in HIL_COUNTERS] + _doubles(*HIL_TIMING)
                 + _doubles("time", "stopping_distance", "stopping_time")
-                + [("braking", c_int), ("stopped", c_int), ("finished", c_int), ("events", c_uint64)])
+                + [("braking", c_int), ("stopped", c_int), ("finished", c_int), ("events", c_uint64),
+                   ("mismatch", c_int), ("bcu_config", c_uint32), ("bcu_cars", c_int), ("bcu_axles", c_int)])
 
 
 class HilEvent(Structure):
@@ -516,7 +577,7 @@ class HilEvent(Structure):
 
 
 class FrameHeader(Structure):
-    _fields_ = [("sequence", c_uint32), ("step", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8)]
+    _fields_ = [("session", c_uint32), ("config", c_uint32), ("sequence", c_uint32), ("step", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8)]
 
 
 class PlantFrame(Structure):
@@ -541,6 +602,7 @@ rb_bcu_frame_encode = _declare("rb_bcu_frame_encode", c_int, POINTER(BcuFrame), 
                                POINTER(c_size_t), _err_p)
 rb_plant_frame_decode = _declare("rb_plant_frame_decode", c_int, c_char_p, c_size_t, POINTER(PlantFrame), _err_p)
 rb_bcu_frame_decode = _declare("rb_bcu_frame_decode", c_int, c_char_p, c_size_t, POINTER(BcuFrame), _err_p)
+rb_hil_config_digest = _declare("rb_hil_config_digest", c_uint32, c_char_p, c_int, c_int, c_double)
 
 rb_rt_request = _declare("rb_rt_request", c_int, c_int)
 rb_hil_runner_size = _declare("rb_hil_runner_size", c_size_t)
@@ -550,20 +612,24 @@ rb_hil_runner_open = _declare("rb_hil_runner_open", c_int, POINTER(PlantParams),
 rb_hil_runner_advance = _declare("rb_hil_runner_advance", c_int, POINTER(PlantParams), POINTER(HilConfig),
                                  c_void_p, c_uint64, c_double_p, c_size_t, POINTER(c_size_t), POINTER(c_int),
                                  _err_p)
+rb_hil_runner_kpis = _declare("rb_hil_runner_kpis", None, POINTER(PlantParams), c_void_p, POINTER(Kpis))
 rb_hil_runner_result = _declare("rb_hil_runner_result", None, c_void_p, POINTER(HilResult))
 rb_hil_runner_event = _declare("rb_hil_runner_event", c_int, c_void_p, c_uint64, POINTER(HilEvent))
 rb_hil_runner_close = _declare("rb_hil_runner_close", None, c_void_p)
+rb_hil_runner_port = _declare("rb_hil_runner_port", c_int, c_void_p)
 rb_hil_channel_count = _declare("rb_hil_channel_count", c_int, c_int)
 rb_hil_channel_info = _declare("rb_hil_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
                                c_size_t, _err_p)
 rb_hil_bcu_size = _declare("rb_hil_bcu_size", c_size_t)
 rb_hil_bcu_open = _declare("rb_hil_bcu_open", c_int, POINTER(BcuParams), POINTER(WspParams), POINTER(Scenario),
-                           c_char_p, c_int, c_void_p, _err_p)
+                           c_uint32, c_char_p, c_int, c_void_p, _err_p)
+rb_hil_bcu_refusal = _declare("rb_hil_bcu_refusal", c_int, c_void_p, POINTER(c_uint32), POINTER(c_int),
+                              POINTER(c_int), c_char_p, c_size_t)
 rb_hil_bcu_port = _declare("rb_hil_bcu_port", c_int, c_void_p)
 rb_hil_bcu_serve = _declare("rb_hil_bcu_serve", c_int, POINTER(BcuParams), POINTER(Scenario), c_void_p, c_double,
                             c_double, c_double, POINTER(c_int), _err_p)
 rb_hil_bcu_close = _declare("rb_hil_bcu_close", None, c_void_p)
-HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles")
+HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles", "foreign", "refused")
 rb_hil_bcu_counters = _declare("rb_hil_bcu_counters", None, c_void_p, c_uint64 * len(HIL_BCU_COUNTERS))
 
 for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_result_size"),
@@ -571,3 +637,68 @@ for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_re
     if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
         raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
                           "src/railbrake/_core.py is out of date")
+
+# ---------------------------------------------------------------- solenoid design model (rb_solenoid.h)
+
+BH_MAX_POINTS = 32
+
+
+class Solenoid(Structure):
+    _fields_ = [(n, c_double) for n in ("turns", "resistance_20c", "resistance_tempco", "iron_length",
+                                        "iron_area")] + [
+        ("bh_points", c_int), ("bh_h", c_double * BH_MAX_POINTS), ("bh_b", c_double * BH_MAX_POINTS),
+        ("pole_diameter", c_double), ("working_gaps", c_int)] + [
+        (n, c_double) for n in ("fringing", "parasitic_gap", "parasitic_area", "leakage_permeance")]
+
+
+class SolenoidState(Structure):
+    _fields_ = [(n, c_double) for n in ("flux", "gap_flux", "flux_linkage", "inductance",
+                                        "incremental_inductance", "force", "energy", "coenergy",
+                                        "iron_flux_density")]
+
+
+class SolenoidDrive(Structure):
+    _fields_ = [(n, c_double) for n in ("voltage", "pwm_frequency", "duty", "temperature_c", "mass",
+                                        "spring_rate", "spring_preload", "damping", "load_force", "gap_max",
+                                        "gap_min")]
+
+
+SOLENOID_SAMPLE_FIELDS = ("t", "voltage", "current", "flux_linkage", "gap", "velocity", "force", "e_electric",
+                          "e_copper", "e_magnetic", "e_mechanical", "e_damping", "e_impact")
+
+
+class SolenoidSample(Structure):
+    _fields_ = [(n, c_double) for n in SOLENOID_SAMPLE_FIELDS]
+
+
+rb_solenoid_check = _declare("rb_solenoid_check", c_int, POINTER(Solenoid), _err_p)
+rb_solenoid_eval = _declare("rb_solenoid_eval", c_int, POINTER(Solenoid), c_double, c_double,
+                            POINTER(SolenoidState), _err_p)
+rb_solenoid_force_table = _declare("rb_solenoid_force_table", c_int, POINTER(Solenoid), c_double_p, c_int,
+                                   c_double_p, c_int, POINTER(ForceTable), _err_p)
+rb_solenoid_simulate = _declare("rb_solenoid_simulate", c_int, POINTER(Solenoid), POINTER(SolenoidDrive),
+                                c_double, c_double, POINTER(SolenoidSample), c_size_t, _err_p)
+rb_solenoid_steady_temperature = _declare("rb_solenoid_steady_temperature", c_int, POINTER(Solenoid), c_double,
+                                          c_double, c_double, c_double, c_double_p, _err_p)
+rb_solenoid_thermal_transient = _declare("rb_solenoid_thermal_transient", c_int, POINTER(Solenoid), c_double,
+                                         c_double, c_double, c_double, c_double, c_double, c_size_t, c_double_p,
+                                         c_size_t, _err_p)
+
+for _struct, _size in ((Solenoid, "rb_solenoid_size"), (SolenoidState, "rb_solenoid_state_size"),
+                       (SolenoidDrive, "rb_solenoid_drive_size"), (SolenoidSample, "rb_solenoid_sample_size")):
+    if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
+        raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
+                          "src/railbrake/_core.py is out of date")
+
+# ---------------------------------------------------------------- reduced valve model (rb_valve_reduced.h)
+
+
+class ReducedValve(Structure):
+    _fields_ = [(n, c_double) for n in ("supply", "atmosphere", "volume", "temperature", "discharge_coefficient",
+                                        "critical_ratio", "tau", "band", "area")]
+
+
+rb_reduced_valve_steps = _declare("rb_reduced_valve_steps", c_int, POINTER(ReducedValve), c_double_p, c_double_p,
+                                  c_size_t, c_double, c_double_p, c_size_t, c_double, c_double_p, _err_p)
+if ctypes.sizeof(ReducedValve) != _declare("rb_reduced_valve_size", c_size_t)():
+    raise ImportError("rb_reduced_valve: ctypes size differs from the C core's; src/railbrake/_core.py is out of date")

@@ -3,10 +3,17 @@
 Files are validated with pydantic models (unknown keys forbidden). An error names the file, the
 key path, the line in the file, the value found and what is allowed, so the user can go straight
 to it. Line numbers come from PyYAML's node marks.
+
+Before validation the text is checked as a whole, without recursion, so no input can hang the
+loader or end in a traceback: it must be UTF-8 (read_text), nest at most MAX_DEPTH levels, use no
+anchors or aliases (`&a`, `*a`: an alias bomb of 13 levels expands to 67 million items) and give
+no key twice in a mapping (both lines are named), and no .nan or .inf anywhere. Values are validated strictly: a string or a
+Boolean is not read as a number (`load_t: "1_000"`, `wheelset_inertia_kgm2: true`).
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import TypeVar
 
@@ -16,6 +23,81 @@ from pydantic import BaseModel, ValidationError
 from railbrake.errors import InputError
 
 Model = TypeVar("Model", bound=BaseModel)
+
+MAX_DEPTH = 32          # nesting levels of mappings and sequences (the schemas use at most 5)
+MAX_BYTES = 1 << 20     # 1 MiB: no configuration file comes near it
+
+
+def read_text(path: str | Path) -> str:
+    """A configuration file's text; InputError (naming the file) if it cannot be read or is not UTF-8."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: a directory, not a file") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    if len(data) > MAX_BYTES:
+        raise InputError(f"{path}: {len(data)} bytes: a configuration file must be under {MAX_BYTES} bytes")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        raise InputError(f"{path}, line {line}: byte 0x{data[exc.start]:02x} is not UTF-8 text "
+                         "(save the file as UTF-8)") from None
+
+
+def _check_events(text: str, origin: str) -> None:
+    """Nesting depth, anchors and aliases, from PyYAML's event stream (no recursion)."""
+    depth = 0
+    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+        line = event.start_mark.line + 1
+        if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None):
+            raise InputError(f"{origin}, line {line}: YAML anchors and aliases (&name, *name) are not "
+                             "supported: write the value out")
+        if isinstance(event, (yaml.MappingStartEvent, yaml.SequenceStartEvent)):
+            depth += 1
+            if depth > MAX_DEPTH:
+                raise InputError(f"{origin}, line {line}: nested deeper than {MAX_DEPTH} levels")
+        elif isinstance(event, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
+            depth -= 1
+
+
+def _check_finite(data, origin: str, index: dict, path=()) -> None:
+    """YAML's .nan and .inf are never a meaningful configuration value: refused wherever they appear."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            _check_finite(value, origin, index, path + (key,))
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            _check_finite(value, origin, index, path + (i,))
+    elif isinstance(data, float) and not math.isfinite(data):
+        line = _line_of(index, path)
+        key = ".".join(str(p) for p in path)
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: {key} = {data}: must be a finite number")
+
+
+def _key_text(node) -> str:
+    return node.value if isinstance(node, yaml.ScalarNode) else f"<{node.tag}>"
+
+
+def _check_duplicates(node, origin: str, path=()) -> None:
+    """A key given twice in one mapping: both lines (YAML says keys are unique; PyYAML keeps the last)."""
+    if isinstance(node, yaml.MappingNode):
+        seen = {}
+        for key_node, value_node in node.value:
+            key = _key_text(key_node)
+            if key in seen:
+                where = ".".join(str(p) for p in path + (key,))
+                raise InputError(f"{origin}, line {key_node.start_mark.line + 1}: {where}: key given twice "
+                                 f"(first on line {seen[key]})")
+            seen[key] = key_node.start_mark.line + 1
+            _check_duplicates(value_node, origin, path + (key,))
+    elif isinstance(node, yaml.SequenceNode):
+        for i, item in enumerate(node.value):
+            _check_duplicates(item, origin, path + (i,))
 
 
 def _line_index(node, path=(), index=None) -> dict:
@@ -45,6 +127,15 @@ def _line_of(index: dict, location: tuple) -> int | None:
     return None
 
 
+def _message(error: dict) -> str:
+    """pydantic's message without its "Value error, " / "Assertion failed, " prefix."""
+    msg = error["msg"]
+    for prefix in ("Value error, ", "Assertion failed, "):
+        if msg.startswith(prefix):
+            return msg[len(prefix):]
+    return msg
+
+
 def _describe(error: dict) -> str:
     key = ".".join(str(p) for p in error["loc"]) or "(top level)"
     if error["type"] == "extra_forbidden":
@@ -53,28 +144,33 @@ def _describe(error: dict) -> str:
         return f"{key}: missing"
     value = error.get("input")
     if isinstance(value, (dict, list)):  # a whole block: the key says enough
-        return f"{key}: {error['msg']}"
-    return f"{key} = {value!r}: {error['msg']}"
+        return f"{key}: {_message(error)}"
+    return f"{key} = {value!r}: {_message(error)}"
 
 
 def load_mapping(text: str, origin: str) -> dict:
-    """The YAML text as a mapping; InputError names the line of a syntax error."""
+    """The YAML text as a mapping, checked as above; InputError names the line of a problem."""
     try:
+        _check_events(text, origin)
+        node = yaml.compose(text, Loader=yaml.SafeLoader)
+        _check_duplicates(node, origin)
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f", line {mark.line + 1}" if mark else ""
         raise InputError(f"{origin}{where}: not valid YAML ({getattr(exc, 'problem', exc)})") from None
+    except RecursionError:   # bounded by MAX_DEPTH above; kept as a last guard
+        raise InputError(f"{origin}: nested too deeply") from None
     if not isinstance(data, dict):
         raise InputError(f"{origin}: expected a mapping of keys at the top level")
+    _check_finite(data, origin, _line_index(node))
     return data
 
 
 def parse_yaml(text: str, model: type[Model], origin: str) -> Model:
     """Validate YAML text against a pydantic model; InputError names key, value and line."""
     data = load_mapping(text, origin)
-    node = yaml.compose(text)
-    return validate_data(data, model, locator(origin, _line_index(node)))
+    return validate_data(data, model, locator(origin, _line_index(yaml.compose(text, Loader=yaml.SafeLoader))))
 
 
 def locator(origin: str, lines: dict, overrides: dict | None = None):
@@ -93,17 +189,14 @@ def locator(origin: str, lines: dict, overrides: dict | None = None):
 
 
 def validate_data(data: dict, model: type[Model], locate) -> Model:
-    """Validate already-loaded data; ``locate(loc)`` names where a key path came from
+    """Validate already-loaded data strictly; ``locate(loc)`` names where a key path came from
     (file and line, or a command-line override) for the error message."""
     try:
-        return model.model_validate(data)
+        return model.model_validate(data, strict=True)
     except ValidationError as exc:
         messages = [f"{locate(tuple(error['loc']))}: {_describe(error)}" for error in exc.errors()]
         raise InputError("\n".join(messages)) from None
 
 
 def load_yaml(path: str | Path, model: type[Model]) -> Model:
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
-    return parse_yaml(path.read_text(), model, str(path))
+    return parse_yaml(read_text(path), model, str(path))

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from railbrake import _core
+from railbrake._args import instance, real, reals
 from railbrake.errors import InputError
 from railbrake.units import G_STANDARD
 
@@ -65,6 +66,8 @@ class PolachParams:
     kS: float
 
     def __post_init__(self):
+        for key in ("mu0", "A", "B", "kA", "kS"):
+            object.__setattr__(self, key, real(key, getattr(self, key)))
         _core.call(_core.rb_polach_check, ctypes.byref(self.to_c()))
 
     def to_c(self) -> _core.PolachParamsC:
@@ -78,11 +81,11 @@ def relative_radius(*radii: float) -> float:
     """Radius of relative curvature 1/r = sum(1/R_i); an infinite radius (flat) adds nothing."""
     curvature = 0.0
     for i, radius in enumerate(radii):
-        if math.isnan(radius) or radius <= 0:
-            raise InputError(f"radii[{i}] = {radius}: must be > 0 (math.inf for a flat body)")
+        radius = real(f"radius {i + 1} of relative_radius", radius, *RADIUS_RANGE, allow_inf=True)
         curvature += 0.0 if math.isinf(radius) else 1.0 / radius
     if curvature == 0.0:
-        raise InputError("radii: all infinite, the bodies are flat and have no point contact")
+        raise InputError(f"radii {', '.join(f'{r:g}' for r in radii)}: all infinite, the bodies are flat and have "
+                         "no point contact")
     return 1.0 / curvature
 
 
@@ -96,8 +99,10 @@ def hertz_contact(normal_force: float, rx: float, ry: float,
     ``ry = relative_radius(wheel_profile_radius, rail_head_radius)``.
     """
     out = _core.Hertz()
-    _core.call(_core.rb_hertz_contact, float(normal_force), float(rx), float(ry),
-               float(youngs_modulus), float(poisson), ctypes.byref(out))
+    _core.call(_core.rb_hertz_contact, real("normal_force", normal_force, *FORCE_RANGE),
+               real("rx", rx, *RADIUS_RANGE), real("ry", ry, *RADIUS_RANGE),
+               real("youngs_modulus", youngs_modulus, 0.0, low_open=True),
+               real("poisson", poisson, 0.0, 0.5, high_open=True), ctypes.byref(out))
     return HertzContact(out.a, out.b, out.p0, out.normal_force, out.youngs_modulus,
                         out.poisson, out.shear_modulus)
 
@@ -109,11 +114,18 @@ def wheel_rail_contact(wheel_radius: float = DEFAULT_WHEEL_RADIUS,
                        youngs_modulus: float = STEEL_YOUNGS_MODULUS,
                        poisson: float = STEEL_POISSON) -> HertzContact:
     """Contact of one wheel on a straight rail; axle_load in kg is shared by two wheels."""
-    if not axle_load > 0:
-        raise InputError(f"axle_load = {axle_load}: must be > 0 (kg)")
-    rx = relative_radius(wheel_radius)
-    ry = relative_radius(wheel_profile_radius, rail_head_radius)
-    return hertz_contact(axle_load * G_STANDARD / 2.0, rx, ry, youngs_modulus, poisson)
+    axle_load = real("axle_load", axle_load, FORCE_RANGE[0] / G_STANDARD, FORCE_RANGE[1] / G_STANDARD)
+    radii = {"wheel_radius": wheel_radius, "wheel_profile_radius": wheel_profile_radius,
+             "rail_head_radius": rail_head_radius}
+    for name, value in radii.items():
+        real(name, value, *RADIUS_RANGE, allow_inf=name != "wheel_radius")
+    try:
+        rx = relative_radius(wheel_radius)
+        ry = relative_radius(wheel_profile_radius, rail_head_radius)
+        return hertz_contact(axle_load * G_STANDARD / 2.0, rx, ry, youngs_modulus, poisson)
+    except InputError as exc:   # name the caller's arguments, not rx, ry
+        given = ", ".join(f"{k} = {v:g} m" for k, v in radii.items())
+        raise InputError(f"{given}: {exc}") from None
 
 
 def default_contact() -> HertzContact:
@@ -123,7 +135,8 @@ def default_contact() -> HertzContact:
 
 def _kalker(which: int, a_over_b: float, poisson: float) -> float:
     out = ctypes.c_double()
-    _core.call(_core.rb_kalker, which, float(a_over_b), float(poisson), ctypes.byref(out))
+    _core.call(_core.rb_kalker, which, real("a_over_b", a_over_b, 1e-12, 1e6),
+               real("poisson", poisson, 0.0, 0.5), ctypes.byref(out))
     return out.value
 
 
@@ -142,6 +155,22 @@ def kalker_c23(a_over_b: float, poisson: float) -> float:
     return _kalker(23, a_over_b, poisson)
 
 
+# Argument ranges the closed forms are evaluated over (outside them the results overflow or
+# vanish below the smallest float): forces 1 mN to 1 GN, radii 1 um to 1000 km, |creep| <= 1000.
+FORCE_RANGE = (1e-3, 1e9)            # N
+RADIUS_RANGE = (1e-6, 1e9)           # m
+CREEP_LIMIT = 1e3
+SPEED_LIMIT = 1e3                    # m/s
+
+
+def _contact_args(normal_force, contact, params, shear_modulus) -> None:
+    real("normal_force", normal_force, *FORCE_RANGE)
+    instance("contact", contact, HertzContact)
+    instance("params", params, PolachParams)
+    if shear_modulus is not None:
+        real("shear_modulus", shear_modulus, 0.0, low_open=True)
+
+
 def polach_coefficient(creep, speed, normal_force: float, contact: HertzContact,
                        params: PolachParams, shear_modulus: float | None = None):
     """Creep force over normal force, F/Q, with the sign of the creep.
@@ -149,8 +178,14 @@ def polach_coefficient(creep, speed, normal_force: float, contact: HertzContact,
     creep: longitudinal creepage (braking is negative; -1 is a locked wheel);
     speed: train speed in m/s (>= 0). Both broadcast; the result has their shape.
     """
-    creep_b, speed_b = np.broadcast_arrays(np.asarray(creep, dtype=float),
-                                           np.asarray(speed, dtype=float))
+    _contact_args(normal_force, contact, params, shear_modulus)
+    try:
+        creep_b, speed_b = np.broadcast_arrays(reals("creep", creep, -CREEP_LIMIT, CREEP_LIMIT),
+                                               reals("speed", speed, 0.0, SPEED_LIMIT))
+    except ValueError as exc:
+        if isinstance(exc, InputError):
+            raise
+        raise InputError(f"creep and speed: shapes {np.shape(creep)} and {np.shape(speed)} do not broadcast") from None
     creep_c = _core.as_double_array(creep_b.ravel())
     speed_c = _core.as_double_array(speed_b.ravel())
     out = np.empty_like(creep_c)
@@ -164,8 +199,9 @@ def polach_coefficient(creep, speed, normal_force: float, contact: HertzContact,
 def polach_peak(speed: float, normal_force: float, contact: HertzContact, params: PolachParams,
                 shear_modulus: float | None = None) -> tuple[float, float]:
     """(peak F/Q, creep at the peak) over creep in (0, 1] at one speed in m/s."""
+    _contact_args(normal_force, contact, params, shear_modulus)
     peak, at = ctypes.c_double(), ctypes.c_double()
-    _core.call(_core.rb_polach_peak, float(speed), float(normal_force),
+    _core.call(_core.rb_polach_peak, real("speed", speed, 0.0, SPEED_LIMIT), float(normal_force),
                ctypes.byref(contact.creep_contact(shear_modulus)), ctypes.byref(params.to_c()),
                ctypes.byref(peak), ctypes.byref(at))
     return peak.value, at.value

@@ -261,6 +261,9 @@ def _resolve(scenario, overrides: list) -> Resolved:
     train_block.update({"preset": preset, "cars": source.data["train"].get("cars")
                         if isinstance(source.data.get("train"), dict) else None})
     train_block.update(copy.deepcopy(train_source.data))
+    chosen = source.data.get("train") if isinstance(source.data.get("train"), dict) else {}
+    if chosen.get("load_case") is not None:   # the scenario chooses the train's load case
+        train_block["load_case"] = chosen["load_case"]
     for path, value, label in overrides:
         if path == ("train", "preset"):
             continue

@@ -29,6 +29,7 @@ _UNITS = {
     "m/s^2": ("acceleration", 1.0), "m/s2": ("acceleration", 1.0),
     "bar": ("pressure", 1e5), "kPa": ("pressure", 1e3), "Pa": ("pressure", 1.0),
     "mm^2": ("area", 1e-6), "m^2": ("area", 1.0),
+    "‰": ("gradient", 1e-3), "permille": ("gradient", 1e-3), "%": ("gradient", 1e-2),
 }
 _QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$")
 
@@ -58,6 +59,7 @@ Length = _quantity("length")
 Acceleration = _quantity("acceleration")
 Pressure = _quantity("pressure")
 Area = _quantity("area")
+Gradient = _quantity("gradient")
 
 
 class _Strict(BaseModel):
@@ -67,6 +69,26 @@ class _Strict(BaseModel):
 class Train(_Strict):
     preset: str = "crh380al-16"   # railbrake.vehicle preset name or train YAML file
     cars: int | None = Field(default=None, ge=1, le=16)
+    load_case: Literal["tare", "normal", "crush"] | None = None   # None: the train file's load_case
+
+
+class GradientStep(_Strict):
+    """From `start` (along the track, the train's front at 0 m at t = 0) on, the track rises by
+    `gradient` (rise over run, "5 ‰" or "0.5 %"; uphill positive, within +-100 ‰); the first
+    step also applies before its start."""
+    start: Length
+    gradient: Gradient = Field(ge=-0.1, le=0.1)
+
+
+class Track(_Strict):
+    gradients: list[GradientStep] = Field(default_factory=list, max_length=16)
+
+    @model_validator(mode="after")
+    def _increasing(self):
+        for i in range(1, len(self.gradients)):
+            if not self.gradients[i].start > self.gradients[i - 1].start:
+                raise ValueError(f"gradients[{i}].start = {self.gradients[i].start} m: starts must increase")
+        return self
 
 
 class DemandStep(_Strict):
@@ -135,6 +157,7 @@ class ScenarioFile(_Strict):
     initial_speed: Speed
     demand: list[DemandStep] = Field(min_length=1, max_length=16)
     adhesion: Adhesion = Field(default_factory=Adhesion)
+    track: Track = Field(default_factory=Track)
     wsp: WspSettings = Field(default_factory=WspSettings)
     faults: list[FaultSpec] = Field(default_factory=list, max_length=16)
     stop: Stop = Field(default_factory=Stop)
@@ -175,6 +198,13 @@ class Scenario:
             return self.spec.train.cars
         return len(load_train(self.spec.train.preset).cars)
 
+    def check_speed(self, train) -> None:
+        """The initial speed must not exceed the train's maximum speed."""
+        if self.spec.initial_speed > train.max_speed * (1 + 1e-9):
+            raise InputError(f"{self.where('initial_speed')} = {self.spec.initial_speed * 3.6:g} km/h: above the "
+                             f"maximum speed of train {train.name}, {train.max_speed * 3.6:g} km/h "
+                             f"(allowed: 0 to {train.max_speed * 3.6:g} km/h)")
+
     def check_cars(self, n_cars: int) -> None:
         """Faults must name cars of the train."""
         for i, fault in enumerate(self.spec.faults):
@@ -211,9 +241,10 @@ def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = Non
         except InputError:
             raise InputError(f"{scenario.where(*key)} = {name!r}: not an adhesion preset or file") from None
     try:
-        load_train(spec.train.preset)
+        train = load_train(spec.train.preset)
     except InputError as exc:
         raise InputError(f"{scenario.where('train', 'preset')}: {exc}") from None
+    scenario.check_speed(train)
     scenario.check_cars(scenario.cars())
     return scenario
 
@@ -227,5 +258,5 @@ def load(scenario: str | Path | Scenario) -> Scenario:
         return parse((_preset_dir() / f"{name}.yaml").read_text(), f"preset {name}")
     path = Path(name)
     if path.is_file():
-        return parse(path.read_text(), str(path))
+        return parse(config.read_text(path), str(path))
     raise InputError(f"scenario = {name!r}: not a preset ({', '.join(preset_names())}) nor a file")

@@ -23,7 +23,8 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core
-from railbrake.config import parse_yaml
+from railbrake._args import real, reals, text
+from railbrake.config import parse_yaml, read_text
 from railbrake.errors import InputError
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import Train, load_train
@@ -61,7 +62,7 @@ def _check_profile_points(speed_kmh, decel):
         raise ValueError(f"speed_kmh ({len(speed_kmh)} points) and deceleration_ms2 ({len(decel)}) "
                          "differ in length")
     if not 1 <= len(speed_kmh) <= _core.MAX_TABLE:
-        raise ValueError(f"{len(speed_kmh)} points: a profile has 1 to {_core.MAX_TABLE}")
+        raise ValueError(f"speed_kmh: {len(speed_kmh)} points: a profile has 1 to {_core.MAX_TABLE}")
     for i, v in enumerate(speed_kmh):
         if not v >= 0.0:
             raise ValueError(f"speed_kmh[{i}] = {v}: must be >= 0")
@@ -103,7 +104,10 @@ class Profile:
 def make_profile(speed_kmh, deceleration_ms2, name="user", title="User profile", source="user input",
                  delay=0.0, build_up=0.0) -> Profile:
     """A profile from points in km/h and m/s^2; checks that the speeds increase strictly."""
-    speed_kmh, decel = [float(v) for v in speed_kmh], [float(a) for a in deceleration_ms2]
+    speed_kmh = [float(v) for v in np.atleast_1d(reals("speed_kmh", speed_kmh))]
+    decel = [float(a) for a in np.atleast_1d(reals("deceleration_ms2", deceleration_ms2))]
+    name, title, source = text("name", name), text("title", title), text("source", source)
+    delay, build_up = real("delay", delay, 0.0), real("build_up", build_up, 0.0)
     try:
         _check_profile_points(speed_kmh, decel)
     except ValueError as exc:
@@ -161,7 +165,7 @@ def load_profile(profile: ProfileLike) -> Profile:
     if path.suffix == ".csv" and path.is_file():
         return read_profile_csv(path)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return _parse_profile(path.read_text(), str(path))
+        return _parse_profile(read_text(path), str(path))
     raise InputError(f"profile = {name!r}: not a preset ({', '.join(profile_names())}) nor a file")
 
 
@@ -178,6 +182,7 @@ class SizingResult:
     atmospheric_pressure: float
     supply_pressure: float  # Pa absolute
     adhesion_limit: float
+    ed_blending: bool = True
     warnings: list = field(default_factory=list)
 
     @property
@@ -228,34 +233,102 @@ def _warnings(train: Train, r: SizingResult, coast: np.ndarray) -> list:
     return found
 
 
-def target_pressure(train, deceleration: ProfileLike, speeds=None, gradient: float = 0.0,
-                    adhesion_limit: float = ADHESION_LIMIT) -> SizingResult:
+def brake_step(train, kind: str = "emergency") -> tuple:
+    """(Profile, ed_blending) of the train's "emergency" or "service" brake step (train file)."""
+    train = load_train(train)
+    if kind not in ("emergency", "service"):
+        raise InputError(f"brake step = {kind!r}: must be emergency or service")
+    step = train.brake_step(kind)
+    try:
+        return load_profile(step.profile), step.ed_blending
+    except InputError as exc:
+        raise InputError(f"train {train.name}: brake_steps.{kind}.profile: {exc}") from None
+
+
+def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
+    """The profile asked for (default: the train's emergency step) and whether the ED brake
+    blends: as given, else as the train's brake step of that profile says, else on."""
+    if deceleration is None:
+        profile, step_ed = brake_step(train, "emergency")
+        return profile, step_ed if ed is None else bool(ed)
+    profile = load_profile(deceleration)
+    if ed is None:
+        ed = True
+        for kind in ("emergency", "service"):
+            step = train.brake_step(kind)
+            if step.profile == profile.name:
+                ed = step.ed_blending
+                break
+    return profile, bool(ed)
+
+
+def target_pressure(train, deceleration: Optional[ProfileLike] = None, speeds=None, gradient: float = 0.0,
+                    adhesion_limit: float = ADHESION_LIMIT, ed: Optional[bool] = None) -> SizingResult:
     """Cylinder pressure per car type giving the demanded deceleration at each speed (m/s).
 
-    train: a Train or preset name; deceleration: a profile (name, file, Profile or constant m/s^2);
-    speeds: m/s (default: 0 to the top speed every 5 km/h); gradient: rise/run, uphill positive.
+    train: a Train or preset name; deceleration: a profile (name, file, Profile or constant m/s^2;
+    default: the train's emergency brake step); speeds: m/s (default: 0 to the top speed every
+    5 km/h); gradient: rise/run, uphill positive; ed: ED brake first on the motor cars (default:
+    as the train's brake step with this profile says, else on).
     """
     train = load_train(train)
-    profile = load_profile(deceleration)
+    profile, ed = _profile_and_ed(train, deceleration, ed)
     if not adhesion_limit > 0.0:
         raise InputError(f"adhesion_limit = {adhesion_limit}: must be > 0")
     speed = _core.as_double_array(default_speeds(train, profile) if speeds is None else speeds).ravel()
     decel = _core.as_double_array(profile.at(speed))
     n, cars = speed.size, len(train.cars)
-    p_motor, p_trailer, ed = np.empty(n), np.empty(n), np.empty(n)
+    p_motor, p_trailer = np.empty(n), np.empty(n)
     adhesion = np.empty(n * cars)
-    _core.call(_core.rb_size_target_pressure, ctypes.byref(train.c), _core.ptr(speed), _core.ptr(decel),
-               n, float(gradient), _core.ptr(p_motor), _core.ptr(p_trailer), _core.ptr(ed),
+    ed_force = np.empty(n)
+    _core.call(_core.rb_size_target_pressure_ed, ctypes.byref(train.c), _core.ptr(speed), _core.ptr(decel),
+               n, float(gradient), int(ed), _core.ptr(p_motor), _core.ptr(p_trailer), _core.ptr(ed_force),
                _core.ptr(adhesion))
     types = train.car_types()
     result = SizingResult(speed, decel, p_motor if "motor" in types else None,
-                          p_trailer if "trailer" in types else None, ed, adhesion.reshape(n, cars),
-                          train.atmospheric_pressure, train.supply_pressure, adhesion_limit)
+                          p_trailer if "trailer" in types else None, ed_force, adhesion.reshape(n, cars),
+                          train.atmospheric_pressure, train.supply_pressure, adhesion_limit, ed)
     coast = forward_deceleration(train, speed, np.full(n, train.atmospheric_pressure),
                                  np.full(n, train.atmospheric_pressure), ed_mode=_core.ED_OFF,
                                  gradient=gradient)
     result.warnings.extend(_warnings(train, result, coast))
     return result
+
+
+@dataclass(frozen=True)
+class CarDemand:
+    """What the brake control unit needs to brake one car as the sizing does (C law
+    rb_size_car_demand): brake force (N, ED plus pneumatic) at full demand over speed (m/s) and
+    the pneumatic law solved for the pressure: p = threshold + pressure_per_newton * force."""
+
+    speed: np.ndarray
+    force: np.ndarray          # N
+    pressure_per_newton: np.ndarray  # Pa/N
+    threshold: float           # Pa abs
+
+
+def demand_speeds(train: Train, profile: Profile) -> np.ndarray:
+    """Up to MAX_TABLE speeds from 0 to the top speed: the profile's break points and an even grid."""
+    points = profile.speed[profile.speed < train.max_speed]
+    room = _core.MAX_TABLE - points.size - 1
+    grid = np.linspace(0.0, train.max_speed, max(room, 2))
+    speeds = np.unique(np.concatenate([points, grid, [train.max_speed]]))
+    return speeds[np.linspace(0, speeds.size - 1, min(speeds.size, _core.MAX_TABLE)).round().astype(int)]
+
+
+def car_demands(train, profile: ProfileLike) -> list:
+    """Per car of the train, its CarDemand for the profile (load-weighed: the train's masses)."""
+    train = load_train(train)
+    prof = load_profile(profile)
+    speed = _core.as_double_array(demand_speeds(train, prof))
+    decel = _core.as_double_array(prof.at(speed))
+    out = []
+    for k in range(len(train.cars)):
+        force, per_n, threshold = np.empty(speed.size), np.empty(speed.size), ctypes.c_double()
+        _core.call(_core.rb_size_car_demand, ctypes.byref(train.c), k, _core.ptr(speed), _core.ptr(decel),
+                   speed.size, 0.0, _core.ptr(force), _core.ptr(per_n), ctypes.byref(threshold))
+        out.append(CarDemand(speed, force, per_n, threshold.value))
+    return out
 
 
 def forward_deceleration(train, speed, p_motor, p_trailer, ed_demand=None, ed_mode=None,
@@ -291,9 +364,20 @@ class StoppingResult:
     warnings: list = field(default_factory=list)
 
 
-def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max):
-    return _core.StopOptions(float(v0), float(v_end), float(gradient), float(delay), float(build_up),
-                             int(bool(equivalent)), float(dt), float(dt_out), float(t_max))
+def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max, gradients=()):
+    o = _core.StopOptions(float(v0), float(v_end), float(gradient), float(delay), float(build_up),
+                          int(bool(equivalent)), float(dt), float(dt_out), float(t_max))
+    if len(gradients) > _core.MAX_STOP_GRADIENTS:
+        raise InputError(f"gradients: {len(gradients)} pieces, at most {_core.MAX_STOP_GRADIENTS}")
+    o.n_gradients = len(gradients)
+    for i, (start, value) in enumerate(gradients):
+        o.gradient_start[i], o.gradient_value[i] = float(start), float(value)
+    return o
+
+
+def train_length(train: Train) -> float:
+    """m over couplers: the sum of the cars' lengths (train file)."""
+    return float(sum(car.equipment.length_m for car in train.cars))
 
 
 def _run(function, first, options, t_max, dt_out) -> tuple:
@@ -306,10 +390,11 @@ def _run(function, first, options, t_max, dt_out) -> tuple:
     return dist.value, time.value, t[:k].copy(), v[:k].copy(), s[:k].copy()
 
 
-def _pressure_command(train: Train, profile: Profile, v0: float):
-    """Target pressures over 0..v0 as tables, limited to the supply (with a warning)."""
+def _pressure_command(train: Train, profile: Profile, v0: float, ed: bool):
+    """Target pressures over 0..v0 as tables, limited to the supply (with a warning). Sized on
+    level track, as the BCU does (it does not know the gradient)."""
     speeds = np.linspace(0.0, v0, _core.MAX_TABLE)
-    sized = target_pressure(train, profile, speeds)
+    sized = target_pressure(train, profile, speeds, ed=ed)
     warnings = list(sized.warnings)
     cmd = _core.BrakeCommand()
     for kind, p in (("motor", sized.p_motor), ("trailer", sized.p_trailer)):
@@ -320,37 +405,49 @@ def _pressure_command(train: Train, profile: Profile, v0: float):
                             f"{sized.gauge_bar(sized.supply_pressure):.2f} bar: the train decelerates "
                             "less than the profile there")
         setattr(cmd, f"p_{kind}", _core.speed_table(speeds, np.minimum(p, sized.supply_pressure)))
-    cmd.ed_mode = _core.ED_BLENDED
+    cmd.ed_mode = _core.ED_BLENDED if ed else _core.ED_OFF
     cmd.ed_demand = profile.table()
     return cmd, warnings
 
 
-def stopping_distance(v0: float, train=None, profile: ProfileLike = "emergency",
+def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = None,
                       deceleration: Optional[float] = None, response_time: Optional[float] = None,
                       delay: Optional[float] = None, build_up: Optional[float] = None,
                       equivalent_response: bool = True, gradient: float = 0.0, v_end: float = 0.0,
-                      dt: float = 0.01, dt_out: float = 0.5, t_max: float = 3600.0) -> StoppingResult:
+                      dt: float = 0.01, dt_out: float = 0.5, t_max: float = 3600.0,
+                      ed: Optional[bool] = None, gradients=()) -> StoppingResult:
     """Stopping distance and time from v0 (m/s), integrated in C in the EN 14531 manner.
 
-    With a train: the target pressures of `profile` (limited to the supply) and the blended ED
-    brake act on the whole train with resistance, gradient and rotary inertia. Without a train:
+    With a train: the target pressures of `profile` (default: the train's emergency brake step;
+    limited to the supply) and, where the step blends it (ed), the ED brake act on the whole train
+    with resistance, gradient and rotary inertia. Without a train:
     the profile's (or the constant `deceleration`'s) deceleration itself, no resistance.
     Response: delay ta and build-up tb (default: the profile's); response_time sets te directly.
     equivalent_response=True steps the brake on at te = ta + tb/2, False ramps it over tb.
+    gradients: a piecewise gradient instead of `gradient`, (start m, rise/run) pairs along the
+    track from the train's front at the brake's start (as a scenario's track.gradients), applied
+    at the middle of the train (so each start moves back by half the train's length).
     """
-    prof = load_profile(profile if deceleration is None else float(deceleration))
+    trained = None if train is None else load_train(train)
+    if deceleration is not None:
+        prof, ed = load_profile(float(deceleration)), bool(ed)
+    elif trained is not None:
+        prof, ed = _profile_and_ed(trained, profile, ed)
+    else:
+        prof = load_profile("emergency" if profile is None else profile)
     ta = prof.delay if delay is None else delay
     tb = prof.build_up if build_up is None else build_up
     if response_time is not None:
         ta, tb = response_time, 0.0
-    options = _options(v0, v_end, gradient, ta, tb, equivalent_response, dt, dt_out, t_max)
+    half = 0.5 * train_length(trained) if trained is not None else 0.0
+    pieces = [(start + half, value) for start, value in gradients]
+    options = _options(v0, v_end, gradient, ta, tb, equivalent_response, dt, dt_out, t_max, pieces)
     if train is None:
         table = prof.table()
         result = _run(_core.rb_stop_profile, (ctypes.byref(table),), options, t_max, dt_out)
         return StoppingResult(*result)
-    train = load_train(train)
-    cmd, warnings = _pressure_command(train, prof, v0)
-    result = _run(_core.rb_stop_train, (ctypes.byref(train.c), ctypes.byref(cmd)), options, t_max, dt_out)
+    cmd, warnings = _pressure_command(trained, prof, v0, ed)
+    result = _run(_core.rb_stop_train, (ctypes.byref(trained.c), ctypes.byref(cmd)), options, t_max, dt_out)
     return StoppingResult(*result, warnings=warnings)
 
 

@@ -1,8 +1,9 @@
 """Rolling stock: train presets (data files), cars, wheelsets, foundation brake, resistance, ED brake.
 
 The laws live in the C core (``core/src/vehicle_*.c``, ``rb_vehicle.h``); this module reads and
-validates train files (schema ``railbrake.train/1``), converts their human units to SI and builds
-the C structs. Sources: ``shared/reference/README.md`` sections 2 and 3; every preset marks its
+validates train files (schema ``railbrake.train/2``: the whole brake equipment, docs/vehicle.md),
+converts their human units to SI and builds the C structs. Sources: TB/T 1407.2 (CRH380AL traction calculation), EN 14531-1 (brake
+performance), published CRH380A / CRH3C / ICE 3 data; every preset marks its
 assumptions [T].
 
 Pressures: the YAML files give gauge pressures in bar; inside, pressures are absolute in Pa.
@@ -11,34 +12,48 @@ Pressures: the YAML files give gauge pressures in bar; inside, pressures are abs
 from __future__ import annotations
 
 import ctypes
+import math
+import numbers
 from dataclasses import dataclass, replace
 from importlib import resources
+import types
 from pathlib import Path
-from typing import Literal, Optional, Union
+from typing import Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from railbrake import _core, config
+from railbrake._args import real, reals
 from railbrake.errors import InputError
 from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
 
-SCHEMA = "railbrake.train/1"
-P_ATM = 101325.0  # Pa
+SCHEMA = "railbrake.train/2"
+OLD_SCHEMAS = ("railbrake.train/1",)
+LOAD_CASES = ("tare", "normal", "crush")
+P_ATM = 101325.0  # Pa, standard atmosphere
 SINTERED_LOW_SPEED = 0.42  # lambda at standstill of the default sintered pad [T]
 
 
 # ------------------------------------------------------------------ file schema
+# Numbers are strict (a bool or a string is never read as a number); every field carries its unit
+# in its name and a plausibility range in that unit, so a tare given in kg where t is asked fails.
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True)
+
+
+def _num(lo: float, hi: float, *, open_low: bool = False, default=...):
+    """A float in [lo, hi] of the unit its key names ((lo, hi] with open_low)."""
+    bounds = {"gt": lo} if open_low else {"ge": lo}
+    return Field(default, le=hi, **bounds)
 
 
 class _Resistance(_Strict):
-    A_kN: float = Field(ge=0.0)
-    B_kN_per_kmh: float = Field(ge=0.0)
-    C_kN_per_kmh2: float = Field(ge=0.0)
+    A_kN: float = _num(0.0, 50.0)
+    B_kN_per_kmh: float = _num(0.0, 1.0)
+    C_kN_per_kmh2: float = _num(0.0, 0.05)
     source: str
 
 
@@ -66,26 +81,88 @@ class _Table(_Strict):
 class _EdBrake(_Strict):
     branches_kN: list[_Branch] = Field(default=[], max_length=_core.MAX_ED_TERMS)
     table_kN: Optional[_Table] = None
-    scale: float = Field(default=1.0, ge=0.0)
-    fade_kmh: float = Field(default=0.0, ge=0.0)
+    scale: float = _num(0.0, 10.0, default=1.0)
+    fade_kmh: float = _num(0.0, 50.0, default=0.0)
+    response_s: float = _num(0.0, 5.0, open_low=True)
+    source: str
+
+
+class _BrakeStep(_Strict):
+    profile: str                  # a railbrake.sizing profile (preset name or file)
+    ed_blending: bool             # ED brake first on the motor cars, pneumatic the rest
+    source: str
+
+
+class _BrakeSteps(_Strict):
+    emergency: _BrakeStep
+    service: _BrakeStep
+
+
+class _Compressor(_Strict):
+    car: int = Field(ge=1, le=_core.MAX_CARS)      # 1-based position in the formation
+    delivery_kg_s: float = _num(0.0, 0.2, open_low=True)
+
+
+class _MainReservoirPipe(_Strict):
+    diameter_mm: float = _num(10.0, 50.0)
+    coupling_area_mm2: float = _num(1.0, 2000.0)   # flow area of the hose couplings between cars
+
+
+class _AirSupply(_Strict):
+    compressors: list[_Compressor] = Field(min_length=1, max_length=_core.MAX_COMPRESSORS)
+    governor_on_bar: float = _num(4.0, 12.0)       # gauge: a compressor starts below
+    governor_off_bar: float = _num(4.0, 12.0)      # gauge: and stops above
+    charged_bar: float = _num(4.0, 12.0)           # gauge: main reservoir and pipe at the start
+    main_reservoir_l: float = _num(10.0, 5000.0)   # lumped main reservoirs of the whole train
+    main_reservoir_outlet_mm2: float = _num(1.0, 2000.0)
+    pipe: _MainReservoirPipe
+    source: str
+
+    @model_validator(mode="after")
+    def _governor(self):
+        if not self.governor_off_bar > self.governor_on_bar:
+            raise ValueError(f"governor_off_bar = {self.governor_off_bar} must exceed governor_on_bar = "
+                             f"{self.governor_on_bar} (bar gauge)")
+        return self
+
+
+class _Pneumatics(_Strict):
+    air_temperature_c: float = _num(-40.0, 60.0)
+    discharge_coefficient: float = _num(0.3, 1.0)
+    critical_ratio: float = _num(0.1, 0.9)
+    source: str
+
+
+class _Coupler(_Strict):
+    slack_mm: float = _num(0.0, 100.0)
+    stiffness_kN_per_mm: float = _num(0.1, 1000.0)
+    damping_kN_s_per_m: float = _num(0.0, 10000.0)
     source: str
 
 
 class _Discs(_Strict):
     per_axle: int = Field(ge=1, le=8)
     mounting: Literal["axle", "wheel"]
-    mean_radius_m: float = Field(gt=0.0)
+    mean_radius_m: float = _num(0.1, 0.5)
+    mass_kg: float = _num(10.0, 500.0)                   # one disc (the part that stores heat)
+    specific_heat_J_per_kgK: float = _num(300.0, 1000.0)
+    cooling_W_per_K: _Table                             # per disc, over speed
+
+
+class _Cylinder(_Strict):
+    area_m2: float = _num(0.002, 0.1)          # one cylinder per disc (caliper)
+    stroke_mm: float = _num(1.0, 100.0)
+    dead_volume_l: float = _num(0.0, 20.0)
+    return_spring_kN: float = _num(0.0, 20.0)
 
 
 class _Caliper(_Strict):
-    cylinder_area_m2: float = Field(gt=0.0)
-    return_spring_kN: float = Field(ge=0.0)
-    lever_ratio: float = Field(gt=0.0)
-    efficiency: float = Field(gt=0.0, le=1.0)
+    lever_ratio: float = _num(0.5, 10.0)
+    efficiency: float = _num(0.5, 1.0)
 
 
 class _PadFriction(_Strict):
-    sintered_low_speed: Optional[float] = None
+    sintered_low_speed: Optional[float] = _num(0.35, 0.6, default=None)
     table: Optional[_Table] = None
 
     @model_validator(mode="after")
@@ -95,16 +172,66 @@ class _PadFriction(_Strict):
         return self
 
 
+class _SupplyReservoir(_Strict):
+    volume_l: float = _num(5.0, 1000.0)
+    charge_area_mm2: float = _num(0.1, 200.0)   # check valve and choke from the MR pipe
+
+
+class _EpValve(_Strict):
+    design: str                                  # valve design file (railbrake valve)
+    pilot_volume_l: float = _num(0.01, 10.0)
+    port_area_mm2: float = _num(0.1, 100.0)
+    response_s: float = _num(0.001, 2.0)
+    band_bar: float = _num(0.001, 2.0)
+
+
+class _RelayValve(_Strict):
+    design: str
+    output_volume_l: float = _num(0.01, 20.0)
+    supply_area_mm2: float = _num(0.1, 500.0)
+    exhaust_area_mm2: float = _num(0.1, 500.0)
+    band_bar: float = _num(0.001, 2.0)
+
+
+class _WspValves(_Strict):
+    hold_area_mm2: float = _num(0.1, 500.0)
+    vent_area_mm2: float = _num(0.1, 500.0)
+    response_s: float = _num(0.0, 0.2)
+
+
+class _Payload(_Strict):
+    """Payload per car (t) of the load cases; "tare" carries none."""
+    normal: float = _num(0.0, 40.0)
+    crush: float = _num(0.0, 60.0)
+
+
 class _CarType(_Strict):
     kind: Literal["motor", "trailer"]
-    tare_t: float = Field(gt=0.0)
-    load_t: float = Field(ge=0.0)
+    tare_t: float = _num(5.0, 100.0)
+    payload_t: _Payload
     axles: int = Field(ge=1, le=8)
-    wheel_radius_m: float = Field(gt=0.0)
-    wheelset_inertia_kgm2: float = Field(ge=0.0)
+    length_m: float = _num(5.0, 40.0)
+    axle_positions_m: list[float] = Field(min_length=1, max_length=8)
+    wheel_radius_m: float = _num(0.3, 0.65)
+    wheelset_inertia_kgm2: float = _num(10.0, 1000.0)
     discs: _Discs
+    cylinder: _Cylinder
     caliper: _Caliper
-    pad_friction: _PadFriction = _PadFriction(sintered_low_speed=SINTERED_LOW_SPEED)
+    pad_friction: _PadFriction
+    supply_reservoir: _SupplyReservoir
+    ep_valve: _EpValve
+    relay_valve: _RelayValve
+    wsp_valves: _WspValves
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        if len(self.axle_positions_m) != self.axles:
+            raise ValueError(f"axle_positions_m has {len(self.axle_positions_m)} entries: one per axle "
+                             f"({self.axles}) needed")
+        for i, x in enumerate(self.axle_positions_m):
+            if not 0.0 <= x <= self.length_m:
+                raise ValueError(f"axle_positions_m[{i}] = {x}: must lie in [0, length_m = {self.length_m}] m")
+        return self
 
 
 class _TrainFile(_Strict):
@@ -113,11 +240,16 @@ class _TrainFile(_Strict):
     title: str
     source: str
     assumptions: list[str] = []
-    max_speed_kmh: float = Field(gt=0.0)
-    supply_pressure_bar: float = Field(gt=0.0, le=10.0)
-    atmospheric_pressure_bar: float = Field(default=P_ATM / 1e5, gt=0.5, lt=1.2)
+    max_speed_kmh: float = _num(50.0, 500.0)
+    supply_pressure_bar: float = _num(1.0, 10.0)          # gauge, highest cylinder pressure
+    atmospheric_pressure_bar: float = _num(0.5, 1.2)      # absolute
     running_resistance: _Resistance
     ed_brake: Optional[_EdBrake] = None
+    brake_steps: _BrakeSteps
+    air_supply: _AirSupply
+    pneumatics: _Pneumatics
+    coupler: _Coupler
+    load_case: Literal["tare", "normal", "crush"] = "normal"
     car_types: dict[str, _CarType]
     formation: list[str] = Field(min_length=1, max_length=_core.MAX_CARS)
 
@@ -127,6 +259,10 @@ class _TrainFile(_Strict):
             if name not in self.car_types:
                 raise ValueError(f"formation[{i}] = {name!r}: not one of car_types "
                                  f"({', '.join(self.car_types)})")
+        for i, c in enumerate(self.air_supply.compressors):
+            if c.car > len(self.formation):
+                raise ValueError(f"air_supply.compressors[{i}].car = {c.car}: the formation has cars "
+                                 f"1..{len(self.formation)}")
         return self
 
 
@@ -140,11 +276,12 @@ class Car:
     type_name: str
     motor: bool
     tare: float  # kg
-    load: float  # kg
+    load: float  # kg, payload of the train's load case
     axles: int
     wheel_radius: float  # m
     wheelset_inertia: float  # kg m^2
     c: _core.Car
+    equipment: _CarType  # the car type as validated from the file (file units)
 
     @property
     def mass(self) -> float:
@@ -171,6 +308,12 @@ class Train:
     max_speed: float  # m/s
     cars: tuple  # of Car
     c: _core.TrainC  # rb_train struct, checked
+    spec: _TrainFile  # the whole file as validated (file units): brake equipment, air supply
+    load_case: str = "normal"
+
+    def brake_step(self, kind: str) -> _BrakeStep:
+        """The train's "emergency" or "service" brake step: profile name and ED blending."""
+        return getattr(self.spec.brake_steps, kind)
 
     @property
     def mass(self) -> float:
@@ -235,16 +378,20 @@ def _pad_friction(pad: _PadFriction) -> _core.PadFriction:
     return out
 
 
-def _car_struct(t: _CarType, ed: _core.EdCurve, p_atm: float, supply: float, loaded: bool) -> _core.Car:
-    mass = tonne_to_kg(t.tare_t + (t.load_t if loaded else 0.0))
+def _payload_t(t: _CarType, load_case: str) -> float:
+    return 0.0 if load_case == "tare" else getattr(t.payload_t, load_case)
+
+
+def _car_struct(t: _CarType, ed: _core.EdCurve, p_atm: float, supply: float, load_case: str) -> _core.Car:
+    mass = tonne_to_kg(t.tare_t + _payload_t(t, load_case))
     c = _core.Car()
     c.motor, c.axles, c.mass = int(t.kind == "motor"), t.axles, mass
     c.wheelset = _core.Wheelset(t.wheel_radius_m, t.wheelset_inertia_kgm2, mass / t.axles)
     c.brake.discs = t.discs.per_axle
     c.brake.mounting = 1 if t.discs.mounting == "wheel" else 0
     c.brake.mean_radius = t.discs.mean_radius_m
-    k = t.caliper
-    c.brake.caliper = _core.Caliper(k.cylinder_area_m2, kn_to_n(k.return_spring_kN), k.lever_ratio,
+    k, cyl = t.caliper, t.cylinder
+    c.brake.caliper = _core.Caliper(cyl.area_m2, kn_to_n(cyl.return_spring_kN), k.lever_ratio,
                                     k.efficiency, p_atm)
     c.brake.pad = _pad_friction(t.pad_friction)
     if c.motor:
@@ -253,7 +400,7 @@ def _car_struct(t: _CarType, ed: _core.EdCurve, p_atm: float, supply: float, loa
     return c
 
 
-def _build(model: _TrainFile, loaded: bool) -> Train:
+def _build(model: _TrainFile, load_case: str) -> Train:
     p_atm = bar_to_pa(model.atmospheric_pressure_bar)
     supply = p_atm + bar_to_pa(model.supply_pressure_bar)
     types = [model.car_types[n] for n in model.formation]
@@ -263,15 +410,36 @@ def _build(model: _TrainFile, loaded: bool) -> Train:
     train_c.n_cars = len(types)
     cars = []
     for i, (name, t) in enumerate(zip(model.formation, types)):
-        train_c.cars[i] = _car_struct(t, ed, p_atm, supply, loaded)
-        cars.append(Car(i, name, t.kind == "motor", tonne_to_kg(t.tare_t), tonne_to_kg(t.load_t),
-                        t.axles, t.wheel_radius_m, t.wheelset_inertia_kgm2, train_c.cars[i]))
+        train_c.cars[i] = _car_struct(t, ed, p_atm, supply, load_case)
+        cars.append(Car(i, name, t.kind == "motor", tonne_to_kg(t.tare_t), tonne_to_kg(_payload_t(t, load_case)),
+                        t.axles, t.wheel_radius_m, t.wheelset_inertia_kgm2, train_c.cars[i], t))
     r = model.running_resistance
     train_c.resistance = _core.Resistance(kn_to_n(r.A_kN), kn_to_n(r.B_kN_per_kmh) / KMH,
                                           kn_to_n(r.C_kN_per_kmh2) / KMH**2)
     _core.call(_core.rb_train_check, ctypes.byref(train_c))
     return Train(model.name, model.title, " ".join(model.source.split()), tuple(model.assumptions),
-                 model.max_speed_kmh * KMH, tuple(cars), train_c)
+                 model.max_speed_kmh * KMH, tuple(cars), train_c, model, load_case)
+
+
+def with_cars(train: Train, n_cars: int) -> Train:
+    """The train lengthened or shortened to n_cars by repeating its formation. Running
+    resistance: A and B scale with the mass, C (air) with 0.2 + 0.8 n/N (head and tail
+    unchanged) [T]."""
+    n = len(train.cars)
+    if n_cars == n:
+        return train
+    if not 1 <= n_cars <= _core.MAX_CARS:
+        raise InputError(f"cars = {n_cars}: must be in [1, {_core.MAX_CARS}]")
+    c = _core.TrainC()
+    c.n_cars = n_cars
+    for i in range(n_cars):
+        c.cars[i] = train.c.cars[i % n]
+    r = train.c.resistance
+    mass_ratio = sum(train.cars[i % n].c.mass for i in range(n_cars)) / train.mass
+    c.resistance = _core.Resistance(r.A * mass_ratio, r.B * mass_ratio, r.C * (0.2 + 0.8 * n_cars / n))
+    _core.call(_core.rb_train_check, ctypes.byref(c))
+    cars = tuple(replace(train.cars[i % n], index=i, c=c.cars[i]) for i in range(n_cars))
+    return replace(train, cars=cars, c=c, title=f"{train.title}, {n_cars} cars")
 
 
 def _preset_dir():
@@ -282,34 +450,139 @@ def preset_names() -> list[str]:
     return sorted(p.name[:-5] for p in _preset_dir().iterdir() if p.name.endswith(".yaml"))
 
 
-def parse_train(text: str, origin: str, loaded: bool = True) -> Train:
-    data = config.load_mapping(text, origin)
-    return parse_train_data(data, origin, config._line_index(yaml.compose(text)), loaded)
+def _load_case(loaded: Union[bool, str, None], model: _TrainFile, origin: str) -> str:
+    """loaded: a load case name, True (the file's own load_case) or False (tare)."""
+    if loaded is True or loaded is None:
+        return model.load_case
+    if loaded is False:
+        return "tare"
+    if loaded not in LOAD_CASES:
+        raise InputError(f"{origin}: load case = {loaded!r}: must be one of {', '.join(LOAD_CASES)}")
+    return loaded
 
 
-def parse_train_data(data: dict, origin: str, lines: dict, loaded: bool = True,
+def _refuse_old_schema(data: dict, origin: str, lines: dict) -> None:
+    schema = data.get("schema") if isinstance(data, dict) else None
+    if schema in OLD_SCHEMAS:
+        line = lines.get(("schema",)) if lines else None
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: schema = {schema!r}: no longer read; "
+                         f"train files are {SCHEMA!r} now, carrying the whole brake equipment "
+                         "(see docs/vehicle.md, or copy a preset: railbrake config show)")
+
+
+def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, str] = True,
                      overrides: dict | None = None) -> Train:
-    """A train from its file's mapping; lines and overrides say where each key came from."""
-    model = config.validate_data(data, _TrainFile, config.locator(origin, lines, overrides))
+    """A Train from the data of a train file (a dict in file units, e.g. with overrides applied);
+    lines and overrides say where each key came from; loaded: load case name, True (the file's
+    load_case) or False (tare)."""
+    _refuse_old_schema(data, origin, lines)
+    model = validate_data(data, _TrainFile, config.locator(origin, lines, overrides))
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     try:
-        return _build(model, loaded)
+        return _build(model, _load_case(loaded, model, origin))
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
 
 
-def load_train(name_or_path: Union[str, Path, Train], loaded: bool = True) -> Train:
-    """A preset name (see preset_names()) or a YAML file; loaded=False leaves out the payload."""
-    if isinstance(name_or_path, Train):
-        return name_or_path
+def read_train_data(text: str, origin: str) -> tuple[dict, dict]:
+    """The data of a train file's text and its line index (key path -> line)."""
+    data = config.load_mapping(text, origin)
+    return data, config._line_index(yaml.compose(text))
+
+
+_UNIT_OF_SUFFIX = {"_t": "t", "_kgm2": "kg m^2", "_l": "l", "_mm2": "mm^2", "_m2": "m^2", "_mm": "mm",
+                   "_m": "m", "_bar": "bar", "_kN": "kN", "_s": "s", "_kg_s": "kg/s", "_kmh": "km/h",
+                   "_kg": "kg", "_c": "degC", "_kN_per_mm": "kN/mm", "_kN_s_per_m": "kN s/m",
+                   "_J_per_kgK": "J/(kg K)", "_kN_per_kmh": "kN/(km/h)", "_kN_per_kmh2": "kN/(km/h)^2"}
+
+
+def _unwrap(annotation):
+    """X from Optional[X]."""
+    if get_origin(annotation) in (Union, types.UnionType):
+        args = [a for a in get_args(annotation) if a is not type(None)]
+        return args[0] if len(args) == 1 else annotation
+    return annotation
+
+
+def _field_info(model, loc):
+    """The pydantic FieldInfo at an error location (None if the location is not a model field)."""
+    annotation, info = model, None
+    for part in loc:
+        annotation = _unwrap(annotation)
+        if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+            info = annotation.model_fields.get("schema_" if part == "schema" else part)
+            if info is None:
+                return None
+            annotation = info.annotation
+        elif get_origin(annotation) in (dict, list):
+            annotation, info = get_args(annotation)[-1], None
+        else:
+            return None
+    return info
+
+
+def _range_text(model, error) -> str | None:
+    """'must lie in [5, 100] t' for a number out of its plausible range."""
+    if error["type"] not in ("greater_than_equal", "less_than_equal", "greater_than", "less_than"):
+        return None
+    info = _field_info(model, error["loc"])
+    if info is None:
+        return None
+    lo = hi = None
+    low_open = False
+    for m in info.metadata:
+        lo = getattr(m, "ge", lo)
+        if getattr(m, "gt", None) is not None:
+            lo, low_open = m.gt, True
+        hi = getattr(m, "le", hi)
+    key = str(error["loc"][-1])
+    unit = next((u for suffix, u in sorted(_UNIT_OF_SUFFIX.items(), key=lambda x: -len(x[0]))
+                 if key.endswith(suffix)), "")
+    if lo is None or hi is None:
+        return None
+    return f"must lie in {'(' if low_open else '['}{lo:g}, {hi:g}] {unit}".rstrip()
+
+
+def validate_data(data: dict, model, locate):
+    """data validated against a pydantic model; InputError names key, value, where it came from
+    (locate(key path): file and line, or the override) and the plausible range."""
+    try:
+        return model.model_validate(data)
+    except ValidationError as exc:
+        messages = []
+        for error in exc.errors():
+            text = config._describe(error)
+            allowed = _range_text(model, error)
+            if allowed:
+                key = ".".join(str(p) for p in error["loc"])
+                text = f"{key} = {error.get('input')!r}: {allowed}"
+            messages.append(f"{locate(tuple(error['loc']))}: {text}")
+        raise InputError("\n".join(messages)) from None
+
+
+def parse_train(text: str, origin: str, loaded: Union[bool, str] = True) -> Train:
+    data, lines = read_train_data(text, origin)
+    return parse_train_data(data, origin, lines, loaded)
+
+
+def train_file_text(name_or_path: Union[str, Path]) -> tuple[str, str]:
+    """(text, origin) of a preset name or a train YAML file."""
     name = str(name_or_path)
     if name in preset_names():
-        return parse_train((_preset_dir() / f"{name}.yaml").read_text(), f"train {name}", loaded)
+        return (_preset_dir() / f"{name}.yaml").read_text(), f"train {name}"
     path = Path(name)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return parse_train(path.read_text(), str(path), loaded)
+        return config.read_text(path), str(path)
     raise InputError(f"train = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
+
+
+def load_train(name_or_path: Union[str, Path, Train], loaded: Union[bool, str] = True) -> Train:
+    """A preset name (see preset_names()) or a YAML file; loaded: load case ("tare", "normal",
+    "crush"), True for the file's own, False for tare."""
+    if isinstance(name_or_path, Train):
+        return name_or_path
+    return parse_train(*train_file_text(name_or_path), loaded)
 
 
 # ------------------------------------------------------------------ single laws, for users and tests
@@ -317,14 +590,23 @@ def load_train(name_or_path: Union[str, Path, Train], loaded: bool = True) -> Tr
 def pad_friction_sintered(speed, low_speed_value: float = SINTERED_LOW_SPEED):
     """lambda(v) of the default sintered pad [T] at speed (m/s)."""
     pad = _core.PadFriction()
-    _core.call(_core.rb_pad_friction_sintered, low_speed_value, ctypes.byref(pad))
-    return _vectorised(lambda v: _core.rb_pad_friction_at(ctypes.byref(pad), v), speed)
+    _core.call(_core.rb_pad_friction_sintered, real("low_speed_value", low_speed_value), ctypes.byref(pad))
+    return _vectorised(lambda v: _core.rb_pad_friction_at(ctypes.byref(pad), v), _speeds(speed))
 
 
 def equivalent_rotating_mass(wheelsets) -> float:
     """Sum of J / r^2 (kg) over (wheel_radius m, inertia kg m^2, axle_load kg) triples."""
+    if isinstance(wheelsets, (str, bytes)) or not hasattr(wheelsets, "__iter__"):
+        raise TypeError(f"wheelsets = {wheelsets!r}: must be an iterable of (wheel_radius, inertia, axle_load)")
     wheelsets = list(wheelsets)
-    array = (_core.Wheelset * max(len(wheelsets), 1))(*[_core.Wheelset(*w) for w in wheelsets])
+    rows = []
+    for i, w in enumerate(wheelsets):
+        if isinstance(w, (str, bytes)) or not hasattr(w, "__len__") or len(w) != 3:
+            raise TypeError(f"wheelsets[{i}] = {w!r}: must be (wheel_radius m, inertia kg m^2, axle_load kg)")
+        rows.append(_core.Wheelset(real(f"wheelsets[{i}] wheel_radius", w[0], 0.0, low_open=True),
+                                   real(f"wheelsets[{i}] inertia", w[1], 0.0),
+                                   real(f"wheelsets[{i}] axle_load", w[2], 0.0)))
+    array = (_core.Wheelset * max(len(rows), 1))(*rows)
     out = ctypes.c_double()
     _core.call(_core.rb_equivalent_rotating_mass, array, len(wheelsets), ctypes.byref(out))
     return out.value
@@ -333,23 +615,32 @@ def equivalent_rotating_mass(wheelsets) -> float:
 def caliper_pad_force(cylinder_pressure: float, cylinder_area: float, return_spring: float,
                       lever_ratio: float, efficiency: float, atmospheric_pressure: float = P_ATM) -> float:
     """Pad normal force (N) from the absolute cylinder pressure (Pa), EN 14531 form (checked)."""
-    c = _core.Caliper(cylinder_area, return_spring, lever_ratio, efficiency, atmospheric_pressure)
+    # ranges of the API: beyond them the force overflows (areas to 10 m^2, ratios to 1000, 1 GPa)
+    c = _core.Caliper(real("cylinder_area", cylinder_area, 0.0, 10.0, low_open=True),
+                      real("return_spring", return_spring, 0.0, 1e9),
+                      real("lever_ratio", lever_ratio, 0.0, 1e3, low_open=True),
+                      real("efficiency", efficiency, 0.0, 1.0, low_open=True),
+                      real("atmospheric_pressure", atmospheric_pressure, 0.0, 1e9, low_open=True))
     _core.call(_core.rb_caliper_check, ctypes.byref(c))
-    return _core.rb_caliper_pad_force(ctypes.byref(c), cylinder_pressure)
+    return _core.rb_caliper_pad_force(ctypes.byref(c), real("cylinder_pressure", cylinder_pressure, 0.0, 1e9))
 
 
 def coupler_force(dx: float, dv: float, slack: float, stiffness: float, stiffness_cubic: float = 0.0,
                   damping: float = 0.0) -> float:
     """Coupler tension (N) at extension dx (m) and its rate dv (m/s) (checked)."""
-    c = _core.Coupler(slack, stiffness, stiffness_cubic, damping)
+    c = _core.Coupler(real("slack", slack, 0.0), real("stiffness", stiffness, 0.0, low_open=True),
+                      real("stiffness_cubic", stiffness_cubic, 0.0), real("damping", damping, 0.0))
     _core.call(_core.rb_coupler_check, ctypes.byref(c))
-    return _core.rb_coupler_force(ctypes.byref(c), dx, dv)
+    force = _core.rb_coupler_force(ctypes.byref(c), real("dx", dx), real("dv", dv))
+    if not math.isfinite(force):   # e.g. a cubic term of 1e308: not a force
+        raise InputError(f"coupler_force: dx = {dx:g} m, dv = {dv:g} m/s give a force beyond any float")
+    return force
 
 
 def with_constant_pad_friction(train: Train, speed: float | None = None) -> Train:
     """The same train with each pad's lambda frozen at its value at `speed` (m/s; default: top
     speed); comparing the two shows what lambda(v) does to the target pressure."""
-    v = train.max_speed if speed is None else float(speed)
+    v = train.max_speed if speed is None else real("speed", speed, 0.0)
     copy = train.to_c()
     for k in range(copy.n_cars):
         pad = copy.cars[k].brake.pad
@@ -363,4 +654,11 @@ def with_constant_pad_friction(train: Train, speed: float | None = None) -> Trai
 def pad_friction_of(car: Car, speed):
     """lambda(v) of a car's pads at speed (m/s)."""
     pad = ctypes.byref(car.c.brake.pad)
-    return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), speed)
+    return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), _speeds(speed))
+
+
+def _speeds(speed):
+    """speed (m/s): a number or an array of numbers, finite and >= 0, as the caller gave it."""
+    if isinstance(speed, numbers.Real) and not isinstance(speed, bool):
+        return real("speed", speed, 0.0)
+    return reals("speed", speed, 0.0)

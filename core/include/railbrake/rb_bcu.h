@@ -98,6 +98,19 @@ typedef struct {
     int wsp_per_bogie;                    /* 1: both axles of a bogie share their valve commands */
     rb_wsp_function wsp;                  /* NULL: the default WSP */
     void *wsp_context;
+    /* Brake steps from the sizing (railbrake.sizing, rb_size_car_demand), used when
+     * demand_tables = 1 instead of the constant decelerations and the linear map above. Per car
+     * and versus the BCU's speed (the fastest measured wheel): the brake force the car gives at
+     * full emergency / full service (N, ED plus pneumatic, load-weighed) and the pneumatic law
+     * solved for the pressure (Pa per N, pad lambda(v) included). Cylinder pressure demand =
+     * pressure_offset + pressure_per_newton(v) * (force(v) * fraction - ED force achieved). */
+    int demand_tables;
+    int ed_in_service;                    /* 1: ED blending in service (motor cars) */
+    rb_speed_table emergency_force[RB_PLANT_MAX_CARS];
+    rb_speed_table service_force[RB_PLANT_MAX_CARS];
+    rb_speed_table pressure_per_newton[RB_PLANT_MAX_CARS];
+    rb_speed_table emergency_profile;     /* m/s^2 demanded at full emergency (recorded) */
+    rb_speed_table service_profile;       /* m/s^2 at full service */
 } rb_bcu_params;
 
 typedef struct {
@@ -114,6 +127,7 @@ typedef struct {
     rb_wsp_default wsp_default;
 } rb_bcu_state;
 
+size_t rb_bcu_params_size(void);
 rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err);
 rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_state *s, rb_error *err);
 /* Linear demand -> pressure map of each car from the plant's own brake law at nominal pad
@@ -122,6 +136,10 @@ void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_b
 /* Runs the BCU if a cycle is due at out->time and writes the plant's inputs (held otherwise). */
 void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *demand,
                  const rb_plant_outputs *out, rb_plant_inputs *in);
+/* The BCU's speed: the fastest measured wheel (a lost sensor reads < 0 and is ignored). */
+double rb_bcu_speed(const rb_plant_outputs *out, int n_cars);
+/* Demanded deceleration (m/s^2) of a brake demand at speed v, for records. */
+double rb_bcu_demand_deceleration(const rb_bcu_params *p, const rb_brake_demand *d, double speed);
 
 #ifdef __cplusplus
 }

@@ -34,6 +34,9 @@ typedef struct {
     double record_interval;    /* s: decimation of the recorded channels (a multiple of 1 ms) */
     int paced;                 /* 1: 1 kHz on the wall clock; 0: as fast as possible (tests) */
     rb_plant_inputs safe;      /* the safe state (rb_hil_safe_state) */
+    double adhesion_interval;  /* s: sampling of the available peak adhesion for the KPIs (0: every step) */
+    uint32_t session;          /* this run's session id (non-zero, random: chosen by the caller) */
+    uint32_t config;           /* rb_hil_config_digest of this plant */
 } rb_hil_config;
 
 typedef enum {
@@ -41,7 +44,9 @@ typedef enum {
     RB_HIL_EVENT_LATE,
     RB_HIL_EVENT_LOST,
     RB_HIL_EVENT_SAFE_ON,
-    RB_HIL_EVENT_SAFE_OFF
+    RB_HIL_EVENT_SAFE_OFF,
+    RB_HIL_EVENT_FOREIGN,      /* the first datagram not from the BCU's address and session */
+    RB_HIL_EVENT_MISMATCH      /* the BCU answers for another configuration: the run ends */
 } rb_hil_event_kind;
 
 typedef struct {
@@ -54,12 +59,16 @@ typedef struct {
     uint64_t steps, frames_sent, send_errors, datagrams;
     uint64_t received, lost, late, malformed, safe_state_steps;   /* watchdog accounting */
     uint64_t overruns;
+    uint64_t foreign;          /* datagrams not from the BCU's address and session: touch nothing else */
     double wakeup_p50_us, wakeup_p99_us, wakeup_max_us, wakeup_mean_us;
     double work_mean_us, work_p99_us, work_max_us;   /* wake-up to end of the step's work */
     double time;                                     /* s, simulated */
     double stopping_distance, stopping_time;         /* m, s: from the start of braking */
     int braking, stopped, finished;
     uint64_t events;                                 /* events logged since the start */
+    int mismatch;                                    /* 1: the BCU is set up for another configuration */
+    uint32_t bcu_config;                             /* ... its digest, */
+    int bcu_cars, bcu_axles;                         /* ... cars and axles */
 } rb_hil_result;
 
 typedef struct {
@@ -74,8 +83,14 @@ typedef struct {
     uint64_t step, record_every, late_steps, duration_steps;
     int started, finished, stopped, braking, safe;
     double brake_time, brake_position;
-    uint64_t frames_sent, send_errors, datagrams;
+    uint64_t frames_sent, send_errors, datagrams, foreign;
+    int mismatch;
+    uint32_t bcu_config;
+    int bcu_cars, bcu_axles;
     uint64_t events;
+    rb_run_state kpi;                /* the KPIs of rb_run.h, accumulated as in a MIL run (rb_run_accumulate) */
+    double next_peak, peak_sum;      /* the available peak adhesion, one axle per step (hil_runner.c) */
+    int peak_axle, peak_count;
     rb_hil_event log[RB_HIL_LOG_SIZE];
     uint8_t buffer[2048];
 } rb_hil_runner;
@@ -98,10 +113,15 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
 rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_config *config, rb_hil_runner *r,
                                 uint64_t steps, double *series, size_t max_rows, size_t *rows, int *finished,
                                 rb_error *err);
+/* The KPIs of rb_run.h for the run so far, accumulated by the same code as a MIL run; the
+ * safety-timer trips are the external BCU's and unknown here (0). */
+void rb_hil_runner_kpis(const rb_plant_params *plant, const rb_hil_runner *r, rb_kpis *k);
 void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res);
 /* Event number `index` (0-based since the start) if it is still in the log: returns 1 and copies it. */
 int rb_hil_runner_event(const rb_hil_runner *r, uint64_t index, rb_hil_event *event);
 void rb_hil_runner_close(rb_hil_runner *r);
+/* Local UDP port of the plant (useful after binding port 0). */
+int rb_hil_runner_port(const rb_hil_runner *r);
 
 /* Recorded channels: count, and name and SI unit of channel `index`. */
 int rb_hil_channel_count(int n_cars);
@@ -112,30 +132,51 @@ rb_status rb_hil_channel_info(int index, int n_cars, char *name, size_t name_siz
 
 typedef struct {
     rb_bcu_state state;
+    rb_wsp_params wsp;               /* kept to restart the BCU for a new session */
     rb_plant_outputs out;            /* rebuilt from the newest plant frame */
     rb_udp udp;
     uint32_t sequence;
+    uint32_t config;                 /* this BCU's rb_hil_config_digest */
+    uint32_t session;                /* the session served (0: none yet) */
     uint64_t last_step;
     int have_frame, finished;
-    int64_t start_ns, last_frame_ns;
-    uint64_t received, malformed, stale, sent, send_errors, cycles;
+    int64_t start_ns, last_frame_ns, first_datagram_ns, last_refusal_ns;
+    uint64_t received, malformed, stale, sent, send_errors, cycles, foreign, refused;
+    /* the first refused plant: its configuration digest, cars and axles (refused > 0) */
+    uint32_t refused_config;
+    int refused_cars, refused_axles;
+    uint8_t refused_from[16];
     uint8_t buffer[2048];
 } rb_hil_bcu;
 
 size_t rb_hil_bcu_size(void);
+/* config: rb_hil_config_digest of the train this BCU is set up for. */
 rb_status rb_hil_bcu_open(const rb_bcu_params *bcu, const rb_wsp_params *wsp, const rb_scenario *scenario,
-                          const char *host, int port, rb_hil_bcu *b, rb_error *err);
+                          uint32_t config, const char *host, int port, rb_hil_bcu *b, rb_error *err);
 /* Local UDP port (useful after binding port 0). */
 int rb_hil_bcu_port(const rb_hil_bcu *b);
-/* Serves plant frames for up to `for_s` seconds of wall time, waiting with poll(). Each valid plant
- * frame newer than the last one runs rb_bcu_step at the frame's time (scenario's demand profile); when
- * a BCU cycle ran, its commands go back to the frame's sender. *finished = 1 once duration (s of wall
- * time, <= 0: none) has passed or, after the first frame, no plant frame came for idle_timeout s. */
+/* Serves plant frames for up to `for_s` seconds of wall time, waiting with poll(). The first valid
+ * plant frame of this BCU's configuration opens the session (its sender and session id); later frames
+ * count only from that sender in that session (others: foreign, touching no other counter), unless
+ * the session has been silent for RB_HIL_SESSION_IDLE s, when a new one may open (the BCU restarts).
+ * Each session frame newer than the last (and at most RB_HIL_MAX_STEP_JUMP steps plus the wall time
+ * since the last ahead: a forged step cannot silence the BCU) runs rb_bcu_step at the frame's time;
+ * when a BCU cycle ran, its commands go back to the plant. A frame of another configuration is
+ * refused and answered, at most every 0.1 s, with a frame carrying this BCU's digest, so the plant
+ * can say why. *finished = 1 once duration (s of wall time, <= 0: none) has passed or idle_timeout s
+ * passed without a session frame since the last one (or since the first plant frame of any
+ * configuration, if none was). */
 rb_status rb_hil_bcu_serve(const rb_bcu_params *bcu, const rb_scenario *scenario, rb_hil_bcu *b, double for_s,
                            double duration, double idle_timeout, int *finished, rb_error *err);
-/* Counters in the order of RB_HIL_BCU_COUNTERS: received, malformed, stale, sent, send_errors, cycles. */
-#define RB_HIL_BCU_COUNTERS 6
+#define RB_HIL_SESSION_IDLE 1.0       /* s of silence after which another plant may open a session */
+#define RB_HIL_MAX_STEP_JUMP 1000u     /* steps a plant frame may run ahead of the last, beyond the wall time */
+/* Counters in the order of RB_HIL_BCU_COUNTERS: received, malformed, stale, sent, send_errors, cycles,
+ * foreign, refused. */
+#define RB_HIL_BCU_COUNTERS 8
 void rb_hil_bcu_counters(const rb_hil_bcu *b, uint64_t counts[RB_HIL_BCU_COUNTERS]);
+/* The first refused plant (another configuration): 1 and its digest, cars, axles and IPv4 address
+ * "a.b.c.d:port" in from; 0 if none was refused. */
+int rb_hil_bcu_refusal(const rb_hil_bcu *b, uint32_t *config, int *cars, int *axles, char *from, size_t from_size);
 void rb_hil_bcu_close(rb_hil_bcu *b);
 
 #ifdef __cplusplus

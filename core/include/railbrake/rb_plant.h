@@ -4,14 +4,20 @@
  * rb_plant_get_outputs can be called from an FMU or a paced real-time loop. The brake control
  * unit (rb_bcu.h) is separate: it reads rb_plant_outputs and writes rb_plant_inputs.
  *
- * Model (docs/simulation.md). Air and wheelsets advance in `substeps` equal sub-steps of dt (4 x
- * 0.25 ms by default from Python: a single 1 ms step shifted the brake effort under WSP by 0.1-0.2 bar
- * against the detailed model, docs/detailed.md); the BCU's inputs are held over the step.
- *  - Air: isothermal lumped volumes (p = m R T / V) linked by orifices; each link moves
- *    dm = 1 / (1/(dt*|q|) + 1/dm_eq) in a step, where dm_eq would equalise the two nodes
- *    (volumes divided by their number of links): explicit when the link is slow, never
- *    overshooting when it is stiff. Every link takes from one node what it gives the other, so
- *    air mass is conserved to round-off (vented and compressor air are booked).
+ * Model (docs/simulation.md). Air and wheelsets advance in `substeps` equal sub-steps h = dt /
+ * substeps (1 at the nominal 1 ms: Python asks for sub-steps only above 2 ms); the BCU's inputs
+ * are held over the step. Three timing rules make one 1 ms step as accurate as four of 0.25 ms:
+ * a delayed valve's port area is weighted by the fraction of the step it is open; the brake
+ * torque uses the step-mean cylinder pressure; each air link moves the exponential solution of
+ * its linearised flow (below). The laws' constant parts are derived at rb_plant_init
+ * (rb_plant_derived); every init recomputes them, so parameters may change between inits.
+ *  - Air: isothermal lumped volumes (p = m R T / V) linked by orifices, advanced in phases (train
+ *    line, then each car's EP and relay valves, then WSP valves and cylinders). With q the
+ *    orifice flow and dm_eq the mass that would equalise the two nodes (volumes divided by their
+ *    number of links), a link moves dm = dm_eq (1 - exp(-h |q| / dm_eq)) in a step: the
+ *    exponential solution of the link linearised in its pressure difference, never beyond full
+ *    equalisation. Every link takes from one node what it gives the other, so air mass is
+ *    conserved to round-off (vented and compressor air are booked).
  *  - Per car: supply reservoir fed from the main-reservoir pipe through a check valve and a
  *    choke; EP valve (first-order lag on the pressure demand, inlet/exhaust ports opening in
  *    proportion to the error) filling a pilot volume; relay valve (supply/exhaust ports opening
@@ -30,6 +36,7 @@
 
 #include "railbrake/rb_common.h"
 #include "railbrake/rb_contact.h"
+#include "railbrake/rb_pneumatics.h"
 #include "railbrake/rb_vehicle.h"
 
 #ifdef __cplusplus
@@ -42,6 +49,17 @@ extern "C" {
 #define RB_MAX_CONDITIONS 4
 #define RB_MAX_ZONES 8
 #define RB_MAX_FAULTS 16
+#define RB_MAX_COMPRESSORS 4
+#define RB_MAX_GRADIENTS 16
+
+/* Wheelset kernel: the portable C99 one is the reference; the vector one (x86-64 AVX2, chosen at
+ * run time when the CPU has it) computes the same operations in the same order, 4 axles at a time,
+ * and gives the same results bit for bit. */
+typedef enum {
+    RB_PLANT_KERNEL_AUTO = 0,     /* the vector kernel where the CPU and the build have it */
+    RB_PLANT_KERNEL_PORTABLE = 1,
+    RB_PLANT_KERNEL_AVX2 = 2      /* in rb_plant_state.kernel only: what auto resolved to */
+} rb_plant_kernel;
 
 /* ---- parameters (SI units, absolute pressures) */
 
@@ -62,6 +80,9 @@ typedef struct {
     double hold_area, vent_area; /* m^2, WSP valves per axle */
     double valve_delay;       /* s, WSP valve response delay */
     double pipe_area;         /* m^2, MR pipe link to the next car */
+    /* brake discs of one axle, lumped (plant_train.c): heat capacity and cooling over speed */
+    double disc_heat_capacity;        /* J/K per axle (0: no disc temperature) */
+    rb_speed_table disc_cooling;      /* W/K per axle over the car's speed (n = 0: none) */
 } rb_plant_car;
 
 typedef struct {
@@ -126,6 +147,21 @@ typedef struct {
     int n_faults;
     rb_fault fault[RB_MAX_FAULTS];
     uint64_t noise_seed;
+    int kernel;               /* rb_plant_kernel: AUTO or PORTABLE */
+    /* air supply with several compressors (plant_train.c); n_compressors = 0: the single
+     * compressor above (compressor_car, compressor_flow). Compressor i feeds the main reservoir
+     * when it sits on compressor_car, else the MR pipe of its car; its governor reads the
+     * pressure it feeds (on/off at governor_on/governor_off). */
+    int n_compressors;
+    int compressor_position[RB_MAX_COMPRESSORS];    /* car, 0-based */
+    double compressor_delivery[RB_MAX_COMPRESSORS]; /* kg/s when running */
+    /* track gradient, piecewise constant in the position of each car's centre (m along the
+     * track from the start); gradient[i] applies from gradient_start[i] on, gradient[0] also
+     * before it. Rise over run, uphill positive. n_gradients = 0: level. */
+    int n_gradients;
+    double gradient_start[RB_MAX_GRADIENTS];
+    double gradient[RB_MAX_GRADIENTS];
+    double ambient_temperature;   /* K: discs at t = 0 and the cooling's reference */
 } rb_plant_params;
 
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
@@ -157,7 +193,43 @@ typedef struct {
     double air_in_system;         /* kg in every volume */
     double air_vented;            /* kg to the atmosphere since t = 0 */
     double air_compressed;        /* kg delivered by the compressor since t = 0 */
+    double air_drawn;             /* kg taken from the main reservoir and its pipe since t = 0 */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K, lumped discs of each axle */
+    double brake_energy[RB_PLANT_MAX_AXLES];     /* J, friction brake energy of each axle since t = 0 */
 } rb_plant_outputs;
+
+/* ---- constants derived from the parameters at rb_plant_init (never set them: init does) */
+
+typedef struct {
+    double h;                   /* s, air and wheelset step: dt / substeps */
+    double g_unit;              /* kg/(s Pa m^2): Cd x choked factor / sqrt(T), times area = conductance */
+    rb_orifice_law orifice;
+    /* air: node stiffness k = R T / V (Pa/kg), link conductances (kg/(s Pa)) and
+       1 / (n_i k_i + n_j k_j) per link (kg/Pa), n being each node's number of links */
+    double k_mr, g_mr, ik_mr;
+    double k_pipe[RB_PLANT_MAX_CARS], k_supply[RB_PLANT_MAX_CARS], k_pilot[RB_PLANT_MAX_CARS];
+    double k_relay[RB_PLANT_MAX_CARS], k_cyl[RB_PLANT_MAX_CARS];
+    double g_pipe[RB_PLANT_MAX_CARS], ik_pipe[RB_PLANT_MAX_CARS];   /* car c -> c + 1 */
+    double g_charge[RB_PLANT_MAX_CARS], ik_charge[RB_PLANT_MAX_CARS];
+    double g_ep[RB_PLANT_MAX_CARS], ik_ep_in[RB_PLANT_MAX_CARS], ik_ep_out[RB_PLANT_MAX_CARS];
+    double g_relay_supply[RB_PLANT_MAX_CARS], g_relay_exhaust[RB_PLANT_MAX_CARS];
+    double ik_relay_supply[RB_PLANT_MAX_CARS], ik_relay_exhaust[RB_PLANT_MAX_CARS];
+    double g_hold[RB_PLANT_MAX_CARS], g_vent[RB_PLANT_MAX_CARS], ik_hold[RB_PLANT_MAX_CARS], ik_vent[RB_PLANT_MAX_CARS];
+    double inv_ep_band[RB_PLANT_MAX_CARS], inv_relay_band[RB_PLANT_MAX_CARS], ep_lag[RB_PLANT_MAX_CARS];
+    /* mechanics per car */
+    double inv_mass[RB_PLANT_MAX_CARS];
+    double mass_share[RB_PLANT_MAX_CARS];    /* car mass / train mass */
+    double radius[RB_PLANT_MAX_CARS], inv_inertia[RB_PLANT_MAX_CARS], axle_load[RB_PLANT_MAX_CARS];
+    double compliance[RB_PLANT_MAX_CARS];    /* r^2 / J + 1 / m: slip velocity per impulse */
+    double polach_gain[RB_PLANT_MAX_CARS];   /* G pi a b c11 / (4 N): Polach's epsilon = gain |creep| / mu */
+    double brake_gain[RB_PLANT_MAX_CARS];    /* discs x 2 x mean radius x lever x efficiency */
+    double caliper_atmosphere[RB_PLANT_MAX_CARS], caliper_area[RB_PLANT_MAX_CARS];
+    double caliper_spring[RB_PLANT_MAX_CARS];
+    /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
+    double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
+    double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
+    int pad_bracket[RB_PLANT_MAX_AXLES];     /* last pad-table interval used by each axle */
+} rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
 
@@ -189,6 +261,13 @@ typedef struct {
     double noise[RB_PLANT_MAX_AXLES];          /* m/s added to the measured wheel speed */
     uint8_t sensor_lost[RB_PLANT_MAX_AXLES];
     double m_initial;
+    int kernel;               /* rb_plant_kernel in use (PORTABLE or AVX2), resolved at init */
+    rb_plant_derived derived; /* constants of the laws, derived from the parameters at init */
+    /* plant_train.c */
+    uint8_t compressor_running[RB_MAX_COMPRESSORS];
+    double m_supply_side_initial; /* kg in the main reservoir and pipe at t = 0 */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K */
+    double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
@@ -204,6 +283,8 @@ double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
 double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double wheel_speed);
 /* Peak adhesion available to axle (global index from the front) at the present state. */
 double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s, int axle);
+/* "portable" or "avx2": the wheelset kernel the state uses. */
+const char *rb_plant_kernel_name(const rb_plant_state *s);
 size_t rb_plant_params_size(void);
 size_t rb_plant_state_size(void);
 

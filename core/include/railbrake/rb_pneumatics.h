@@ -1,13 +1,17 @@
 /* Pneumatic laws: ideal-gas lumped volume, orifice flow (ISO 6358 form), variable-area
  * elements and membranes.
  *
- * Sources (see shared/reference/README.md section 4): ideal gas with R = 287.05 J/(kg K),
- * gamma = 1.4; ISO 6358 flow-rate characteristic with sonic conductance C and critical
- * pressure ratio b, rho0 = 1.185 kg/m^3 at T0 = 293.15 K; ideal nozzle b = 0.528. */
+ * Sources: ideal gas with R = 287.05 J/(kg K), gamma = 1.4 (dry air, ISO 2533:1975 Standard
+ * Atmosphere, table 1);
+ * the flow-rate characteristic of ISO 6358-1:2013 (sec. 3, annex A) with sonic conductance C
+ * and critical pressure ratio b, reference density rho0 = 1.185 kg/m^3 at T0 = 293.15 K; ideal
+ * nozzle b = 0.528 (de Saint-Venant flow, (2 / (gamma + 1))^(gamma / (gamma - 1))). */
 #ifndef RAILBRAKE_PNEUMATICS_H
 #define RAILBRAKE_PNEUMATICS_H
 
 #include "railbrake/rb_common.h"
+
+#include <math.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -31,6 +35,35 @@ double rb_orifice_mass_flow_fast(double p1, double T1, double p2, double T2,
 /* The same law in the ISO 6358 parameters: sonic conductance C (m^3/(s Pa)), critical ratio b. */
 double rb_orifice_mass_flow_iso_fast(double p1, double T1, double p2, double T2,
                                      double sonic_conductance, double critical_ratio);
+
+/* The orifice law with its constant parts hoisted (for a real-time loop over many links at one
+   temperature): mdot = g p_up phi(p_down / p_up), g = conductance = Cd A x choked factor / sqrt(T).
+   Same law as rb_orifice_mass_flow_fast, to round-off. */
+typedef struct {
+    double b, inv_one_minus_b;           /* critical pressure ratio, 1 / (1 - b) */
+    double laminar_slope;                /* phi = slope (1 - r) above the laminar ratio */
+    int laminar_only;                    /* b >= laminar ratio: phi = (1 - r) / (1 - b) above b */
+} rb_orifice_law;
+
+void rb_orifice_law_init(double critical_ratio, rb_orifice_law *law);
+/* kg/(s Pa m^2): Cd x choked factor / sqrt(T); times an area it is that orifice's conductance. */
+double rb_orifice_unit_conductance(double discharge_coefficient, double temperature);
+/* Mass flow (kg/s) from p1 to p2 (negative when p2 > p1) through conductance g (inline: the
+   real-time plant calls it for every air link in every step). */
+static inline double rb_orifice_flow_function_law(double r, const rb_orifice_law *law)
+{
+    if (r <= law->b) return 1.0;
+    if (law->laminar_only) return (1.0 - r) * law->inv_one_minus_b;
+    if (r >= RB_ORIFICE_LAMINAR_RATIO) return law->laminar_slope * (1.0 - r);
+    double s = (r - law->b) * law->inv_one_minus_b;
+    return sqrt(1.0 - s * s);
+}
+
+static inline double rb_orifice_flow_law(double p1, double p2, double g, const rb_orifice_law *law)
+{
+    if (p1 >= p2) return g * p1 * rb_orifice_flow_function_law(p2 / p1, law);
+    return -g * p2 * rb_orifice_flow_function_law(p1 / p2, law);
+}
 
 /* Sonic conductance C of an orifice of area A and discharge coefficient Cd: the C that gives the
    ideal-nozzle choked flow Cd A p1 sqrt(gamma/(R T1)) (2/(gamma+1))^((gamma+1)/(2(gamma-1))). */

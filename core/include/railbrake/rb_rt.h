@@ -87,6 +87,12 @@ long rb_udp_recv(rb_udp *u, uint8_t *buf, size_t capacity);
  * datagram returns RB_UDP_EMPTY (0 means nothing is waiting). */
 #define RB_UDP_EMPTY (-2)
 long rb_udp_recv_from(rb_udp *u, uint8_t *buf, size_t capacity, uint8_t from[16]);
+/* 1 when two struct sockaddr_in (as rb_udp_recv_from gives them) name the same IPv4 address and port. */
+int rb_udp_same_address(const uint8_t a[16], const uint8_t b[16]);
+/* "a.b.c.d:port" of a struct sockaddr_in. */
+void rb_udp_format(const uint8_t address[16], char *text, size_t size);
+/* Sends to `to` (a struct sockaddr_in) instead of the peer. */
+long rb_udp_send_to(rb_udp *u, const uint8_t to[16], const uint8_t *data, size_t size);
 void rb_udp_close(rb_udp *u);
 
 #ifdef __cplusplus

@@ -36,7 +36,22 @@ typedef struct {
     double safety_timer_trips;
     double air_balance_error;     /* |in volumes + vented - compressed - initial| / initial */
     double stopped;               /* 1 if the train stopped before max_time */
+    /* air supply, cylinders, discs */
+    double min_main_reservoir;    /* Pa abs, lowest main-reservoir pressure */
+    double min_supply;            /* Pa abs, lowest supply-reservoir pressure of any car */
+    double air_drawn_kg;          /* taken from the main reservoir and pipe (fills, venting, leaks) */
+    double air_vented_kg;         /* to the atmosphere */
+    double cylinder_shortfall_s;  /* longest time a cylinder stayed RB_SHORTFALL_PA below its car's
+                                     demand while braking with its WSP valves at rest */
+    double worst_axle;            /* 0-based axle with the most lock events, then the largest slip
+                                     above 2 %; -1: no axle locked or slid */
+    double brake_energy;          /* J, friction brake energy of the whole train */
+    double max_disc_temperature;  /* K, hottest lumped disc */
+    double min_supply_margin;     /* Pa, lowest supply minus cylinder demand of a braking car (< 0:
+                                     the supply could not give the demand); 0 if never braking */
 } rb_kpis;
+
+#define RB_SHORTFALL_PA 0.2e5
 
 typedef struct {
     rb_plant_state plant;
@@ -52,6 +67,10 @@ typedef struct {
     double lock_time[RB_PLANT_MAX_AXLES];
     int lock_events;
     size_t rows;
+    double min_main_reservoir, min_supply, min_supply_margin, max_disc_temperature, max_shortfall;
+    double shortfall_time[RB_PLANT_MAX_AXLES];
+    double axle_max_slip[RB_PLANT_MAX_AXLES];
+    double axle_locks[RB_PLANT_MAX_AXLES];
 } rb_run_state;
 
 /* The scenario's brake demand at time t (a step function; a step applies from its own time on). */
@@ -66,7 +85,15 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
                          rb_run_state *run, double t_until, double *series, size_t max_rows, int *finished,
                          rb_error *err);
 void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *run, rb_kpis *k);
+/* KPI accumulation for a plant stepped by another loop (the HIL runner): run->plant and run->out
+ * hold the plant's state and outputs after the step; run->braking, brake_time, brake_position,
+ * brake_speed and next_adhesion are set by the caller when braking begins. */
+void rb_run_accumulate(const rb_plant_params *plant, const rb_scenario *scenario, rb_run_state *run);
+/* Starts the air-supply and disc extremes of the KPIs from run->out (rb_run_init does it; a loop
+ * that accumulates on its own plant, as the HIL runner, calls it once it has outputs). */
+void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run);
 size_t rb_run_state_size(void);
+size_t rb_kpis_size(void);
 
 /* Time-series layout: number of channels, and the name and SI unit of channel `index`. */
 int rb_run_channel_count(int n_cars);
@@ -74,9 +101,11 @@ rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_siz
                               size_t unit_size, rb_error *err);
 
 /* The plant alone at its fixed step with constant inputs (brakes at pressure_demand): wall-clock
- * time per step, mean and 99th percentile (microseconds). */
+ * time per step after a warm-up of steps / 10 (at most 1000), mean, 99th percentile and largest
+ * (microseconds), and the name of the wheelset kernel used (rb_plant_kernel_name) into kernel. */
 rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, long steps,
-                         double *step_us_mean, double *step_us_p99, rb_error *err);
+                         double *step_us_mean, double *step_us_p99, double *step_us_max, char *kernel,
+                         size_t kernel_size, rb_error *err);
 
 #ifdef __cplusplus
 }

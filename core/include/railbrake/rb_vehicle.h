@@ -2,8 +2,8 @@
  * running resistance, electrodynamic (ED) brake, coupler; the whole-train force balance,
  * the inverse computation of the target cylinder pressure and the stopping-distance integrator.
  *
- * Sources (see shared/reference/README.md, sections 2 and 3):
- *  - EN 14531: cylinder force F_C = p_C A_C i_C eta_C + F_s (F_s the return spring, acting against
+ * Sources:
+ *  - EN 14531-1 (railway brake performance: stopping, slowing and stationary braking): cylinder force F_C = p_C A_C i_C eta_C + F_s (F_s the return spring, acting against
  *    the piston); equivalent response time te = ta + tb/2 [P].
  *  - TB/T 1407.2 (CRH380AL): running resistance, ED brake curve, rotating-mass factor [P].
  *  - Sintered pad friction ~0.35 rising below 100 km/h; wheelset inertia 80-150 kg m^2 [T].
@@ -27,6 +27,7 @@ extern "C" {
 #define RB_MAX_AXLES 8      /* axles per car */
 #define RB_MAX_CARS 20      /* cars per train */
 #define RB_GRAVITY 9.80665  /* m/s^2 */
+#define RB_MAX_STOP_GRADIENTS 16  /* pieces of a gradient profile for the stopping distance */
 
 /* ------------------------------------------------------------------ tables over speed */
 
@@ -84,6 +85,27 @@ typedef struct rb_axle_brake {
 } rb_axle_brake;
 
 /* discs * 2 pads * R_mean * lambda(v) * F_pad, N m. */
+/* rb_speed_table_at starting from *bracket, the interval found last time (0 at first): the same
+   value, found in a step or two when the speed moves little between calls (inline: the real-time
+   plant looks up every axle's pad friction in every step). */
+static inline double rb_speed_table_at_from(const rb_speed_table *t, double speed, int *bracket)
+{
+    int n = t->n;
+    if (n <= 0)
+        return 0.0;
+    if (speed <= t->speed[0])
+        return t->value[0];
+    if (speed >= t->speed[n - 1])
+        return t->value[n - 1];
+    int lo = *bracket < 0 ? 0 : (*bracket > n - 2 ? n - 2 : *bracket);
+    while (t->speed[lo] > speed) --lo;          /* speed[lo] <= speed < speed[lo + 1], as bisection */
+    while (t->speed[lo + 1] <= speed) ++lo;
+    *bracket = lo;
+    int hi = lo + 1;
+    double w = (speed - t->speed[lo]) / (t->speed[hi] - t->speed[lo]);
+    return t->value[lo] + w * (t->value[hi] - t->value[lo]);
+}
+
 double rb_axle_brake_torque(const rb_axle_brake *b, double cylinder_pressure, double speed);
 rb_status rb_axle_brake_check(const rb_axle_brake *b, rb_error *err);
 
@@ -214,6 +236,19 @@ rb_status rb_train_deceleration_curve(const rb_train *t, const double *speed, co
 rb_status rb_size_target_pressure(const rb_train *t, const double *speed, const double *decel,
                                   size_t n, double gradient, double *p_motor, double *p_trailer,
                                   double *ed_force, double *adhesion, rb_error *err);
+/* The same with the ED brake on (ed_on = 1, as rb_size_target_pressure) or off (0: pneumatic only,
+ * as an emergency brake without ED blending). */
+rb_status rb_size_target_pressure_ed(const rb_train *t, const double *speed, const double *decel,
+                                     size_t n, double gradient, int ed_on, double *p_motor,
+                                     double *p_trailer, double *ed_force, double *adhesion,
+                                     rb_error *err);
+/* What a brake control unit needs to brake car `car` as the sizing does: at each speed[i] the
+ * car's brake force demand force[i] (N, ED plus pneumatic, rb_car_brake_demand, not below 0) for
+ * the deceleration decel[i], and its pneumatic law solved for the pressure: cylinder pressure =
+ * threshold + pressure_per_newton[i] * pneumatic force (Pa abs; pad lambda(v) included). */
+rb_status rb_size_car_demand(const rb_train *t, int car, const double *speed, const double *decel,
+                             size_t n, double gradient, double *force, double *pressure_per_newton,
+                             double *threshold, rb_error *err);
 
 /* ------------------------------------------------------------------ stopping distance */
 
@@ -231,6 +266,12 @@ typedef struct rb_stop_options {
     double dt;               /* s, integration step */
     double dt_out;           /* s, spacing of the recorded curve (>= dt) */
     double t_max;            /* s: fail if not stopped by then */
+    /* piecewise gradient over the distance s from the brake's start (n_gradients = 0: `gradient`
+     * throughout): gradient_value[i] from gradient_start[i] on, [0] also before it; held over
+     * each integration step */
+    int n_gradients;
+    double gradient_start[RB_MAX_STOP_GRADIENTS];  /* m, increasing */
+    double gradient_value[RB_MAX_STOP_GRADIENTS];  /* rise/run, uphill positive */
 } rb_stop_options;
 
 /* Brake command for rb_stop_train: cylinder pressure per car type over speed (Pa abs; a table

@@ -19,7 +19,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import _core
-from railbrake.config import parse_yaml
+from railbrake.config import parse_yaml, read_text
 from railbrake.contact import (
     HertzContact,
     PolachParams,
@@ -130,17 +130,17 @@ class _ConditioningModel(BaseModel):
 
 class _TargetModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    speed_kmh: float = Field(ge=0.0)
-    peak: float = Field(gt=0.0)
-    rel_tolerance: float = Field(gt=0.0)
+    speed_kmh: float = Field(ge=0.0, le=600.0)
+    peak: float = Field(gt=0.0, le=1.0)            # an adhesion coefficient F/Q
+    rel_tolerance: float = Field(gt=0.0, le=1.0)
     source: str
-    peak_creep: float | None = None
-    car: int | None = Field(default=None, ge=1)
+    peak_creep: float | None = Field(default=None, gt=0.0, le=1.0)
+    car: int | None = Field(default=None, ge=1, le=16)
 
 
 class _ValidityModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    speed_kmh: tuple[float, float]
+    speed_kmh: list[float] = Field(min_length=2, max_length=2)   # [min, max]
     conditions: str
     source: str
 
@@ -170,17 +170,37 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     cond, valid = model.conditioning, model.validity
-    if valid is not None and not 0.0 <= valid.speed_kmh[0] < valid.speed_kmh[1]:
+    if valid is not None and not (len(valid.speed_kmh) == 2 and 0.0 <= valid.speed_kmh[0] < valid.speed_kmh[1]):
         raise InputError(f"{origin}: validity.speed_kmh = {list(valid.speed_kmh)}: give [min, max] "
                          "with 0 <= min < max (km/h)")
     validity = None if valid is None else Validity(valid.speed_kmh[0], valid.speed_kmh[1],
                                                    " ".join(valid.conditions.split()),
                                                    " ".join(valid.source.split()))
-    return AdhesionCondition(
-        name=model.name, title=model.title, params=PolachParams(**model.params.model_dump()),
-        conditioning=RailConditioning(**cond.model_dump()) if cond else None,
-        source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets),
-        validity=validity)
+    try:
+        return AdhesionCondition(
+            name=model.name, title=model.title, params=_located(PolachParams, model.params, "params", text, origin),
+            conditioning=_located(RailConditioning, cond, "conditioning", text, origin) if cond else None,
+            source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets),
+            validity=validity)
+    except InputError as exc:
+        raise InputError(f"{origin}: {exc}") if origin not in str(exc) else exc from None
+
+
+def _located(kind, block, section: str, text: str, origin: str):
+    """kind(**block) with the core's range error located: file, line and the key under `section`."""
+    try:
+        return kind(**block.model_dump())
+    except InputError as exc:
+        key = str(exc).split(" = ", 1)[0].split(":", 1)[0].strip()
+        line = _config_lines(text).get((section, key))
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: {section}.{exc}") from None
+
+
+def _config_lines(text: str) -> dict:
+    import yaml
+
+    from railbrake.config import _line_index
+    return _line_index(yaml.compose(text, Loader=yaml.SafeLoader))
 
 
 ConditionLike = Union[str, Path, PolachParams, Mapping, AdhesionCondition]
@@ -203,7 +223,7 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
         return _parse_condition_file(text, f"preset {name}")
     path = Path(name)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return _parse_condition_file(path.read_text(), str(path))
+        return _parse_condition_file(read_text(path), str(path))
     raise InputError(f"condition = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
 

@@ -30,20 +30,34 @@ _FIXED = [("key", pa.string()), ("run", pa.int64()), ("point", pa.int64()), ("re
 _TAIL = [("status", pa.string()), ("error", pa.string()), ("wall_time_s", pa.float64())]
 
 
-def schema(factors: list[Factor], kpis: list[str], study: dict) -> pa.Schema:
+def kpi_kinds(kpis: dict) -> dict:
+    """A KPI column is float64 (numbers, booleans, counts, None) or a string (e.g. an axle name).
+    A run's None does not tell, so the KPIs of a zeroed C struct are asked as well."""
+    probe = {}
+    try:
+        from railbrake import _core, simulation
+        probe = simulation.kpi_dict(_core.Kpis(), 0.0)
+    except (AttributeError, TypeError):   # a core without kpi_dict: the run's values alone
+        pass
+    return {k: "string" if isinstance(v, str) or isinstance(probe.get(k), str) else "float"
+            for k, v in kpis.items()}
+
+
+def schema(factors: list[Factor], kpis: list[str], study: dict, kinds: dict | None = None) -> pa.Schema:
+    kinds = kinds or {}
     fields = [pa.field(n, t) for n, t in _FIXED]
     fields += [pa.field(f.name, _FACTOR_TYPES[f.kind], metadata={"unit": f.unit}) for f in factors]
-    fields += [pa.field(k, pa.float64()) for k in kpis]
+    fields += [pa.field(k, pa.string() if kinds.get(k) == "string" else pa.float64()) for k in kpis]
     fields += [pa.field(n, t) for n, t in _TAIL]
     meta = {"railbrake.factors": json.dumps({f.name: f.unit for f in factors}),
             "railbrake.kpis": json.dumps(kpis), "railbrake.study": json.dumps(study)}
     return pa.schema(fields, metadata=meta)
 
 
-def _kpi_value(value):
+def _kpi_value(value, kind: pa.DataType):
     if value is None:
         return None
-    return float(value)
+    return str(value) if kind == pa.string() else float(value)
 
 
 def table(rows: list[dict], sch: pa.Schema) -> pa.Table:
@@ -55,7 +69,7 @@ def table(rows: list[dict], sch: pa.Schema) -> pa.Table:
             raise RuntimeError(f"KPIs {sorted(unknown)} are not in the dataset's schema; use a new --out")
         for name in sch.names:
             if name in kpis:
-                columns[name].append(_kpi_value(row["kpis"].get(name)))
+                columns[name].append(_kpi_value(row["kpis"].get(name), sch.field(name).type))
             elif name in row["factors"]:
                 columns[name].append(row["factors"][name])
             else:

@@ -110,7 +110,8 @@ def _manifest(study: Study, out: Path, kpis: list[str] | None, n_runs: int) -> d
                          f"{', '.join(old.get('factors', {}))}; use another folder")
     return {"schema": "railbrake.campaign/1", "study": study.name, "base": study.spec.base,
             "factors": factors, "factor_order": list(factors), "kinds": {f.name: f.kind for f in study.factors},
-            "kpis": kpis if kpis is not None else old.get("kpis"), "runs": n_runs,
+            "kpis": kpis if kpis is not None else old.get("kpis"), "kpi_kinds": old.get("kpi_kinds"),
+            "runs": n_runs,
             "design": study.spec.design.kind, "samples": study.spec.design.samples,
             "railbrake_version": identity.railbrake_version(), "core_build_hash": identity.core_build_hash()}
 
@@ -137,7 +138,8 @@ class _Writer:
         self.failed = self.written = 0
 
     def _schema(self):
-        return dataset.schema(self.study.factors, self.manifest["kpis"], {"name": self.study.name})
+        return dataset.schema(self.study.factors, self.manifest["kpis"], {"name": self.study.name},
+                              self.manifest.get("kpi_kinds"))
 
     def add(self, rows: list[dict]) -> None:
         self.failed += sum(r["status"] != dataset.STATUS_OK for r in rows)
@@ -147,6 +149,7 @@ class _Writer:
                 self.waiting.append(rows)
                 return
             self.manifest["kpis"] = list(ok["kpis"])
+            self.manifest["kpi_kinds"] = dataset.kpi_kinds(ok["kpis"])
             dataset.write_manifest(self.out, self.manifest)
         for batch in [b for b in self.waiting + [rows] if b]:
             dataset.write_batch(self.out, batch, self._schema())

@@ -1,17 +1,24 @@
-"""Helpers shared by the CLI commands: list parsing, JSON output, error reporting."""
+"""Helpers shared by the CLI commands: list parsing, JSON output, output paths, and the one error
+path: every error exits with status 2 and one line on stderr (`error: ...`), never a traceback,
+whatever the input (library errors such as OSError or ValueError included); `railbrake --debug`
+shows the traceback instead."""
 
 from __future__ import annotations
 
 import functools
-import json
 import math
 import sys
 from pathlib import Path
 
-import numpy as np
+import click
 import typer
 
+from railbrake import jsonio
 from railbrake.errors import InputError
+
+# The plant's wheelset kernel option (railbrake.simulation.kernel_code), shared by run, bench, hil, export-fmu.
+KERNEL_HELP = ("Wheelset kernel: auto (the vector one where the CPU has it) or portable "
+               "(default: $RAILBRAKE_KERNEL, else auto).")
 
 
 SET_HELP = ("Override a key of the resolved configuration: KEY=VALUE, the value as in a file, e.g. "
@@ -32,33 +39,83 @@ def parse_float_list(text: str, option: str) -> list[float]:
     return values
 
 
-def _jsonable(value):
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
-
-
 def print_json(data) -> None:
-    sys.stdout.write(json.dumps(data, default=_jsonable, indent=2) + "\n")
+    """JSON on stdout; NaN and infinities as null (NaN is not JSON)."""
+    sys.stdout.write(jsonio.dumps(data, indent=2) + "\n")
+
+
+DEBUG = False   # set by `railbrake --debug`: errors show their traceback
+
+
+def _one_line(exc: BaseException) -> str:
+    if isinstance(exc, InputError):
+        return str(exc)
+    if isinstance(exc, OSError) and exc.filename is not None:
+        return f"{exc.filename}: {exc.strerror or exc}"
+    text = str(exc) or type(exc).__name__
+    return f"{text} ({type(exc).__name__}; railbrake --debug shows where)"
 
 
 def reports_errors(command):
-    """Turn InputError (and a missing file) into a one-line message and exit code 2."""
+    """Every error becomes one message on stderr and exit status 2 (Ctrl-C: 130); --debug re-raises."""
 
     @functools.wraps(command)
     def wrapper(*args, **kwargs):
         try:
             return command(*args, **kwargs)
-        except (InputError, FileNotFoundError) as exc:
-            typer.echo(f"error: {exc}", err=True)
+        except (typer.Exit, typer.Abort, click.exceptions.ClickException):
+            raise
+        except KeyboardInterrupt:
+            if DEBUG:
+                raise
+            typer.echo("interrupted", err=True)
+            raise typer.Exit(code=130) from None
+        except Exception as exc:   # noqa: BLE001 - the one error path: no input may end in a traceback
+            if DEBUG:
+                raise
+            typer.echo(f"error: {_one_line(exc)}", err=True)
             raise typer.Exit(code=2) from None
 
     return wrapper
 
 
-def prepare_output(path: Path | None) -> Path | None:
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
+def _check_parent(path: Path, option: str) -> None:
+    for parent in [path.parent, *path.parent.parents]:
+        if parent.exists() and not parent.is_dir():
+            raise InputError(f"{option} {path}: {parent} is a file, not a folder")
+
+
+def prepare_output(path: Path | None, option: str = "output", suffixes: tuple[str, ...] = ()) -> Path | None:
+    """The file `path` can be written: its folder exists (created), it is not a folder itself, and
+    its suffix is one of `suffixes` (when given), so the file written is the one named."""
+    if path is None:
+        return None
+    if suffixes and path.suffix.lower() not in suffixes:
+        raise InputError(f"{option} {path}: the file name must end in {' or '.join(suffixes)}")
+    if path.is_dir():
+        raise InputError(f"{option} {path}: is a folder; give a file name")
+    _check_parent(path, option)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def plot_formats() -> tuple[str, ...]:
+    """Suffixes matplotlib can write (.png, .pdf, .svg, ...)."""
+    from matplotlib.figure import Figure
+    return tuple(f".{ext}" for ext in sorted(Figure().canvas.get_supported_filetypes()))
+
+
+def prepare_plot(path: Path | None) -> Path | None:
+    """--plot FILE: a format matplotlib writes, named by the suffix (no silent .png added)."""
+    return prepare_output(path, "--plot", plot_formats()) if path is not None else None
+
+
+def prepare_folder(path: Path | None, option: str = "--out") -> Path | None:
+    """A folder for outputs: created; an existing file of that name is an error, not a traceback."""
+    if path is None:
+        return None
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{option} {path}: is a file; give a folder")
+    _check_parent(path / "x", option)
+    path.mkdir(parents=True, exist_ok=True)
     return path

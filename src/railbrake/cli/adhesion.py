@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.table import Table
 
 from railbrake import adhesion as adh
-from railbrake.cli._common import parse_float_list, prepare_output, print_json, reports_errors
+from railbrake.cli._common import parse_float_list, prepare_plot, print_json, reports_errors
 from railbrake.contact import default_contact, polach_coefficient
 from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
@@ -38,7 +38,7 @@ def curves(
     result = adh.creep_curves(cond, speeds, axle=axle)
     if plot:
         from railbrake.plots.adhesion import plot_creep_curves
-        plot_creep_curves(result, f"{cond.title} (axle {axle})", prepare_output(plot))
+        plot_creep_curves(result, f"{cond.title} (axle {axle})", prepare_plot(plot))
     if json:
         print_json({"condition": cond.name, "axle": axle, "curves": [
             {"speed_kmh": ms_to_kmh(c.speed), "creep": c.creep, "coefficient": c.coefficient,
@@ -110,7 +110,7 @@ def fit(
         from railbrake.plots.adhesion import plot_fit
         contact = default_contact()
         model = lambda s, v: polach_coefficient(s, v, contact.normal_force, contact, result.params)  # noqa: E731
-        plot_fit(creep, coefficient, speed, model, f"Polach fit to {measured.name}", prepare_output(plot))
+        plot_fit(creep, coefficient, speed, model, f"Polach fit to {measured.name}", prepare_plot(plot))
     if json:
         print_json({"params": result.params.as_dict(), "std": result.std, "rms": result.rms,
                     "residuals": result.residuals})

@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from railbrake.cli._common import SET_HELP, prepare_output, print_json, reports_errors
+from railbrake.cli._common import SET_HELP, prepare_folder, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.units import cars_text
 
@@ -33,10 +33,12 @@ def print_comparison(c) -> None:
     Console().print(table)
     if c.steps:
         study = Table(title="step-size study of the real-time plant (errors vs the detailed model)")
-        for col in ("dt (ms)", "distance (m)", "error (%)", "cyl RMS (bar)", "1 s mean RMS (bar)", "stable"):
+        for col in ("dt (ms)", "sub-steps", "distance (m)", "error (%)", "cyl RMS (bar)", "1 s mean RMS (bar)",
+                    "stable"):
             study.add_column(col, justify="right")
         for r in c.steps:
-            study.add_row(f"{r['dt_ms']:g}", f"{r['stopping_distance_m']:.1f}", f"{r['distance_error_pct']:+.2f}",
+            study.add_row(f"{r['dt_ms']:g}", str(r["substeps"]), f"{r['stopping_distance_m']:.1f}",
+                          f"{r['distance_error_pct']:+.2f}",
                           f"{r['cylinder_rms_bar']:.3f}", f"{r['cylinder_mean_rms_bar']:.3f}",
                           "yes" if r["stable"] else f"no: {r['instability']}")
         Console().print(study)
@@ -65,7 +67,7 @@ def register(app: typer.Typer) -> None:
                         progress=lambda stage, done: bar.update(task, description=stage, completed=done))
         if plot is not None:
             from railbrake.plots.compare import plot_all
-            prepare_output(plot / "x")
+            prepare_folder(plot, "--plot")
             plot_all(c, plot)
         if json:
             print_json(c.as_dict())

@@ -7,7 +7,7 @@ from typing import Optional
 
 import typer
 
-from railbrake.cli._common import SET_HELP, prepare_output, reports_errors
+from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, reports_errors
 from railbrake.fmu.export import BASE_SCENARIO, export_fmu
 
 
@@ -21,8 +21,10 @@ def register(app: typer.Typer) -> None:
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         output: Path = typer.Option(Path("plant.fmu"), "-o", "--output", help="The FMU file to write."),
         sets: list[str] = typer.Option([], "--set", help=SET_HELP),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """Co-simulation FMU of the plant and BCU (1 ms fixed step) with its C sources and a binary
         for this platform (docs/fmu.md)."""
-        path = export_fmu(scenario, prepare_output(output), fmi, cars, sets=sets)
+        path = export_fmu(scenario, prepare_output(output, "--output", (".fmu",)), fmi, cars, sets=sets,
+                          kernel=kernel)
         typer.echo(f"{path}: FMI {fmi}.0 co-simulation, {path.stat().st_size / 1024:.0f} kB")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import time
 from pathlib import Path
-from typing import Optional
+from typing import List, Optional
 
 import typer
 from rich.console import Console
@@ -13,7 +13,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import hil as hil_runner
-from railbrake.cli._common import SET_HELP, prepare_output, print_json, reports_errors
+from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.units import cars_text, ms_to_kmh
@@ -40,10 +40,17 @@ def _print_report(result) -> None:
     table = Table(title=f"HIL {result.scenario}, {cars_text(result.cars)}, {result.time[-1]:.1f} s")
     table.add_column("quantity")
     table.add_column("value", justify="right")
+    from railbrake.results import kpis as info
     k = result.kpis
     what = "stopping" if k["stopped"] else "braking (no stop yet)"
-    table.add_row(f"{what} distance", f"{k['stopping_distance_m']:.1f} m")
-    table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    table.add_row(f"{what} distance", f"{k['braked_distance_m']:.1f} m")
+    if k["stopping_time_s"] is not None:
+        table.add_row(f"{what} time", f"{k['stopping_time_s']:.2f} s")
+    shown = ("stopping_distance_m", "braked_distance_m", "stopping_time_s", "stopped")
+    for key, value in k.items():   # the other KPIs, as `railbrake run` reports them
+        if key not in shown and value is not None:
+            unit = info.unit(key)
+            table.add_row(key, f"{info.text(value)} {unit if unit != '1' else ''}".strip())
     for key, value in result.counters.items():
         table.add_row(key.replace("_", " "), str(value))
     console.print(table)
@@ -71,15 +78,27 @@ def register(app: typer.Typer) -> None:
         priority: int = typer.Option(hil_runner.DEFAULT_PRIORITY, help="SCHED_FIFO priority to ask for (0: none)."),
         json: bool = typer.Option(False, "--json", help="Print counters, timing and KPIs as JSON."),
         sets: list[str] = typer.Option([], "--set", help=SET_HELP),
+        out: Optional[Path] = typer.Option(None, help="Folder for the time series, kpis.json, plots and "
+                                           "report.html (as `run --out`)."),
+        axles: Optional[str] = typer.Option(None, help="With --out: axles for WSP cycle plots besides the "
+                                            "worst and faulty ones, e.g. c3a2."),
+        window: Optional[str] = typer.Option(None, help="With --out: T0:T1 in s for the WSP cycle plots."),
+        formats: Optional[List[str]] = typer.Option(None, "--format", help="With --out: time series format(s): "
+                                                    "mf4, parquet, csv (default mf4)."),
+        kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
+        from railbrake.results import files, record as records
+        formats = files.parse_formats(",".join(formats or []) or "mf4")   # checked before the run
         peer = hil_runner.parse_udp_url(bcu, "--bcu")
         local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
         if duration is not None and duration <= 0:
             raise InputError(f"--duration = {duration}: must be > 0 s")
         resolved = resolve(scenario, cars, sets)
         sc = resolved.scenario
-        prepare_output(record)   # before the run, which cannot be repeated
+        records.parse_axles(axles, resolved.cars)
+        records.parse_window(window)
+        prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
         err = Console(stderr=True)
         total = sc.spec.stop.max_time if duration is None else duration
         bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
@@ -90,14 +109,27 @@ def register(app: typer.Typer) -> None:
             result = hil_runner.run(
                 resolved, peer, duration=duration, hold_time=hold_time, late_time=late_time,
                 record_interval=record_interval, bind=local,
-                priority=priority, on_event=_event_printer(err),
+                priority=priority, on_event=_event_printer(err), kernel=kernel,
+                on_start=lambda port, session, config: err.print(
+                    f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
+                    f"BCU {bcu}", highlight=False, soft_wrap=True),
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
-        if result.counters["received"] == 0:
+        if result.mismatch:
+            err.print(f"[red]error[/]: {result.mismatch}", highlight=False)
+        elif result.counters["received"] == 0:
             err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
                       highlight=False)
+        if result.interrupted:
+            err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
+                      "the recording and counters hold the run until then", highlight=False)
+        written = None
         if record is not None:
             from railbrake.hil.mdf import write_mdf
-            write_mdf(result, record)
+            written = write_mdf(result, record, sc)
+        if out is not None:
+            from railbrake.results.outputs import write_outputs
+            write_outputs(records.from_hil(result, sc), out, formats, axles, window,
+                          mdf_extra={"counters": result.counters, "timing": result.timing})
         if json:
             print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
                         "counters": result.counters, "timing": result.timing,
@@ -107,8 +139,14 @@ def register(app: typer.Typer) -> None:
                                       "notes": result.real_time.notes()}})
         else:
             _print_report(result)
-        if record is not None:
-            typer.echo(f"recording: {record}", err=json)
+        if written is not None:
+            typer.echo(f"recording: {written}", err=json)
+        if out is not None:
+            typer.echo(f"outputs: {out}/", err=json)
+        if result.interrupted:
+            raise typer.Exit(code=130)
+        if result.mismatch:
+            raise typer.Exit(code=1)
 
     @app.command("bcu")
     @reports_errors
@@ -136,11 +174,20 @@ def register(app: typer.Typer) -> None:
             for note in real_time.notes() if real_time.requested else []:
                 err.print(f"note: {note}", highlight=False)
 
+        def refused(text):
+            err.print(f"[red]error[/]: {text}", highlight=False)   # once: later refusals only counted
+
         start = time.monotonic()
         counters = hil_runner.serve_bcu(resolve(scenario, cars, sets), (host, port), duration=duration,
-                                        idle_timeout=idle_timeout, priority=priority, ready=ready)
+                                        idle_timeout=idle_timeout, priority=priority, ready=ready,
+                                        on_refusal=refused)
         if json:
-            print_json(counters)
+            print_json(dict(counters))
         else:
             typer.echo(f"served {time.monotonic() - start:.1f} s: " +
                        ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in counters.items()))
+        if counters.interrupted:
+            err.print("interrupted: the counters above hold the run until then", highlight=False)
+            raise typer.Exit(code=130)
+        if counters.refusal and counters["received"] == 0:
+            raise typer.Exit(code=1)   # set up for another plant: served nothing

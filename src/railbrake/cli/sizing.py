@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.table import Table
 
 from railbrake import sizing, vehicle
-from railbrake.cli._common import prepare_output, print_json, reports_errors
+from railbrake.cli._common import prepare_plot, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
 
@@ -28,7 +28,7 @@ def _size(train: str, profile: str, profile_csv: Optional[Path], adhesion_limit:
         for car in t.cars:
             kind = "motor" if car.motor else "trailer"
             friction.setdefault(kind, vehicle.pad_friction_of(car, result.speed))
-        plot_target_pressure(result, frozen, friction, f"{t.title}: {prof.title}", prepare_output(plot))
+        plot_target_pressure(result, frozen, friction, f"{t.title}: {prof.title}", prepare_plot(plot))
     bar = {k: result.gauge_bar(getattr(result, f"p_{k}")) for k in ("motor", "trailer")}
     if json:
         print_json({"speed_kmh": ms_to_kmh(result.speed), "target_pressure_bar": bar,
@@ -47,6 +47,22 @@ def _size(train: str, profile: str, profile_csv: Optional[Path], adhesion_limit:
         typer.echo(f"warning: {warning}")
     if plot:
         typer.echo(f"plot: {plot}")
+
+
+def _gradient_pieces(text: Optional[str]) -> list:
+    """'0:0,2000:-12' -> [(0.0, 0.0), (2000.0, -0.012)] (m, rise/run)."""
+    if not text:
+        return []
+    pieces = []
+    for item in text.split(","):
+        start, sep, permille = item.partition(":")
+        try:
+            pieces.append((float(start), float(permille) * 1e-3))
+        except ValueError:
+            raise InputError(f"--gradients = {text!r}: {item!r} is not START_M:PERMILLE") from None
+        if not sep or not -100.0 <= pieces[-1][1] * 1e3 <= 100.0:
+            raise InputError(f"--gradients = {text!r}: {item!r}: START_M:PERMILLE with the gradient in [-100, 100]")
+    return pieces
 
 
 def register(app: typer.Typer) -> None:
@@ -68,31 +84,55 @@ def register(app: typer.Typer) -> None:
     def stopping_distance(
         train: str = typer.Option("crh380a-8", help="Train preset or YAML file."),
         v0_kmh: float = typer.Option(..., "--v0-kmh", help="Initial speed, km/h."),
-        profile: str = typer.Option("emergency", help="Deceleration profile (preset or file)."),
+        profile: Optional[str] = typer.Option(None, help="Deceleration profile (preset or file; default: the "
+                                                          "train's emergency brake step)."),
         deceleration_ms2: Optional[float] = typer.Option(None, help="Hand check: constant deceleration."),
         response_time_s: Optional[float] = typer.Option(None, help="Equivalent response time te, s."),
-        gradient: float = typer.Option(0.0, help="Rise over run, uphill positive (train mode)."),
+        simulated_response: bool = typer.Option(False, "--simulated-response",
+                                                help="Take ta and tb from the simulated EP chain (a 6 s run)."),
+        gradient_permille: float = typer.Option(0.0, "--gradient-permille",
+                                                help="Gradient, per mille, uphill positive (train mode)."),
+        load: Optional[str] = typer.Option(None, help="Load case: tare, normal, crush (default: the train file's)."),
+        gradients: Optional[str] = typer.Option(None, help="Piecewise gradient along the track from the brake's "
+                                                "start, START_M:PERMILLE pairs, e.g. '0:0,2000:-12' (train mode)."),
         plot: Optional[Path] = typer.Option(None, help="Write a PNG of the speed-distance curve here."),
         json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     ):
         """Stopping distance (EN 14531 manner); with --deceleration-ms2, the hand check."""
         if not v0_kmh > 0:
             raise InputError(f"--v0-kmh = {v0_kmh}: must be > 0")
+        if not -100.0 <= gradient_permille <= 100.0:
+            raise InputError(f"--gradient-permille = {gradient_permille}: must lie in [-100, 100] per mille")
         if deceleration_ms2 is not None:
             result = sizing.stopping_distance(kmh_to_ms(v0_kmh), deceleration=deceleration_ms2,
                                               response_time=response_time_s or 0.0)
             title = f"{deceleration_ms2} m/s2 after {response_time_s or 0.0} s"
         else:
-            result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=train, profile=profile,
-                                              response_time=response_time_s, gradient=gradient)
-            title = f"{train}, {profile}"
+            t = vehicle.load_train(train, load or True)
+            if kmh_to_ms(v0_kmh) > t.max_speed * (1 + 1e-9):
+                raise InputError(f"--v0-kmh = {v0_kmh:g}: above the maximum speed of train {t.name}, "
+                                 f"{ms_to_kmh(t.max_speed):g} km/h")
+            delay = build_up = None
+            if simulated_response:
+                from railbrake.simulation import simulated_response as measure
+                delay, build_up = measure(train, kmh_to_ms(v0_kmh), load)
+            result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=t, profile=profile,
+                                              response_time=response_time_s, delay=delay, build_up=build_up,
+                                              gradient=gradient_permille * 1e-3,
+                                              gradients=_gradient_pieces(gradients))
+            name = profile or t.brake_step("emergency").profile
+            title = f"{train} ({t.load_case} load), {name}"
+            if simulated_response:
+                title += f", simulated response ta {delay:.2f} s, tb {build_up:.2f} s"
         if plot:
             from railbrake.plots.sizing import plot_stopping
-            plot_stopping(result, f"{title} from {v0_kmh:g} km/h", prepare_output(plot))
+            plot_stopping(result, f"{title} from {v0_kmh:g} km/h", prepare_plot(plot))
         if json:
             print_json({"stopping_distance_m": result.distance, "stopping_time_s": result.time,
                         "warnings": result.warnings})
-            return
-        typer.echo(f"{title} from {v0_kmh:g} km/h: {result.distance:.0f} m in {result.time:.1f} s")
-        for warning in result.warnings:
-            typer.echo(f"warning: {warning}")
+        else:
+            typer.echo(f"{title} from {v0_kmh:g} km/h: {result.distance:.0f} m in {result.time:.1f} s")
+            for warning in result.warnings:
+                typer.echo(f"warning: {warning}")
+        if plot:
+            typer.echo(f"plot: {plot}", err=json)

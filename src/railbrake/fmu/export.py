@@ -263,15 +263,19 @@ def resolve_scenario(name):
 
 
 def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.fmu", fmi_version: str = "2",
-               cars: int | None = None, binary: bool = True, sets=()) -> Path:
-    """Writes the scenario's plant (with its BCU) as a co-simulation FMU; returns its path."""
+               cars: int | None = None, binary: bool = True, kernel: str | None = None,
+               sets=()) -> Path:
+    """Writes the scenario's plant (with its BCU) as a co-simulation FMU; returns its path. kernel: the
+    wheelset kernel built in ("auto": the vector one where the importer's CPU has it, chosen at run
+    time; "portable"; None: RAILBRAKE_KERNEL, else auto); either way the sources stay portable C99."""
     version = str(fmi_version)
     if version not in PLATFORM:
         raise InputError(f"FMI version {fmi_version!r}: must be 2 or 3")
     resolved = resolve(resolve_scenario(scenario), cars, sets)
     sc, n_cars = resolved.scenario, resolved.cars
-    plant = simulation.plant_params(sc, n_cars, train=resolved.train)
-    roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc),
+    plant = simulation.plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
+    roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True, resolved.train),
+             "wsp": simulation.wsp_params(sc),
              "scenario": simulation._scenario_struct(sc)}
     variables = table(roots, n_cars, plant.atmosphere)
     title = f"scenario {sc.name}, {n_cars} car{'s' if n_cars > 1 else ''}"

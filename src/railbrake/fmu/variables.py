@@ -95,13 +95,27 @@ def resolve(roots: dict, path: str):
     return value
 
 
+def bound_name(path: str) -> str:
+    """The C bounds-table name of a parameter's C path: plant.car[0].vehicle.mass -> car.mass."""
+    name = re.sub(r"^plant\.", "", path)
+    return re.sub(r"^car\[[^]]*\]\.(vehicle\.(brake\.caliper\.)?)?", "car.", name)
+
+
+def parameter_range(path: str) -> tuple[float, float]:
+    """(min, max) of a parameter: the C core's plausibility bound (core/src/bounds.c, the same
+    table rb_plant_bounds_check and rb_wsp_check use), else non-negative."""
+    name = bound_name(path)
+    return _core.bound(name) if name in _core.BOUNDS else (0.0, INF)
+
+
 def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
     """Every variable of the FMU; roots: the ctypes structs plant, bcu, wsp (start values)."""
     plant = roots["plant"]
     n_axles = n_cars * _core.AXLES_PER_CAR
     v = [Variable("time", "independent", "Real", "out.time", "s", description="simulation time")]
 
-    def parameter(name, path, unit, description, low=0.0, high=INF):
+    def parameter(name, path, unit, description):
+        low, high = parameter_range(path)
         v.append(Variable(name, "parameter", "Real", path, unit, float(resolve(roots, path)), low, high, description))
 
     for name, path, unit, description in _PARAMETERS:

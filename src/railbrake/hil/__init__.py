@@ -10,8 +10,13 @@ from __future__ import annotations
 
 import ctypes
 import gc
+import math
 import os
+import secrets
+import signal
 import socket
+import threading
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Callable
 from urllib.parse import urlsplit
@@ -22,7 +27,8 @@ from railbrake import _core
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario
-from railbrake.simulation import _scenario_struct, bcu_params, plant_params, wsp_params
+from railbrake.simulation import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
+from railbrake.vehicle import load_train
 
 DT = 1e-3                  # s, fixed by the interface
 CHUNK_STEPS = 500          # plant steps per C call
@@ -52,6 +58,38 @@ def parse_udp_url(text: str, option: str, allow_any_port: bool = False) -> tuple
         raise InputError(f"{option} = {text!r}: host = {host!r}: not an IPv4 address or a "
                          "name that resolves to one") from None
     return address, port
+
+
+# ------------------------------------------------------------------ session and configuration
+
+def config_digest(scenario: Scenario, n_cars: int) -> int:
+    """The configuration digest plant and BCU compare (rb_hil_config_digest: train, cars, axles, step)."""
+    train = load_train(scenario.spec.train.preset).name
+    return int(_core.rb_hil_config_digest(train.encode(), n_cars, n_cars * _core.AXLES_PER_CAR, DT))
+
+
+def describe_config(scenario: Scenario, n_cars: int) -> str:
+    train = load_train(scenario.spec.train.preset).name
+    return (f"0x{config_digest(scenario, n_cars):08x} (train {train}, {n_cars} cars, "
+            f"{n_cars * _core.AXLES_PER_CAR} axles, step 1 ms)")
+
+
+@contextmanager
+def _sigterm_as_interrupt():
+    """SIGTERM ends a run like Ctrl-C (KeyboardInterrupt between two C chunks), so the caller keeps
+    what was recorded and the counters; restored afterwards. Only the main thread can install it."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 # ------------------------------------------------------------------ real-time request
@@ -114,9 +152,12 @@ class HilResult:
     units: dict                   # channel name -> SI unit
     counters: dict                # steps, frames_sent, received, lost, late, malformed, safe_state_steps, ...
     timing: dict                  # wake-up latency and step execution time (us), overruns
-    kpis: dict                    # stopping_distance_m, stopping_time_s, stopped
+    kpis: dict                    # the KPIs of a MIL run (run_kpis)
     real_time: RealTime
     events: list = field(default_factory=list)   # (time s, kind, text), the latest logged
+    atmosphere: float = math.nan  # Pa, the plant's (the train file's)
+    interrupted: bool = False     # ended by Ctrl-C or SIGTERM: what was recorded until then
+    mismatch: str | None = None   # why the BCU refused this plant (another configuration), else None
 
     def timing_report(self) -> list[str]:
         t, c = self.timing, self.counters
@@ -143,6 +184,8 @@ def hil_config(scenario: Scenario, bcu: _core.BcuParams, duration: float | None,
     if abs(c.record_interval / DT - round(c.record_interval / DT)) > 1e-9:
         raise InputError(f"record_interval = {c.record_interval} s: must be a multiple of 1 ms")
     c.paced = int(paced)
+    c.adhesion_interval = _scenario_struct(scenario).adhesion_interval   # as in the MIL run
+    c.session = secrets.randbits(32) or 1   # a new session per run: a BCU tells runs apart
     _core.call(_core.rb_hil_safe_state, ctypes.byref(bcu), ctypes.byref(c.safe))
     return c
 
@@ -160,31 +203,52 @@ def _drain_events(state, seen: int, total: int, on_event) -> list:
     return events
 
 
+def run_kpis(plant: _core.PlantParams, state) -> dict:
+    """The KPIs of a MIL run (the same C accumulation, rb_run_accumulate) for the HIL run so far.
+    The safety-timer trips are the external BCU's: unknown to the plant (None)."""
+    k = _core.Kpis()
+    _core.rb_hil_runner_kpis(ctypes.byref(plant), state, ctypes.byref(k))
+    kpis = kpi_dict(k, plant.atmosphere)
+    kpis["braked_distance_m"] = k.stopping_distance_m   # so far, also when the run was cut short
+    kpis["safety_timer_trips"] = None
+    return kpis
+
+
 def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1", 47800), cars: int | None = None,
         duration: float | None = None, hold_time: float = DEFAULT_HOLD_TIME, late_time: float = DEFAULT_LATE_TIME,
         record_interval: float | None = None, bind: tuple[str, int] = ("0.0.0.0", 0), paced: bool = True,
         priority: int = DEFAULT_PRIORITY, progress: Callable[[float, float], None] | None = None,
-        on_event: Callable[[float, str, str], None] | None = None) -> HilResult:
+        on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None,
+        on_start: Callable[[int, int, int], None] | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
-    watchdog event logged (malformed, late, lost, safe_on, safe_off)."""
+    watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch);
+    on_start(local port, session, configuration digest) once the plant's endpoint is open; kernel: the
+    plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto). Ctrl-C or
+    SIGTERM end the run early: the result holds what was recorded until then (interrupted=True)."""
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    plant = plant_params(sc, n_cars, train=resolved.train)
-    config = hil_config(sc, bcu_params(plant, sc, True), duration, hold_time, late_time, record_interval, paced)
+    plant = plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
+    config = hil_config(sc, bcu_params(plant, sc, True, resolved.train), duration, hold_time, late_time,
+                        record_interval, paced)
+    config.config = config_digest(sc, n_cars)
     names = channels(n_cars)
     state = ctypes.create_string_buffer(_core.rb_hil_runner_size())
     _core.call(_core.rb_hil_runner_open, ctypes.byref(plant), ctypes.byref(config), bind[0].encode(), bind[1],
                bcu[0].encode(), bcu[1], state)
+    if on_start is not None:
+        on_start(_core.rb_hil_runner_port(state), config.session, config.config)
     rows_per_chunk = CHUNK_STEPS // round(config.record_interval / DT) + 2
     chunk = np.zeros((rows_per_chunk, len(names)))
     chunks, events, seen = [], [], 0
     result = _core.HilResult()
     finished, rows = ctypes.c_int(0), ctypes.c_size_t(0)
     collecting = gc.isenabled()
+    interrupted = False
+    real_time = RealTime(False)
     gc.disable()   # a garbage collection between two chunks would delay the next step by milliseconds
     try:
-        with _normal_scheduling_after():
+        with _normal_scheduling_after(), _sigterm_as_interrupt():
             real_time = request_real_time(priority) if paced else RealTime(False)
             while not finished.value:
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
@@ -195,7 +259,14 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
                 seen = result.events
                 if progress is not None and rows.value:
                     progress(result.time, float(chunk[rows.value - 1, 1]))
+    except KeyboardInterrupt:
+        # Ctrl-C or SIGTERM between two chunks (or inside Python code between them): keep what was
+        # recorded; a chunk the interrupt cut short was not appended, the C state still holds it
+        interrupted = True
+        _core.rb_hil_runner_result(state, ctypes.byref(result))
+        events += _drain_events(state, seen, result.events, None)
     finally:
+        kpis = run_kpis(plant, state)   # before the close: the KPIs of what ran, also when interrupted
         _core.rb_hil_runner_close(state)
         if collecting:
             gc.enable()
@@ -204,34 +275,60 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     counters = {k: int(getattr(result, k)) for k in _core.HIL_COUNTERS}
     timing = {k: getattr(result, k) for k in _core.HIL_TIMING}
     timing["overruns"] = counters["overruns"]
-    kpis = {"stopping_distance_m": result.stopping_distance, "stopping_time_s": result.stopping_time,
-            "stopped": bool(result.stopped)}
+    mismatch = None
+    if result.mismatch:
+        mismatch = (f"the BCU at {bcu[0]}:{bcu[1]} is set up for configuration 0x{result.bcu_config:08x} "
+                    f"({result.bcu_cars} cars, {result.bcu_axles} axles); this plant runs "
+                    f"{describe_config(sc, n_cars)}: start both with the same scenario, train and --cars")
     return HilResult(sc.name, n_cars, outputs["time"], outputs, dict(names), counters, timing, kpis, real_time,
-                     events)
+                     events, plant.atmosphere, interrupted, mismatch)
 
 
 # ------------------------------------------------------------------ the reference BCU
 
+class BcuCounters(dict):
+    """The reference BCU's counters (received, malformed, stale, sent, send_errors, cycles, foreign,
+    refused), with why it refused a plant (`refusal`, None if none) and whether Ctrl-C or SIGTERM
+    ended it (`interrupted`)."""
+    refusal: str | None = None
+    interrupted: bool = False
+
+
+def _refusal(state, scenario: Scenario, n_cars: int) -> str | None:
+    config, cars, axles = ctypes.c_uint32(), ctypes.c_int(), ctypes.c_int()
+    sender = ctypes.create_string_buffer(48)
+    if not _core.rb_hil_bcu_refusal(state, ctypes.byref(config), ctypes.byref(cars), ctypes.byref(axles), sender,
+                                    len(sender)):
+        return None
+    return (f"the plant at {sender.value.decode()} runs configuration 0x{config.value:08x} ({cars.value} cars, "
+            f"{axles.value} axles); this BCU is set up for {describe_config(scenario, n_cars)}: its frames are "
+            "refused")
+
+
 def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0.0.0.0", 47800),
               cars: int | None = None, duration: float = 0.0, idle_timeout: float = 2.0,
               priority: int = DEFAULT_BCU_PRIORITY, ready: Callable[[int, RealTime], None] | None = None,
-              progress: Callable[[dict], None] | None = None) -> dict:
+              progress: Callable[[dict], None] | None = None,
+              on_refusal: Callable[[str], None] | None = None) -> BcuCounters:
     """Serve plant frames with the scenario's BCU (same logic and demand profile as the simulation)
-    until `duration` s of wall time (0: none) or, after the first frame, `idle_timeout` s without one.
-    ready(port, real_time) once listening (port: the one bound, useful with port 0). Returns the counters."""
+    until `duration` s of wall time (0: none) or `idle_timeout` s without a frame of its session
+    (counted from the first datagram while none came). ready(port, real_time) once listening (port: the
+    one bound, useful with port 0); on_refusal(text) once, when the first plant of another
+    configuration is refused. Ctrl-C and SIGTERM end it with the counters. Returns the counters."""
     if idle_timeout < 0 or duration < 0:
         raise InputError(f"idle_timeout = {idle_timeout}, duration = {duration}: must be >= 0")
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    bcu = bcu_params(plant_params(sc, n_cars, train=resolved.train), sc, True)
+    bcu = bcu_params(plant_params(sc, n_cars, train=resolved.train), sc, True, resolved.train)
     wsp, spec = wsp_params(sc), _scenario_struct(sc)
     state = ctypes.create_string_buffer(_core.rb_hil_bcu_size())
-    _core.call(_core.rb_hil_bcu_open, ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec), listen[0].encode(),
-               listen[1], state)
+    _core.call(_core.rb_hil_bcu_open, ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec),
+               config_digest(sc, n_cars), listen[0].encode(), listen[1], state)
     counts = (ctypes.c_uint64 * len(_core.HIL_BCU_COUNTERS))()
     finished = ctypes.c_int(0)
+    refusal, interrupted = None, False
     try:
-        with _normal_scheduling_after():
+        with _normal_scheduling_after(), _sigterm_as_interrupt():
             real_time = request_real_time(priority)
             if ready is not None:
                 ready(_core.rb_hil_bcu_port(state), real_time)
@@ -239,10 +336,17 @@ def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0
                 _core.call(_core.rb_hil_bcu_serve, ctypes.byref(bcu), ctypes.byref(spec), state, BCU_CHUNK,
                            duration, idle_timeout, ctypes.byref(finished))
                 _core.rb_hil_bcu_counters(state, counts)
+                if refusal is None and (refusal := _refusal(state, sc, n_cars)) and on_refusal is not None:
+                    on_refusal(refusal)
                 if progress is not None:
                     progress(dict(zip(_core.HIL_BCU_COUNTERS, map(int, counts))))
+    except KeyboardInterrupt:
+        interrupted = True
     finally:
         _core.rb_hil_bcu_counters(state, counts)
+        refusal = refusal or _refusal(state, sc, n_cars)
         _core.rb_hil_bcu_close(state)
-    return dict(zip(_core.HIL_BCU_COUNTERS, map(int, counts)))
+    result = BcuCounters(zip(_core.HIL_BCU_COUNTERS, map(int, counts)))
+    result.refusal, result.interrupted = refusal, interrupted
+    return result
 

@@ -13,10 +13,12 @@ def crc32(data: bytes) -> int:
 
 
 def encode_bcu_frame(sequence: int, step: int, n_cars: int, brake_demand: float, pressure_demand,
-                     hold=(), vent=(), n_axles: int | None = None) -> bytes:
-    """A BCU frame (pressures in Pa absolute, hold/vent per axle 0/1). Values are not checked here,
-    so a test peer can send what a faulty BCU would; the receiver validates."""
+                     hold=(), vent=(), n_axles: int | None = None, session: int = 1, config: int = 0) -> bytes:
+    """A BCU frame (pressures in Pa absolute, hold/vent per axle 0/1) in `session` (echo the plant
+    frame's) with the configuration digest `config` (the plant's, to be accepted). Values are not
+    checked here, so a test peer can send what a faulty BCU would; the receiver validates."""
     f = _core.BcuFrame()
+    f.header.session, f.header.config = session & 0xFFFFFFFF, config & 0xFFFFFFFF
     f.header.sequence, f.header.step = sequence & 0xFFFFFFFF, step
     f.header.n_cars = n_cars
     f.header.n_axles = _core.AXLES_PER_CAR * n_cars if n_axles is None else n_axles
@@ -36,7 +38,7 @@ def decode_plant_frame(data: bytes) -> dict:
     f = _core.PlantFrame()
     _core.call(_core.rb_plant_frame_decode, data, len(data), ctypes.byref(f))
     n_cars, n_axles = f.header.n_cars, f.header.n_axles
-    return {"sequence": f.header.sequence, "step": f.header.step, "n_cars": n_cars, "n_axles": n_axles,
+    return {"session": f.header.session, "config": f.header.config, "sequence": f.header.sequence, "step": f.header.step, "n_cars": n_cars, "n_axles": n_axles,
             "train_speed": f.train_speed, "position": f.position,
             "main_reservoir_pressure": f.main_reservoir_pressure,
             "wheel_speed": list(f.wheel_speed[:n_axles]), "cylinder_pressure": list(f.cylinder_pressure[:n_axles]),

@@ -1,24 +1,17 @@
-"""ASAM MDF4 recording of a HIL run (asammdf): every recorded channel with its SI unit, the
-counters and the timing report in the file comment."""
+"""ASAM MDF4 recording of a HIL run (asammdf): every recorded channel with its SI unit; the
+counters, the timing report, the KPIs and the run's provenance in the file comment
+(railbrake.results.files.write_mdf, the same writer as `run --format mf4`)."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from asammdf import MDF, Signal
 
-
-def write_mdf(result, path: Path) -> Path:
+def write_mdf(result, path: Path, scenario=None) -> Path:
     """Write result's channels (time base: the plant's simulated time, s) to an MDF 4.10 file."""
-    mdf = MDF(version="4.10")
-    t = result.time
-    mdf.append([Signal(samples=values, timestamps=t, name=name, unit=result.units[name])
-                for name, values in result.outputs.items() if name != "time"],
-               comment=f"railbrake hil: {result.scenario}, {result.cars} cars")
-    mdf.header.comment = json.dumps({"scenario": result.scenario, "cars": result.cars,
-                                     "counters": result.counters, "timing": result.timing,
-                                     "kpis": result.kpis})
-    mdf.save(path, overwrite=True)
-    mdf.close()
-    return Path(path)
+    from railbrake import scenario as scenarios
+    from railbrake.results import files, record
+    sc = scenario if scenario is not None else scenarios.load(result.scenario)
+    return files.write_mdf(record.from_hil(result, sc), path,
+                           {"counters": result.counters, "timing": result.timing,
+                            "interrupted": getattr(result, "interrupted", False)})

@@ -9,7 +9,6 @@ import numpy as np
 from railbrake.plots import new_figure, save
 from railbrake.units import BAR, cars_text, ms_to_kmh
 
-ATMOSPHERE = 1.01325e5
 ZOOM = 5.0   # s
 
 
@@ -23,8 +22,8 @@ def plot_all(c, folder: Path) -> list[Path]:
     names = det.axle_channels("cylinder")[:2]
     fig, axes = new_figure(len(names), 1, sharex=True, squeeze=False)
     for ax, name in zip(axes[:, 0], names):
-        ax.plot(rt.time, (rt.outputs[name] - ATMOSPHERE) / BAR, lw=0.7, label="real-time (1 ms)")
-        ax.plot(det.time, (det.outputs[name] - ATMOSPHERE) / BAR, lw=0.7, ls="--", label="detailed")
+        ax.plot(rt.time, (rt.outputs[name] - rt.atmosphere) / BAR, lw=0.7, label="real-time (1 ms)")
+        ax.plot(det.time, (det.outputs[name] - det.atmosphere) / BAR, lw=0.7, ls="--", label="detailed")
         ax.set_ylabel(f"{name.split('_', 1)[1]} (bar g)")
         ax.legend(fontsize=7)
     axes[0, 0].set_title(f"{title}: brake-cylinder pressure")
@@ -38,7 +37,7 @@ def plot_all(c, folder: Path) -> list[Path]:
     fig, ax = new_figure()
     for r, ls, label in ((rt, "-", "real-time (1 ms)"), (det, "--", "detailed")):
         w = (r.time >= mid) & (r.time <= mid + ZOOM)
-        line, = ax.plot(r.time[w], (r.outputs[name][w] - ATMOSPHERE) / BAR, ls=ls, label=f"{label}: cylinder")
+        line, = ax.plot(r.time[w], (r.outputs[name][w] - r.atmosphere) / BAR, ls=ls, label=f"{label}: cylinder")
         ax.plot(r.time[w], 0.3 * r.outputs[vent][w], ls=ls, lw=0.6, color=line.get_color(), label=f"{label}: vent open")
     ax.set_xlabel("time (s)")
     ax.set_ylabel(f"{name.split('_', 1)[1]} (bar g); vent")

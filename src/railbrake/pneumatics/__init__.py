@@ -2,8 +2,10 @@
 
 The laws live in the C core (``core/src/pneumatics_*.c``, ``network_*.c``); a network is compiled
 here into flat C structs and simulated whole inside C by the stiff Rosenbrock integrator
-(``core/src/ode_rosenbrock.c``). Source of the laws: ``shared/reference/README.md`` section 4
-(ideal gas, ISO 6358 orifice).
+(``core/src/ode_rosenbrock.c``). Sources of the laws: ideal gas (R = 287.05 J/(kg K),
+gamma = 1.4 for dry air, ISO 2533:1975 table 1) and the orifice flow-rate characteristic of
+ISO 6358-1:2013, sec. 3 and annex A (sonic conductance C, critical pressure ratio b, reference
+density 1.185 kg/m^3 at 293.15 K).
 """
 
 from railbrake.pneumatics.network import Network, NetworkResult

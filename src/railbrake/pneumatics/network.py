@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import ctypes
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -97,6 +98,8 @@ class Network:
 
     @staticmethod
     def _check(name, what, value, low=0.0, strict=True, unit=""):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise TypeError(f"{name}: {what} = {value!r}: must be a number, not {type(value).__name__}")
         value = float(value)
         bad = not math.isfinite(value) or (value <= low if strict else value < low)
         if bad:

@@ -9,28 +9,29 @@ from __future__ import annotations
 
 import ctypes
 import math
+import os
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
-from railbrake import _core
+from railbrake import _core, sizing
 from railbrake.adhesion import load_condition, warn_outside_range
 from railbrake.contact import wheel_rail_contact
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario, load
-from railbrake.vehicle import load_train
-from railbrake.units import ms_to_kmh
+from railbrake.units import KMH, ms_to_kmh
+from railbrake.vehicle import load_train, with_cars
 
 DT = 1e-3
-# Air and wheelsets advance in 4 sub-steps of 0.25 ms inside each 1 ms step: under WSP cycling the
-# 1 ms step alone shifts the mean cylinder pressure by 0.15-0.2 bar against the detailed model
-# (docs/detailed.md, step-size study); the sub-steps bring that to the comparison's noise floor.
-SUBSTEPS = 4
-ATMOSPHERE = 1.01325e5
-EMERGENCY_DECEL = 1.2               # m/s^2, below the CRH380AL's 1.35 [P]
-SERVICE_DECEL = 1.0                 # m/s^2 [T]
+# One plant step per dt up to this; a longer dt is split into equal sub-steps no longer than it. With
+# its timing rules (rb_plant.h) one 1 ms step is as accurate as 4 x 0.25 ms were (docs/detailed.md,
+# step-size study); above 2 ms the WSP cycles need the sub-steps.
+MAX_SUBSTEP = 2e-3
+# The wheelset kernel (rb_plant.h): "auto" (the vector one where the CPU has it) or "portable".
+KERNEL_ENV = "RAILBRAKE_KERNEL"
+ZERO_CELSIUS = 273.15               # K
 CHUNK = 2.0                         # s of simulated time per C call
 
 
@@ -43,6 +44,7 @@ class Result:
     outputs: dict          # channel name -> array (SI)
     units: dict            # channel name -> SI unit
     kpis: dict
+    atmosphere: float = math.nan   # Pa, the plant's (the train file's)
 
     def axle_channels(self, quantity: str) -> list[str]:
         return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" in n.split("_c")[-1]]
@@ -52,38 +54,53 @@ class Result:
 
 
 # ------------------------------------------------------------------ parameters
+# Every physical value comes from the train file (railbrake.vehicle, schema railbrake.train/2) or
+# the scenario; the numbers here are unit conversions.
 
-CAR_LENGTH = 25.0   # m over couplers [T]
+L, MM2, BAR = 1e-3, 1e-6, 1e5
 
 
 def _car(train, index: int) -> _core.PlantCar:
-    """Car `index` of the train (the formation repeats when more cars are asked for) with the
-    plant's own data: geometry, contact and pneumatics (typical values [T], docs/simulation.md)."""
-    vehicle = train.cars[index % len(train.cars)].c
+    """Car `index` of the train (already lengthened to the plant's cars, vehicle.with_cars) with
+    the plant's data from its car type: geometry, contact and pneumatics."""
+    entry = train.cars[index]
+    vehicle, t = entry.c, entry.equipment
     car = _core.PlantCar()
     ctypes.pointer(car.vehicle)[0] = vehicle
-    car.length = CAR_LENGTH
-    for k, x in enumerate((2.5, 5.0, CAR_LENGTH - 5.0, CAR_LENGTH - 2.5)):
+    car.length = t.length_m
+    for k, x in enumerate(t.axle_positions_m):
         car.axle_position[k] = x
     w = vehicle.wheelset
     car.contact = wheel_rail_contact(wheel_radius=w.wheel_radius, axle_load=w.axle_load).creep_contact()
-    car.ed_tau = 0.3   # s [T]
-    car.supply_volume, car.pilot_volume, car.relay_volume = 0.1, 0.5e-3, 1.0e-3
-    car.cylinder_volume, car.pipe_volume = 1.5e-3, math.pi / 4 * 0.025**2 * CAR_LENGTH
-    car.charge_area, car.ep_area, car.ep_tau, car.ep_band = 7e-6, 3e-6, 0.1, 0.1e5
-    car.relay_supply_area, car.relay_exhaust_area, car.relay_band = 20e-6, 20e-6, 0.1e5
-    car.hold_area, car.vent_area, car.valve_delay, car.pipe_area = 15e-6, 40e-6, 0.015, 100e-6
+    ed = train.spec.ed_brake
+    car.ed_tau = ed.response_s if ed is not None else 1.0   # no ED brake: the lag is never used
+    cyl, discs = t.cylinder, t.discs
+    pipe = train.spec.air_supply.pipe
+    car.supply_volume = t.supply_reservoir.volume_l * L
+    car.pilot_volume, car.relay_volume = t.ep_valve.pilot_volume_l * L, t.relay_valve.output_volume_l * L
+    # one cylinder per disc: swept volume at full stroke plus the dead volume
+    car.cylinder_volume = discs.per_axle * (cyl.area_m2 * cyl.stroke_mm * 1e-3 + cyl.dead_volume_l * L)
+    car.pipe_volume = math.pi / 4 * (pipe.diameter_mm * 1e-3) ** 2 * t.length_m
+    car.charge_area = t.supply_reservoir.charge_area_mm2 * MM2
+    car.ep_area, car.ep_tau, car.ep_band = t.ep_valve.port_area_mm2 * MM2, t.ep_valve.response_s, t.ep_valve.band_bar * BAR
+    r = t.relay_valve
+    car.relay_supply_area, car.relay_exhaust_area, car.relay_band = (r.supply_area_mm2 * MM2, r.exhaust_area_mm2 * MM2,
+                                                                     r.band_bar * BAR)
+    v = t.wsp_valves
+    car.hold_area, car.vent_area, car.valve_delay = v.hold_area_mm2 * MM2, v.vent_area_mm2 * MM2, v.response_s
+    car.pipe_area = min(pipe.coupling_area_mm2 * MM2, math.pi / 4 * (pipe.diameter_mm * 1e-3) ** 2)
+    car.disc_heat_capacity = discs.per_axle * discs.mass_kg * discs.specific_heat_J_per_kgK
+    cooling = discs.cooling_W_per_K
+    car.disc_cooling = _core.speed_table(np.asarray(cooling.speed_kmh) * KMH,
+                                         discs.per_axle * np.asarray(cooling.value))
     return car
 
 
-def _resistance(train, n_cars: int) -> _core.Resistance:
-    """The train's resistance for n_cars: A and B scale with the mass, C (air) with
-    0.2 + 0.8 n/N (head and tail unchanged) [T]."""
-    r, n = train.c.resistance, len(train.cars)
-    if n_cars == n:
-        return _core.Resistance(r.A, r.B, r.C)
-    mass_ratio = sum(train.cars[i % n].c.mass for i in range(n_cars)) / train.mass
-    return _core.Resistance(r.A * mass_ratio, r.B * mass_ratio, r.C * (0.2 + 0.8 * n_cars / n))
+def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
+    track = scenario.spec.track
+    p.n_gradients = len(track.gradients)
+    for i, g in enumerate(track.gradients):
+        p.gradient_start[i], p.gradient[i] = g.start, g.gradient
 
 
 def _condition(name: str, initial_speed: float) -> _core.PlantCondition:
@@ -101,22 +118,53 @@ def _condition(name: str, initial_speed: float) -> _core.PlantCondition:
 _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
 
 
-def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int = SUBSTEPS,
-                 train=None) -> _core.PlantParams:
-    """The plant's C parameters; train: the resolved train (default: the scenario's preset)."""
+def substeps_for(dt: float) -> int:
+    """Sub-steps of the plant at step dt (s): 1 up to MAX_SUBSTEP, then as many as keep each within it."""
+    return max(1, math.ceil(dt / MAX_SUBSTEP - 1e-9))
+
+
+def kernel_code(kernel: str | None = None) -> int:
+    """rb_plant_params.kernel for a kernel name; None: the RAILBRAKE_KERNEL environment variable,
+    else "auto"."""
+    where = "--kernel"
+    if kernel is None:
+        kernel, where = os.environ.get(KERNEL_ENV, "auto"), f"environment variable {KERNEL_ENV}"
+    if kernel not in _core.KERNELS:
+        raise InputError(f"{where} = {kernel!r}: must be one of {', '.join(_core.KERNELS)}")
+    return _core.KERNELS[kernel]
+
+
+def scenario_train(scenario: Scenario, n_cars: int | None = None):
+    """The scenario's train with its load case, lengthened to n_cars (default: the scenario's)."""
     spec = scenario.spec
-    train = load_train(spec.train.preset) if train is None else train
+    train = load_train(spec.train.preset, spec.train.load_case or True)
+    return with_cars(train, scenario.cars(n_cars) if n_cars is None else n_cars)
+
+
+def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int | None = None,
+                 kernel: str | None = None, train=None) -> _core.PlantParams:
+    """The plant's parameters; substeps None: substeps_for(dt); kernel: see kernel_code; train: the
+    resolved train (default: the scenario's preset)."""
+    spec = scenario.spec
+    train = scenario_train(scenario, n_cars) if train is None else with_cars(train, n_cars)
+    scenario.check_speed(train)
+    eq = train.spec
     p = _core.PlantParams()
-    p.n_cars, p.dt, p.substeps, p.temperature, p.atmosphere = n_cars, dt, substeps, 293.15, ATMOSPHERE
-    p.discharge_coefficient, p.critical_ratio = 0.8, 0.528
+    p.n_cars, p.dt = n_cars, dt
+    p.substeps = substeps_for(dt) if substeps is None else substeps
+    p.kernel = kernel_code(kernel)
+    p.temperature = eq.pneumatics.air_temperature_c + ZERO_CELSIUS
+    p.ambient_temperature = p.temperature
+    p.atmosphere = train.atmospheric_pressure
+    p.discharge_coefficient, p.critical_ratio = eq.pneumatics.discharge_coefficient, eq.pneumatics.critical_ratio
     for i in range(n_cars):
         p.car[i] = _car(train, i)
-    p.coupler = _core.Coupler(0.01, 1e7, 0.0, 2e5)   # slack m, N/m, N/m^3, N s/m [T]
-    p.resistance = _resistance(train, n_cars)
-    p.compressor_car = 0
-    p.main_reservoir_volume, p.main_reservoir_area = 0.05 * n_cars, 100e-6
-    p.compressor_flow, p.governor_on, p.governor_off = 0.03, 8.5e5, 10.0e5
-    p.initial_pressure, p.initial_speed = 9.5e5, spec.initial_speed
+    k = eq.coupler
+    p.coupler = _core.Coupler(k.slack_mm * 1e-3, k.stiffness_kN_per_mm * 1e6, 0.0, k.damping_kN_s_per_m * 1e3)
+    p.resistance = _core.Resistance(train.c.resistance.A, train.c.resistance.B, train.c.resistance.C)
+    _air_supply(train, n_cars, p)
+    p.initial_speed = spec.initial_speed
+    _gradients(scenario, p)
     names = [spec.adhesion.condition] + [z.condition for z in spec.adhesion.zones]
     unique = list(dict.fromkeys(names))
     if len(unique) > _core.MAX_CONDITIONS:
@@ -142,6 +190,31 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
     return p
 
 
+def _air_supply(train, n_cars: int, p: _core.PlantParams) -> None:
+    """Compressors of the train's formation (repeated with it), lumped main reservoirs on the
+    first compressor's car, governor pressures gauge -> absolute."""
+    air = train.spec.air_supply
+    n_formation = len(train.spec.formation)
+    units = [(start + c.car - 1, c.delivery_kg_s) for start in range(0, n_cars, n_formation)
+             for c in air.compressors if start + c.car - 1 < n_cars]
+    if not units:   # a train cut shorter than its first compressor's car still needs air
+        units = [(n_cars - 1, air.compressors[0].delivery_kg_s)]
+    if len(units) > _core.MAX_COMPRESSORS:
+        raise InputError(f"train {train.name}, {n_cars} cars: {len(units)} compressors (the formation's "
+                         f"repeated); the plant takes at most {_core.MAX_COMPRESSORS}")
+    positions, deliveries = [c for c, _ in units], [q for _, q in units]
+    p.n_compressors = len(positions)
+    for i, (c, q) in enumerate(zip(positions, deliveries)):
+        p.compressor_position[i], p.compressor_delivery[i] = c, q
+    p.compressor_car = positions[0]
+    p.compressor_flow = sum(deliveries)
+    p.main_reservoir_volume = air.main_reservoir_l * L * n_cars / n_formation
+    p.main_reservoir_area = air.main_reservoir_outlet_mm2 * MM2
+    p.governor_on = p.atmosphere + air.governor_on_bar * BAR
+    p.governor_off = p.atmosphere + air.governor_off_bar * BAR
+    p.initial_pressure = p.atmosphere + air.charged_bar * BAR
+
+
 def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     w = _core.WspParams()
     _core.rb_wsp_default_params(ctypes.byref(w))
@@ -154,12 +227,31 @@ def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     return w
 
 
-def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool) -> _core.BcuParams:
+def _tables(demands: list, table_name: str, n_cars: int) -> list:
+    return [_core.speed_table(d.speed, getattr(d, table_name)) for d in demands[:n_cars]]
+
+
+def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=None) -> _core.BcuParams:
+    """The BCU: per car the brake force of the train's emergency and service steps over speed and
+    the pneumatic law solved for the pressure, from railbrake.sizing (load-weighed, pad lambda(v),
+    ED blending as the train file's brake steps say). docs/simulation.md, 'From demand to cylinder'."""
+    train = scenario_train(scenario, plant.n_cars) if train is None else with_cars(train, plant.n_cars)
     b = _core.BcuParams()
-    b.n_cars, b.cycle, b.atmosphere = plant.n_cars, scenario.spec.wsp.cycle, ATMOSPHERE
-    b.service_decel, b.emergency_decel, b.ed_in_emergency = SERVICE_DECEL, EMERGENCY_DECEL, 0
-    supply = min(plant.car[i].vehicle.supply_pressure for i in range(plant.n_cars))
-    _core.rb_bcu_pressure_map(ctypes.byref(plant), supply, ctypes.byref(b))
+    b.n_cars, b.cycle, b.atmosphere = plant.n_cars, scenario.spec.wsp.cycle, plant.atmosphere
+    emergency, ed_emergency = sizing.brake_step(train, "emergency")
+    service, ed_service = sizing.brake_step(train, "service")
+    b.ed_in_emergency, b.ed_in_service = int(ed_emergency), int(ed_service)
+    # the constant decelerations only document the steps (the tables are used): their top values
+    b.emergency_decel, b.service_decel = float(emergency.deceleration.max()), float(service.deceleration.max())
+    _core.rb_bcu_pressure_map(ctypes.byref(plant), train.supply_pressure, ctypes.byref(b))
+    b.demand_tables = 1
+    e_demand, s_demand = sizing.car_demands(train, emergency), sizing.car_demands(train, service)
+    for c in range(plant.n_cars):
+        b.emergency_force[c] = _core.speed_table(e_demand[c].speed, e_demand[c].force)
+        b.service_force[c] = _core.speed_table(s_demand[c].speed, s_demand[c].force)
+        b.pressure_per_newton[c] = _core.speed_table(e_demand[c].speed, e_demand[c].pressure_per_newton)
+        b.pressure_offset[c] = e_demand[c].threshold
+    b.emergency_profile, b.service_profile = emergency.table(), service.table()
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
     return b
@@ -187,18 +279,23 @@ WspCallback = Callable[[_core.WspInputs, _core.WspCommands], None]
 
 def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
         wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
-        record: bool = True, dt: float = DT, substeps: int = SUBSTEPS) -> Result:
+        record: bool = True, dt: float = DT, substeps: int | None = None, kernel: str | None = None,
+        train=None) -> Result:
     """Run a scenario (preset name, file, Scenario or railbrake.resolve.Resolved) in the C core.
 
     cars: override the train's number of cars; wsp=False: no WSP (valves never commanded);
     wsp_function(inputs, commands): a Python WSP replacing the default (prototyping; slower);
     progress(t, v): called after each chunk of simulated time with the time and speed (SI);
-    dt: the plant's fixed step (s); substeps: sub-steps of air and wheelsets per step.
+    dt: the plant's fixed step (s); substeps: sub-steps of air and wheelsets per step (None:
+    substeps_for(dt)); kernel: the wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL);
+    train: a vehicle.Train to use instead of the scenario's (e.g. with overrides), lengthened to
+    the cars asked for.
     """
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    plant = plant_params(sc, n_cars, dt, substeps, resolved.train)
-    bcu = bcu_params(plant, sc, wsp)
+    train = with_cars(resolved.train if train is None else train, n_cars)
+    plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
+    bcu = bcu_params(plant, sc, wsp, train)
     callback = None
     if wsp_function is not None:
         def _adapter(_context, inputs, commands):
@@ -227,22 +324,93 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     n_rows = int(np.count_nonzero(series[:, 0])) + 1 if record else 0
     series = series[:n_rows]
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
-    result = {k: getattr(kpis, k) for k in _core.KPI_NAMES}
-    for k in ("wheel_lock_events", "safety_timer_trips"):
-        result[k] = int(result[k])
-    result["stopped"] = bool(result["stopped"])
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
-                  dict(names), result)
+                  dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere)
 
 
-def bench(cars: int = 16, steps: int = 20000) -> dict:
+def axle_name(index: int) -> str:
+    """'c3a2' (car 3, axle 2, 1-based) for the 0-based global axle index, as in channel names."""
+    return f"c{index // _core.AXLES_PER_CAR + 1}a{index % _core.AXLES_PER_CAR + 1}"
+
+
+def kpi_dict(kpis: _core.Kpis, atmosphere: float) -> dict:
+    """The C KPIs in the units of `run --json`: pressures bar gauge, energy MJ, temperature degC."""
+    k = {name: getattr(kpis, name) for name in _core.KPI_NAMES}
+    stopped = bool(k["stopped"])
+    gauge = lambda pa: (pa - atmosphere) / BAR  # noqa: E731
+    return {
+        "stopping_distance_m": k["stopping_distance_m"] if stopped else None,
+        "stopping_time_s": k["stopping_time_s"] if stopped else None,
+        "mean_deceleration": k["mean_deceleration"],
+        "max_slip": k["max_slip"],
+        "wheel_lock_events": int(k["wheel_lock_events"]),
+        "max_lock_duration_s": k["max_lock_duration_s"],
+        "worst_axle": None if k["worst_axle"] < 0 else axle_name(int(k["worst_axle"])),
+        "adhesion_utilisation": k["adhesion_utilisation"],
+        "safety_timer_trips": int(k["safety_timer_trips"]),
+        "min_main_reservoir_bar": gauge(k["min_main_reservoir"]),
+        "min_supply_bar": gauge(k["min_supply"]),
+        "min_supply_margin_bar": k["min_supply_margin"] / BAR,
+        "air_drawn_kg": k["air_drawn_kg"],
+        "air_vented_kg": k["air_vented_kg"],
+        "cylinder_shortfall_s": k["cylinder_shortfall_s"],
+        "brake_energy_mj": k["brake_energy"] / 1e6,
+        "max_disc_temperature_c": k["max_disc_temperature"] - ZERO_CELSIUS,
+        "air_balance_error": k["air_balance_error"],
+        "stopped": stopped,
+    }
+
+
+def bench(cars: int = 16, steps: int = 20000, kernel: str | None = None) -> dict:
     """The plant alone at 1 ms with the brakes applied on dry rail: timing measured in C."""
     sc = load("emergency-250-dry")
-    plant = plant_params(sc, cars)
-    mean, p99 = ctypes.c_double(), ctypes.c_double()
+    plant = plant_params(sc, cars, kernel=kernel)
+    mean, p99, largest = ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
+    used = ctypes.create_string_buffer(32)
     supply = plant.car[0].vehicle.supply_pressure
     _core.call(_core.rb_plant_bench, ctypes.byref(plant), supply, steps, ctypes.byref(mean),
-               ctypes.byref(p99))
+               ctypes.byref(p99), ctypes.byref(largest), used, ctypes.sizeof(used))
     return {"cars": cars, "realtime_factor": DT * 1e6 / mean.value,
-            "step_us_mean": mean.value, "step_us_p99": p99.value}
+            "step_us_mean": mean.value, "step_us_p99": p99.value, "step_us_max": largest.value,
+            "substeps": plant.substeps, "kernel": used.value.decode()}
 
+
+# ------------------------------------------------------------------ response of the simulated chain
+
+RESPONSE_WINDOW = 5.0   # s of emergency braking over which the build-up is measured
+
+
+def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-medium",
+                       max_time: float = 3600.0, load: str | None = None) -> Scenario:
+    """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`."""
+    from railbrake.scenario import SCHEMA, from_data
+    data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
+            "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
+            "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
+            "demand": [{"time": "0 s", "emergency": True}], "adhesion": {"condition": condition},
+            "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
+    if load is not None:
+        data["train"]["load_case"] = load
+    return from_data(data, f"emergency stop of {train}", {})
+
+
+def response_times(result: Result, window: float = RESPONSE_WINDOW) -> tuple[float, float]:
+    """EN 14531-1 delay ta and build-up tb of a run's brake (mean cylinder gauge pressure of all
+    axles): ta from the demand to 10 % of its value at the end of the build-up (the highest over
+    the first `window` s), tb from 10 % to 90 %."""
+    atmosphere = result.atmosphere
+    cylinder = np.mean([result.outputs[n] for n in result.axle_channels("cylinder")], axis=0) - atmosphere
+    t = result.time
+    reference = cylinder[t <= window].max()
+    if not reference > 0.0:
+        raise InputError(f"scenario {result.scenario}: no cylinder pressure within {window:g} s of the demand")
+    t10 = t[np.argmax(cylinder >= 0.1 * reference)]
+    t90 = t[np.argmax(cylinder >= 0.9 * reference)]
+    return float(t10), float(t90 - t10)
+
+
+def simulated_response(train: str, initial_speed: float, load: str | None = None) -> tuple[float, float]:
+    """(ta, tb) of the simulated EP chain of `train` in an emergency stop from initial_speed (m/s)
+    on dry rail: the first RESPONSE_WINDOW s of a run."""
+    sc = emergency_scenario(train, initial_speed, max_time=RESPONSE_WINDOW + 1.0, load=load)
+    return response_times(run(sc))

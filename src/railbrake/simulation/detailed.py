@@ -3,7 +3,8 @@ detailed valve models (EP valve with armature, solenoid table and piston; relay 
 membrane; WSP solenoid valves; ideal-gas volumes with mass and energy balance) integrated by the
 variable-step stiff solver between BCU cycles (core/src/detailed_*.c, docs/detailed.md).
 
-The valve designs are ``railbrake/data/detailed/valves.yaml``, a calibrated design assumption [T].
+The valves are the designs of ``railbrake/data/valves`` (epv.yaml, relay.yaml: the files that
+``railbrake valve`` studies); ``railbrake/data/detailed/valves.yaml`` holds the solver settings.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from railbrake.resolve import resolve
 from railbrake.scenario import load
 from railbrake.simulation import (CHUNK, Result, _scenario_struct, bcu_params, channels, plant_params,
                                   wsp_params)
-from railbrake.valves import read_force_table
+from railbrake.valves import load_epv, load_relay, read_force_table
 from railbrake.valves.params import _merge
 
 DATA = resources.files("railbrake") / "data" / "detailed"
@@ -30,8 +31,9 @@ MM, CM3 = 1e-3, 1e-6
 
 
 def load_valves(override: dict | None = None) -> dict:
-    """The calibrated valve set, updated by a dict of overrides (unknown keys are refused)."""
-    params = yaml.safe_load((DATA / "valves.yaml").read_text())
+    """The valve designs {"epv": epv.yaml, "relay": relay.yaml} with the detailed model's settings
+    (air, drive, solver), updated by a dict of overrides (unknown keys are refused)."""
+    params = {"epv": load_epv(), "relay": load_relay(), **yaml.safe_load((DATA / "valves.yaml").read_text())}
     return params if override is None else _merge(params, override, "detailed")
 
 
@@ -40,10 +42,9 @@ def _area(d_mm: float) -> float:
 
 
 def solenoid_table(valves: dict | None = None):
-    """The EP valve's force table (airgap m, current A, force N): this folder's, else valves'."""
-    name = (valves or load_valves())["epv"]["solenoid_table"]
-    own = DATA / name
-    return read_force_table(str(own) if own.is_file() else name)
+    """The EP valve's force table (airgap m, current A, force N), checked against its rated current."""
+    epv = (valves or load_valves())["epv"]
+    return read_force_table(epv["solenoid_table"], epv["current_max_a"])
 
 
 def detailed_params(valves: dict | None = None) -> _core.DetailedParams:
@@ -68,7 +69,7 @@ def detailed_params(valves: dict | None = None) -> _core.DetailedParams:
     d.piston_area, d.piston_mass = _area(k["diameter_mm"]), k["mass"]
     d.piston_spring_rate, d.piston_preload, d.piston_damping = k["spring_rate"], k["spring_preload"], k["damping"]
     d.piston_friction, d.piston_friction_velocity = k["friction"], k["friction_velocity"]
-    d.piston_travel, d.seat_lap = k["travel_mm"] * MM, k["seat_lap_mm"] * MM
+    d.piston_travel, d.seat_lap = k["travel_mm"] * MM, e["seat_lap_mm"] * MM
     d.epv_inlet_diameter, d.epv_exhaust_diameter = e["inlet_seat_diameter_mm"] * MM, e["exhaust_seat_diameter_mm"] * MM
     d.membrane_points = len(m["x_mm"])
     for i, (x, vol) in enumerate(zip(m["x_mm"], m["volume_cm3"])):
@@ -90,7 +91,7 @@ def run_detailed(scenario="emergency-300-heavy-rain", cars: int | None = None, v
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = plant_params(sc, n_cars, train=resolved.train)
-    bcu = bcu_params(plant, sc, True)
+    bcu = bcu_params(plant, sc, True, resolved.train)
     wsp, spec, det = wsp_params(sc), _scenario_struct(sc), detailed_params(valves)
     state = ctypes.create_string_buffer(_core.rb_detailed_state_size())
     _core.call(_core.rb_detailed_init, ctypes.byref(plant), ctypes.byref(det), ctypes.byref(bcu),
@@ -117,7 +118,8 @@ def run_detailed(scenario="emergency-300-heavy-rain", cars: int | None = None, v
                                             "max_slip", "air_consumed_kg", "air_balance_error")}
     result.update(stopped=bool(kpis.stopped), safety_timer_trips=int(kpis.safety_timer_trips),
                   ode_steps=stats.steps, ode_rejected=stats.rejected, rhs_calls=stats.rhs_calls, wall_s=wall)
-    return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs["time"], outputs, dict(names), result)
+    return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs["time"], outputs, dict(names), result,
+                  plant.atmosphere)
 
 
 def epv_current(pressure: float, supply: float | None = None, valves: dict | None = None,

@@ -11,10 +11,12 @@ import numpy as np
 
 from railbrake.errors import InputError
 from railbrake.pneumatics import Network
+from railbrake.pneumatics.orifice import AIR_GAMMA, AIR_R
 from railbrake.units import BAR
 from railbrake.valves.params import DATA, load
 
 MM = 1e-3
+T_AMBIENT = 293.15   # K, initial and wall temperature of the chambers
 
 
 def load_epv(override=None) -> dict:
@@ -23,12 +25,14 @@ def load_epv(override=None) -> dict:
 
 def _params(params) -> dict:
     """A complete parameter set as given, else the defaults with `params` as overrides."""
-    return params if isinstance(params, dict) and "solenoid_table" in params else load_epv(params)
+    full = isinstance(params, dict) and {"solenoid_table", "armature", "piston", "current_max_a"} <= params.keys()
+    return params if full else load_epv(params)
 
 
-def read_force_table(path):
+def read_force_table(path, rated_current: float | None = None):
     """Solenoid force table CSV: header 'airgap_mm,<currents A>...', rows 'airgap_mm,<forces N>...';
-    '#' lines are comments. Returns (airgap m, current A, force N [airgap, current])."""
+    '#' lines are comments. Returns (airgap m, current A, force N [airgap, current]). Refused: axes
+    not strictly increasing, a force falling with current, a table not reaching rated_current (A)."""
     path = Path(path)
     text = path.read_text() if path.is_file() else (DATA / str(path)).read_text()
     lines = [line for line in text.splitlines() if line.strip() and not line.startswith("#")]
@@ -41,26 +45,51 @@ def read_force_table(path):
                          "'airgap_mm,<currents>'") from None
     if data.ndim != 2 or data.shape[1] != current.size + 1:
         raise InputError(f"{path}: every row needs an airgap and {current.size} forces")
-    gap = data[:, 0]
+    gap, force = data[:, 0], data[:, 1:]
     bad = np.flatnonzero(np.diff(gap) <= 0)
     if bad.size:
         i = bad[0] + 1
         raise InputError(f"{path}: airgap_mm[{i}] = {gap[i]:g} after {gap[i - 1]:g}: the force table "
                          "must be sorted by airgap (strictly increasing)")
-    return gap * MM, current, data[:, 1:]
+    bad = np.flatnonzero(np.diff(current) <= 0)
+    if bad.size:
+        j = bad[0] + 1
+        raise InputError(f"{path}: current[{j}] = {current[j]:g} A after {current[j - 1]:g} A: the header's "
+                         "currents must be strictly increasing")
+    falls = np.argwhere(np.diff(force, axis=1) < 0)
+    if falls.size:
+        i, j = falls[0]
+        raise InputError(f"{path}: airgap {gap[i]:g} mm: force {force[i, j + 1]:g} N at {current[j + 1]:g} A "
+                         f"below {force[i, j]:g} N at {current[j]:g} A: the force must not fall with current "
+                         "(monotone non-decreasing in current)")
+    if rated_current is not None and not current[-1] >= rated_current:
+        raise InputError(f"{path}: currents up to {current[-1]:g} A: the table must cover the rated current "
+                         f"current_max_a = {rated_current:g} A (range [0, >= {rated_current:g}] A)")
+    return gap * MM, current, force
 
 
-def epv_network(p: dict, current_schedule, force_table=None) -> Network:
+def _wall_conductance(volume: float, thermal_time: float | None) -> float:
+    """h A (W/K) giving the air of `volume` at 5 bar the wall time constant thermal_time (s), as the
+    detailed train model sets it (rb_detailed_params.thermal_time); None: adiabatic."""
+    if thermal_time is None:
+        return 0.0
+    cv = AIR_R / (AIR_GAMMA - 1.0)
+    return 5e5 * volume / (AIR_R * T_AMBIENT) * cv / thermal_time
+
+
+def epv_network(p: dict, current_schedule, force_table=None, thermal_time: float | None = None) -> Network:
     """The EPV as a network: supply -> pilot orifice -> pilot chamber -> flapper-nozzle -> atmosphere;
-    relay piston between pilot and control chambers opening the inlet (x > 0) or exhaust (x < 0)."""
+    relay piston between pilot and control chambers opening the inlet (x > 0) or exhaust (x < 0).
+    thermal_time (s): wall heat exchange of the chambers (default: adiabatic)."""
     a, k = p["armature"], p["piston"]
     pa, cd = p["ambient_pa"], p["discharge_coefficient"]
-    gap, current, force = force_table if force_table is not None else read_force_table(p["solenoid_table"])
+    gap, current, force = (force_table if force_table is not None
+                           else read_force_table(p["solenoid_table"], p["current_max_a"]))
     net = Network(ambient_pressure=pa)
     net.add_reservoir("supply", pa + p["supply_bar"] * BAR)
     net.add_reservoir("atmosphere", pa)
-    net.add_volume("pilot", p["pilot_volume_cm3"] * 1e-6, pa)
-    net.add_volume("control", p["control_volume_l"] * 1e-3, pa)
+    for name, volume in (("pilot", p["pilot_volume_cm3"] * 1e-6), ("control", p["control_volume_l"] * 1e-3)):
+        net.add_volume(name, volume, pa, T_AMBIENT, heat_transfer=_wall_conductance(volume, thermal_time))
     nozzle_area = math.pi * (p["nozzle_diameter_mm"] * MM) ** 2 / 4
     travel = a["flapper_travel_mm"] * MM
     net.add_body("armature", a["mass"], [("pilot", nozzle_area, -1.0)], a["spring_rate"], a["spring_preload"],
@@ -90,42 +119,99 @@ class EpvCharacteristic:
     pressure_up: np.ndarray    # bar gauge
     current_down: np.ndarray
     pressure_down: np.ndarray
-    hysteresis_bar: float
+    hysteresis_bar: float | None   # None when the ramp is too fast to be quasi-static
+    ramp_time_s: float
+    lag_bar: float             # hysteresis at this ramp minus at a ramp twice as slow
+    quasi_static: bool
+    max_drop_up_bar: float     # largest fall of pressure_up from one point to the next (0: monotone)
+    note: str = ""
 
     def as_dict(self) -> dict:
         return {"current_up": self.current_up, "pressure_up": self.pressure_up,
                 "current_down": self.current_down, "pressure_down": self.pressure_down,
-                "hysteresis_bar": self.hysteresis_bar}
+                "hysteresis_bar": self.hysteresis_bar, "ramp_time_s": self.ramp_time_s, "lag_bar": self.lag_bar,
+                "quasi_static": self.quasi_static, "max_drop_up_bar": self.max_drop_up_bar,
+                "pressure_max_bar": float(np.max(self.pressure_up)),
+                "pressure_down_at_0_a_bar": float(self.pressure_down[-1]), "note": self.note}
 
 
-def epv_characteristic(params=None, ramp_time: float = 20.0, n_points: int = 201,
+QUASI_STATIC_BAR = 0.01        # hysteresis may change by this much (or 10 %) when the ramp is halved in rate
+SETTLE_S = 2.0                 # held at the first current before the ramp: the ramp starts at equilibrium
+
+
+def _ramp(p: dict, ramp_time: float, n_points: int, force_table):
+    """Up and down branches (current A, control bar gauge) and the largest up/down difference at
+    equal current."""
+    i_max, half = p["current_max_a"], ramp_time / 2
+    net = epv_network(p, [(0.0, 0.0), (SETTLE_S, 0.0), (SETTLE_S + half, i_max), (SETTLE_S + ramp_time, 0.0)],
+                      force_table)
+    times = SETTLE_S + np.linspace(0.0, ramp_time, 2 * n_points - 1)
+    res = net.simulate(times[-1], times=np.concatenate([[0.0], times]), max_step=ramp_time / 400)
+    current = np.interp(times, SETTLE_S + np.array([0, half, ramp_time]), [0, i_max, 0])
+    gauge = (res["control"].p[1:] - p["ambient_pa"]) / BAR
+    up, down = slice(0, n_points), slice(n_points - 1, None)
+    down_on_up = np.interp(current[up], current[down][::-1], gauge[down][::-1])
+    return current[up], gauge[up], current[down], gauge[down], float(np.max(np.abs(down_on_up - gauge[up])))
+
+
+def epv_characteristic(params=None, ramp_time: float = 100.0, n_points: int = 201,
                        force_table=None) -> EpvCharacteristic:
     """Control pressure against current from a linear ramp 0 -> current_max_a -> 0 taking ramp_time
-    (s) in all. Hysteresis: the largest up/down pressure difference at equal current."""
+    (s) in all, started from the equilibrium at 0 A. Hysteresis: the largest up/down pressure
+    difference at equal current, reported only when quasi-static: the same ramp twice as slow
+    changes it by less than QUASI_STATIC_BAR or 10 % (else it is the valve's lag, lag_bar)."""
     p = _params(params)
     if not ramp_time > 0:
         raise InputError(f"ramp_time = {ramp_time}: must be > 0 (s)")
-    i_max, half = p["current_max_a"], ramp_time / 2
-    net = epv_network(p, [(0.0, 0.0), (half, i_max), (ramp_time, 0.0)], force_table)
-    res = net.simulate(ramp_time, n_points=2 * n_points - 1, max_step=ramp_time / 400)
-    current = np.interp(res.time, [0, half, ramp_time], [0, i_max, 0])
-    gauge = (res["control"].p - p["ambient_pa"]) / BAR
-    up, down = slice(0, n_points), slice(n_points - 1, None)
-    down_on_up = np.interp(current[up], current[down][::-1], gauge[down][::-1])
-    # The first 5 % of the up ramp still carries the start from rest: left out of the measure.
-    judged = current[up] >= 0.05 * i_max
-    return EpvCharacteristic(current[up], gauge[up], current[down], gauge[down],
-                             float(np.max(np.abs(down_on_up - gauge[up])[judged])))
+    c_up, p_up, c_down, p_down, hyst = _ramp(p, ramp_time, n_points, force_table)
+    slow = _ramp(p, 2.0 * ramp_time, n_points, force_table)[4]
+    lag = hyst - slow
+    quasi = abs(lag) <= max(QUASI_STATIC_BAR, 0.1 * slow)
+    note = "" if quasi else (f"ramp {ramp_time:g} s too fast to be quasi-static: the up/down difference "
+                             f"{hyst:.3f} bar is {lag:.3f} bar more than at {2 * ramp_time:g} s (valve lag, not "
+                             "hysteresis); use a longer --ramp-time")
+    return EpvCharacteristic(c_up, p_up, c_down, p_down, hyst if quasi else None, ramp_time, lag, quasi,
+                             float(max(0.0, -np.min(np.diff(p_up)))), note)
 
 
 def epv_step(params=None, current: float = 0.5, t_end: float = 1.0, t_step: float = 0.05,
-             n_points: int = 1001, force_table=None):
-    """Response to a current step 0 -> current at t_step; returns the network result."""
+             n_points: int = 1001, force_table=None, start_current: float = 0.0,
+             thermal_time: float | None = None):
+    """Response to a current step start_current -> current at t_step (the valve at rest at
+    start_current before it; chambers adiabatic unless thermal_time, s); returns the network result."""
     p = _params(params)
-    if not 0 <= current <= p["current_max_a"] * 1.2:
-        raise InputError(f"current = {current} A: must lie in [0, {1.2 * p['current_max_a']:g}] A")
-    net = epv_network(p, [(t_step, 0.0), (t_step, current)], force_table)
-    return net.simulate(t_end, n_points=n_points)
+    for name, value in (("current", current), ("start_current", start_current)):
+        if not 0 <= value <= p["current_max_a"]:
+            raise InputError(f"{name} = {value:g} A: must lie in [0, {p['current_max_a']:g}] A "
+                             "(current_max_a, the rated current)")
+    settle = SETTLE_S if start_current > 0 else 0.0
+    net = epv_network(p, [(0.0, start_current), (settle + t_step, start_current), (settle + t_step, current)],
+                      force_table, thermal_time)
+    if not settle:
+        return net.simulate(t_end, times=np.linspace(0.0, t_end, n_points))
+    res = net.simulate(settle + t_end, times=np.concatenate([[0.0], settle + np.linspace(0.0, t_end, n_points)]))
+    res.time = res.time[1:] - settle
+    for e in res.elements.values():   # drop the settling sample
+        for name in ("p", "T", "m", "mdot", "x", "v"):
+            if getattr(e, name, None) is not None:
+                setattr(e, name, getattr(e, name)[1:])
+    return res
+
+
+def step_metrics(time, gauge_bar, t_step: float = 0.05, band: float = 0.02) -> dict:
+    """Final value, 10-90 % rise time, overshoot (bar and % of the change) and settling time (from the
+    step to entering for good the band +-`band` x change, at least +-0.01 bar, around the final)."""
+    time, p = np.asarray(time), np.asarray(gauge_bar)
+    final, start = float(p[-1]), float(np.interp(t_step, time, p))
+    change = final - start
+    sign = 1.0 if change >= 0 else -1.0
+    crossed = lambda f: time[np.argmax(sign * (p - start) >= f * abs(change))]  # noqa: E731
+    rise = float(crossed(0.9) - crossed(0.1)) if abs(change) > 0 else math.nan
+    over = max(0.0, float(sign * (p - final).max() if sign > 0 else -(p - final).min()))
+    outside = np.flatnonzero(np.abs(p - final) > max(band * abs(change), 0.01))
+    settle = float(time[outside[-1] + 1] - t_step) if outside.size and outside[-1] + 1 < len(time) else 0.0
+    return {"final_bar": final, "rise_time_10_90_s": rise, "overshoot_bar": over,
+            "overshoot_pct": 100.0 * over / abs(change) if abs(change) > 0 else 0.0, "settling_time_s": settle}
 
 
 def oscillates(time, pressure, settle_fraction: float = 0.5, amplitude: float = 0.01 * BAR) -> bool:

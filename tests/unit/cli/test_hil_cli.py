@@ -35,7 +35,9 @@ def test_hil_without_a_bcu_runs_in_the_safe_state_and_says_so():
     assert "no frame came from the BCU at udp://127.0.0.1:9" in result.output
     report = json.loads(result.output[result.output.index("{"):])
     assert report["counters"]["safe_state_steps"] == report["counters"]["steps"] == 100
-    assert report["kpis"]["stopping_distance_m"] > 0      # the safe state brakes
+    assert report["kpis"]["stopping_distance_m"] is None  # cut short by --duration: not stopped
+    assert report["kpis"]["braked_distance_m"] > 0        # the safe state brakes
+    assert report["kpis"]["min_supply_bar"] > 7.0
 
 
 def test_bcu_stops_after_its_duration_without_a_plant():
@@ -44,4 +46,5 @@ def test_bcu_stops_after_its_duration_without_a_plant():
     assert result.exit_code == 0, result.output
     first, rest = result.output.split("\n", 1)
     assert first.startswith("listening on udp://127.0.0.1:")
-    assert json.loads(rest) == {"received": 0, "malformed": 0, "stale": 0, "sent": 0, "send_errors": 0, "cycles": 0}
+    assert json.loads(rest) == {"received": 0, "malformed": 0, "stale": 0, "sent": 0, "send_errors": 0, "cycles": 0,
+                                "foreign": 0, "refused": 0}

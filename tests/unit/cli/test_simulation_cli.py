@@ -3,6 +3,7 @@
 import json
 
 import pyarrow.parquet as pq
+import pytest
 from typer.testing import CliRunner
 
 from railbrake.cli import app
@@ -11,27 +12,45 @@ from railbrake.cli import app
 def test_run_writes_parquet_with_units_kpis_and_plots(tmp_path):
     result = CliRunner().invoke(app, ["run", "emergency-250-dry", "--cars", "2", "--out", str(tmp_path), "--json"])
     assert result.exit_code == 0, result.output
-    kpis = json.loads(result.output)
+    kpis = json.loads(result.stdout)
     assert kpis["stopping_distance_m"] < 3000.0
     assert json.loads((tmp_path / "kpis.json").read_text()) == kpis
     table = pq.read_table(tmp_path / "timeseries.parquet")
     assert table.schema.field("cylinder_c2a4").metadata[b"unit"] == b"Pa"
     assert table.schema.field("speed").metadata[b"unit"] == b"m/s"
-    for plot in ("speed_distance", "cylinder_pressure", "slip", "valves", "reservoirs"):
+    # min_supply_bar (gauge) is the lowest supply channel of the file (KPI every 1 ms, file every 20 ms)
+    supply = min(min(table.column(n).to_pylist()) for n in table.column_names if n.startswith("supply_c"))
+    assert kpis["min_supply_bar"] == pytest.approx((supply - 101325.0) / 1e5, abs=1e-3)
+    for plot in ("braking_curve", "speed_time", "slip", "reservoirs", "cylinders"):
         assert (tmp_path / f"{plot}.png").stat().st_size > 1000
+    assert list(tmp_path.glob("wsp_cycle_c*.png")), "no WSP cycle figure"
+    assert (tmp_path / "report.html").is_file()
 
 
 def test_no_wsp_flag_turns_the_wsp_off():
     result = CliRunner().invoke(app, ["run", "emergency-300-leaves-patch", "--cars", "1", "--no-wsp", "--json"])
     assert result.exit_code == 0, result.output
-    assert json.loads(result.output)["air_consumed_kg"] == 0.0
+    kpis = json.loads(result.stdout)
+    # no WSP: the wheels lock on the leaves; only the relay valve exhausts, as the demand steps
+    # down with speed (the emergency profile): far less than the WSP's venting (0.025 kg)
+    assert kpis["wheel_lock_events"] >= 1 and kpis["worst_axle"].startswith("c1a")
+    assert kpis["air_vented_kg"] < 0.01
 
 
 def test_bench_json():
     result = CliRunner().invoke(app, ["bench", "--cars", "2", "--steps", "1000", "--json"])
     assert result.exit_code == 0, result.output
-    figures = json.loads(result.output)
+    figures = json.loads(result.stdout)
     assert figures["cars"] == 2 and figures["realtime_factor"] > 1.0
+    assert figures["substeps"] == 1 and "step_us_max" in figures
+
+
+def test_bench_portable_kernel_and_a_wrong_one():
+    result = CliRunner().invoke(app, ["bench", "--cars", "1", "--steps", "100", "--kernel", "portable", "--json"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["kernel"] == "portable"
+    result = CliRunner().invoke(app, ["bench", "--kernel", "fast"])
+    assert result.exit_code != 0 and "--kernel = 'fast'" in result.output
 
 
 def test_unknown_scenario_exits_non_zero():
@@ -46,7 +65,7 @@ def test_set_reaches_the_run():
     base = CliRunner().invoke(app, args)
     slow = CliRunner().invoke(app, args + ["--set", "initial_speed=100 km/h"])
     assert base.exit_code == 0 and slow.exit_code == 0, slow.output
-    ratio = json.loads(slow.output)["stopping_distance_m"] / json.loads(base.output)["stopping_distance_m"]
+    ratio = json.loads(slow.stdout)["stopping_distance_m"] / json.loads(base.stdout)["stopping_distance_m"]
     assert 0.1 < ratio < 0.3   # (100/250)^2 = 0.16, plus the response time's share
 
 

@@ -36,7 +36,8 @@ static void short_run(fmi2Component c)
     CHECK(fmi2Terminate(c) == fmi2OK);
 }
 
-/* Calls in the wrong state and bad values: each returns fmi2Error and logs. */
+/* Calls in the wrong state and bad values: each returns fmi2Error, logs and leaves the instance in
+ * the error state, from which fmi2Reset brings it back. */
 static void wrong_calls(const char *guid, const fmi2CallbackFunctions *callbacks)
 {
     int logged = errors_logged;
@@ -48,17 +49,30 @@ static void wrong_calls(const char *guid, const fmi2CallbackFunctions *callbacks
     fmi2ValueReference unknown = 999999, speed = 1;   /* 1: the first parameter (initial_speed) */
     double nan = NAN, value = 1.0;
     CHECK(fmi2DoStep(c, 0.0, 0.001, fmi2True) == fmi2Error);            /* before initialisation */
+    CHECK(fmi2EnterInitializationMode(c) == fmi2Error);                 /* in the error state */
+    CHECK(fmi2Reset(c) == fmi2OK);
     CHECK(fmi2SetReal(c, &speed, 1, &nan) == fmi2Error);                /* NaN */
-    CHECK(fmi2GetReal(c, &unknown, 1, &value) == fmi2Error);            /* unknown value reference */
+    CHECK(fmi2Reset(c) == fmi2OK);
+    CHECK(fmi2GetReal(c, &unknown, 1, &value) == fmi2Error);            /* before initialisation */
+    CHECK(fmi2Reset(c) == fmi2OK);
+    CHECK(fmi2SetReal(c, &speed, 1, NULL) == fmi2Error);                /* NULL values */
+    CHECK(fmi2Reset(c) == fmi2OK);
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK);
+    CHECK(fmi2Terminate(c) == fmi2Error);                               /* not from initialisation */
+    CHECK(fmi2Reset(c) == fmi2OK);
     CHECK(fmi2EnterInitializationMode(c) == fmi2OK);
     CHECK(fmi2ExitInitializationMode(c) == fmi2OK);
     CHECK(fmi2SetReal(c, &speed, 1, &value) == fmi2Error);              /* parameter after initialisation */
-    CHECK(fmi2DoStep(c, 0.0, 0.0015, fmi2True) == fmi2Error);           /* not a whole number of steps */
-    CHECK(fmi2DoStep(c, 0.5, 0.001, fmi2True) == fmi2Error);            /* not the FMU's time */
-    CHECK(fmi2DoStep(c, 0.0, 0.001, fmi2True) == fmi2OK);               /* still usable */
     CHECK(fmi2Reset(c) == fmi2OK);
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK);
+    CHECK(fmi2ExitInitializationMode(c) == fmi2OK);
+    CHECK(fmi2DoStep(c, 0.0, 9.2e15, fmi2True) == fmi2Error);           /* beyond the longest step */
+    CHECK(fmi2Reset(c) == fmi2OK);
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK);
+    CHECK(fmi2ExitInitializationMode(c) == fmi2OK);
+    CHECK(fmi2DoStep(c, 0.0, 0.001, fmi2True) == fmi2OK);               /* usable after the reset */
     fmi2FreeInstance(c);
-    CHECK(errors_logged - logged == 7);
+    CHECK(errors_logged - logged == 9);
 }
 
 int main(int argc, char **argv)

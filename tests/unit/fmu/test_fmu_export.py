@@ -92,6 +92,15 @@ def test_compiled_from_its_sources_simulates_the_same(fmu, tmp_path):
     assert_equals_native(folder, native, 1, stop_time=10.0)
 
 
+def test_kernel_choice_reaches_the_build(tmp_path):
+    """kernel="portable": the FMU's own sources carry the choice, and it equals the native portable run."""
+    path = export_fmu("emergency-250-dry", tmp_path / "portable.fmu", "2", cars=1, kernel="portable")
+    with zipfile.ZipFile(path) as zf:
+        assert "m->plant.kernel = 1;" in zf.read("sources/fmu_scenario.c").decode()
+    native = simulation.run("emergency-250-dry", cars=1, kernel="portable")
+    assert_equals_native(path, native, 1, stop_time=10.0)
+
+
 def test_fault_switch_starts_the_scenario_fault(tmp_path):
     """fault_1 switched on from t = 0 equals the native run whose fault starts at 0 s; the stuck-open
     vent valve bleeds its cylinder (hold valve open: relay supply against the vent) far below the others."""

@@ -9,11 +9,12 @@ import socket
 import struct
 import threading
 import time
+import zlib
 
 import numpy as np
 
 from railbrake import hil, scenario, simulation
-from railbrake.hil.frames import encode_bcu_frame
+from railbrake.hil.frames import decode_plant_frame, encode_bcu_frame
 
 SCENARIO = "emergency-300-heavy-rain"
 HELD = 2.5e5        # Pa: what the test BCU demands, unlike the safe state
@@ -21,10 +22,13 @@ DT = 1e-3
 
 
 def safe_pressure():
-    """Closed form of the BCU's emergency demand for car 1: offset + gain * decel * mass (capped)."""
+    """Closed form of the BCU's emergency demand for car 1 at standstill: threshold + Pa per N x
+    the car's emergency brake force, both from the sizing's tables at 0 km/h (capped)."""
     sc = scenario.load(SCENARIO)
     b = simulation.bcu_params(simulation.plant_params(sc, 1), sc, True)
-    return min(b.pressure_offset[0] + b.pressure_gain[0] * b.emergency_decel * b.car_mass[0], b.pressure_max[0])
+    force, per_n = b.emergency_force[0], b.pressure_per_newton[0]
+    assert force.speed[0] == per_n.speed[0] == 0.0
+    return min(b.pressure_offset[0] + per_n.value[0] * force.value[0], b.pressure_max[0])
 
 
 class Peer(threading.Thread):
@@ -38,12 +42,17 @@ class Peer(threading.Thread):
         self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 20)
         self.port = self.sock.getsockname()[1]
         self.valid, self.hostile = valid, hostile
+        self.session = self.config = 0     # the plant's, from its frames (ICD version 2)
         self.sequence = self.valid_sent = self.garbage_sent = 0
         self.plant = None
         self.done = False
 
+    def frame(self, sequence, step, *args, **kwargs):
+        """A BCU frame in the plant's session, with its configuration digest."""
+        return encode_bcu_frame(sequence, step, *args, session=self.session, config=self.config, **kwargs)
+
     def send_valid(self, step):
-        self.sock.sendto(encode_bcu_frame(self.sequence, step, 1, 0.5, [HELD]), self.plant)
+        self.sock.sendto(self.frame(self.sequence, step, 1, 0.5, [HELD]), self.plant)
         self.sequence += 1
         self.valid_sent += 1
 
@@ -56,7 +65,8 @@ class Peer(threading.Thread):
             if not select.select([self.sock], [], [], 0.05)[0]:
                 continue
             data, self.plant = self.sock.recvfrom(2048)
-            step = struct.unpack_from("<Q", data, 12)[0]
+            frame = decode_plant_frame(data)
+            step, self.session, self.config = frame["step"], frame["session"], frame["config"]
             if step % 10 == 0 and self.valid(step * DT):
                 self.send_valid(step)
             if self.hostile is not None:
@@ -91,23 +101,23 @@ def check_safe_state_after_hold(result, hold_time):
     assert np.all(result.outputs["hold_c1a1"][after] == 0) and np.all(result.outputs["vent_c1a1"][after] == 0)
 
 
-def garbage_kinds(step):
+def garbage_kinds(peer, step):
     """Random bytes, a bad CRC, wrong counts, NaN and out-of-range values, a truncated frame."""
-    good = bytearray(encode_bcu_frame(1000, step, 1, 0.5, [HELD]))
+    good = bytearray(peer.frame(1000, step, 1, 0.5, [HELD]))
     bad_crc = bytes(good[:-1]) + bytes([good[-1] ^ 0xFF])
     return [os.urandom(40 + step % 200), bad_crc,
-            encode_bcu_frame(1000, step, 2, 0.5, [HELD, HELD]),          # the plant has 1 car
-            encode_bcu_frame(1000, step, 1, 0.5, [HELD], n_axles=3),     # ... and 4 axles
-            encode_bcu_frame(1000, step, 1, math.nan, [HELD]),
-            encode_bcu_frame(1000, step, 1, 0.5, [-5.0]),
-            encode_bcu_frame(1000, step, 1, 0.5, [HELD], hold=[2] * 4, vent=[0] * 4),
+            peer.frame(1000, step, 2, 0.5, [HELD, HELD]),          # the plant has 1 car
+            peer.frame(1000, step, 1, 0.5, [HELD], n_axles=3),     # ... and 4 axles
+            peer.frame(1000, step, 1, math.nan, [HELD]),
+            peer.frame(1000, step, 1, 0.5, [-5.0]),
+            peer.frame(1000, step, 1, 0.5, [HELD], hold=[2] * 4, vent=[0] * 4),
             bytes(good[:30]), b""]
 
 
 def test_garbage_is_counted_and_the_safe_state_follows_the_hold_time():
     def hostile(peer, t):
         if 0.3 < t <= 0.6 and round(t / DT) % 5 == 0:   # all of it arrives before the end at 0.8 s
-            for data in garbage_kinds(round(t / DT)):
+            for data in garbage_kinds(peer, round(t / DT)):
                 peer.send_garbage(data)
 
     peer = Peer(valid=lambda t: t <= 0.3, hostile=hostile)
@@ -139,7 +149,7 @@ def newest_step(sock):
     step = None
     try:
         while True:
-            step = struct.unpack_from("<Q", sock.recv(2048), 12)[0]
+            step = struct.unpack_from("<Q", sock.recv(2048), 20)[0]   # ICD 2: step at byte 20
     except BlockingIOError:
         sock.setblocking(True)
     return step
@@ -149,11 +159,24 @@ def test_flood_is_survived_and_every_frame_counted():
     """A burst as fast as Python sends (a few hundred frames per ms), then one last frame: each
     sequence number ends up received or lost (whatever a full socket buffer dropped)."""
     base, n = 1000, 30000
-    burst = [encode_bcu_frame(base + i, 200, 1, 0.5, [HELD]) for i in range(n)]
     flood = {}
 
+    def burst_of(peer):
+        """n frames base.. in the plant's session: one encoded, the others patched (sequence at
+        byte 16, CRC-32 at the end: zlib's is the same IEEE CRC), fast enough for the peer thread."""
+        template = bytearray(peer.frame(base, 200, 1, 0.5, [HELD]))
+        frames = []
+        for i in range(n):
+            struct.pack_into("<I", template, 16, base + i)
+            struct.pack_into("<I", template, len(template) - 4, zlib.crc32(bytes(template[:-4])))
+            frames.append(bytes(template))
+        return frames
+
     def hostile(peer, t):
-        if not flood and t >= 0.2:
+        if "burst" not in flood:
+            flood["burst"] = burst_of(peer)
+        if "rate" not in flood and t >= 0.2:
+            burst = flood["burst"]
             start = time.perf_counter()
             for data in burst:
                 peer.sock.sendto(data, peer.plant)
@@ -171,3 +194,30 @@ def test_flood_is_survived_and_every_frame_counted():
     assert c["received"] + c["lost"] == peer.valid_sent + n + skipped
     assert c["datagrams"] == c["received"]
     check_safe_state_after_hold(result, 0.5)
+
+
+def test_foreign_frames_change_nothing():
+    """A second sender (another address) floods the plant with CRC-valid frames of the right session
+    echoing recent steps, with sequence numbers far ahead: counted as foreign, nothing else moves,
+    no command of theirs is applied (docs/hil-interface.md, session)."""
+    intruder = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    intruder.bind(("127.0.0.1", 0))
+
+    def hostile(peer, t):
+        step = round(t / DT)
+        if 0.1 < t <= 0.5 and step % 7 == 0:
+            intruder.sendto(encode_bcu_frame(0x80000000 + step, step, 1, 0.0, [9e5], session=peer.session,
+                                             config=peer.config), peer.plant)
+            peer.garbage_sent += 1
+
+    peer = Peer(valid=lambda t: True, hostile=hostile)
+    try:
+        result = run_against(peer, duration=0.6, hold_time=0.1)
+    finally:
+        intruder.close()
+    c = result.counters
+    assert c["foreign"] == peer.garbage_sent > 40
+    assert c["lost"] == 0 and c["malformed"] == 0 and c["late"] == 0 and c["received"] == peer.valid_sent
+    assert c["datagrams"] == c["foreign"] + c["received"]
+    assert np.all(result.outputs["pressure_demand_c1"][result.time > 0.05] == HELD)
+    assert any(kind == "foreign" and "not the BCU's address" in text for _, kind, text in result.events)

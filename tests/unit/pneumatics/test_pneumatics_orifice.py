@@ -44,7 +44,7 @@ def test_zero_flow_and_finite_slope_at_equal_pressures():
 
 @pytest.mark.parametrize("kwargs, word", [
     ({"p_up": 5e5, "area": -1e-6}, "area"),
-    ({"p_up": 0.0, "area": 1e-6}, "p1"),
+    ({"p_up": 0.0, "area": 1e-6}, "p_up = 0"),   # the caller's name, not the core's p1
     ({"p_up": 5e5, "area": 1e-6, "discharge_coefficient": 1.5}, "discharge_coefficient"),
 ])
 def test_bad_input_is_named(kwargs, word):

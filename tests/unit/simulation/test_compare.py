@@ -41,8 +41,12 @@ def _check_rain(c):
     assert s["vent_open_detailed_s"] == pytest.approx(s["vent_open_rt_s"], rel=0.10)
     for axle in c.axles.values():
         assert axle["rt"]["vent_commands"] > 10 and axle["detailed"]["vent_commands"] > 10
-    # the brake effort each axle received, averaged over 1 s, agrees within 0.1 bar
-    assert s["cylinder_mean_rms_bar"] < 0.1
+    # the brake effort each axle received, averaged over 1 s, agrees within 0.2 bar: the demand
+    # follows the brake profile over speed (the BCU's tables from the sizing), so where the two
+    # models, after 100 s of WSP cycling, pass a 10 km/h step of the profile a second apart they
+    # ask pressures up to 0.4 bar apart for a while (measured 0.15 bar on 1 car; 0.1 held with
+    # the former constant 1.2 m/s^2 demand)
+    assert s["cylinder_mean_rms_bar"] < 0.2
 
 
 def test_heavy_rain_one_car(compared):
@@ -66,11 +70,11 @@ def test_wsp_cycle_phase_dominates_the_raw_pressure_rms(compared):
 
 def test_step_size_study_converges_and_is_stable():
     c = compare(DRY, 1)
-    dts = [r["dt_ms"] for r in c.steps]
-    assert dts == [0.25, 0.5, 1.0, 2.0, 5.0]
+    assert [(r["dt_ms"], r["substeps"]) for r in c.steps] == [(0.25, 1), (0.5, 1), (1.0, 1), (2.0, 1), (5.0, 3),
+                                                              (5.0, 1)]
     assert all(r["stable"] for r in c.steps)
-    rms = [r["cylinder_rms_bar"] for r in c.steps]
-    assert rms == sorted(rms)                                # error grows with the step
+    rms = [r["cylinder_rms_bar"] for r in c.steps if r["substeps"] == 1]
+    assert rms == sorted(rms)                                # error grows with the bare step
     assert c.steps[2]["stopping_distance_m"] == pytest.approx(c.summary["stopping_distance_rt_m"])
 
 

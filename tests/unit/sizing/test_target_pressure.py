@@ -17,7 +17,7 @@ def test_forward_simulation_reproduces_the_demand_within_1_percent(train_name, p
     result = sizing.target_pressure(train, profile_name)
     assert result.p_motor.max() <= train.supply_pressure  # the presets are sized within supply
     achieved = sizing.forward_deceleration(train, result.speed, result.p_motor, result.p_trailer,
-                                           ed_demand=result.deceleration)
+                                           ed_demand=result.deceleration if result.ed_blending else None)
     assert np.all(np.abs(achieved / result.deceleration - 1.0) < 0.01)
     assert result.warnings == []
 
@@ -48,9 +48,16 @@ def test_pad_friction_rise_lowers_the_trailer_pressure_below_100_kmh():
     assert frozen.p_trailer[0] > r.p_trailer[0]
 
 
+def test_emergency_step_of_the_presets_is_pneumatic_only():
+    # the train files say ed_blending: false for emergency: no ED force, motor cars braked by air
+    r = sizing.target_pressure("crh380al-16", speeds=[50 / 3.6, 300 / 3.6])
+    assert not r.ed_blending and np.all(r.ed_force == 0.0)
+    assert np.all(r.p_motor > sizing.target_pressure("crh380al-16", speeds=[50 / 3.6, 300 / 3.6], ed=True).p_motor)
+
+
 def test_ed_first_on_motor_cars():
     train = vehicle.load_train("crh380al-16")
-    r = sizing.target_pressure(train, "emergency", speeds=[50 / 3.6, 300 / 3.6])
+    r = sizing.target_pressure(train, "emergency", speeds=[50 / 3.6, 300 / 3.6], ed=True)
     assert r.ed_force == pytest.approx(train.ed_brake_force(r.speed), rel=1e-12)  # ED saturated
     r = sizing.target_pressure(train, 0.2, speeds=[150 / 3.6])  # ED alone suffices on motor cars
     assert r.gauge_bar(r.p_motor[0]) == 0.0 and r.p_trailer[0] > r.atmospheric_pressure
@@ -83,8 +90,8 @@ def test_pressure_beyond_supply_is_refused_by_name():
 def test_forward_check_holds_on_a_gradient(gradient):
     # downhill the brakes must also hold the slope force, uphill the slope helps
     train = vehicle.load_train("velaro-8")
-    level = sizing.target_pressure(train, "emergency")
-    r = sizing.target_pressure(train, "emergency", gradient=gradient)
+    level = sizing.target_pressure(train, "emergency", ed=True)
+    r = sizing.target_pressure(train, "emergency", gradient=gradient, ed=True)
     achieved = sizing.forward_deceleration(train, r.speed, r.p_motor, r.p_trailer,
                                            ed_demand=r.deceleration, gradient=gradient)
     assert np.all(np.abs(achieved / r.deceleration - 1.0) < 0.01)

@@ -101,7 +101,7 @@ def test_cli_json_lists_the_fields_of_each_case():
     for key in ("id", "kind", "quantity", "reference", "model", "difference", "tolerance", "passed", "source"):
         assert key in case
     assert data["passed"] == 1 and data["failed"] == 0
-    assert re.fullmatch(r"[0-9a-f]{16}", data["build"]["core_build_hash"])
+    assert re.fullmatch(r"[0-9a-f]{64}", data["build"]["core_build_hash"])
 
 
 def test_html_report_is_one_file_with_embedded_plots(fast_results, tmp_path):

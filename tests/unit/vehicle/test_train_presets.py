@@ -1,4 +1,4 @@
-"""Train presets against the figures of shared/reference/README.md section 2."""
+"""Train presets against published figures (CRH380AL: TB/T 1407.2; CRH380A, CRH3C, ICE 3 data)."""
 
 from pathlib import Path
 

@@ -17,7 +17,7 @@ def test_caliper_force_follows_en14531():
 
 
 def test_lever_ratio_zero_is_refused_by_name():
-    with pytest.raises(InputError, match=r"caliper\.lever_ratio = 0"):
+    with pytest.raises(InputError, match=r"^lever_ratio = 0"):
         vehicle.caliper_pad_force(P_ATM + 4e5, 0.02, 700.0, 0.0, 0.95)
 
 
@@ -32,7 +32,7 @@ def test_equivalent_mass_is_sum_of_j_over_r_squared():
     wheelsets = [(0.43, 120.0, 11e3), (0.43, 161.7, 14e3), (0.46, 150.0, 15e3)]
     expected = sum(j / r**2 for r, j, _ in wheelsets)
     assert vehicle.equivalent_rotating_mass(wheelsets) == pytest.approx(expected, rel=1e-12)
-    with pytest.raises(InputError, match=r"wheelset\.axle_load = -1"):
+    with pytest.raises(InputError, match=r"wheelsets\[0\] axle_load = -1"):
         vehicle.equivalent_rotating_mass([(0.43, 120.0, -1.0)])
 
 
@@ -42,5 +42,5 @@ def test_coupler_slack_then_spring_and_damper():
     e = 0.02 - slack / 2
     assert vehicle.coupler_force(0.02, 0.1, slack, k, k3, c) == pytest.approx(k * e + k3 * e**3 + c * 0.1)
     assert vehicle.coupler_force(-0.02, -0.1, slack, k, k3, c) == pytest.approx(-(k * e + k3 * e**3 + c * 0.1))
-    with pytest.raises(InputError, match=r"coupler\.stiffness = 0"):
+    with pytest.raises(InputError, match=r"^stiffness = 0"):
         vehicle.coupler_force(0.02, 0.0, slack, 0.0)

@@ -1,0 +1,134 @@
+/* The wheelset kernel: the wheelsets over one step: torque balance J dw/dt = -F r - T_brake - T_ed with Polach adhesion
+ * F = Q f(creep), the slip velocity advanced linearly implicitly with the secant creep stiffness
+ * (stable at 1 ms down to walking speed), a wheel whose speed would change sign locked (static pad
+ * friction).
+ *
+ * The axles go through branch-free passes (which a compiler turns into 4-lane vector code, exp and
+ * atan included: rb_exp_nonpos, rb_atan_nonneg in rb_common.h) around the scalar pad-table look-up. The same source is compiled twice: portable (the reference, C99) and, on x86
+ * with GCC or Clang, for AVX2 (selected at run time, rb_plant_resolve_kernel). Both do the same IEEE
+ * operations in the same order (no fused multiply-add: AVX2 alone does not enable it, and ISO C mode
+ * does not contract), so their results are equal bit for bit (core/tests/test_plant_kernel.c).
+ * core/CMakeLists.txt compiles this file with -fno-trapping-math (both arms of a select may be
+ * computed: no value changes) and the dynamic vectoriser cost model; without them (e.g. the FMU's
+ * own build) the results are the same, only scalar. */
+#include "plant_internal.h"
+
+#include <math.h>
+
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#if defined(__GNUC__) || defined(__clang__)
+#define RB_ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define RB_ALWAYS_INLINE static inline
+#endif
+
+#define NA RB_AXLES_PER_CAR
+
+/* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived
+   (rb_polach_coefficient_fast's law, contact_polach.c). */
+static double polach(const rb_plant_derived *d, int a, double creep, double speed)
+{
+    double abs_creep = fabs(creep);
+    double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
+    double eps = d->polach_gain[a / NA] * abs_creep / mu;
+    double ka_eps = d->polach_kA[a] * eps;
+    double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
+    return creep < 0.0 ? -f : f;
+}
+
+/* Working arrays of one pass over the train. */
+typedef struct {
+    double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], ex[RB_PLANT_MAX_AXLES], pad[RB_PLANT_MAX_AXLES];
+    double f[RB_PLANT_MAX_AXLES], omega[RB_PLANT_MAX_AXLES], force[RB_PLANT_MAX_AXLES];
+} pass_arrays;
+
+RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
+                                const double *cylinder, double dt)
+{
+    rb_plant_derived *d = &s->derived;
+    const int n = p->n_cars * NA;
+    pass_arrays x;
+
+    /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential */
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double r = d->radius[c], v = in->speed[c], inv_vr = in->inv_creep_speed[c];
+        for (int a = c * NA; a < c * NA + NA; ++a) {
+            x.w[a] = s->omega[a] * r - v;
+            double creep = fabs(x.w[a] * inv_vr);
+            x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
+            x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
+        }
+    }
+    for (int a = 0; a < n; ++a) {
+        const rb_speed_table *pad = &p->car[a / NA].vehicle.brake.pad.table;
+        x.pad[a] = rb_speed_table_at_from(pad, s->omega[a] * d->radius[a / NA], &d->pad_bracket[a]);
+    }
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double r = d->radius[c], inv_J = d->inv_inertia[c], gain = d->polach_gain[c];
+        const double axle_load = d->axle_load[c], compliance = d->compliance[c], brake_gain = d->brake_gain[c];
+        const double p_atm = d->caliper_atmosphere[c], area = d->caliper_area[c], spring = d->caliper_spring[c];
+        const double inv_vr = in->inv_creep_speed[c], others_all = in->others[c], ed = in->ed_torque[c];
+        const double inv_mass = d->inv_mass[c];
+        for (int a = c * NA; a < c * NA + NA; ++a) {
+            double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
+            double eps = gain * x.abs_probe[a] / mu;
+            double ka_eps = d->polach_kA[a] * eps;
+            double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
+            x.f[a] = f;
+            double stiffness = axle_load * (f / x.abs_probe[a]) * inv_vr;  /* N per m/s */
+            /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
+            double piston = (cylinder[a] - p_atm) * area - spring;
+            double torque = brake_gain * x.pad[a] * (piston > 0.0 ? piston : 0.0) + ed;
+            /* slip velocity, linearly implicit in this axle's own rail force */
+            double others = others_all - s->force[a];
+            double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * inv_mass)) / (1.0 + dt * stiffness * compliance);
+            x.force[a] = stiffness * w_new;
+            x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
+        }
+    }
+    for (int a = 0; a < n; ++a) {
+        int c = a / NA;
+        if (x.omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
+            double creep = -in->speed[c] * in->inv_creep_speed[c];
+            /* a wheel locked already was probed at that very creep: the same coefficient */
+            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[c]);
+            x.omega[a] = 0.0;
+            x.force[a] = d->axle_load[c] * f;
+        }
+        s->omega[a] = x.omega[a];
+        s->force[a] = x.force[a];
+        s->coefficient[a] = x.force[a] / d->axle_load[c];
+    }
+}
+
+static void wheelsets_portable(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
+                               const double *cylinder, double dt)
+{
+    wheelsets(p, s, in, cylinder, dt);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2")))
+static void wheelsets_avx2(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
+                           const double *cylinder, double dt)
+{
+    wheelsets(p, s, in, cylinder, dt);
+}
+#endif
+
+void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
+                        const double *cylinder, double dt)
+{
+#if RB_PLANT_HAVE_AVX2
+    if (s->kernel == RB_PLANT_KERNEL_AVX2) {
+        wheelsets_avx2(p, s, in, cylinder, dt);
+        return;
+    }
+#endif
+    wheelsets_portable(p, s, in, cylinder, dt);
+}
+

@@ -1,0 +1,129 @@
+/* Train equipment of the plant beyond the brake chain: several compressors, the track gradient,
+ * and the friction energy and lumped temperature of each axle's brake discs. */
+#include "plant_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+
+rb_status rb_plant_train_check(const rb_plant_params *p, rb_error *err)
+{
+    rb_status s;
+    char name[64];
+    if (p->n_compressors < 0 || p->n_compressors > RB_MAX_COMPRESSORS)
+        return rb_fail(err, RB_EINVAL, "n_compressors = %d: must be in [0, %d]", p->n_compressors,
+                       RB_MAX_COMPRESSORS);
+    for (int i = 0; i < p->n_compressors; ++i) {
+        if (p->compressor_position[i] < 0 || p->compressor_position[i] >= p->n_cars)
+            return rb_fail(err, RB_EINVAL, "compressor_position[%d] = %d: the train has cars 0..%d", i,
+                           p->compressor_position[i], p->n_cars - 1);
+        snprintf(name, sizeof name, "compressor_delivery[%d]", i);
+        if ((s = rb_check_range(err, name, p->compressor_delivery[i], 0.0, 1.0))) return s;
+    }
+    if (p->n_gradients < 0 || p->n_gradients > RB_MAX_GRADIENTS)
+        return rb_fail(err, RB_EINVAL, "n_gradients = %d: must be in [0, %d]", p->n_gradients, RB_MAX_GRADIENTS);
+    for (int i = 0; i < p->n_gradients; ++i) {
+        snprintf(name, sizeof name, "gradient[%d]", i);
+        if ((s = rb_check_range(err, name, p->gradient[i], -0.1, 0.1))) return s;
+        if (i > 0 && !(p->gradient_start[i] > p->gradient_start[i - 1]))
+            return rb_fail(err, RB_EINVAL, "gradient_start[%d] = %g m: must exceed gradient_start[%d] = %g m", i,
+                           p->gradient_start[i], i - 1, p->gradient_start[i - 1]);
+    }
+    if ((s = rb_check_range(err, "ambient_temperature", p->ambient_temperature, 200.0, 350.0))) return s;
+    for (int c = 0; c < p->n_cars; ++c) {
+        snprintf(name, sizeof name, "car[%d].disc_heat_capacity", c);
+        if ((s = rb_check_nonnegative(err, name, p->car[c].disc_heat_capacity))) return s;
+        if (p->car[c].disc_cooling.n > 0 &&
+            (s = rb_speed_table_check(&p->car[c].disc_cooling, "disc_cooling", 0.0, 1e5, err)))
+            return s;
+    }
+    return RB_OK;
+}
+
+void rb_plant_train_init(const rb_plant_params *p, rb_plant_state *s)
+{
+    double m = s->m_mr;
+    for (int c = 0; c < p->n_cars; ++c) m += s->m_pipe[c];
+    s->m_supply_side_initial = m;
+    double rt = RB_AIR_R * p->temperature;
+    for (int i = 0; i < p->n_compressors; ++i) {
+        int c = p->compressor_position[i];
+        double fed = c == p->compressor_car ? s->m_mr * rt / p->main_reservoir_volume
+                                            : s->m_pipe[c] * rt / p->car[c].pipe_volume;
+        s->compressor_running[i] = fed < p->governor_on;
+    }
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
+        s->disc_temperature[a] = p->ambient_temperature;
+        s->brake_energy[a] = 0.0;
+    }
+}
+
+static void deliver(rb_plant_state *s, double *node, double flow, double dt)
+{
+    *node += flow * dt;
+    s->m_compressed += flow * dt;
+}
+
+void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f, double dt)
+{
+    double rt = RB_AIR_R * p->temperature;
+    if (p->n_compressors == 0) {   /* the single compressor on compressor_car */
+        double p_mr = s->m_mr * rt / p->main_reservoir_volume;
+        if (p_mr < p->governor_on) s->compressor_on = 1;
+        if (p_mr > p->governor_off) s->compressor_on = 0;
+        if (s->compressor_on && !f->compressor_off) deliver(s, &s->m_mr, p->compressor_flow, dt);
+        return;
+    }
+    int any = 0;
+    for (int i = 0; i < p->n_compressors; ++i) {
+        int c = p->compressor_position[i];
+        int into_mr = c == p->compressor_car;
+        double *node = into_mr ? &s->m_mr : &s->m_pipe[c];
+        double fed = *node * rt / (into_mr ? p->main_reservoir_volume : p->car[c].pipe_volume);
+        if (fed < p->governor_on) s->compressor_running[i] = 1;
+        if (fed > p->governor_off) s->compressor_running[i] = 0;
+        if (s->compressor_running[i] && !f->compressor_off) deliver(s, node, p->compressor_delivery[i], dt);
+        any |= s->compressor_running[i];
+    }
+    s->compressor_on = any;
+}
+
+double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s, int c)
+{
+    if (p->n_gradients == 0) return 0.0;
+    double centre = s->x[c] - 0.5 * p->car[c].length;
+    int i = 0;
+    while (i + 1 < p->n_gradients && centre >= p->gradient_start[i + 1]) ++i;
+    double g = p->gradient[i];
+    return p->car[c].vehicle.mass * RB_GRAVITY * g / sqrt(1.0 + g * g);
+}
+
+void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, const double *cylinder, double dt)
+{
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        double r = car->vehicle.wheelset.wheel_radius;
+        double cooling = car->disc_cooling.n > 0 ? rb_speed_table_at(&car->disc_cooling, s->v[c]) : 0.0;
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            double w = s->omega[a];
+            double power = rb_plant_axle_brake_torque(car, cylinder[a], w * r) * w;   /* W into the discs */
+            s->brake_energy[a] += power * dt;
+            if (car->disc_heat_capacity > 0.0)   /* implicit in the cooling: stable at any step */
+                s->disc_temperature[a] = (car->disc_heat_capacity * s->disc_temperature[a] +
+                                          dt * (power + cooling * p->ambient_temperature)) /
+                                         (car->disc_heat_capacity + dt * cooling);
+        }
+    }
+}
+
+void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
+{
+    double m = s->m_mr;
+    for (int c = 0; c < p->n_cars; ++c) m += s->m_pipe[c];
+    /* the main reservoir and pipe lose air only through the supply-reservoir check valves */
+    out->air_drawn = s->m_supply_side_initial + s->m_compressed - m;
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
+        out->disc_temperature[a] = s->disc_temperature[a];
+        out->brake_energy[a] = s->brake_energy[a];
+    }
+}

@@ -1,0 +1,115 @@
+/* The wheelset kernels: the vector one (where this CPU has it) against the portable reference,
+ * bit for bit, over a WSP-cycling emergency stop on wet rail with zones and locking wheels; and
+ * the single 1 ms step's timing rules (valve delay, exponential air link). */
+#include "plant_fixture.h"
+#include "rb_test.h"
+#include "railbrake/rb_run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static void run_stop(int kernel, int wsp, rb_run_state *r, rb_kpis *k, char *name)
+{
+    static rb_plant_params p;
+    static rb_bcu_params b;
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+    int finished = 0;
+    fill_plant(&p, 4, 250 / 3.6);
+    p.kernel = kernel;
+    p.n_conditions = 2;   /* wet (Polach) with a low-adhesion zone */
+    p.condition[0] = (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0};
+    p.condition[1] = (rb_plant_condition){{0.12, 0.40, 0.20, 0.2, 0.05}, 0.6, 4.0};
+    p.n_zones = 1;
+    p.zone[0] = (rb_track_zone){300.0, 900.0, 1};
+    memset(&b, 0, sizeof b);
+    b.n_cars = 4; b.cycle = 0.01; b.atmosphere = p.atmosphere;
+    b.service_decel = 1.0; b.emergency_decel = 1.2; b.wsp_enabled = wsp;
+    rb_bcu_pressure_map(&p, p.atmosphere + 3.8e5, &b);
+    CHECK(rb_run_init(&p, &b, NULL, &sc, r, NULL) == RB_OK);
+    CHECK(rb_run_advance(&p, &b, &sc, r, 1e9, NULL, 0, &finished, NULL) == RB_OK);
+    CHECK(finished);
+    rb_run_kpis(&p, r, k);
+    snprintf(name, 16, "%s", rb_plant_kernel_name(&r->plant));
+}
+
+/* With WSP (valves cycling) and without (wheels locking in the zone). */
+static void test_kernels_agree(int wsp)
+{
+    static rb_run_state a, b;
+    rb_kpis ka, kb;
+    char na[16], nb[16];
+    run_stop(RB_PLANT_KERNEL_PORTABLE, wsp, &a, &ka, na);
+    run_stop(RB_PLANT_KERNEL_AUTO, wsp, &b, &kb, nb);
+    printf("WSP %s, kernels %s / %s: %.6f / %.6f m, lock events %g, ", wsp ? "on" : "off", na, nb,
+           ka.stopping_distance_m, kb.stopping_distance_m, ka.wheel_lock_events);
+    if (!wsp) CHECK(ka.wheel_lock_events > 0);
+    CHECK(strcmp(na, "portable") == 0);
+    CHECK(ka.stopped && kb.stopped);
+    CHECK(ka.stopping_distance_m == kb.stopping_distance_m);
+    CHECK(memcmp(a.plant.omega, b.plant.omega, sizeof a.plant.omega) == 0);
+    CHECK(memcmp(a.plant.force, b.plant.force, sizeof a.plant.force) == 0);
+    CHECK(memcmp(a.plant.x, b.plant.x, sizeof a.plant.x) == 0);
+    CHECK(a.plant.step == b.plant.step);
+    printf("%.3f kg air\n", ka.air_consumed_kg);
+}
+
+/* A vent command opens the valve after exactly its response delay: with 14.5 ms at 1 ms steps the
+ * cylinder of the vented axle follows its untouched neighbour for 14 steps, loses about half a
+ * step's vent flow in the 15th and a whole step's in the 16th. */
+static void test_valve_delay(void)
+{
+    rb_plant_params p;
+    static rb_plant_state s;
+    rb_plant_inputs in;
+    fill_plant(&p, 1, 0.0);
+    p.car[0].valve_delay = 0.0145;
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    in.pressure_demand[0] = p.atmosphere + 3.0e5;
+    for (int i = 0; i < 3000; ++i) rb_plant_step(&p, &s, &in);
+    in.vent[0] = in.hold[0] = in.hold[1] = 1;
+    for (int i = 0; i < 14; ++i) {
+        rb_plant_step(&p, &s, &in);
+        CHECK(s.m_cyl[0] == s.m_cyl[1] && !s.vent_effective[0]);
+    }
+    rb_plant_step(&p, &s, &in);
+    CHECK(s.vent_effective[0]);
+    double half = s.m_cyl[1] - s.m_cyl[0], before = s.m_cyl[0];
+    rb_plant_step(&p, &s, &in);
+    double whole = before - s.m_cyl[0];
+    printf("vent: %.3e kg in the 15th step, %.3e kg in the 16th\n", half, whole);
+    CHECK(half > 0.45 * whole && half < 0.55 * whole);
+}
+
+/* One stiff air link (a small volume vented through a large port) never undershoots the
+ * atmosphere, and a slow one moves h q to first order: the exponential link. */
+static void test_vent_link(void)
+{
+    rb_plant_params p;
+    static rb_plant_state s;
+    rb_plant_inputs in;
+    fill_plant(&p, 1, 0.0);
+    p.car[0].vent_area = 2e-4;   /* 10x: y = h q / dm_eq well above 1/16 */
+    p.car[0].valve_delay = 0.0;
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    in.pressure_demand[0] = p.atmosphere + 3.0e5;
+    for (int i = 0; i < 3000; ++i) rb_plant_step(&p, &s, &in);
+    in.vent[0] = in.hold[0] = 1;
+    double k = 287.05 * p.temperature / p.car[0].cylinder_volume;
+    for (int i = 0; i < 200; ++i) {
+        rb_plant_step(&p, &s, &in);
+        CHECK(s.m_cyl[0] * k >= p.atmosphere - 1e-6);
+    }
+    CHECK_CLOSE(s.m_cyl[0] * k, p.atmosphere, 0, 5.0);
+}
+
+int main(void)
+{
+    test_kernels_agree(1);
+    test_kernels_agree(0);
+    test_valve_delay();
+    test_vent_link();
+    return rb_test_summary("test_plant_kernel");
+}

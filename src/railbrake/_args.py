@@ -1,0 +1,84 @@
+"""Argument checks at the boundary of the public Python API: a bad argument raises TypeError (not
+a number, not an array of numbers) or ValueError (railbrake.errors.InputError: not finite, out of
+range) naming the argument as the caller wrote it, before any C call. No law lives here."""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from railbrake.errors import InputError
+
+
+def _bound_text(low, high, low_open, high_open) -> str:
+    parts = []
+    if low is not None:
+        parts.append(f"{'>' if low_open else '>='} {low:g}")
+    if high is not None:
+        parts.append(f"{'<' if high_open else '<='} {high:g}")
+    return " and ".join(parts)
+
+
+def real(name: str, value, low: float | None = None, high: float | None = None, *, low_open: bool = False,
+         high_open: bool = False, allow_inf: bool = False) -> float:
+    """value as a float: a real number (not a Boolean, string or None), finite (unless allow_inf:
+    then +inf passes the bounds check as a limit) and inside the bounds."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} = {value!r}: must be a number, not {type(value).__name__}")
+    try:
+        x = float(value)
+    except OverflowError:
+        raise InputError(f"{name} = {value!r}: too large for a float") from None
+    if math.isnan(x) or (math.isinf(x) and not (allow_inf and x > 0)):
+        raise InputError(f"{name} = {x}: must be a finite number")
+    if math.isinf(x):   # allowed: +inf stands for a limit (a flat body), beyond any upper bound
+        return x
+    if (low is not None and (x < low or (low_open and x == low))) or \
+            (high is not None and (x > high or (high_open and x == high))):
+        raise InputError(f"{name} = {x:g}: must be {_bound_text(low, high, low_open, high_open)}")
+    return x
+
+
+def reals(name: str, values, low: float | None = None, high: float | None = None, *,
+          low_open: bool = False) -> np.ndarray:
+    """values (a number or an array-like of numbers) as a float array, every element finite and
+    inside the bounds; the message names the first bad element name[i]."""
+    return _reals(name, values, low, high, low_open)
+
+
+def _reals(name, values, low, high, low_open) -> np.ndarray:
+    if isinstance(values, (str, bytes, bool, np.bool_)) or values is None:
+        raise TypeError(f"{name} = {values!r}: must be a number or an array of numbers")
+    try:
+        array = np.asarray(values)
+    except (ValueError, TypeError):   # ragged nesting
+        raise TypeError(f"{name}: must be a number or a rectangular array of numbers") from None
+    if array.dtype.kind not in "iuf":
+        raise TypeError(f"{name} = {values!r}: must be a number or an array of numbers, not {array.dtype}")
+    array = array.astype(float)
+    bad = ~np.isfinite(array)
+    if low is not None:
+        bad |= array <= low if low_open else array < low
+    if high is not None:
+        bad |= array > high
+    if bad.any():
+        where = np.unravel_index(int(np.argmax(bad)), array.shape) if array.ndim else ()
+        label = f"{name}[{', '.join(map(str, where))}]" if where else name
+        x = float(array[where]) if where else float(array)
+        limits = _bound_text(low, high, low_open, False)
+        raise InputError(f"{label} = {x:g}: must be finite{' and ' + limits if limits else ''}")
+    return array
+
+
+def text(name: str, value) -> str:
+    if not isinstance(value, str):
+        raise TypeError(f"{name} = {value!r}: must be a string")
+    return value
+
+
+def instance(name: str, value, kind):
+    if not isinstance(value, kind):
+        raise TypeError(f"{name}: must be a {kind.__name__}, not {type(value).__name__}")
+    return value

@@ -1,0 +1,189 @@
+"""A run on disk: time series as Parquet, CSV or MDF4 (same channel names and samples, SI units),
+kpis.json, and run.json (what was run, units, provenance). Parquet and MDF4 also carry run.json's
+content in their own metadata, so each file stands alone; load() reads any of them back."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from railbrake.errors import InputError
+from railbrake.results.record import RunRecord
+
+FORMATS = {"parquet": "timeseries.parquet", "csv": "timeseries.csv", "mf4": "timeseries.mf4"}
+_READ_ORDER = ("parquet", "mf4", "csv")
+
+
+def _json_value(value):
+    """JSON for KPIs and metadata: NaN and infinities become null (JSON has neither)."""
+    if isinstance(value, dict):
+        return {k: _json_value(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_value(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def dumps(data) -> str:
+    return json.dumps(_json_value(data), indent=2, allow_nan=False)
+
+
+def parse_formats(text: str | None, option: str = "--format") -> list[str]:
+    """'parquet,csv' -> ['parquet', 'csv'] (also given as several options)."""
+    formats = [f.strip().lower() for f in (text or "parquet").split(",") if f.strip()]
+    for f in formats:
+        if f not in FORMATS:
+            raise InputError(f"{option} = {text!r}: {f!r} is not one of {', '.join(FORMATS)}")
+    return list(dict.fromkeys(formats))
+
+
+# ------------------------------------------------------------------ writing
+
+def write_parquet(record: RunRecord, path: Path) -> Path:
+    fields = [pa.field(n, pa.float64(), metadata={"unit": record.units.get(n, "")}) for n in record.outputs]
+    meta = {"scenario": record.meta.get("scenario", ""), "cars": str(record.cars), "wsp": str(record.wsp),
+            "units": json.dumps(record.units), "railbrake": dumps(record.meta), "kpis": dumps(record.kpis)}
+    table = pa.table({n: np.asarray(v, dtype=np.float64) for n, v in record.outputs.items()},
+                     schema=pa.schema(fields, metadata=meta))
+    pq.write_table(table, path)
+    return Path(path)
+
+
+def write_csv(record: RunRecord, path: Path) -> Path:
+    """One header line of channel names, then one line per sample; each value is Python's repr of
+    the float64, the shortest text that reads back to the same bits."""
+    names = list(record.outputs)
+    columns = np.column_stack([np.asarray(record.outputs[n], dtype=np.float64) for n in names])
+    with open(path, "w", newline="") as f:
+        f.write(",".join(names) + "\n")
+        for row in columns.tolist():
+            f.write(",".join(map(repr, row)) + "\n")
+    return Path(path)
+
+
+def write_mdf(record: RunRecord, path: Path, extra: dict | None = None) -> Path:
+    """MDF 4.10: each channel but time (the master, s) with its SI unit; the header comment holds
+    run.json's content, the KPIs and `extra` as JSON."""
+    from asammdf import MDF, Signal
+    mdf = MDF(version="4.10")
+    t = np.asarray(record.time, dtype=np.float64)
+    mdf.append([Signal(samples=np.asarray(v, dtype=np.float64), timestamps=t, name=n, unit=record.units.get(n, ""))
+                for n, v in record.outputs.items() if n != "time"],
+               comment=f"railbrake {record.kind}: {record.title()}")
+    header = {"scenario": record.meta.get("scenario"), "cars": record.cars, "kpis": record.kpis,
+              **(extra or {}), "railbrake": record.meta}
+    mdf.header.comment = dumps(header)
+    saved = mdf.save(path, overwrite=True)   # asammdf may change the suffix: report what it wrote
+    mdf.close()
+    return Path(saved)
+
+
+_WRITERS = {"parquet": write_parquet, "csv": write_csv, "mf4": write_mdf}
+
+
+def write_run(record: RunRecord, folder: Path, formats=("parquet",)) -> list[Path]:
+    """The time series in each format, kpis.json and run.json into folder."""
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = [_WRITERS[f](record, folder / FORMATS[f]) for f in formats]
+    (folder / "kpis.json").write_text(dumps(record.kpis) + "\n")
+    (folder / "run.json").write_text(dumps({"meta": record.meta, "units": record.units}) + "\n")
+    return paths + [folder / "kpis.json", folder / "run.json"]
+
+
+# ------------------------------------------------------------------ reading
+
+def _read_parquet(path: Path):
+    table = pq.read_table(path)
+    meta = {k.decode(): v.decode() for k, v in (table.schema.metadata or {}).items()}
+    outputs = {n: table.column(n).to_numpy() for n in table.column_names}
+    units = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema}
+    run = json.loads(meta["railbrake"]) if "railbrake" in meta else {
+        "scenario": meta.get("scenario", path.stem), "cars": int(meta.get("cars", 0) or 0),
+        "wsp": meta.get("wsp", "True") == "True"}
+    kpis = json.loads(meta["kpis"]) if "kpis" in meta else None
+    return outputs, units, run, kpis
+
+
+def _read_mdf(path: Path):
+    from asammdf import MDF
+    with MDF(path) as mdf:
+        try:
+            header = json.loads(mdf.header.comment or "{}")
+        except json.JSONDecodeError:
+            header = {}
+        outputs, units = {}, {}
+        for name in mdf.channels_db:
+            if name in ("t", "time") or name.startswith("$"):
+                continue
+            signal = mdf.get(name)
+            if "time" not in outputs:
+                outputs["time"], units["time"] = np.asarray(signal.timestamps, dtype=np.float64), "s"
+            outputs[name], units[name] = np.asarray(signal.samples, dtype=np.float64), signal.unit
+    run = header.get("railbrake") or {"scenario": header.get("scenario", path.stem), "cars": header.get("cars"),
+                                      "kind": "HIL"}
+    if "counters" in header:
+        run.setdefault("hil", {"counters": header["counters"], "timing": header.get("timing")})
+    return outputs, units, run, header.get("kpis")
+
+
+def _csv_number(text: str) -> float:
+    """A CSV value: a float, or FMPy's True/False for a Boolean variable."""
+    text = text.strip()
+    return {"True": 1.0, "False": 0.0}.get(text) if text in ("True", "False") else float(text)
+
+
+def _read_csv(path: Path):
+    """Our CSV or FMPy's (quoted names; 'time' first)."""
+    with open(path) as f:
+        names = [n.strip().strip('"') for n in f.readline().strip().split(",")]
+        rows = [line.split(",") for line in f if line.strip()]
+    columns = zip(*rows) if rows else [[] for _ in names]
+    outputs = {n: np.array([_csv_number(x) for x in col], dtype=np.float64) for n, col in zip(names, columns)}
+    return outputs, {}, {"scenario": path.stem, "kind": "FMU"}, None
+
+
+_READERS = {"parquet": _read_parquet, "mf4": _read_mdf, "csv": _read_csv}
+
+
+def _data_file(path: Path) -> Path:
+    if path.is_file():
+        return path
+    if not path.is_dir():
+        raise InputError(f"{path}: no such run folder or file")
+    for fmt in _READ_ORDER:
+        candidates = [path / FORMATS[fmt]] + sorted(path.glob(f"*.{fmt}"))
+        for c in candidates:
+            if c.is_file():
+                return c
+    raise InputError(f"{path}: no timeseries.parquet, .mf4 or .csv in this folder")
+
+
+def load(path: Path | str, prefer: str | None = None) -> RunRecord:
+    """A saved run: a folder written by `run --out` / `hil --out`, or one Parquet, MDF4 or CSV file
+    (an FMU result from FMPy as CSV too). prefer: the format to read in a folder with several."""
+    path = Path(path)
+    data = path / FORMATS[prefer] if prefer and path.is_dir() else _data_file(path)
+    fmt = data.suffix.lstrip(".").lower()
+    if fmt not in _READERS:
+        raise InputError(f"{data}: unknown format {data.suffix!r} (parquet, mf4 or csv)")
+    outputs, units, meta, kpis = _READERS[fmt](data)
+    if "time" not in outputs or "speed" not in outputs:
+        raise InputError(f"{data}: no 'time' and 'speed' channels: not a railbrake run")
+    folder = data.parent
+    if (folder / "run.json").is_file():
+        saved = json.loads((folder / "run.json").read_text())
+        meta = saved.get("meta", meta) if fmt == "csv" or not meta.get("provenance") else meta
+        units = units or saved.get("units", {})
+    if (folder / "kpis.json").is_file():
+        kpis = json.loads((folder / "kpis.json").read_text())
+    meta.setdefault("source", str(data))
+    units = {n: units.get(n, "") for n in outputs}
+    return RunRecord(outputs["time"], outputs, units, kpis if kpis is not None else {}, meta)

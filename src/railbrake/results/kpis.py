@@ -1,0 +1,71 @@
+"""What each KPI means, its unit, and the warnings a run's KPIs call for. KPIs not listed here
+(added by newer cores) are shown with their name only; a KPI may be None (not reached)."""
+
+from __future__ import annotations
+
+# key: (unit, definition). Definitions as computed in core/src/run.c (rb_run.h).
+KPI_INFO = {
+    "stopping_distance_m": ("m", "distance from the first brake demand to the stop"),
+    "stopping_time_s": ("s", "time from the first brake demand to the stop"),
+    "mean_deceleration": ("m/s²", "initial speed / stopping time"),
+    "max_slip": ("1", "largest |slip| of any axle while the train runs above 10 km/h"),
+    "wheel_lock_events": ("", "episodes of an axle below 10 % of the train speed, above 10 km/h"),
+    "max_lock_duration_s": ("s", "longest such lock episode"),
+    "air_consumed_kg": ("kg", "air vented to the atmosphere (cylinders, WSP vents)"),
+    "adhesion_utilisation": ("1", "mean rail deceleration / (g x mean available peak adhesion); "
+                                  "EN 15595 judges a WSP on it"),
+    "safety_timer_trips": ("", "times the WSP safety timer ended continuous venting"),
+    "air_balance_error": ("1", "|air in volumes + vented - compressed - initial| / initial (model check)"),
+    "stopped": ("", "the train stopped before the scenario's max_time"),
+    "min_main_reservoir_bar": ("bar g", "lowest main reservoir pressure"),
+    "min_supply_bar": ("bar g", "lowest supply reservoir pressure of any car"),
+    "air_drawn_kg": ("kg", "air drawn from the supply reservoirs"),
+    "air_vented_kg": ("kg", "air vented to the atmosphere"),
+    "cylinder_shortfall_s": ("s", "time a cylinder stayed short of its demand without WSP action"),
+    "worst_axle": ("", "axle with the longest lock or, without locks, the largest slip"),
+    "brake_energy_mj": ("MJ", "energy dissipated by the friction brakes"),
+    "max_disc_temperature_c": ("°C", "highest brake disc temperature"),
+}
+
+AIR_BALANCE_LIMIT = 1e-6   # a larger relative error means the air model lost mass (model check)
+
+
+def unit(key: str) -> str:
+    return KPI_INFO.get(key, ("", ""))[0]
+
+
+def definition(key: str) -> str:
+    return KPI_INFO.get(key, ("", ""))[1]
+
+
+def text(value) -> str:
+    """A KPI value as shown in tables and the report."""
+    if value is None:
+        return "n/a"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return str(value)
+
+
+def warnings(kpis: dict) -> list[str]:
+    """Plain-words warnings about a run's KPIs."""
+    out = []
+    if kpis.get("stopped") is False:
+        out.append("the train did not stop within the scenario's max_time: distance and time are to the end of the run")
+    if kpis.get("stopping_distance_m", 0) is None:
+        out.append("no stopping distance: the run never braked to a stop")
+    if (kpis.get("wheel_lock_events") or 0) > 0:
+        out.append(f"{kpis['wheel_lock_events']} wheel lock episodes (longest "
+                   f"{text(kpis.get('max_lock_duration_s'))} s): wheel flats likely")
+    if (kpis.get("safety_timer_trips") or 0) > 0:
+        n = kpis["safety_timer_trips"]
+        out.append(f"the WSP safety timer tripped {n} time{'s' if n != 1 else ''} (continuous venting cut off)")
+    error = kpis.get("air_balance_error")
+    if error is not None and error > AIR_BALANCE_LIMIT:
+        out.append(f"air balance error {error:.2g} above {AIR_BALANCE_LIMIT:g}: the air model lost mass")
+    for key, value in kpis.items():
+        if isinstance(value, float) and value != value:
+            out.append(f"{key} is not a number")
+    return out

@@ -1,0 +1,175 @@
+"""Solenoid design model: magnetic circuit -> F(airgap, current) table, current response, coil
+temperature. The physics is in the C core (core/src/valve_solenoid.c, rb_solenoid.h); this module
+reads the design file (data/valves/solenoid.yaml), checks it and converts it to SI."""
+
+from __future__ import annotations
+
+import ctypes
+import math
+from pathlib import Path
+
+import numpy as np
+
+from railbrake import _core
+from railbrake.errors import InputError
+from railbrake.valves.params import load
+
+MM, MM2, NH = 1e-3, 1e-6, 1e-9
+
+
+def load_solenoid(override=None) -> dict:
+    return load("solenoid", override)
+
+
+def _need(where: str, value, ok: bool, allowed: str):
+    if not ok:
+        raise InputError(f"solenoid.yaml {where} = {value!r}: {allowed}")
+
+
+def _increasing(where: str, values) -> None:
+    v = np.asarray(values, dtype=float)
+    bad = np.flatnonzero(np.diff(v) <= 0)
+    if bad.size:
+        k = int(bad[0]) + 1
+        raise InputError(f"solenoid.yaml {where}[{k}] = {v[k]:g} after {v[k - 1]:g}: must be strictly increasing")
+
+
+def check(p: dict) -> None:
+    """The design's values in their allowed ranges (the C core checks again, in SI)."""
+    c, m = p["coil"], p["magnetic"]
+    _need("coil.turns", c["turns"], c["turns"] > 0, "must be > 0")
+    _need("coil.resistance_20c_ohm", c["resistance_20c_ohm"], c["resistance_20c_ohm"] >= 0, "must be >= 0 ohm")
+    _need("rated_current_a", p["rated_current_a"], p["rated_current_a"] > 0, "must be > 0 A")
+    bh = m["bh_curve"]
+    if len(bh["h_a_per_m"]) != len(bh["b_t"]) or not 2 <= len(bh["b_t"]) <= _core.BH_MAX_POINTS:
+        raise InputError(f"solenoid.yaml magnetic.bh_curve: h_a_per_m and b_t need the same length, 2 to "
+                         f"{_core.BH_MAX_POINTS} points")
+    _need("magnetic.bh_curve first point", (bh["h_a_per_m"][0], bh["b_t"][0]),
+          bh["h_a_per_m"][0] == 0 and bh["b_t"][0] == 0, "must be (0 A/m, 0 T)")
+    _increasing("magnetic.bh_curve.h_a_per_m", bh["h_a_per_m"])
+    _increasing("magnetic.bh_curve.b_t", bh["b_t"])
+    for key in ("iron_area_mm2", "pole_diameter_mm"):
+        _need(f"magnetic.{key}", m[key], m[key] > 0, "must be > 0")
+    for key in ("iron_path_length_mm", "fringing", "parasitic_gap_mm", "leakage_permeance_nh"):
+        _need(f"magnetic.{key}", m[key], m[key] >= 0, "must be >= 0")
+    _need("magnetic.working_gaps", m["working_gaps"], m["working_gaps"] in (1, 2), "must be 1 or 2")
+    t = p["force_table"]
+    _increasing("force_table.airgap_mm", t["airgap_mm"])
+    _increasing("force_table.current_a", t["current_a"])
+    _need("force_table.current_a (last)", t["current_a"][-1], t["current_a"][-1] >= p["rated_current_a"],
+          f"must cover the rated current {p['rated_current_a']:g} A")
+    th = p["thermal"]
+    _need("thermal.insulation_class", th["insulation_class"], th["insulation_class"] in th["class_limits_c"],
+          f"must be one of {sorted(th['class_limits_c'])}")
+
+
+def to_c(p: dict) -> _core.Solenoid:
+    check(p)
+    c, m = p["coil"], p["magnetic"]
+    s = _core.Solenoid()
+    s.turns, s.resistance_20c, s.resistance_tempco = c["turns"], c["resistance_20c_ohm"], c["resistance_tempco_per_k"]
+    s.iron_length, s.iron_area = m["iron_path_length_mm"] * MM, m["iron_area_mm2"] * MM2
+    h, b = m["bh_curve"]["h_a_per_m"], m["bh_curve"]["b_t"]
+    s.bh_points = len(h)
+    for k, (hk, bk) in enumerate(zip(h, b)):
+        s.bh_h[k], s.bh_b[k] = hk, bk
+    s.pole_diameter, s.working_gaps, s.fringing = m["pole_diameter_mm"] * MM, m["working_gaps"], m["fringing"]
+    s.parasitic_gap, s.parasitic_area = m["parasitic_gap_mm"] * MM, m["parasitic_area_mm2"] * MM2
+    s.leakage_permeance = m["leakage_permeance_nh"] * NH
+    _core.call(_core.rb_solenoid_check, ctypes.byref(s))
+    return s
+
+
+def state(p: dict, gap: float, current: float) -> dict:
+    """Flux, inductances, force, energies at airgap `gap` (m) and `current` (A)."""
+    out = _core.SolenoidState()
+    _core.call(_core.rb_solenoid_eval, ctypes.byref(to_c(p)), gap, current, ctypes.byref(out))
+    return {name: getattr(out, name) for name, _ in out._fields_}
+
+
+def force_table(p: dict):
+    """(airgap m, current A, force N [airgap, current]) on the design file's grid."""
+    t = p["force_table"]
+    gap = _core.as_double_array(np.asarray(t["airgap_mm"]) * MM)
+    current = _core.as_double_array(t["current_a"])
+    table = _core.ForceTable()
+    _core.call(_core.rb_solenoid_force_table, ctypes.byref(to_c(p)), _core.ptr(gap), len(gap),
+               _core.ptr(current), len(current), ctypes.byref(table))
+    force = np.array(table.force[:len(gap) * len(current)]).reshape(len(gap), len(current))
+    return gap, current, force
+
+
+def write_table(p: dict, path, design: str = "railbrake/data/valves/solenoid.yaml") -> Path:
+    """The force table as the CSV the EP valve reads (valves.read_force_table)."""
+    gap, current, force = force_table(p)
+    lines = [f"# Solenoid force table F(airgap, current), N, generated by 'railbrake valve solenoid' from",
+             f"# {design} (lumped magnetic circuit: rb_solenoid.h). Design values [T], not a measurement.",
+             "# Rows: airgap in mm (strictly increasing); columns: current in A.",
+             "airgap_mm," + ",".join(f"{c:g}" for c in current)]
+    lines += [f"{g / MM:g}," + ",".join(f"{f:.5f}" for f in row) for g, row in zip(gap, force)]
+    path = Path(path)
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def resistance(p: dict, temperature_c: float) -> float:
+    c = p["coil"]
+    return c["resistance_20c_ohm"] * (1.0 + c["resistance_tempco_per_k"] * (temperature_c - 20.0))
+
+
+def thermal(p: dict, duty: float = 1.0, ambient_c: float = 20.0, current: float | None = None,
+            n_out: int = 121) -> dict:
+    """Steady and transient coil temperature at `current` (default: rated) on for the fraction
+    `duty`, against the insulation class's limit less the hot-spot allowance."""
+    if not 0.0 <= duty <= 1.0:
+        raise InputError(f"duty = {duty:g}: must lie in [0, 1]")
+    th, i = p["thermal"], p["rated_current_a"] if current is None else current
+    s, steady = to_c(p), ctypes.c_double()
+    g, c = th["conductance_w_per_k"], th["heat_capacity_j_per_k"]
+    _core.call(_core.rb_solenoid_steady_temperature, ctypes.byref(s), i, duty, ambient_c, g, ctypes.byref(steady))
+    t_end = th["transient_time_s"]
+    temps = np.zeros(n_out)
+    _core.call(_core.rb_solenoid_thermal_transient, ctypes.byref(s), i, duty, ambient_c, g, c, t_end,
+               100 * (n_out - 1), _core.ptr(temps), n_out)
+    limit = th["class_limits_c"][th["insulation_class"]] - th["hot_spot_allowance_k"]
+    return {"current_a": i, "duty": duty, "ambient_c": ambient_c, "steady_c": steady.value,
+            "resistance_hot_ohm": resistance(p, steady.value),
+            "power_hot_w": duty * i * i * resistance(p, steady.value),
+            "insulation_class": th["insulation_class"], "limit_c": limit, "within_class": steady.value <= limit,
+            "time_constant_s": c / (g - duty * i * i * p["coil"]["resistance_20c_ohm"]
+                                    * p["coil"]["resistance_tempco_per_k"]),
+            "time_s": np.linspace(0.0, t_end, n_out), "temperature_c": temps}
+
+
+def current_step(p: dict, armature: dict, current: float | None = None, temperature_c: float | None = None,
+                 n_out: int = 601) -> dict:
+    """The coil switched on by the PWM driver at the duty that holds `current` (default: rated) at
+    the coil temperature, the armature (EP valve's: mass, spring, damping, open airgap, travel)
+    pulling in against its spring (no air: it closes on the nozzle stop). Returns the samples (time,
+    current, airgap, force, energies), the mean current at the end and the time it first reached 90 %
+    of it."""
+    d = p["drive"]
+    i = p["rated_current_a"] if current is None else current
+    temp = d["temperature_c"] if temperature_c is None else temperature_c
+    duty = i * resistance(p, temp) / d["supply_voltage_v"]
+    if not 0.0 <= duty <= 1.0:
+        raise InputError(f"current = {i:g} A: needs a PWM duty {duty:.3f} of the {d['supply_voltage_v']:g} V "
+                         "supply, outside [0, 1]")
+    drive = _core.SolenoidDrive()
+    drive.voltage, drive.pwm_frequency, drive.duty, drive.temperature_c = (d["supply_voltage_v"],
+                                                                           d["pwm_frequency_hz"], duty, temp)
+    drive.mass, drive.spring_rate = armature["mass"], armature["spring_rate"]
+    drive.spring_preload, drive.damping = armature["spring_preload"], armature["damping"]
+    drive.gap_max = armature["airgap_mm"] * MM
+    drive.gap_min = (armature["airgap_mm"] - armature["flapper_travel_mm"]) * MM
+    samples = (_core.SolenoidSample * n_out)()
+    _core.call(_core.rb_solenoid_simulate, ctypes.byref(to_c(p)), ctypes.byref(drive), d["step_time_s"],
+               d["step_dt_s"], samples, n_out)
+    out = {name: np.array([getattr(s, name) for s in samples]) for name in _core.SOLENOID_SAMPLE_FIELDS}
+    out["duty"] = duty
+    # the PWM ripple: judge the mean over the last fifth of the record
+    final = float(np.mean(out["current"][out["t"] >= 0.8 * out["t"][-1]]))
+    out["current_mean_a"] = final
+    reached = np.flatnonzero(out["current"] >= 0.9 * final)
+    out["current_rise_90_s"] = float(out["t"][reached[0]]) if reached.size else math.nan
+    return out

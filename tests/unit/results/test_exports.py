@@ -1,0 +1,48 @@
+"""Exports: Parquet, CSV and MDF4 of one run hold the same channels and the same samples to the
+last bit, with the same units; the metadata carry the provenance."""
+
+import json
+
+import numpy as np
+import pyarrow.parquet as pq
+
+from railbrake import _core
+from railbrake.results import files
+
+
+def _bits(x):
+    return np.asarray(x, dtype=np.float64).view(np.uint64)
+
+
+def test_csv_and_mdf4_hold_the_parquet_samples_bit_for_bit(saved_run):
+    out, _ = saved_run
+    parquet = files.load(out / "timeseries.parquet")
+    for other in (files.load(out / "timeseries.csv"), files.load(out / "timeseries.mf4")):
+        assert list(other.outputs) == list(parquet.outputs)
+        for name, samples in parquet.outputs.items():
+            assert np.array_equal(_bits(other.outputs[name]), _bits(samples)), name
+    mdf = files.load(out / "timeseries.mf4")
+    assert {n: mdf.units[n] for n in mdf.units if n != "time"} == \
+           {n: u for n, u in parquet.units.items() if n != "time"}
+    assert parquet.units["cylinder_c3a2"] == "Pa" and parquet.units["speed"] == "m/s"
+
+
+def test_the_csv_is_plain_text_with_repr_exact_floats(saved_run):
+    out, _ = saved_run
+    header, first = (out / "timeseries.csv").read_text().split("\n")[:2]
+    table = pq.read_table(out / "timeseries.parquet")
+    assert header.split(",") == table.column_names
+    assert first.split(",") == [repr(table.column(n)[0].as_py()) for n in table.column_names]
+
+
+def test_parquet_and_mdf4_metadata_carry_the_provenance_and_kpis(saved_run):
+    out, kpis = saved_run
+    meta = pq.read_table(out / "timeseries.parquet").schema.metadata
+    run = json.loads(meta[b"railbrake"])
+    assert json.loads(meta[b"kpis"]) == kpis
+    prov = run["provenance"]
+    assert prov["core_build_hash"] == _core.rb_build_hash().decode()
+    assert prov["command_line"].startswith("railbrake run ") and "fault-vent-valve-stuck.yaml --cars 3" in prov["command_line"]
+    mdf = files.load(out / "timeseries.mf4")
+    assert mdf.meta["provenance"] == prov and mdf.kpis == kpis
+    assert run["faults"] == [{"type": "vent_stuck_open", "car": 3, "axle": 2, "start": 2.0}]

@@ -1,0 +1,73 @@
+"""Train files (railbrake.train/2): strict numbers, plausible ranges in the file's units, old
+schema refused, load cases; errors name file, line, key, value and the allowed range."""
+
+import copy
+
+import pytest
+from typer.testing import CliRunner
+
+from railbrake import vehicle
+from railbrake.cli import app
+from railbrake.errors import InputError
+
+
+def _with(path, value, name="crh380a-8"):
+    text, origin = vehicle.train_file_text(name)
+    data, lines = vehicle.read_train_data(text, origin)
+    data = copy.deepcopy(data)
+    node = data
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = value
+    return data, origin, lines
+
+
+@pytest.mark.parametrize("path, value, message", [
+    (("car_types", "motor", "tare_t"), 44700.0, r"line \d+: car_types\.motor\.tare_t = 44700\.0: must lie in \[5, 100\] t"),
+    (("car_types", "motor", "wheelset_inertia_kgm2"), 0.0, r"wheelset_inertia_kgm2 = 0\.0: must lie in \[10, 1000\] kg m\^2"),
+    (("car_types", "trailer", "supply_reservoir", "volume_l"), 0.1, r"volume_l = 0\.1: must lie in \[5, 1000\] l"),
+    (("car_types", "trailer", "wsp_valves", "vent_area_mm2"), 4e4, r"vent_area_mm2 = 40000\.0: must lie in \[0\.1, 500\] mm\^2"),
+    (("car_types", "motor", "wheel_radius_m"), 430, r"wheel_radius_m = 430: must lie in \[0\.3, 0\.65\] m"),
+    (("car_types", "trailer", "cylinder", "area_m2"), True, r"cylinder\.area_m2 = True: Input should be a valid number"),
+    (("air_supply", "pipe", "diameter_mm"), "25", r"diameter_mm = '25': Input should be a valid number"),
+    (("air_supply", "governor_off_bar"), 7.0, r"governor_off_bar = 7\.0 must exceed governor_on_bar = 7\.5"),
+    (("air_supply", "compressors", 1, "car"), 9, r"compressors\[1\]\.car = 9: the formation has cars 1\.\.8"),
+])
+def test_implausible_values_are_named_with_their_range(path, value, message):
+    data, origin, lines = _with(path, value)
+    with pytest.raises(InputError, match=message) as err:
+        vehicle.parse_train_data(data, origin, lines)
+    assert str(err.value).startswith("train crh380a-8")
+
+
+def test_train_1_files_are_refused_naming_the_new_schema():
+    data, origin, lines = _with(("schema",), "railbrake.train/1")
+    with pytest.raises(InputError, match=r"line 1: schema = 'railbrake.train/1': no longer read; .*'railbrake.train/2'"):
+        vehicle.parse_train_data(data, origin, lines)
+
+
+def test_load_cases():
+    normal = vehicle.load_train("crh380a-8")
+    assert normal.load_case == "normal" and normal.mass == pytest.approx(388.4e3)
+    assert vehicle.load_train("crh380a-8", False).load_case == "tare"
+    with pytest.raises(InputError, match="load case = 'full': must be one of tare, normal, crush"):
+        vehicle.load_train("crh380a-8", "full")
+
+
+def test_run_refuses_a_speed_above_the_trains_maximum(tmp_path):
+    path = tmp_path / "fast.yaml"
+    path.write_text("schema: railbrake.scenario/1\nname: fast\ntrain: {preset: crh380a-8}\n"
+                    "initial_speed: 400 km/h\ndemand: [{time: 0 s, emergency: true}]\n")
+    result = CliRunner().invoke(app, ["run", str(path), "--json"])
+    assert result.exit_code != 0 and "Traceback" not in result.output
+    assert f"{path}, line 4: initial_speed = 400 km/h: above the maximum speed of train crh380a-8, 350 km/h" in result.output
+
+
+def test_gradient_needs_a_unit(tmp_path):
+    path = tmp_path / "hill.yaml"
+    path.write_text("schema: railbrake.scenario/1\nname: hill\ntrain: {preset: crh380a-8}\n"
+                    "initial_speed: 200 km/h\ndemand: [{time: 0 s, emergency: true}]\n"
+                    "track: {gradients: [{start: 0 m, gradient: 12}]}\n")
+    result = CliRunner().invoke(app, ["run", str(path)])
+    assert result.exit_code != 0 and "Traceback" not in result.output
+    assert "line 6: track.gradients.0.gradient = 12: Value error, a unit is required" in result.output
