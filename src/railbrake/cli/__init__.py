@@ -9,8 +9,8 @@ import typer
 import typer.core
 
 import railbrake
-from railbrake.cli import (_common, adhesion, compare, compare_runs, config, demo, fmu, hil, plot, simulation, sizing,
-                           validate, valve)
+from railbrake.cli import (_common, adhesion, campaign, compare, compare_runs, config, demo, fmu, hil, plot,
+                           simulation, sizing, validate, valve, wsp)
 
 app = typer.Typer(
     name="railbrake",
@@ -57,6 +57,7 @@ def _root(version: Optional[bool] = typer.Option(None, "--version", callback=_ve
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
 app.add_typer(config.app, name="config")
+campaign.register(app)
 compare.register(app)
 compare_runs.register(app)
 demo.register(app)
@@ -66,6 +67,7 @@ plot.register(app)
 simulation.register(app)
 sizing.register(app)
 validate.register(app)
+wsp.register(app)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:

@@ -1,0 +1,100 @@
+"""Campaign throughput (issue 13): runs per minute per core for 4, 8 and 16 cars, and the
+scheduler's share: the workers' time spent waiting for a batch (dispatch, transfer) rather than
+running one, until their last batch; the idle time at the end of a study is given apart.
+
+Each study is a latin-hypercube of emergency stops from 60-120 km/h on dry to oil-film rail, run
+on a LocalCluster with one single-threaded worker per core; the 200-run 4-car study is the one the
+issue asks to finish (then killed and resumed in tests/unit/campaign/test_execute.py on a small
+scale). On a shared machine the figures are noisy: run it twice and take the best.
+
+    python bench/bench_campaign.py [--runs 40] [--workers 2] [--cars 4,8,16] [--big]
+"""
+
+import argparse
+import os
+import tempfile
+import time
+from pathlib import Path
+
+from railbrake.campaign import execute, study
+
+STUDY = """schema: railbrake.study/1
+name: bench-{cars}
+base: emergency-250-dry
+set: {{train.cars: {cars}, stop.max_time: "200 s"}}
+factors:
+  initial_speed: {{low: "60 km/h", high: "120 km/h"}}
+  adhesion.condition: [dry-medium, wet, oil-film]
+design: {{kind: latin-hypercube, samples: {runs}}}
+seed: 13
+"""
+
+
+def bench(cars: int, runs: int, workers: int) -> dict:
+    s = study.parse(STUDY.format(cars=cars, runs=runs), f"bench-{cars}")
+    with tempfile.TemporaryDirectory() as folder:
+        start = time.perf_counter()
+        summary = execute.run_study(s, Path(folder), workers=workers)
+        total = time.perf_counter() - start
+    assert summary.done == runs and summary.failed == 0, summary.json()
+    return {"cars": cars, "runs": runs, "workers": summary.workers,
+            "runs_per_min_per_core": runs / (summary.elapsed_s / 60) / summary.workers,
+            "mean_run_s": summary.compute_s / runs, "scheduler_share": summary.scheduler_share,
+            "tail_share": summary.tail_share, "batches": summary.batches, "elapsed_s": summary.elapsed_s,
+            "total_s": total}
+
+
+def kill_and_resume(runs: int = 200, workers: int = 2, at: float = 0.4) -> dict:
+    """The issue's check: a `runs`-run 4-car study run uninterrupted, then again killed with
+    SIGKILL (client and workers) once `at` of it is in the dataset, and resumed; the resumed dataset
+    must hold every key once with the same KPIs."""
+    import signal
+    import subprocess
+    import sys
+    from railbrake.campaign import dataset
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "study.yaml"
+        path.write_text(STUDY.format(cars=4, runs=runs))
+        whole, killed = Path(folder) / "whole", Path(folder) / "killed"
+        start = time.perf_counter()
+        execute.run_study(study.load(path), whole, workers=workers)
+        uninterrupted = time.perf_counter() - start
+        process = subprocess.Popen([sys.executable, "-c", "from railbrake.cli import main; main()", "campaign", "run",
+                                    str(path), "--out", str(killed), "--workers", str(workers), "--json"],
+                                   start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        while len(dataset.existing_keys(killed)) < at * runs and process.poll() is None:
+            time.sleep(0.2)
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+        before = len(dataset.existing_keys(killed))
+        summary = execute.run_study(study.load(path), killed, workers=workers)
+        a, b = dataset.read(whole).drop(["wall_time_s"]), dataset.read(killed).drop(["wall_time_s"])
+        keys = b.column("key").to_pylist()
+        return {"runs": runs, "uninterrupted_s": uninterrupted, "in_dataset_at_kill": before,
+                "resumed_done": summary.done, "keys_once": len(keys) == len(set(keys)) == runs,
+                "identical": a.equals(b)}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--runs", type=int, default=40)
+    parser.add_argument("--workers", type=int, default=os.cpu_count())
+    parser.add_argument("--cars", default="4,8,16")
+    parser.add_argument("--big", action="store_true", help="also the 200-run 4-car study")
+    parser.add_argument("--kill-resume", action="store_true", help="only the 200-run SIGKILL-and-resume check")
+    args = parser.parse_args()
+    if args.kill_resume:
+        print(kill_and_resume(workers=args.workers), flush=True)
+        return
+    cases = [(int(c), args.runs) for c in args.cars.split(",")] + ([(4, 200)] if args.big else [])
+    for cars, runs in cases:
+        f = bench(cars, runs, args.workers)
+        print(f"{f['cars']:2d} cars, {f['runs']:3d} runs on {f['workers']} workers: "
+              f"{f['runs_per_min_per_core']:6.1f} runs/min/core, {f['mean_run_s']:.2f} s per run, "
+              f"{f['batches']} batches, scheduling {100 * f['scheduler_share']:.2f} % of the workers' time "
+              f"(idle at the end {100 * f['tail_share']:.1f} %); "
+              f"{f['elapsed_s']:.1f} s running, {f['total_s']:.1f} s with planning and cluster start", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,110 @@
+"""EN 15595-style assessment of a campaign's runs (criteria in the study file's `assessment`).
+
+Each case (same factor values but those of the reference, same seed) is compared with its
+reference on dry rail:
+- deceleration distance s_d = s - v0 te: the stopping distance less the distance run during the
+  equivalent build-up time te = ta + tb/2 (EN 14531), te taken from the reference run's cylinder
+  pressures so both runs lose the same build-up distance;
+- its increase dS % = 100 (s_d - s_d,ref) / s_d,ref and Kwet = 100 / (100 + dS %) (ETCS
+  engineering rules: Kwet_rst from EN 15595 tests);
+- pass or fail: lock events, safety-timer trips, adhesion utilisation on the reduced-adhesion
+  cases named in the criteria (the reference and a short patch are not adhesion-limited over the
+  stop), and optional limits on dS % and air.
+"""
+
+from __future__ import annotations
+
+import math
+
+from railbrake.campaign.dataset import STATUS_OK
+
+AIR_KPIS = ("air_drawn_kg", "air_consumed_kg")   # the first present is the air drawn
+
+
+def _air_kpi(row: dict) -> str | None:
+    return next((k for k in AIR_KPIS if row.get(k) is not None), None)
+
+
+def _case_key(row: dict, factors: list[str], reference: dict) -> tuple:
+    return tuple(row.get(f) for f in factors if f not in reference) + (row["seed"],)
+
+
+def _is_reference(row: dict, reference: dict) -> bool:
+    return all(row.get(k) == _ref_value(v) for k, v in reference.items())
+
+
+def _ref_value(value):
+    return value["name"] if isinstance(value, dict) else value
+
+
+def _utilisation_applies(row: dict, criteria, reference: dict, is_reference: bool) -> bool:
+    if is_reference:
+        return False
+    if criteria.utilisation_cases is None:
+        return True
+    return any(row.get(k) in criteria.utilisation_cases for k in reference)
+
+
+def _reasons(row: dict, criteria, utilisation_applies: bool) -> list[str]:
+    reasons = []
+    if (row.get("wheel_lock_events") or 0) > criteria.max_lock_events:
+        reasons.append(f"{row['wheel_lock_events']:.0f} lock events > {criteria.max_lock_events}")
+    if (row.get("safety_timer_trips") or 0) > criteria.max_safety_timer_trips:
+        reasons.append(f"{row['safety_timer_trips']:.0f} safety-timer trips > {criteria.max_safety_timer_trips}")
+    utilisation = row.get("adhesion_utilisation")
+    if utilisation_applies and utilisation is not None and utilisation < criteria.min_utilisation:
+        reasons.append(f"adhesion utilisation {utilisation:.3f} < {criteria.min_utilisation}")
+    ds = row.get("delta_s_pct")
+    if criteria.max_delta_s_pct is not None and ds is not None and ds > criteria.max_delta_s_pct:
+        reasons.append(f"dS {ds:.1f} % > {criteria.max_delta_s_pct} %")
+    air = row.get("air_drawn_kg_assessed")
+    if criteria.max_air_drawn_kg is not None and air is not None and air > criteria.max_air_drawn_kg:
+        reasons.append(f"air {air:.2f} kg > {criteria.max_air_drawn_kg} kg")
+    return reasons
+
+
+def assess(rows: list[dict], factors: list[str], assessment, initial_speed) -> list[dict]:
+    """rows: the dataset as dicts (SI); initial_speed(row) -> v0 in m/s. One dict per run."""
+    reference = {k: _ref_value(v) for k, v in assessment.reference.items()}
+    refs = {_case_key(r, factors, reference): r for r in rows
+            if r["status"] == STATUS_OK and _is_reference(r, reference)}
+    out = []
+    for row in sorted(rows, key=lambda r: (r.get("point", 0), r.get("replicate", 0))):
+        case = dict(row)
+        is_ref = _is_reference(row, reference)
+        ref = refs.get(_case_key(row, factors, reference))
+        case["reference"] = is_ref
+        case["delta_s_pct"] = case["kwet"] = case["deceleration_distance_m"] = None
+        air = _air_kpi(row)
+        case["air_drawn_kg_assessed"] = row.get(air) if air else None
+        s = row.get("stopping_distance_m")
+        if row["status"] == STATUS_OK and ref is not None and s is not None and ref.get("stopping_distance_m"):
+            te = ref.get("equivalent_response_time_s") or 0.0
+            v0 = initial_speed(row)
+            s_d, s_d_ref = s - v0 * te, ref["stopping_distance_m"] - v0 * te
+            case["deceleration_distance_m"] = s_d
+            case["delta_s_pct"] = 100.0 * (s_d - s_d_ref) / s_d_ref
+            case["kwet"] = 100.0 / (100.0 + case["delta_s_pct"])
+        if row["status"] != STATUS_OK:
+            case["passed"], case["reasons"] = False, [f"run failed: {row.get('error')}"]
+        else:
+            applies = _utilisation_applies(row, assessment.criteria, reference, is_ref)
+            reasons = _reasons(case, assessment.criteria, applies)
+            if not row.get("stopped", 1):
+                reasons.append("the train did not stop within the run's time")
+            case["passed"], case["reasons"] = not reasons, reasons
+        out.append(case)
+    return out
+
+
+def worst(cases: list[dict]) -> dict:
+    """The figures a tuning optimises: worst dS % over the reduced-adhesion cases, locks, air."""
+    assessed = [c for c in cases if not c["reference"]]
+    ds = [c["delta_s_pct"] for c in assessed if c["delta_s_pct"] is not None]
+    failed_runs = sum(c["status"] != STATUS_OK for c in cases)
+    return {"worst_delta_s_pct": max(ds) if ds and not failed_runs else math.inf,
+            "locks": int(sum(c.get("wheel_lock_events") or 0 for c in cases)),
+            "air_drawn_kg": float(sum(c.get("air_drawn_kg_assessed") or 0.0 for c in cases)),
+            "max_case_air_drawn_kg": float(max((c.get("air_drawn_kg_assessed") or 0.0 for c in cases), default=0.0)),
+            "safety_timer_trips": int(sum(c.get("safety_timer_trips") or 0 for c in cases)),
+            "passed": all(c["passed"] for c in cases), "failed_runs": failed_runs}

@@ -1,0 +1,239 @@
+"""Running a study on dask.distributed: a LocalCluster (one single-threaded worker process per
+core) or an existing scheduler (``--scheduler tcp://HOST:PORT`` or DASK_SCHEDULER_ADDRESS).
+
+Runs go in batches, several per worker, so that scheduling stays a small share of the run time
+(bench/bench_campaign.py measures it) while a kill loses only the batches in flight. Each batch
+is written to the dataset as soon as it returns; a rerun skips the keys already there.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import os
+import signal
+import threading
+import time
+import warnings
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from railbrake.campaign import dataset, identity
+from railbrake.campaign.plan import Run, plan
+from railbrake.campaign.study import Study
+from railbrake.errors import InputError
+
+BATCHES_PER_WORKER = 8      # enough for the load to balance at the end of a study
+MAX_BATCH = 32              # runs; bounds what a kill loses
+CONNECT_TIMEOUT = 10.0      # s for a scheduler to answer
+RETRIES = 2                 # a batch whose worker died is rerun by Dask; these are for other errors
+
+
+@dataclass
+class Summary:
+    runs: int
+    done: int
+    skipped: int
+    failed: int
+    dataset: str
+    interrupted: bool = False
+    workers: int = 0
+    batches: int = 0
+    elapsed_s: float = 0.0          # from the first batch submitted to the last written
+    compute_s: float = 0.0          # sum of the batches' time on the workers
+    scheduler_share: float | None = None   # of the workers' time until their last batch: waiting
+    #                                        for a batch (dispatch, transfer), not running one
+    tail_share: float | None = None        # of workers x elapsed: idle after their last batch
+    extra: dict = field(default_factory=dict)
+
+    def json(self) -> dict:
+        return {k: v for k, v in asdict(self).items() if k != "extra"}
+
+
+def scheduling_figures(submitted: float, ended: float, spans: list[tuple[str, float, float]]) -> tuple:
+    """(scheduler share, tail share) from the (worker, began, ended) of each batch (wall clock).
+    Scheduling: a worker's gaps between its batches (result sent, next batch dispatched) over its
+    time from its first batch's start to its last one's end; a worker's start-up (imports before
+    its first batch) is not scheduling and is left out. Tail: idle after a worker's last batch."""
+    by_worker: dict = {}
+    for worker, began, end in spans:
+        by_worker.setdefault(worker, []).append((began, end))
+    span = waiting = tail = 0.0
+    for items in by_worker.values():
+        first, last = min(b for b, _ in items), max(e for _, e in items)
+        span += last - first
+        waiting += (last - first) - sum(e - b for b, e in items)
+        tail += max(0.0, ended - last)
+    if span <= 0:
+        return None, None
+    return max(0.0, waiting / span), tail / (span + tail)
+
+
+def scheduler_address(option: str | None) -> str | None:
+    return option or os.environ.get("DASK_SCHEDULER_ADDRESS") or None
+
+
+def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT_TIMEOUT):
+    """(client, cluster or None). A scheduler that does not answer is an InputError."""
+    from dask.distributed import Client, LocalCluster
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout=timeout)
+            client.wait_for_workers(1, timeout=timeout)
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"--scheduler {scheduler}: no Dask scheduler with workers answers within "
+                             f"{timeout:g} s ({exc.__class__.__name__}); start one with 'dask scheduler' "
+                             "and 'dask worker' (docs/campaigns.md)") from None
+        return client, None
+    n = workers or os.cpu_count() or 1
+    # the scheduler's HTTP routes move to a free port by themselves; the warning only alarms
+    warnings.filterwarnings("ignore", message="Port .* is already in use")
+    if n < 1:
+        raise InputError(f"--workers {n}: must be at least 1")
+    # no dashboards (they need free ports and bokeh), only errors in the log
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                           worker_dashboard_address=None, silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def batches(runs: list[Run], workers: int, size: int | None = None) -> list[list[Run]]:
+    size = size or max(1, min(MAX_BATCH, math.ceil(len(runs) / (workers * BATCHES_PER_WORKER))))
+    return [runs[i:i + size] for i in range(0, len(runs), size)]
+
+
+def _manifest(study: Study, out: Path, kpis: list[str] | None, n_runs: int) -> dict:
+    old = dataset.read_manifest(out) or {}
+    factors = {f.name: f.unit for f in study.factors}
+    if old and (old.get("factors") != factors or old.get("study") != study.name):
+        raise InputError(f"--out {out}: holds study {old.get('study')!r} with factors "
+                         f"{', '.join(old.get('factors', {}))}; use another folder")
+    return {"schema": "railbrake.campaign/1", "study": study.name, "base": study.spec.base,
+            "factors": factors, "factor_order": list(factors), "kinds": {f.name: f.kind for f in study.factors},
+            "kpis": kpis if kpis is not None else old.get("kpis"), "kpi_kinds": old.get("kpi_kinds"),
+            "runs": n_runs,
+            "design": study.spec.design.kind, "samples": study.spec.design.samples,
+            "railbrake_version": identity.railbrake_version(), "core_build_hash": identity.core_build_hash()}
+
+
+def _options(study: Study, out: Path, timeseries: bool) -> dict:
+    options = {"out": str(out), "timeseries": timeseries or study.spec.timeseries}
+    if study.spec.assessment is not None:
+        options["build_up"] = dict(study.spec.assessment.build_up)
+    return options
+
+
+def _payload(run: Run) -> dict:
+    return {"key": run.key, "index": run.index, "point": run.point, "replicate": run.replicate,
+            "seed": run.seed, "block": run.block, "sample": run.sample, "sets": run.sets,
+            "factors": run.factors}
+
+
+class _Writer:
+    """Writes finished batches; the KPI columns are fixed by the first successful run."""
+
+    def __init__(self, study: Study, out: Path, manifest: dict):
+        self.study, self.out, self.manifest = study, out, manifest
+        self.waiting: list[dict] = []
+        self.failed = self.written = 0
+
+    def _schema(self):
+        return dataset.schema(self.study.factors, self.manifest["kpis"], {"name": self.study.name},
+                              self.manifest.get("kpi_kinds"))
+
+    def add(self, rows: list[dict]) -> None:
+        self.failed += sum(r["status"] != dataset.STATUS_OK for r in rows)
+        if self.manifest.get("kpis") is None:
+            ok = next((r for r in rows if r["status"] == dataset.STATUS_OK), None)
+            if ok is None:
+                self.waiting.append(rows)
+                return
+            self.manifest["kpis"] = list(ok["kpis"])
+            self.manifest["kpi_kinds"] = dataset.kpi_kinds(ok["kpis"])
+            dataset.write_manifest(self.out, self.manifest)
+        for batch in [b for b in self.waiting + [rows] if b]:
+            dataset.write_batch(self.out, batch, self._schema())
+            self.written += len(batch)
+        self.waiting = []
+
+    def finish(self) -> None:
+        if self.waiting:   # every run failed: no KPI columns to be had
+            self.manifest["kpis"] = []
+            dataset.write_manifest(self.out, self.manifest)
+            self.add([])
+
+
+def run_study(study: Study, out: Path, workers: int | None = None, scheduler: str | None = None,
+              batch_size: int | None = None, timeseries: bool = False, progress=None,
+              connect_timeout: float = CONNECT_TIMEOUT) -> Summary:
+    """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch."""
+    out = Path(out)
+    runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
+    done = dataset.existing_keys(out)
+    pending = [r for r in runs if r.key not in done]
+    summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out))
+    if not pending and dataset.read_manifest(out):
+        return summary
+    client, cluster = connect(scheduler_address(scheduler), workers, connect_timeout)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        dataset.clean(out)
+        manifest = _manifest(study, out, None, len(runs))
+        dataset.write_manifest(out, manifest)
+        (out / "study.yaml").write_text(study.text)
+        summary.workers = len(client.scheduler_info()["workers"])
+        if progress:
+            progress(0, len(pending), 0)
+        _execute(client, study, out, manifest, batches(pending, summary.workers, batch_size),
+                 _options(study, out, timeseries), summary, progress, len(pending))
+        return summary
+    finally:
+        with _no_interrupt():   # a second Ctrl-C must not break the cluster's shutdown
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+@contextlib.contextmanager
+def _no_interrupt():
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _execute(client, study, out, manifest, groups, options, summary, progress, total) -> None:
+    from dask.distributed import as_completed
+    writer = _Writer(study, out, manifest)
+    start, submitted, spans = time.perf_counter(), time.time(), []
+    futures = [client.submit(_batch_task, study.base, [_payload(r) for r in group], options,
+                             key=f"railbrake-{dataset.batch_name([r.key for r in group])[5:25]}",
+                             pure=False, retries=RETRIES) for group in groups]
+    summary.batches = len(futures)
+    try:
+        for future in as_completed(futures):
+            result = future.result()
+            writer.add(result["rows"])
+            summary.compute_s += result["compute_s"]
+            spans.append((result["worker"], result["began"], result["ended"]))
+            summary.done += len(result["rows"])
+            if progress:
+                progress(summary.done, total, writer.failed)
+        writer.finish()
+    except KeyboardInterrupt:
+        summary.interrupted = True
+        with _no_interrupt():
+            client.cancel(futures)
+    finally:
+        summary.failed = writer.failed
+        summary.elapsed_s = time.perf_counter() - start
+        summary.scheduler_share, summary.tail_share = scheduling_figures(submitted, time.time(), spans)
+
+
+def _batch_task(base, runs, options):
+    from railbrake.campaign.worker import execute_batch
+    return execute_batch(base, runs, options)

@@ -1,0 +1,204 @@
+"""Study files (versioned YAML schema ``railbrake.study/1``): a base scenario, fixed overrides,
+factors, a design and noise seeds. Reference and examples: docs/campaigns.md.
+
+Everything that can be wrong in a study is found here, before any run starts: an unknown factor
+path (with the closest valid ones), a range with low >= high, a design with no runs. Each error
+names the study file, the key and its line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field
+
+from railbrake import config
+from railbrake.campaign import configuration
+from railbrake.campaign.factors import COMPOSITES, Factor, make_factor
+from railbrake.errors import InputError
+
+SCHEMA = "railbrake.study/1"
+DESIGNS = ("grid", "zip", "latin-hypercube", "sobol", "list")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class Design(_Strict):
+    kind: Literal["grid", "zip", "latin-hypercube", "sobol", "list"]
+    samples: int | None = None          # latin-hypercube, sobol (base samples N: N (d + 2) runs)
+    scramble: bool = True               # sobol
+    points: list[dict[str, Any]] | None = None   # list
+
+
+class Criteria(_Strict):
+    """Pass/fail of an assessed case (EN 15595 style)."""
+    max_lock_events: int = 0
+    min_utilisation: float = 0.85
+    utilisation_cases: list[str] | None = None   # levels of the reference factor it applies to (None: all
+    #                                            but the reference)
+    max_safety_timer_trips: int = 0
+    max_delta_s_pct: float | None = None
+    max_air_drawn_kg: float | None = None
+
+
+class Assessment(_Strict):
+    kind: Literal["en15595"] = "en15595"
+    reference: dict[str, Any]           # factor values of the reference case (dry rail)
+    build_up: dict[str, float] = Field(default_factory=lambda: {"delay": 0.10, "complete": 0.90})
+    criteria: Criteria = Field(default_factory=Criteria)
+    source: str = ""
+
+
+class Tuning(_Strict):
+    """Ranges of the WSP parameters `wsp tune` may choose from, and the air limit."""
+    params: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    air_limit_kg: float | None = Field(default=None, gt=0)
+    source: str = ""
+
+
+class StudyFile(_Strict):
+    schema_: str = Field(alias="schema")
+    name: str
+    title: str = ""
+    base: str
+    set: dict[str, Any] = Field(default_factory=dict)
+    factors: dict[str, Any] = Field(default_factory=dict)
+    design: Design
+    seeds: int = 1
+    seed: int = Field(default=0, ge=0)   # entropy of the study's numpy SeedSequence
+    timeseries: bool = False
+    assessment: Assessment | None = None
+    tuning: Tuning | None = None
+    source: str = ""
+
+
+@dataclass
+class Study:
+    spec: StudyFile
+    origin: str
+    text: str
+    base: str                                  # preset name or absolute scenario path
+    factors: list[Factor] = field(default_factory=list)
+    fixed: dict[str, Any] = field(default_factory=dict)    # set: plain paths
+    fixed_parts: dict[str, Any] = field(default_factory=dict)   # set: fault.* / zone.* parts
+    keys: list[str] = field(default_factory=list)
+    lines: dict = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    def where(self, *key) -> str:
+        line = config._line_of(self.lines, key)
+        return f"{self.origin}{f', line {line}' if line else ''}: {'.'.join(str(k) for k in key)}"
+
+    def factor(self, name: str) -> Factor:
+        return next(f for f in self.factors if f.name == name)
+
+
+def _preset_dir():
+    return resources.files("railbrake") / "data" / "studies"
+
+
+def preset_names() -> list[str]:
+    return sorted(p.name[:-5] for p in _preset_dir().iterdir() if p.name.endswith(".yaml"))
+
+
+def _check_path(study: Study, key: str, where: tuple) -> None:
+    """A factor or set path must be a resolved-configuration key or a fault/zone part."""
+    head, _, part = key.partition(".")
+    if head in COMPOSITES:
+        if part not in COMPOSITES[head]:
+            raise InputError(f"{study.where(*where)}: unknown {head} part {part!r} "
+                             f"(parts: {', '.join(f'{head}.{p}' for p in COMPOSITES[head])})")
+        return
+    if key not in study.keys:
+        close = configuration.closest_keys(key, study.keys + [f"{h}.{p}" for h, ps in COMPOSITES.items()
+                                                               for p in ps])
+        hint = f"; closest valid: {', '.join(close)}" if close else ""
+        raise InputError(f"{study.where(*where)}: unknown path {key!r}{hint}")
+
+
+def _check_design(study: Study) -> None:
+    d = study.spec.design
+    if study.spec.seeds < 1:
+        raise InputError(f"{study.where('seeds')} = {study.spec.seeds}: a design with no runs (seeds >= 1)")
+    if d.kind in ("latin-hypercube", "sobol"):
+        if d.samples is None or d.samples < 1:
+            raise InputError(f"{study.where('design', 'samples')} = {d.samples}: a design with no runs "
+                             f"({d.kind} needs samples >= 1)")
+        if not study.factors:
+            raise InputError(f"{study.where('factors')}: a {d.kind} design needs at least one factor")
+        if d.kind == "sobol" and d.samples & (d.samples - 1):
+            raise InputError(f"{study.where('design', 'samples')} = {d.samples}: a Sobol design needs a "
+                             "power of two")
+    elif d.kind == "list":
+        if not d.points:
+            raise InputError(f"{study.where('design', 'points')}: a design with no runs (no points)")
+        declared = {f.name for f in study.factors}
+        for i, point in enumerate(d.points):
+            for key in point:
+                _check_path(study, key, ("design", "points", i, key))
+        # every key a point sets is a factor (a column of the dataset)
+        for key in dict.fromkeys(k for p in d.points for k in p):
+            if key not in declared:
+                levels = [p[key] for p in d.points if key in p]
+                study.factors.append(make_factor(key, levels, study.where("design", "points")))
+    else:
+        for f in study.factors:
+            if f.levels is None:
+                raise InputError(f"{study.where('factors', f.name)}: a {d.kind} design needs levels "
+                                 "(a list, or a range with 'levels: N')")
+        if d.kind == "zip":
+            lengths = {f.name: len(f.levels) for f in study.factors}
+            if len(set(lengths.values())) > 1:
+                raise InputError(f"{study.where('design', 'kind')} = 'zip': factors need as many levels each "
+                                 f"({', '.join(f'{k}: {n}' for k, n in lengths.items())})")
+
+
+def parse(text: str, origin: str, folder: Path | None = None) -> Study:
+    spec = config.parse_yaml(text, StudyFile, origin)
+    study = Study(spec, origin, text, spec.base, lines=config._line_index(yaml.compose(text)))
+    if spec.schema_ != SCHEMA:
+        raise InputError(f"{study.where('schema')} = {spec.schema_!r}: expected {SCHEMA!r}")
+    base_path = (folder or Path.cwd()) / spec.base
+    if not Path(spec.base).is_absolute() and base_path.is_file():
+        study.base = str(base_path.resolve())
+    try:
+        resolved = configuration.resolve(study.base)
+    except InputError as exc:
+        raise InputError(f"{study.where('base')} = {spec.base!r}: {exc}") from None
+    study.keys = configuration.valid_keys(resolved)
+    for key, value in spec.set.items():
+        _check_path(study, key, ("set", key))
+        target = study.fixed_parts if key.partition(".")[0] in COMPOSITES else study.fixed
+        target[key] = value
+    for name, value in spec.factors.items():
+        factor = make_factor(name, value, study.where("factors", name))
+        if factor.bundle:   # a named case: its name is free, the keys it sets are paths
+            for i, level in enumerate(factor.levels):
+                for key in level:
+                    if key != "name":
+                        _check_path(study, key, ("factors", name, i, key))
+        else:
+            _check_path(study, name, ("factors", name))
+        study.factors.append(factor)
+    _check_design(study)
+    return study
+
+
+def load(study: str | Path) -> Study:
+    """A preset study name (railbrake/data/studies) or a study YAML file."""
+    name = str(study)
+    if name in preset_names():
+        return parse((_preset_dir() / f"{name}.yaml").read_text(), f"study {name}")
+    path = Path(name)
+    if not path.is_file():
+        raise InputError(f"study = {name!r}: not a preset study ({', '.join(preset_names())}) nor a file")
+    return parse(path.read_text(), str(path), path.resolve().parent)

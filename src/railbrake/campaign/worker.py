@@ -1,0 +1,64 @@
+"""What a Dask worker does with one batch: resolve and simulate each run, never raise for a run.
+
+A run that raises is returned with status "failed" and its error, so one bad configuration does
+not stop a study. Only a lost worker makes the batch fail, and Dask then runs it again elsewhere.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import time
+from pathlib import Path
+
+import numpy as np
+
+from railbrake.campaign import configuration
+from railbrake.campaign.dataset import STATUS_FAILED, STATUS_OK
+
+
+def equivalent_response_time(result, delay: float, complete: float) -> float | None:
+    """EN 14531 te = ta + tb/2 from the train's deceleration (pneumatic and ED brake together):
+    ta until it reaches `delay` of its median over the stop, tb from there to `complete` of it
+    (fractions from the study file). The median stands for the full brake effort: pad friction
+    rising at low speed makes the peak a poor one."""
+    decel = result.outputs.get("deceleration")
+    if decel is None or result.time.size < 2:
+        return None
+    full = float(np.median(decel))
+    if full <= 0:
+        return None
+    t_a = float(result.time[np.argmax(decel >= delay * full)])
+    t_c = float(result.time[np.argmax(decel >= complete * full)])
+    return t_a + (t_c - t_a) / 2
+
+
+def _one(base: str, run: dict, options: dict) -> dict:
+    start = time.perf_counter()
+    row = {"key": run["key"], "run": run["index"], "point": run["point"], "replicate": run["replicate"],
+           "seed": run["seed"], "block": run["block"], "sample": run["sample"], "factors": run["factors"],
+           "kpis": {}, "status": STATUS_OK, "error": None}
+    try:
+        resolved = configuration.resolve(base, run["sets"])
+        record = bool(options.get("timeseries") or options.get("build_up"))
+        result = configuration.run(resolved, record=record)
+        row["kpis"] = dict(result.kpis)
+        if options.get("build_up"):
+            row["kpis"]["equivalent_response_time_s"] = equivalent_response_time(result, **options["build_up"])
+        if options.get("timeseries"):
+            from railbrake.simulation.io import write_parquet
+            folder = Path(options["out"]) / "timeseries"
+            folder.mkdir(parents=True, exist_ok=True)
+            write_parquet(result, folder / f"{run['key']}.parquet")
+    except Exception as exc:   # noqa: BLE001 - a failed run is data, recorded with its error
+        row["status"], row["error"] = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
+    row["wall_time_s"] = time.perf_counter() - start
+    return row
+
+
+def execute_batch(base: str, runs: list[dict], options: dict) -> dict:
+    """The rows, and when and where the batch ran (wall clock), for the scheduling figures."""
+    began, start = time.time(), time.perf_counter()
+    rows = [_one(base, run, options) for run in runs]
+    return {"rows": rows, "compute_s": time.perf_counter() - start, "began": began, "ended": time.time(),
+            "worker": f"{socket.gethostname()}:{os.getpid()}"}

@@ -1,0 +1,100 @@
+"""`railbrake campaign run|report|plan`: studies over many configurations (docs/campaigns.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
+                           TimeRemainingColumn)
+
+from railbrake.cli._common import print_json, reports_errors
+
+app = typer.Typer(help="Campaigns: studies of many configurations on a laptop or a Dask cluster.",
+                  no_args_is_help=True)
+
+
+def _default_out(study) -> Path:
+    return Path("out") / "campaigns" / study.name
+
+
+@app.command("run")
+@reports_errors
+def run(
+    study: str = typer.Argument(..., help="Study YAML file or preset study (railbrake.study/1)."),
+    out: Optional[Path] = typer.Option(None, help="Dataset folder (default: out/campaigns/<study name>)."),
+    workers: Optional[int] = typer.Option(None, help="Local worker processes (default: one per core)."),
+    scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT "
+                                            "(default: $DASK_SCHEDULER_ADDRESS, else a local cluster)."),
+    batch_size: Optional[int] = typer.Option(None, help="Runs per Dask task (default: automatic)."),
+    timeseries: bool = typer.Option(False, "--timeseries", help="Also write each run's time series."),
+    json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+):
+    """Run a study; a rerun into the same folder skips the runs already done (resume)."""
+    from railbrake.campaign import execute, study as studies
+    spec = studies.load(study)
+    folder = out or _default_out(spec)
+    bar = Progress(TextColumn(f"[bold]{spec.name}"), BarColumn(), MofNCompleteColumn(),
+                   TextColumn("{task.fields[failed]} failed"), TimeElapsedColumn(), TextColumn("ETA"),
+                   TimeRemainingColumn(), console=Console(stderr=True), disable=json)
+    task = bar.add_task(spec.name, total=None, failed=0)
+
+    def progress(done, total, failed):   # the bar appears once the runs start
+        if not bar.live.is_started:
+            bar.start()
+        bar.update(task, completed=done, total=total, failed=failed)
+
+    try:
+        summary = execute.run_study(spec, folder, workers=workers, scheduler=scheduler,
+                                    batch_size=batch_size, timeseries=timeseries, progress=progress)
+    finally:
+        bar.stop()
+    if json:
+        print_json(summary.json())
+    else:
+        typer.echo(f"{summary.runs} runs: {summary.done} done now ({summary.failed} failed), "
+                   f"{summary.skipped} already in {summary.dataset}")
+    if summary.interrupted:
+        typer.echo("interrupted: the dataset holds the finished batches; run again to resume", err=True)
+        raise typer.Exit(code=130)
+
+
+@app.command("plan")
+@reports_errors
+def plan_command(
+    study: str = typer.Argument(..., help="Study YAML file or preset study."),
+    json: bool = typer.Option(False, "--json", help="Print the runs as JSON."),
+):
+    """Check a study and list its runs without running them."""
+    from railbrake.campaign import plan, study as studies
+    spec = studies.load(study)
+    runs = plan.plan(spec)
+    if json:
+        print_json([{"key": r.key, "point": r.point, "replicate": r.replicate, "seed": r.seed,
+                     "sets": r.sets} for r in runs])
+        return
+    typer.echo(f"{spec.name}: {len(runs)} runs ({spec.spec.design.kind} design, {len(spec.factors)} factors, "
+               f"{spec.spec.seeds} seed{'s' if spec.spec.seeds != 1 else ''})")
+
+
+@app.command("report")
+@reports_errors
+def report(
+    folder: Path = typer.Argument(..., help="Dataset folder written by 'campaign run'."),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="HTML report (default: DIR/report.html)."),
+    json: bool = typer.Option(False, "--json", help="Print the assessment as JSON."),
+):
+    """Self-contained HTML report and Markdown summary of a campaign."""
+    from railbrake.campaign import report as reports
+    html = output or folder / "report.html"
+    result = reports.write(folder, html)
+    if json:
+        print_json(result)
+        return
+    typer.echo(f"report: {html}\nsummary: {html.with_suffix('.md')}")
+
+
+def register(root: typer.Typer) -> None:
+    root.add_typer(app, name="campaign")

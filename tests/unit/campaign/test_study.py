@@ -1,0 +1,136 @@
+"""Study files: parsing, errors that name key and line, designs, seeds and run keys."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from railbrake.campaign import designs, plan, study
+from railbrake.errors import InputError
+
+DATA = Path(__file__).parent / "data"
+
+HEAD = """schema: railbrake.study/1
+name: t
+base: emergency-250-dry
+set: {train.cars: 1, stop.max_time: "60 s"}
+"""
+
+
+def parse(body: str) -> study.Study:
+    return study.parse(HEAD + body, "t.yaml")
+
+
+def test_unknown_factor_path_names_line_and_closest_keys():
+    with pytest.raises(InputError) as err:
+        parse("factors:\n  initial_sped: [\"60 km/h\"]\ndesign: {kind: grid}\n")
+    message = str(err.value)
+    assert "t.yaml, line 6: factors.initial_sped" in message
+    assert "closest valid: initial_speed" in message
+
+
+def test_range_with_low_not_below_high_names_line():
+    with pytest.raises(InputError, match=r"line 7: factors.initial_speed: low '120 km/h' >= high '60 km/h'"):
+        parse("factors:\n  adhesion.condition: [wet]\n  initial_speed: {low: 120 km/h, high: 60 km/h}\n"
+              "design: {kind: latin-hypercube, samples: 4}\n")
+
+
+@pytest.mark.parametrize("body, key", [
+    ("factors:\n  initial_speed: {low: 60 km/h, high: 90 km/h}\ndesign: {kind: latin-hypercube, samples: 0}\n",
+     "line 7: design.samples = 0: a design with no runs"),
+    ("factors:\n  initial_speed: []\ndesign: {kind: grid}\n", "line 6: factors.initial_speed: an empty list"),
+    ("design: {kind: list, points: []}\n", "line 5: design.points: a design with no runs"),
+    ("factors:\n  initial_speed: [\"60 km/h\"]\ndesign: {kind: grid}\nseeds: 0\n",
+     "line 8: seeds = 0: a design with no runs"),
+])
+def test_design_with_no_runs_fails_naming_key_and_line(body, key):
+    with pytest.raises(InputError, match=key):
+        parse(body)
+
+
+def test_levels_need_one_kind_of_unit_and_a_range_the_same_dimension():
+    with pytest.raises(InputError, match="levels mix"):
+        parse("factors:\n  initial_speed: [\"60 km/h\", \"2 s\"]\ndesign: {kind: grid}\n")
+    with pytest.raises(InputError, match="not the same kind of quantity"):
+        parse("factors:\n  initial_speed: {low: 60 km/h, high: 5 s}\ndesign: {kind: latin-hypercube, samples: 2}\n")
+
+
+def test_sobol_needs_a_power_of_two():
+    with pytest.raises(InputError, match="line 7: design.samples = 6: a Sobol design needs a power of two"):
+        parse("factors:\n  initial_speed: {low: 60 km/h, high: 90 km/h}\ndesign: {kind: sobol, samples: 6}\n")
+
+
+def test_grid_is_the_full_factorial_and_values_are_si():
+    s = study.load(DATA / "small.yaml")
+    runs = plan.plan(s)
+    assert len(runs) == 2 * 2 * 2
+    speeds = sorted({r.factors["initial_speed"] for r in runs})
+    assert speeds == pytest.approx([60 / 3.6, 100 / 3.6])
+    assert s.factor("initial_speed").unit == "m/s"
+    assert len({r.key for r in runs}) == len(runs)
+
+
+def test_latin_hypercube_fills_each_stratum_once_and_seeds_repeat():
+    s = parse("factors:\n  initial_speed: {low: 60 km/h, high: 120 km/h}\n"
+              "design: {kind: latin-hypercube, samples: 5}\nseed: 7\n")
+    points = designs.points(s, np.random.default_rng(np.random.SeedSequence(7).spawn(2)[0]))
+    v = np.array([float(p.values["initial_speed"].split()[0]) for p in points])
+    strata = np.floor((v - 60) / 12).astype(int)
+    assert sorted(strata) == [0, 1, 2, 3, 4]
+    assert [r.key for r in plan.plan(s)] == [r.key for r in plan.plan(s)]   # same SeedSequence
+
+
+def test_sobol_design_is_saltelli_a_b_ab():
+    s = parse("factors:\n  initial_speed: {low: 60 km/h, high: 120 km/h}\n"
+              "  adhesion.condition: [dry-medium, wet]\ndesign: {kind: sobol, samples: 4}\n")
+    points = designs.points(s, np.random.default_rng(0))
+    assert len(points) == 4 * (2 + 2)
+    by = {(p.block, p.sample): p.values for p in points}
+    for i in range(4):   # AB0 takes factor 0 from B and factor 1 from A
+        assert by[("AB0", i)]["initial_speed"] == by[("B", i)]["initial_speed"]
+        assert by[("AB0", i)]["adhesion.condition"] == by[("A", i)]["adhesion.condition"]
+
+
+def test_fault_and_zone_parts_become_one_fault_and_one_zone():
+    s = parse("factors:\n  fault.type: [none, vent_stuck_open]\n  fault.car: [1]\n  fault.start: [\"2 s\"]\n"
+              "  zone.start: [\"100 m\"]\n  zone.length: [\"50 m\"]\n  zone.condition: [oil-film]\n"
+              "design: {kind: grid}\n")
+    runs = plan.plan(s)
+    assert "faults" not in runs[0].sets
+    assert runs[1].sets["faults"] == [{"type": "vent_stuck_open", "car": 1, "start": "2 s"}]
+    assert runs[1].sets["adhesion.zones"] == [{"start": "100 m", "end": "150 m", "condition": "oil-film"}]
+
+
+def test_a_fault_on_a_missing_car_fails_before_any_run():
+    s = parse("factors:\n  fault.type: [vent_stuck_open]\n  fault.car: [2]\ndesign: {kind: grid}\n")
+    with pytest.raises(InputError, match="design point 0 .*fault.car=2"):
+        plan.plan(s)
+
+
+def test_named_cases_set_several_keys():
+    s = parse("factors:\n  case:\n    - {name: dry, adhesion.condition: dry-medium}\n"
+              "    - {name: patch, zone.start: 100 m, zone.length: 50 m, zone.condition: oil-film}\n"
+              "design: {kind: grid}\n")
+    runs = plan.plan(s)
+    assert [r.factors["case"] for r in runs] == ["dry", "patch"]
+    assert runs[1].sets["adhesion.zones"][0]["end"] == "150 m"
+    with pytest.raises(InputError, match=r"line 7: factors.case.0.adhesion.conditon: unknown path"):
+        parse("factors:\n  case:\n    - {name: dry, adhesion.conditon: dry-medium}\ndesign: {kind: grid}\n")
+
+
+def test_an_integer_range_gives_every_integer_alike():
+    s = parse("factors:\n  fault.type: [vent_stuck_open]\n  fault.car: [1]\n"
+              "  fault.axle: {low: 1, high: 4}\ndesign: {kind: latin-hypercube, samples: 8}\n")
+    axles = [p.values["fault.axle"] for p in designs.points(s, np.random.default_rng(3))]
+    assert sorted(axles) == [1, 1, 2, 2, 3, 3, 4, 4]   # the hypercube's strata, two per axle
+
+
+def test_only_keeps_the_points_at_any_of_the_values_given_per_factor():
+    from railbrake.campaign import tune
+    s = parse("factors:\n  initial_speed: [\"60 km/h\", \"100 km/h\"]\n"
+              "  adhesion.condition: [dry-medium, wet, oil-film]\ndesign: {kind: grid}\n")
+    keep = tune.select(s, ["initial_speed=100 km/h", "adhesion.condition=wet", "adhesion.condition=oil-film"])
+    kept = [(r.factors["initial_speed"], r.factors["adhesion.condition"]) for r in plan.plan(s) if keep(r)]
+    assert kept == [(pytest.approx(100 / 3.6), "wet"), (pytest.approx(100 / 3.6), "oil-film")]
+    with pytest.raises(InputError, match="--only speed=1: 'speed' is not a factor"):
+        tune.select(s, ["speed=1"])
