@@ -330,7 +330,8 @@ def plot_channels(record: RunRecord, names: list[str], path: Path, window=None) 
         groups.setdefault(record.units.get(n, ""), []).append(n)
     fig, axes = new_figure(len(groups), 1, sharex=True, squeeze=False, figsize=(9, 2.6 * len(groups) + 0.8))
     for ax, (unit, group) in zip(axes[:, 0], groups.items()):
-        scale, shown = {"Pa": (_gauge, "bar g"), "m/s": (ms_to_kmh, "km/h")}.get(unit, (lambda x: x, unit or "-"))
+        scales = {"Pa": (lambda x: _gauge(x, record), "bar g"), "m/s": (ms_to_kmh, "km/h")}
+        scale, shown = scales.get(unit, (lambda x: x, unit or "-"))
         for n in group:
             ax.plot(t[w], scale(record.outputs[n][w]), lw=0.8, label=n)
         ax.set_ylabel(shown)

@@ -1,7 +1,7 @@
 """The exported FMU against the FMI standard (fmpy's validation) and the native run.
 
 Real-time targets import FMI 2.0 co-simulation FMUs with C sources and a 1 ms model step
-(shared/reference/README.md, section 6). The FMU runs the same C code in the same order as
+(FMI 2.0, Modelica Association 2014; docs/references.md). The FMU runs the same C code in the same order as
 railbrake.simulation.run, so its outputs must equal the native run's to 1e-9 relative.
 """
 
@@ -71,7 +71,7 @@ def test_equals_native_run(fmu):
 
 
 def test_equals_native_run_with_wsp_acting(tmp_path):
-    """Heavy rain (adhesion 0.02-0.05, shared/reference/README.md section 1): the internal WSP vents
+    """Heavy rain (adhesion 0.02-0.05, Shinkansen heavy rain as cited in docs/references.md): the internal WSP vents
     and re-applies many times in the first 10 s; the FMU still equals the native run."""
     path = export_fmu("emergency-300-heavy-rain", tmp_path / "rain.fmu", "3", cars=1)
     native = simulation.run("emergency-300-heavy-rain", cars=1)

@@ -2,10 +2,10 @@
 form, the EP drive's static inverse, the no-demand limit (free rolling against the running
 resistance), and bad input.
 
-References: ideal gas and orifice laws (shared/reference/README.md section 4; docs/pneumatics.md);
+References: ideal gas and orifice laws (ISO 6358-1:2013; docs/pneumatics.md);
 Newton's second law for the valve bodies at rest (spring, preload, pressure faces, Coulomb
 friction, solenoid force table); Davis running resistance A + B v + C v^2 with the rotating mass
-J / r^2 per wheelset (section 2; docs/simulation.md).
+J / r^2 per wheelset (TB/T 1407.2; docs/simulation.md).
 """
 
 import math

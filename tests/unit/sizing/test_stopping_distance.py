@@ -1,5 +1,5 @@
 """Stopping distance: closed forms (constant deceleration, linear build-up, coast-down) and the
-braking-distance figures of shared/reference/README.md section 3."""
+braking-distance figures of EN 14531-1 and the measured stops in docs/references.md."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Vehicle laws against hand calculations (shared/reference/README.md, sections 2 and 3)."""
+"""Vehicle laws against hand calculations (TB/T 1407.2, EN 14531-1; docs/references.md)."""
 
 import numpy as np
 import pytest
