@@ -7,7 +7,7 @@ from __future__ import annotations
 KPI_INFO = {
     "stopping_distance_m": ("m", "distance from the first brake demand to the stop"),
     "stopping_time_s": ("s", "time from the first brake demand to the stop"),
-    "mean_deceleration": ("m/s²", "initial speed / stopping time"),
+    "mean_deceleration": ("m/s²", "speed lost / time since the first brake demand"),
     "max_slip": ("1", "largest |slip| of any axle while the train runs above 10 km/h"),
     "wheel_lock_events": ("", "episodes of an axle below 10 % of the train speed, above 10 km/h"),
     "max_lock_duration_s": ("s", "longest such lock episode"),
@@ -19,12 +19,19 @@ KPI_INFO = {
     "stopped": ("", "the train stopped before the scenario's max_time"),
     "min_main_reservoir_bar": ("bar g", "lowest main reservoir pressure"),
     "min_supply_bar": ("bar g", "lowest supply reservoir pressure of any car"),
-    "air_drawn_kg": ("kg", "air drawn from the supply reservoirs"),
+    "min_supply_margin_bar": ("bar", "lowest supply reservoir pressure less its car's cylinder demand, "
+                                     "while braking (below 0: the supply cannot give the demand)"),
+    "braked_distance_m": ("m", "distance from the first brake demand to the end of the run (HIL; also "
+                               "when it ended before the stop)"),
+    "air_drawn_kg": ("kg", "air taken from the main reservoir and its pipe (cylinder fills, venting, "
+                           "leaks), the compressors' delivery included"),
     "air_vented_kg": ("kg", "air vented to the atmosphere"),
-    "cylinder_shortfall_s": ("s", "time a cylinder stayed short of its demand without WSP action"),
-    "worst_axle": ("", "axle with the longest lock or, without locks, the largest slip"),
+    "cylinder_shortfall_s": ("s", "longest time a cylinder stayed more than 0.2 bar below its demand "
+                                  "with its WSP valves at rest, while braking"),
+    "worst_axle": ("", "axle with the most lock events or, without locks, the largest slip above 2 % "
+                       "(none: no axle slid)"),
     "brake_energy_mj": ("MJ", "energy dissipated by the friction brakes"),
-    "max_disc_temperature_c": ("°C", "highest brake disc temperature"),
+    "max_disc_temperature_c": ("°C", "highest lumped brake disc temperature of any axle"),
 }
 
 AIR_BALANCE_LIMIT = 1e-6   # a larger relative error means the air model lost mass (model check)
