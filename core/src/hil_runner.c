@@ -4,6 +4,7 @@
 #include "railbrake/rb_hil.h"
 #include "railbrake/rb_bounds.h"
 #include "channels_internal.h"
+#include "run_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -343,18 +344,11 @@ static void check_braking(const rb_plant_params *p, rb_hil_runner *r)
  * axle per step: a whole sweep costs about 40 us per axle, more than the 1 ms step for 16 cars. */
 #define PEAK_SPEED (10.0 / 3.6)   /* m/s, as LOCK_SPEED in run.c */
 
-static int car_isolated(const rb_plant_params *p, int car)
-{
-    for (int i = 0; i < p->n_faults; ++i)
-        if (p->fault[i].kind == RB_FAULT_CAR_ISOLATED && p->fault[i].car == car) return 1;
-    return 0;
-}
-
 static void sample_peak_adhesion(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r)
 {
     int n = p->n_cars * RB_AXLES_PER_CAR, a = r->peak_axle;
     if (a == 0 && (r->out.time < r->next_peak - 1e-9 || r->out.speed <= PEAK_SPEED)) return;
-    if (!car_isolated(p, a / RB_AXLES_PER_CAR)) {
+    if (!rb_run_car_isolated(p, a / RB_AXLES_PER_CAR)) {
         r->peak_sum += rb_plant_peak_adhesion(p, &r->plant, a);
         r->peak_count++;
     }

@@ -122,7 +122,7 @@ void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, cons
     }
 }
 
-static int car_isolated(const rb_plant_params *p, int car)
+int rb_run_car_isolated(const rb_plant_params *p, int car)
 {
     for (int i = 0; i < p->n_faults; ++i)
         if (p->fault[i].kind == RB_FAULT_CAR_ISOLATED && p->fault[i].car == car) return 1;
@@ -180,7 +180,7 @@ static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_s
         double sum = 0.0;
         int n = 0;
         for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
-            if (!car_isolated(p, a / RB_AXLES_PER_CAR)) { sum += rb_plant_peak_adhesion(p, &r->plant, a); ++n; }
+            if (!rb_run_car_isolated(p, a / RB_AXLES_PER_CAR)) { sum += rb_plant_peak_adhesion(p, &r->plant, a); ++n; }
         if (n > 0) { r->peak_sum += sum / n; r->peak_samples++; }
         r->next_adhesion += sc->adhesion_interval;
     }
