@@ -84,7 +84,6 @@ typedef struct rb_axle_brake {
     rb_pad_friction pad;
 } rb_axle_brake;
 
-/* discs * 2 pads * R_mean * lambda(v) * F_pad, N m. */
 /* rb_speed_table_at starting from *bracket, the interval found last time (0 at first): the same
    value, found in a step or two when the speed moves little between calls (inline: the real-time
    plant looks up every axle's pad friction in every step). */
@@ -106,6 +105,7 @@ static inline double rb_speed_table_at_from(const rb_speed_table *t, double spee
     return t->value[lo] + w * (t->value[hi] - t->value[lo]);
 }
 
+/* discs * 2 pads * R_mean * lambda(v) * F_pad, N m. */
 double rb_axle_brake_torque(const rb_axle_brake *b, double cylinder_pressure, double speed);
 rb_status rb_axle_brake_check(const rb_axle_brake *b, rb_error *err);
 
