@@ -1,25 +1,62 @@
 #!/bin/sh
 # The figures of docs/simulation.md (Results) and docs/hil.md (MIL against HIL), made by the code:
-#   tools/results_figures.sh [WORK_DIR]     (runs the scenarios, ~5 min on 2 cores; HIL runs paced)
+#   tools/results_figures.sh [WORK_DIR]     (runs the scenarios, ~10 min on 2 cores; HIL runs paced)
+#   RAILBRAKE="python -m railbrake" tools/results_figures.sh   (another way to call the CLI)
+#   tools/results_figures.sh WORK_DIR mil   (only the MIL figures of docs/simulation.md)
+#   tools/results_figures.sh WORK_DIR hil   (only the MIL-against-HIL part, e.g. after late frames)
+# Each run's worst axle is read from its kpis.json, so the figures follow the model, not a name
+# written here. The JSON printed by each command is kept in WORK_DIR/*.json (the HIL run's timing
+# report: late frames, overruns).
 set -e
 work=${1:-out/figures}
+part=${2:-all}
+rb=${RAILBRAKE:-railbrake}
 img=$(dirname "$0")/../docs/img
 mkdir -p "$work" "$img"
-railbrake run --out "$work/demo" --json > /dev/null
-railbrake run emergency-300-leaves-patch --out "$work/leaves" --json > /dev/null
-railbrake run fault-vent-valve-stuck --out "$work/fault" --json > /dev/null
-cp "$work/demo/wsp_cycle_c9a1.png" "$img/demo_wsp_cycle_c9a1.png"
-for f in slip cylinders reservoirs; do cp "$work/demo/$f.png" "$img/demo_$f.png"; done
-cp "$work/leaves/braking_curve.png" "$img/leaves_braking_curve.png"
-cp "$work/leaves/wsp_cycle_c8a4.png" "$img/leaves_wsp_cycle_c8a4.png"
-cp "$work/fault/wsp_cycle_c3a2.png" "$img/fault_wsp_cycle_c3a2.png"
-cp "$work/fault/cylinders.png" "$img/fault_cylinders.png"
+py=${PYTHON:-python3}
+
+worst() {   # a run folder's worst axle, e.g. c3a4: its worst_axle KPI or, where that is null (no
+            # lock, no slip above 2 %), the one WSP cycle figure a run without faults or --axles draws
+    "$py" - "$1" <<'PY'
+import json, pathlib, sys
+run = pathlib.Path(sys.argv[1])
+axle = json.loads((run / "kpis.json").read_text())["worst_axle"]
+drawn = sorted(p.stem.removeprefix("wsp_cycle_") for p in run.glob("wsp_cycle_*.png"))
+if axle is None and len(drawn) == 1:
+    axle = drawn[0]
+if axle not in drawn:
+    sys.exit(f"{run}: worst axle {axle!r} not among the WSP cycle figures {drawn}")
+print(axle)
+PY
+}
+
+if [ "$part" != hil ]; then
+    $rb run --out "$work/demo" --json > "$work/demo.json"
+    $rb run emergency-300-leaves-patch --out "$work/leaves" --json > "$work/leaves.json"
+    $rb run fault-vent-valve-stuck --out "$work/fault" --json > "$work/fault.json"
+    rm -f "$img"/demo_wsp_cycle_*.png "$img"/leaves_wsp_cycle_*.png
+    a=$(worst "$work/demo")
+    cp "$work/demo/wsp_cycle_$a.png" "$img/demo_wsp_cycle_$a.png"
+    for f in slip cylinders reservoirs; do cp "$work/demo/$f.png" "$img/demo_$f.png"; done
+    cp "$work/leaves/braking_curve.png" "$img/leaves_braking_curve.png"
+    a=$(worst "$work/leaves")
+    cp "$work/leaves/wsp_cycle_$a.png" "$img/leaves_wsp_cycle_$a.png"
+    # the faulty axle of the preset (car 3, axle 2) is always plotted, whichever axle is worst
+    cp "$work/fault/wsp_cycle_c3a2.png" "$img/fault_wsp_cycle_c3a2.png"
+    cp "$work/fault/cylinders.png" "$img/fault_cylinders.png"
+fi
+
+[ "$part" = mil ] && exit 0
 # MIL against HIL (reference BCU over loopback UDP), 8 cars in heavy rain
-railbrake run emergency-300-heavy-rain --cars 8 --out "$work/mil8" --json > /dev/null
-railbrake bcu emergency-300-heavy-rain --cars 8 --listen udp://127.0.0.1:47800 > /dev/null &
-sleep 2
-railbrake hil emergency-300-heavy-rain --cars 8 --bcu udp://127.0.0.1:47800 --out "$work/hil8" --json > /dev/null
-wait
-railbrake compare "$work/mil8" "$work/hil8" --plot "$work/compare8"
+$rb run emergency-300-heavy-rain --cars 8 --out "$work/mil8" --json > "$work/mil8.json"
+$rb bcu emergency-300-heavy-rain --cars 8 --listen udp://127.0.0.1:47800 --json > "$work/bcu8.json" &
+bcu=$!
+sleep 3
+$rb hil emergency-300-heavy-rain --cars 8 --bcu udp://127.0.0.1:47800 --out "$work/hil8" --json \
+    > "$work/hil8.json"
+wait $bcu
+$rb compare "$work/mil8" "$work/hil8" --plot "$work/compare8" > "$work/compare8.txt"
+$rb compare "$work/mil8" "$work/hil8" --json > "$work/compare8.json"
 cp "$work/compare8/compare_cylinders.png" "$img/mil_hil_cylinders.png"
-cp "$(ls "$work"/hil8/wsp_cycle_c*.png | head -1)" "$img/hil_wsp_cycle.png"   # the HIL run's worst axle
+a=$(worst "$work/hil8")
+cp "$work/hil8/wsp_cycle_$a.png" "$img/hil_wsp_cycle.png"   # the HIL run's worst axle

@@ -7,6 +7,8 @@ from datetime import datetime
 from html.parser import HTMLParser
 from pathlib import Path
 
+import pytest
+
 import railbrake
 from railbrake import _core
 
@@ -15,11 +17,15 @@ class _Report(HTMLParser):
     def __init__(self):
         super().__init__()
         self.kpis, self.images, self.links, self.table, self.cells, self.provenance = {}, [], [], None, [], {}
+        self.shown, self.row, self.in_value = {}, None, False   # the KPI values as the reader sees them
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
         if tag == "tr" and "data-kpi" in a:
             self.kpis[a["data-kpi"]] = json.loads(a["data-value"])
+            self.row = a["data-kpi"]
+        if tag == "td" and a.get("class") == "value" and self.row is not None:
+            self.in_value = True
         if tag == "img":
             self.images.append(a["src"])
         if tag in ("link", "script") and (a.get("href") or a.get("src")):
@@ -30,10 +36,16 @@ class _Report(HTMLParser):
             self.cells = []
 
     def handle_data(self, data):
+        if self.in_value:
+            self.shown[self.row] = self.shown.get(self.row, "") + data
         if self.table == "provenance" and data.strip():
             self.cells.append(data.strip())
 
     def handle_endtag(self, tag):
+        if tag == "td":
+            self.in_value = False
+        if tag == "tr":
+            self.row = None
         if tag == "tr" and self.table == "provenance" and len(self.cells) == 2:
             self.provenance[self.cells[0]] = self.cells[1]
         if tag == "table":
@@ -51,7 +63,13 @@ def test_every_kpi_of_the_report_equals_kpis_json(saved_run):
     report = _parse(out / "report.html")
     assert json.loads((out / "kpis.json").read_text()) == kpis
     assert report.kpis == kpis
-    assert report.kpis.keys() == kpis.keys()
+    assert report.kpis.keys() == kpis.keys() == report.shown.keys()
+    for key, value in kpis.items():       # the text shown, to its 6 significant digits
+        shown = report.shown[key]
+        if value is None or isinstance(value, (bool, str)):
+            assert shown == {None: "n/a", True: "yes", False: "no"}.get(value, value), key
+        else:
+            assert float(shown) == pytest.approx(value, rel=5e-6, abs=1e-300), key
     html = (out / "report.html").read_text()
     assert "did not stop within the scenario" in html                # 10 s only
     assert "the WSP safety timer tripped 1 time " in html           # at 7.3 s (the stuck vent)
