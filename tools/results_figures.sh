@@ -5,8 +5,8 @@
 #   tools/results_figures.sh WORK_DIR mil   (only the MIL figures of docs/simulation.md)
 #   tools/results_figures.sh WORK_DIR hil   (only the MIL-against-HIL part, e.g. after late frames)
 # Each run's worst axle is read from its kpis.json, so the figures follow the model, not a name
-# written here. The JSON printed by each command is kept in WORK_DIR/*.json (the HIL run's timing
-# report: late frames, overruns).
+# written here. What each command prints is kept in WORK_DIR/*.json, *.txt (hil8.txt: the HIL run's
+# KPIs, counters and timing report: late frames, overruns; rerun the hil part if it overran badly).
 set -e
 work=${1:-out/figures}
 part=${2:-all}
@@ -52,8 +52,8 @@ $rb run emergency-300-heavy-rain --cars 8 --out "$work/mil8" --json > "$work/mil
 $rb bcu emergency-300-heavy-rain --cars 8 --listen udp://127.0.0.1:47800 --json > "$work/bcu8.json" &
 bcu=$!
 sleep 3
-$rb hil emergency-300-heavy-rain --cars 8 --bcu udp://127.0.0.1:47800 --out "$work/hil8" --json \
-    > "$work/hil8.json"
+$rb hil emergency-300-heavy-rain --cars 8 --bcu udp://127.0.0.1:47800 --out "$work/hil8" \
+    > "$work/hil8.txt"   # the console table of docs/hil.md; counters and timing also in hil8/run.json
 wait $bcu
 $rb compare "$work/mil8" "$work/hil8" --plot "$work/compare8" > "$work/compare8.txt"
 $rb compare "$work/mil8" "$work/hil8" --json > "$work/compare8.json"

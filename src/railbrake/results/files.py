@@ -112,13 +112,27 @@ def _read_parquet(path: Path):
     return outputs, units, run, kpis
 
 
+def _mdf_header(comment: str | None) -> dict:
+    """The JSON written into the MDF4 header comment. asammdf saves a plain comment as the XML
+    <HDcomment><TX>...</TX></HDcomment> (escaped) and reads that XML back: take the TX text."""
+    text = (comment or "").strip()
+    if text.startswith("<"):
+        import xml.etree.ElementTree as ET
+        try:
+            text = ET.fromstring(text).findtext("TX") or ""
+        except ET.ParseError:
+            return {}
+    try:
+        header = json.loads(text or "{}")
+    except json.JSONDecodeError:
+        return {}
+    return header if isinstance(header, dict) else {}
+
+
 def _read_mdf(path: Path):
     from asammdf import MDF
     with MDF(path) as mdf:
-        try:
-            header = json.loads(mdf.header.comment or "{}")
-        except json.JSONDecodeError:
-            header = {}
+        header = _mdf_header(mdf.header.comment)
         outputs, units = {}, {}
         for name in mdf.channels_db:
             if name in ("t", "time") or name.startswith("$"):

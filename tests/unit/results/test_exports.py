@@ -2,6 +2,7 @@
 last bit, with the same units; the metadata carry the provenance."""
 
 import json
+import shutil
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -45,4 +46,18 @@ def test_parquet_and_mdf4_metadata_carry_the_provenance_and_kpis(saved_run):
     assert prov["command_line"].startswith("railbrake run ") and "fault-vent-valve-stuck.yaml --cars 3" in prov["command_line"]
     mdf = files.load(out / "timeseries.mf4")
     assert mdf.meta["provenance"] == prov and mdf.kpis == kpis
+
+
+def test_the_mdf4_and_parquet_files_alone_carry_the_provenance_and_kpis(saved_run, tmp_path):
+    """Without run.json and kpis.json beside them (a file sent on its own): read from each file's
+    own metadata, the MDF4 header comment as asammdf stores it (XML around the JSON)."""
+    out, kpis = saved_run
+    run = json.loads((out / "run.json").read_text())["meta"]
+    for name in ("timeseries.mf4", "timeseries.parquet"):
+        alone = tmp_path / name
+        shutil.copy(out / name, alone)
+        record = files.load(alone)
+        assert record.kpis == kpis, name
+        assert record.meta["provenance"] == run["provenance"], name
+        assert record.meta["faults"] == run["faults"] and record.kind == "MIL", name
     assert run["faults"] == [{"type": "vent_stuck_open", "car": 3, "axle": 2, "start": 2.0}]
