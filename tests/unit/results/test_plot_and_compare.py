@@ -1,8 +1,9 @@
 """`railbrake plot` redraws a saved run's figures exactly (byte for byte: same data, same channels)
-from Parquet and from MDF4; `railbrake compare` of a run with itself reports zero differences, and
-against another run the KPI differences themselves."""
+from Parquet and from an MDF4 file alone; `railbrake compare` of a run with itself reports zero
+differences, and against another run the KPI differences themselves."""
 
 import json
+import shutil
 
 import pytest
 from typer.testing import CliRunner
@@ -21,14 +22,19 @@ def _invoke(*args):
 
 @pytest.mark.slow
 def test_plot_reproduces_the_runs_own_figures(saved_run, tmp_path):
-    """From the folder (its Parquet); the MDF4 and CSV hold the same samples (test_exports)."""
+    """From the folder (its Parquet) and from the MDF4 file alone (its own metadata, no run.json or
+    kpis.json beside it); the MDF4 and CSV hold the same samples (test_exports)."""
     out, _ = saved_run
     own = {p.name: p.read_bytes() for p in out.glob("*.png")}
     assert "wsp_cycle_c3a2.png" in own            # the faulty axle is always shown
-    printed = _invoke("plot", out, "--out", tmp_path)
-    redrawn = {p.name: p.read_bytes() for p in tmp_path.glob("*.png")}
-    assert redrawn == own
-    assert printed.count("plot: ") == len(own)
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    shutil.copy(out / "timeseries.mf4", alone)
+    for source, target in ((out, tmp_path / "folder"), (alone / "timeseries.mf4", tmp_path / "mf4")):
+        printed = _invoke("plot", source, "--out", target)
+        redrawn = {p.name: p.read_bytes() for p in target.glob("*.png")}
+        assert redrawn == own, source
+        assert printed.count("plot: ") == len(own)
 
 
 @pytest.mark.slow
