@@ -49,15 +49,16 @@ def test_faulty_axles_are_always_plotted():
 
 def _complete_cycles(record, axle, t0, t1) -> int:
     """Complete vent-hold-reapply cycles in [t0, t1], counted from the valve channels: a vent opening
-    in [t0, t1) whose cylinder pressure falls while the vent is open, followed before the next
-    opening (or t1) by a hold (hold valve closed, vent shut) and a reapply (both valves passing air
-    from the relay valve) that raises the pressure again."""
+    in [t0, t1) whose cylinder pressure falls while the vent is open, then a hold (hold valve closed,
+    vent shut) and a reapply (both valves passing air from the relay valve) that raises the pressure
+    again, ended by the next vent opening no later than t1 (a cycle cut off by the window's end is
+    not complete)."""
     t = record.time
     hold, vent = record.channel("hold", axle) > 0.5, record.channel("vent", axle) > 0.5
     cylinder = record.channel("cylinder", axle)
-    openings = [x for x in episodes.vent_openings(record, axle) if t0 <= x < t1]
+    openings = [x for x in episodes.vent_openings(record, axle) if t0 <= x <= t1 + 1e-9]
     cycles = 0
-    for a, b in zip(openings, openings[1:] + [t1]):
+    for a, b in zip(openings, openings[1:]):
         between = (t > a) & (t < b)
         venting = between & vent
         after = between & ~vent & (t > t[venting].max()) if venting.any() else between
@@ -69,22 +70,23 @@ def _complete_cycles(record, axle, t0, t1) -> int:
 
 
 def test_the_cycle_count_needs_vent_hold_and_reapply():
-    """The counter itself on a constructed axle: vents at 1, 3 and 5 s, each dropping the cylinder
-    from 2.5 to 1.5 bar and held for 1 s; the first two reapplied to 2.5 bar, the last held to the
-    end: two complete cycles."""
+    """The counter itself on a constructed axle: vents at 1, 3, 5 and 7 s, each dropping the cylinder
+    from 2.5 to 1.5 bar and held for 1 s, then reapplied to 2.5 bar, except the third one, held until
+    the fourth vent: cycles 1-3 and 3-5 complete, 5-7 not (no reapply), 7- cut off by the end."""
     r = _record({"c1a1": -0.02})
     t = r.time
     vent, hold = r.outputs["vent_c1a1"], r.outputs["hold_c1a1"]
     cylinder = np.full_like(t, 2.5e5)
-    for a in (1.0, 3.0, 5.0):
+    for a in (1.0, 3.0, 5.0, 7.0):
         vent[(t >= a) & (t < a + 0.1)] = 1.0
         hold[(t >= a) & (t < a + 1.0)] = 1.0
         cylinder[(t >= a) & (t < a + 1.0)] = 1.5e5
-    hold[t >= 5.0] = 1.0
-    cylinder[t >= 5.0] = 1.5e5
+    hold[(t >= 5.0) & (t < 7.0)] = 1.0
+    cylinder[(t >= 5.0) & (t < 7.0)] = 1.5e5
     r.outputs["cylinder_c1a1"] = cylinder
     assert _complete_cycles(r, "c1a1", 0.5, 9.9) == 2
     assert _complete_cycles(r, "c1a1", 2.0, 9.9) == 1
+    assert _complete_cycles(r, "c1a1", 0.5, 2.9) == 0     # the first cycle ends at 3 s, after the window
 
 
 @pytest.mark.slow
