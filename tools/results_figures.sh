@@ -34,13 +34,12 @@ if [ "$part" != hil ]; then
     $rb run --out "$work/demo" --json > "$work/demo.json"
     $rb run emergency-300-leaves-patch --out "$work/leaves" --json > "$work/leaves.json"
     $rb run fault-vent-valve-stuck --out "$work/fault" --json > "$work/fault.json"
-    rm -f "$img"/demo_wsp_cycle_*.png "$img"/leaves_wsp_cycle_*.png
     a=$(worst "$work/demo")
-    cp "$work/demo/wsp_cycle_$a.png" "$img/demo_wsp_cycle_$a.png"
+    cp "$work/demo/wsp_cycle_$a.png" "$img/demo_wsp_cycle.png"   # docs/simulation.md names the axle
     for f in slip cylinders reservoirs; do cp "$work/demo/$f.png" "$img/demo_$f.png"; done
     cp "$work/leaves/braking_curve.png" "$img/leaves_braking_curve.png"
     a=$(worst "$work/leaves")
-    cp "$work/leaves/wsp_cycle_$a.png" "$img/leaves_wsp_cycle_$a.png"
+    cp "$work/leaves/wsp_cycle_$a.png" "$img/leaves_wsp_cycle.png"
     # the faulty axle of the preset (car 3, axle 2) is always plotted, whichever axle is worst
     cp "$work/fault/wsp_cycle_c3a2.png" "$img/fault_wsp_cycle_c3a2.png"
     cp "$work/fault/cylinders.png" "$img/fault_cylinders.png"

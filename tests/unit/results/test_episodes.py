@@ -1,6 +1,8 @@
 """What the plots pick out of a run, on constructed samples with known answers, and the WSP cycle
 window of the default demo with at least three complete cycles."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -101,3 +103,5 @@ def test_the_default_demo_shows_three_complete_wsp_cycles_of_its_worst_axle():
     t0, t1 = episodes.wsp_window(record, axle)
     assert episodes.WINDOW_MIN <= t1 - t0 <= episodes.WINDOW_MAX
     assert _complete_cycles(record, axle, t0, t1) >= 3
+    docs = (Path(__file__).resolve().parents[3] / "docs" / "simulation.md").read_text(encoding="utf-8")
+    assert f"wsp_cycle_{axle}.png" in docs      # the worked example names this axle's figure
