@@ -70,10 +70,16 @@ static double car_mass(const rb_detailed_car *k)
     return m;
 }
 
-static double air_in_volumes(const rb_plant_params *p, const rb_detailed_state *s)
+static double air_in_line(const rb_plant_params *p, const rb_detailed_state *s)
 {
     double m = 0.0;
     for (int i = 0; i <= p->n_cars; ++i) m += s->line_y[2 * i];
+    return m;
+}
+
+static double air_in_volumes(const rb_plant_params *p, const rb_detailed_state *s)
+{
+    double m = air_in_line(p, s);
     for (int c = 0; c < p->n_cars; ++c) m += car_mass(&s->car[c]);
     return m;
 }
@@ -256,6 +262,7 @@ static void cycle_outputs(const rb_plant_params *p, const rb_detailed_params *d,
     s->out.air_in_system = air_in_volumes(p, s);
     s->out.air_vented = vented;
     s->out.air_compressed = s->m_compressed;
+    s->out.air_drawn = s->m_line_initial + s->m_compressed - air_in_line(p, s);
 }
 
 /* Outputs after sub-step i of the cycle: mechanics now, air from the buffer. */
@@ -269,6 +276,7 @@ static void substep_outputs(const rb_plant_params *p, rb_detailed_state *s, int 
     s->out.compressor_on = keep.compressor_on;
     s->out.air_in_system = keep.air_in_system;
     s->out.air_compressed = keep.air_compressed;
+    s->out.air_drawn = keep.air_drawn;
     s->out.air_vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {
         s->out.supply[c] = *buf(s, i, B_SUPPLY, c);
@@ -324,6 +332,7 @@ rb_status rb_detailed_init(const rb_plant_params *p, const rb_detailed_params *d
     s->compressor_on = p->initial_pressure < p->governor_on;
     for (int i = 0; i < RB_MAX_COMPRESSORS; ++i) s->compressor_running[i] = (uint8_t)s->compressor_on;
     s->m_initial = air_in_volumes(p, s);
+    s->m_line_initial = air_in_line(p, s);
     s->substep = s->n_sub;   /* a cycle starts first */
     s->cycle = -1;
     cycle_outputs(p, d, s, 0.0);

@@ -99,6 +99,7 @@ typedef struct {
     int compressor_on;
     uint8_t compressor_running[RB_MAX_COMPRESSORS];   /* governors of the plant's compressors */
     double m_compressed, m_charged_total, m_initial;
+    double m_line_initial;          /* air in the main reservoir and MR pipes at t = 0 (air drawn) */
     long cycle;                     /* BCU cycles done */
     long substep;                   /* mechanics sub-steps done in the cycle */
     int n_sub;

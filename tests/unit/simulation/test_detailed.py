@@ -128,3 +128,15 @@ def test_the_trains_compressors_feed_the_line_as_in_the_plant(compared):
 
     assert c.detailed.outputs["compressor_on"][np.searchsorted(c.detailed.time, 40.0)] == 1.0
     assert np.max(np.abs(drop(c.rt) - drop(c.detailed))) < 0.1 * BAR
+
+
+def test_air_drawn_from_the_line_is_booked_as_in_the_plant(compared):
+    # air drawn = MR and pipes at t = 0 + compressed - MR and pipes now (both models): it starts at
+    # 0, never falls below it, and the two models' figures differ by what they vent differently
+    # (the same cylinders fill; the detailed EP valve's nozzle also bleeds)
+    c = compared("emergency-250-dry", 1)
+    rt, det = c.rt.outputs, c.detailed.outputs
+    assert det["air_drawn"][0] == pytest.approx(0.0, abs=1e-12) and det["air_drawn"].min() >= -1e-12
+    assert det["air_drawn"][-1] > 0.0
+    vented_apart = abs(det["air_vented"][-1] - rt["air_vented"][-1])
+    assert abs(det["air_drawn"][-1] - rt["air_drawn"][-1]) <= vented_apart + 0.1 * rt["air_drawn"][-1]
