@@ -70,10 +70,16 @@ static double car_mass(const rb_detailed_car *k)
     return m;
 }
 
-static double air_in_volumes(const rb_plant_params *p, const rb_detailed_state *s)
+static double air_in_line(const rb_plant_params *p, const rb_detailed_state *s)
 {
     double m = 0.0;
     for (int i = 0; i <= p->n_cars; ++i) m += s->line_y[2 * i];
+    return m;
+}
+
+static double air_in_volumes(const rb_plant_params *p, const rb_detailed_state *s)
+{
+    double m = air_in_line(p, s);
     for (int c = 0; c < p->n_cars; ++c) m += car_mass(&s->car[c]);
     return m;
 }
@@ -86,19 +92,43 @@ static void add_air(double *m, double *T, double dm, double T_in)
     *m = m_new;
 }
 
+/* Line node (0: MR, 1 + c: car c's MR pipe) a compressor on car c delivers into, as the plant's
+   (plant_train.c): the main reservoir on compressor_car, else the car's pipe. */
+static int compressor_node(const rb_plant_params *p, int c) { return c == p->compressor_car ? 0 : 1 + c; }
+
+static double node_volume(const rb_plant_params *p, int node)
+{
+    return node == 0 ? p->main_reservoir_volume : p->car[node - 1].pipe_volume;
+}
+
+/* The plant's compressors over dt, delivering at the air temperature: n_compressors = 0, the single
+   one into the MR (compressor_flow); else each with its own governor reading the pressure of the
+   node it feeds (the main reservoir or its car's MR pipe). */
+static void compressors(const rb_plant_params *p, rb_detailed_state *s, double dt)
+{
+    double *y = s->line_y;
+    int single = p->n_compressors == 0, any = 0;
+    for (int i = 0; i < (single ? 1 : p->n_compressors); ++i) {
+        int node = single ? 0 : compressor_node(p, p->compressor_position[i]);
+        double fed = y[2 * node] * RB_AIR_R * y[2 * node + 1] / node_volume(p, node);
+        if (fed < p->governor_on) s->compressor_running[i] = 1;
+        if (fed > p->governor_off) s->compressor_running[i] = 0;
+        if (s->compressor_running[i]) {
+            double dm = (single ? p->compressor_flow : p->compressor_delivery[i]) * dt;
+            add_air(&y[2 * node], &y[2 * node + 1], dm, p->temperature);
+            s->m_compressed += dm;
+        }
+        any |= s->compressor_running[i];
+    }
+    s->compressor_on = any;
+}
+
 static rb_status advance_line(const rb_plant_params *p, const rb_detailed_params *d, rb_detailed_state *s,
                               double t0, double t1, rb_error *err)
 {
     int n = p->n_cars;
-    double *y = s->line_y, T = p->temperature;
-    double p_mr = y[0] * RB_AIR_R * y[1] / p->main_reservoir_volume;
-    if (p_mr < p->governor_on) s->compressor_on = 1;
-    if (p_mr > p->governor_off) s->compressor_on = 0;
-    if (s->compressor_on) {   /* delivery over the cycle, at the air temperature */
-        double dm = p->compressor_flow * (t1 - t0);
-        add_air(&y[0], &y[1], dm, T);
-        s->m_compressed += dm;
-    }
+    double *y = s->line_y;
+    compressors(p, s, t1 - t0);
     for (int c = 0; c < n; ++c) {   /* supply reservoirs held; the check valve decides at the cycle start */
         const rb_detailed_car *k = &s->car[c];
         rb_net_node *res = &s->line_node[n + 1 + c];
@@ -232,6 +262,7 @@ static void cycle_outputs(const rb_plant_params *p, const rb_detailed_params *d,
     s->out.air_in_system = air_in_volumes(p, s);
     s->out.air_vented = vented;
     s->out.air_compressed = s->m_compressed;
+    s->out.air_drawn = s->m_line_initial + s->m_compressed - air_in_line(p, s);
 }
 
 /* Outputs after sub-step i of the cycle: mechanics now, air from the buffer. */
@@ -245,6 +276,7 @@ static void substep_outputs(const rb_plant_params *p, rb_detailed_state *s, int 
     s->out.compressor_on = keep.compressor_on;
     s->out.air_in_system = keep.air_in_system;
     s->out.air_compressed = keep.air_compressed;
+    s->out.air_drawn = keep.air_drawn;
     s->out.air_vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {
         s->out.supply[c] = *buf(s, i, B_SUPPLY, c);
@@ -298,7 +330,9 @@ rb_status rb_detailed_init(const rb_plant_params *p, const rb_detailed_params *d
                                  s->iwork + RB_DET_MAX_STATES, RB_DET_LINE_NODES, s->line_y, NULL, err)))
         return st;
     s->compressor_on = p->initial_pressure < p->governor_on;
+    for (int i = 0; i < RB_MAX_COMPRESSORS; ++i) s->compressor_running[i] = (uint8_t)s->compressor_on;
     s->m_initial = air_in_volumes(p, s);
+    s->m_line_initial = air_in_line(p, s);
     s->substep = s->n_sub;   /* a cycle starts first */
     s->cycle = -1;
     cycle_outputs(p, d, s, 0.0);

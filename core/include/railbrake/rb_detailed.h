@@ -10,8 +10,9 @@
  *    after their response delay; cylinders of fixed volume. Every volume is an ideal gas with mass
  *    and energy balance and heat exchange with the wall. Volumes, port areas of the WSP valves
  *    and the delay are the plant's (rb_plant_car); the valve designs are rb_detailed_params.
- *  - Train line: main reservoir (compressor with the plant's governor) and the MR pipe segments,
- *    one more network, charging each car's supply reservoir through its check valve and choke.
+ *  - Train line: main reservoir and the MR pipe segments, one more network, charging each car's
+ *    supply reservoir through its check valve and choke; the plant's compressors (each into the
+ *    main reservoir or its car's MR pipe, with its own governor), delivering at the cycle start.
  *  - The BCU (the same rb_bcu_step) is a sampled controller: at each cycle it reads the outputs and
  *    sets the commands; the solver restarts at each cycle and at each WSP valve switching. The
  *    EP valve is driven by a current: the static inverse of its force balance (at the setup's
@@ -96,7 +97,9 @@ typedef struct {
     double line_y[RB_DET_LINE_STATES];
     double line_h;
     int compressor_on;
+    uint8_t compressor_running[RB_MAX_COMPRESSORS];   /* governors of the plant's compressors */
     double m_compressed, m_charged_total, m_initial;
+    double m_line_initial;          /* air in the main reservoir and MR pipes at t = 0 (air drawn) */
     long cycle;                     /* BCU cycles done */
     long substep;                   /* mechanics sub-steps done in the cycle */
     int n_sub;

@@ -26,6 +26,10 @@ def print_comparison(c) -> None:
             ("cylinder pressure RMS (worst axle)", f"{s['cylinder_rms_bar']:.3f} bar"),
             ("cylinder pressure max |diff|", f"{s['cylinder_max_bar']:.3f} bar"),
             ("cylinder 1 s mean RMS (worst axle)", f"{s['cylinder_mean_rms_bar']:.3f} bar"),
+            ("EP / relay output 1 s mean RMS (worst car)",
+             f"{s['pilot_mean_rms_bar']:.3f} / {s['relay_mean_rms_bar']:.3f} bar"),
+            ("stopping time difference", f"{s['stopping_time_difference_s']:+.2f} s"),
+            ("air vented RT / detailed", f"{s['air_vented_rt_kg']:.3g} / {s['air_vented_detailed_kg']:.3g} kg"),
             ("vent open, all axles RT / detailed", f"{s['vent_open_rt_s']:.1f} / {s['vent_open_detailed_s']:.1f} s"),
             ("detailed model wall time", f"{s['detailed_wall_s']:.1f} s")]
     for name, value in rows:

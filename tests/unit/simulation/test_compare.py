@@ -6,7 +6,8 @@ distances within 1 % and cylinder pressure RMS differences under 0.1 bar. Measur
 both hold on dry rail; in heavy rain the distances hold but the raw pressure RMS does not (0.31 and
 0.49 bar for 1 and 8 cars): the WSP cycles of the two models drift out of phase, as do those of the
 real-time plant at two steps (test below) and of the detailed model at two tolerances. The heavy-rain
-tests check what holds: distance, WSP activity, and the phase-insensitive 1 s mean pressure RMS.
+tests check distance, WSP activity and the valve chain, and keep the phase-insensitive 1 s mean
+pressure RMS (< 0.1 bar), which does not hold in heavy rain, as a strict xfail.
 """
 
 import numpy as np
@@ -41,21 +42,31 @@ def _check_rain(c):
     assert s["vent_open_detailed_s"] == pytest.approx(s["vent_open_rt_s"], rel=0.10)
     for axle in c.axles.values():
         assert axle["rt"]["vent_commands"] > 10 and axle["detailed"]["vent_commands"] > 10
-    # the brake effort each axle received, averaged over 1 s, agrees within 0.2 bar: the demand
-    # follows the brake profile over speed (the BCU's tables from the sizing), so where the two
-    # models, after 100 s of WSP cycling, pass a 10 km/h step of the profile a second apart they
-    # ask pressures up to 0.4 bar apart for a while (measured 0.15 bar on 1 car; 0.1 held with
-    # the former constant 1.2 m/s^2 demand)
-    assert s["cylinder_mean_rms_bar"] < 0.2
 
 
 def test_heavy_rain_one_car(compared):
-    _check_rain(compared(RAIN, 1))
+    c = compared(RAIN, 1)
+    _check_rain(c)
+    # the demand, EP and relay valves (before the WSP valves) agree on one car: the reduced valve
+    # chain tracks the speed-dependent demand (docs/detailed.md, 'Where the difference comes from')
+    assert c.summary["relay_mean_rms_bar"] < 0.05
 
 
 @pytest.mark.slow
 def test_heavy_rain_eight_cars(compared):
     _check_rain(compared(RAIN, 8))
+
+
+# Issue 11/12: the brake effort each axle received, averaged over 1 s, agrees within 0.1 bar. Does
+# not hold in heavy rain (docs/detailed.md): on 1 car the plant stops 0.7 % further, so it reaches
+# the WSP's low-speed release (about 5 km/h, cylinders to full pressure) 1.1 s later, and that one
+# 1.8 bar step of the 1 s means is most of the 0.117 bar; on 8 cars the detailed cylinders, with
+# their energy balance, vent more air than the isothermal plant's, the supply falls further and
+# the cars' EP and relay outputs part (0.107 bar). Kept failing as a finding.
+@pytest.mark.parametrize("cars", [1, pytest.param(8, marks=pytest.mark.slow)])
+@pytest.mark.xfail(strict=True, reason="heavy rain: 1 s-mean cylinder RMS 0.117 bar (1 car), 0.107 bar (8 cars)")
+def test_heavy_rain_mean_pressure_agrees(compared, cars):
+    assert compared(RAIN, cars).summary["cylinder_mean_rms_bar"] < 0.1
 
 
 def test_wsp_cycle_phase_dominates_the_raw_pressure_rms(compared):
