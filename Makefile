@@ -36,8 +36,12 @@ ctest-sanitize:
 	cmake --build $(BUILD)/core-sanitize -j$(JOBS)
 	ctest --test-dir $(BUILD)/core-sanitize --output-on-failure -j$(JOBS)
 
+# One pytest worker per core (pytest-xdist); a file's tests stay on one worker, so its module
+# fixtures (a detailed run, a compiled FMU) are made once.
+PYTEST_PARALLEL := -n $(JOBS) --dist loadfile
+
 pytest: install
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q $(PYTEST_PARALLEL)
 
 # The Python tests again, with the C core built under AddressSanitizer and UBSan.
 # Python itself is not instrumented, so leak detection is left to the C tests.
@@ -45,7 +49,7 @@ pytest-sanitize: install ctest-sanitize
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
 	RAILBRAKE_CORE_LIBRARY=$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
-	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
+	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow" -p no:cacheprovider
 
 # Every verification and validation case (docs/validation-cases.md): the HTML report into out/,
 # the Markdown summary into docs/validation.md. Failing validation cases are findings, so only a

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from railbrake.simulation import run
-from railbrake.simulation.compare import compare, pressure_difference, stable
+from railbrake.resolve import resolve
+from railbrake.simulation.compare import pressure_difference, stable, step_study
 
 DRY, RAIN = "emergency-250-dry", "emergency-300-heavy-rain"
 
@@ -79,14 +80,15 @@ def test_wsp_cycle_phase_dominates_the_raw_pressure_rms(compared):
     assert c.summary["cylinder_rms_bar"] < 2.0 * self_rms
 
 
-def test_step_size_study_converges_and_is_stable():
-    c = compare(DRY, 1)
-    assert [(r["dt_ms"], r["substeps"]) for r in c.steps] == [(0.25, 1), (0.5, 1), (1.0, 1), (2.0, 1), (5.0, 3),
-                                                              (5.0, 1)]
-    assert all(r["stable"] for r in c.steps)
-    rms = [r["cylinder_rms_bar"] for r in c.steps if r["substeps"] == 1]
+def test_step_size_study_converges_and_is_stable(compared):
+    c = compared(DRY, 1)                                     # the study against the same detailed run
+    steps = step_study(resolve(DRY, 1), c.detailed)
+    assert [(r["dt_ms"], r["substeps"]) for r in steps] == [(0.25, 1), (0.5, 1), (1.0, 1), (2.0, 1), (5.0, 3),
+                                                            (5.0, 1)]
+    assert all(r["stable"] for r in steps)
+    rms = [r["cylinder_rms_bar"] for r in steps if r["substeps"] == 1]
     assert rms == sorted(rms)                                # error grows with the bare step
-    assert c.steps[2]["stopping_distance_m"] == pytest.approx(c.summary["stopping_distance_rt_m"])
+    assert steps[2]["stopping_distance_m"] == pytest.approx(c.summary["stopping_distance_rt_m"])
 
 
 def test_stability_check_flags_non_finite_and_ripple(compared):

