@@ -18,25 +18,12 @@ from railbrake.units import cars_text
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 
-_UNITS = {"stopping_distance_m": "m", "stopping_time_s": "s", "mean_deceleration": "m/s^2",
-          "max_lock_duration_s": "s", "min_main_reservoir_bar": "bar", "min_supply_bar": "bar",
-          "min_supply_margin_bar": "bar", "air_drawn_kg": "kg", "air_vented_kg": "kg",
-          "cylinder_shortfall_s": "s", "brake_energy_mj": "MJ", "max_disc_temperature_c": "degC"}
-SHORTFALL_WARNING_S = 2.0   # s: a cylinder short of its demand for longer did not get the air [T]
 
 
 def warnings_for(result) -> list[str]:
-    """What a brake engineer must not miss in a run: cylinders short of demand, supply too low."""
-    k, found = result.kpis, []
-    if k["cylinder_shortfall_s"] > SHORTFALL_WARNING_S:
-        found.append(f"a brake cylinder stayed more than 0.2 bar below its demand for {k['cylinder_shortfall_s']:.1f} s "
-                     f"(WSP valves at rest): the air did not reach it in time")
-    if k["min_supply_margin_bar"] < 0.0:
-        found.append(f"a supply reservoir fell {-k['min_supply_margin_bar']:.2f} bar below its car's cylinder demand "
-                     f"(lowest supply {k['min_supply_bar']:.2f} bar gauge): the brake could not get its pressure")
-    if not k["stopped"]:
-        found.append("the train did not stop before max_time: stopping_distance_m is null")
-    return found
+    """What a brake engineer must not miss in a run (railbrake.results.kpis.warnings)."""
+    from railbrake.results import kpis as info
+    return info.warnings(result.kpis)
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
@@ -75,15 +62,17 @@ def print_kpis(result) -> None:
     table = Table(title=f"{result.scenario}: {cars_text(result.cars)}, WSP {'on' if result.wsp else 'off'}")
     table.add_column("KPI")
     table.add_column("value", justify="right")
-    for key, value in result.kpis.items():
-        text = f"{value:.4g}" if isinstance(value, float) else "-" if value is None else str(value)
-        table.add_row(key, f"{text} {_UNITS.get(key, '') if value is not None else ''}".strip())
+    from railbrake.results import kpis as info
+    for key, value in result.kpis.items():   # units and texts as in `hil` and report.html
+        unit = info.unit(key) if value is not None else ""
+        table.add_row(key, f"{info.text(value)} {unit if unit != '1' else ''}".strip())
     Console().print(table)
 
 
 def print_warnings(result) -> None:
+    console = Console(stderr=True)          # wraps at the terminal's width
     for warning in warnings_for(result):
-        typer.echo(f"warning: {warning}", err=True)
+        console.print(f"warning: {warning}", highlight=False, markup=False)
 
 
 def register(app: typer.Typer) -> None:

@@ -35,6 +35,7 @@ KPI_INFO = {
 }
 
 AIR_BALANCE_LIMIT = 1e-6   # a larger relative error means the air model lost mass (model check)
+SHORTFALL_WARNING_S = 2.0  # s: a cylinder short of its demand for longer did not get the air [T]
 
 
 def unit(key: str) -> str:
@@ -69,6 +70,13 @@ def warnings(kpis: dict) -> list[str]:
     if (kpis.get("safety_timer_trips") or 0) > 0:
         n = kpis["safety_timer_trips"]
         out.append(f"the WSP safety timer tripped {n} time{'s' if n != 1 else ''} (continuous venting cut off)")
+    if (kpis.get("cylinder_shortfall_s") or 0.0) > SHORTFALL_WARNING_S:
+        out.append(f"a brake cylinder stayed more than 0.2 bar below its demand for {kpis['cylinder_shortfall_s']:.1f} s "
+                   f"(WSP valves at rest): the air did not reach it in time")
+    margin = kpis.get("min_supply_margin_bar")
+    if margin is not None and margin < 0.0:
+        out.append(f"a supply reservoir fell {-margin:.2f} bar below its car's cylinder demand (lowest supply "
+                   f"{kpis['min_supply_bar']:.2f} bar g): the brake could not get its pressure")
     error = kpis.get("air_balance_error")
     if error is not None and error > AIR_BALANCE_LIMIT:
         out.append(f"air balance error {error:.2g} above {AIR_BALANCE_LIMIT:g}: the air model lost mass")

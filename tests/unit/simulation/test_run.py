@@ -287,5 +287,5 @@ def test_heavy_rain_demo_reports_its_supply_truthfully(heavy_rain):
     assert k["min_main_reservoir_bar"] == pytest.approx((main - ATM) / 1e5, abs=1e-3)
     assert k["min_supply_margin_bar"] <= k["min_supply_bar"] - 0.0   # margin = supply - demand
     from railbrake.cli.simulation import warnings_for
-    warned = warnings_for(heavy_rain)
+    warned = [w for w in warnings_for(heavy_rain) if "supply reservoir" in w or "brake cylinder" in w]
     assert (k["min_supply_margin_bar"] < 0.0 or k["cylinder_shortfall_s"] > 2.0) == bool(warned)
