@@ -145,7 +145,21 @@ def _describe(error: dict) -> str:
     value = error.get("input")
     if isinstance(value, (dict, list)):  # a whole block: the key says enough
         return f"{key}: {_message(error)}"
+    if error["type"] in ("float_type", "int_type") and isinstance(value, str) and _yaml_text_number(value):
+        number = float(value.replace("_", ""))
+        written = f"{number:.1e}" if "e" in value.lower() else f"{number:g}"
+        return (f"{key} = {value!r}: text, not a number (YAML 1.1 reads quoted values and exponents "
+                f"without a dot, such as 1e29, as strings): write {written}")
     return f"{key} = {value!r}: {_message(error)}"
+
+
+def _yaml_text_number(text: str) -> bool:
+    """A string that Python would read as a number ('1e29', '1_000'): YAML 1.1 keeps it text."""
+    try:
+        float(text.replace("_", ""))
+    except ValueError:
+        return False
+    return True
 
 
 def load_mapping(text: str, origin: str) -> dict:
@@ -200,3 +214,25 @@ def validate_data(data: dict, model: type[Model], locate) -> Model:
 
 def load_yaml(path: str | Path, model: type[Model]) -> Model:
     return parse_yaml(read_text(path), model, str(path))
+
+
+# ------------------------------------------------------------------ plausibility bounds
+
+def bound_in(name: str, per: float = 1.0, offset: float = 0.0) -> tuple[float, float, str]:
+    """(min, max, why) of the C bound `name` (core/src/bounds.c, SI) in a file's unit, where
+    SI = value * per + offset (e.g. per=1e3 for t -> kg, offset=273.15 for degC -> K)."""
+    from railbrake import _core
+    low, high, _, why = _core.BOUNDS[name]
+    return (low - offset) / per, (high - offset) / per, why
+
+
+def range_text(name: str, unit: str, per: float = 1.0, offset: float = 0.0) -> str:
+    """'must lie in [0, 540] km/h (up to 540 km/h)': the bound `name` in the user's unit."""
+    low, high, why = bound_in(name, per, offset)
+    return f"must lie in [{low:.6g}, {high:.6g}]{f' {unit}' if unit else ''} ({why})"
+
+
+def within(name: str, value_si: float) -> bool:
+    from railbrake import _core
+    low, high, _, _ = _core.BOUNDS[name]
+    return math.isfinite(value_si) and low <= value_si <= high

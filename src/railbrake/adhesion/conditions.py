@@ -222,7 +222,7 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
         text = (_preset_dir() / f"{name}.yaml").read_text()
         return _parse_condition_file(text, f"preset {name}")
     path = Path(name)
-    if path.suffix in (".yaml", ".yml") and path.is_file():
+    if path.suffix in (".yaml", ".yml"):   # read_text names a missing or unreadable file
         return _parse_condition_file(read_text(path), str(path))
     raise InputError(f"condition = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
