@@ -92,6 +92,8 @@ static const rb_bound bounds[] = {
     {"scenario.gradient", "1", -0.1, 0.1, "within +-100 permille (the steepest high-speed lines: 40 permille)"},
     {"scenario.fault_leak_area", "m2", 1e-8, 1e-3, "a leak of 0.01 mm2 up to a 36 mm port"},
     {"scenario.fault_noise", "m/s", 0.0, 10.0, "speed-sensor noise of up to 36 km/h rms"},
+    {"adhesion.creep", "1", -1.0, 1.0, "creep = slip velocity / speed: 1 is a locked wheel (a fraction, not percent)"},
+    {"adhesion.coefficient", "1", -1.0, 1.0, "F/Q of wheel on rail: dry rail reaches about 0.5"},
     {"valve.supply_gauge", "Pa", 1e5, 1e6, "1 to 10 bar gauge: the ideal-gas air of the model holds below 10 bar (docs/pneumatics.md)"},
 };
 

@@ -104,7 +104,7 @@ def _read_scenario(name) -> _Source:
         return _read(text, f"preset {name}", None)
     path = Path(name)
     if path.is_file():
-        return _read(path.read_text(), str(path), path.resolve().parent)
+        return _read(config.read_text(path), str(path), path.resolve().parent)
     raise InputError(f"scenario = {name!r}: not a preset ({', '.join(scenarios.preset_names())}) nor a file")
 
 
@@ -122,7 +122,7 @@ def _read_train(preset: str) -> _Source:
         return _read(text, f"train {preset}", None)
     path = Path(preset)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return _read(path.read_text(), str(path), path.resolve().parent)
+        return _read(config.read_text(path), str(path), path.resolve().parent)
     raise InputError(f"train = {preset!r}: not a preset ({', '.join(vehicle.preset_names())}) nor a YAML file")
 
 

@@ -253,8 +253,8 @@ class Scenario:
             shortest = stop.max_time * channels / (most - 3 * channels)
             raise InputError(f"{self.where('outputs', 'record_interval')} = {self._as_written('outputs', 'record_interval')}: "
                              f"{values:.3g} recorded values ({channels} channels of {n_cars} cars over stop.max_time = "
-                             f"{stop.max_time:g} s) exceed {most:.3g} ({why}); must be at least {shortest:.3g} s "
-                             f"for this max_time (allowed: {config.range_text('scenario.record_interval', 's')})")
+                             f"{stop.max_time:g} s) exceed {most:.3g} ({why}): with this max_time it must be at "
+                             f"least {shortest:.3g} s")
 
     def _as_written(self, *key) -> str:
         """The value of `key` as the file (or the override) gave it, e.g. '250 km/h'."""
