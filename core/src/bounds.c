@@ -72,6 +72,9 @@ static const rb_bound bounds[] = {
     {"train.ed_scale", "1", 0.0, 10.0, "a scale of the published ED curve of 0 to 10"},
     {"train.ed_fade_speed", "m/s", 0.0, 50.0 / 3.6, "the ED brake fades out below at most 50 km/h"},
     {"train.ed_force", "N", -1e3, 2e6, "an ED force of the whole train up to 2 MN (CRH380AL: about 0.5 MN)"},
+    {"train.ed_c0", "N", -1e7, 1e7, "a constant term of an ED branch within 10 MN"},
+    {"train.ed_c1", "N.s/m", -7e4, 7e4, "a linear term of an ED branch within 10 MN at 540 km/h"},
+    {"train.ed_c2", "W", -1e8, 1e8, "a power term of an ED branch within 100 MW (CRH380AL about 43 MW)"},
     {"train.table_speed", "m/s", 0.0, 150.0, "speeds of a table within the model's 0 to 540 km/h"},
     {"train.resistance_a", "N", 0.0, 5e4, "the constant running resistance of a train up to 50 kN"},
     {"train.resistance_b", "N.s/m", 0.0, 3600.0, "up to 1 kN per km/h"},
@@ -94,6 +97,9 @@ static const rb_bound bounds[] = {
     {"scenario.fault_noise", "m/s", 0.0, 10.0, "speed-sensor noise of up to 36 km/h rms"},
     {"adhesion.creep", "1", -1.0, 1.0, "creep = slip velocity / speed: 1 is a locked wheel (a fraction, not percent)"},
     {"adhesion.coefficient", "1", -1.0, 1.0, "F/Q of wheel on rail: dry rail reaches about 0.5"},
+    {"adhesion.recovery_axles", "1", 0.1, 100.0, "the rail recovers behind 0.1 to 100 axles (a train has at most 64)"},
+    {"profile.response_time", "s", 0.0, 30.0, "a brake delay or build-up of up to 30 s (EMUs: ta + tb/2 of 1 to 4 s, EN 14531-1)"},
+    {"profile.deceleration", "m/s2", 0.01, 5.0, "a demanded deceleration of 0.01 to 5 m/s2 (beyond, no wheel-rail adhesion)"},
     {"valve.supply_gauge", "Pa", 1e5, 1e6, "1 to 10 bar gauge: the ideal-gas air of the model holds below 10 bar (docs/pneumatics.md)"},
 };
 

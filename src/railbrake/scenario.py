@@ -305,13 +305,12 @@ class Scenario:
         for i, fault in enumerate(spec.faults):
             needed = self._FAULT_VALUE.get(fault.type)
             for key in ("noise", "leak_area"):
-                given = getattr(fault, key) is not None
-                if given and key != needed:
+                if getattr(fault, key) is not None and key != needed:
                     raise InputError(f"{self.where('faults', i, key)}: a {fault.type} fault does not use {key} "
                                      f"(only {'a sensor_noisy' if key == 'noise' else 'a cylinder_leak'} fault "
                                      "does): remove it")
-                if not given and key == needed:
-                    raise InputError(f"{self.where('faults', i, 'type')}: a {fault.type} fault needs {key}")
+            if needed and getattr(fault, needed) is None:
+                raise InputError(f"{self.where('faults', i, 'type')}: a {fault.type} fault needs {needed}")
             if fault.axle is not None and fault.type in self._CAR_FAULTS:
                 raise InputError(f"{self.where('faults', i, 'axle')} = {fault.axle}: a {fault.type} fault acts on "
                                  "the whole car (or train), not on one axle: remove axle")

@@ -61,9 +61,9 @@ class _Resistance(_Strict):
 
 
 class _Branch(_Strict):
-    c0: float  # kN
-    c1: float = 0.0  # kN s/m
-    c2: float = 0.0  # kN m/s
+    c0: float = _num("train.ed_c0", KN)               # kN
+    c1: float = _num("train.ed_c1", KN, default=0.0)  # kN s/m
+    c2: float = _num("train.ed_c2", KN, default=0.0)  # kN m/s
 
 
 def _out_of_bound(key: str, values, bound: str, per: float, unit: str) -> None:
@@ -510,11 +510,29 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
     model = validate_data(data, _TrainFile, config.locator(origin, lines, overrides))
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
-    _check_supply(model, config.locator(origin, lines, overrides))
+    locate = config.locator(origin, lines, overrides)
+    _check_supply(model, locate)
     try:
-        return _build(model, _load_case(loaded, model, origin))
+        train = _build(model, _load_case(loaded, model, origin))
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
+    _check_ed_force(train, locate)
+    return train
+
+
+def _check_ed_force(train: Train, locate) -> None:
+    """The ED curve (any branches and table) inside the bound train.ed_force from 1 km/h to the top speed."""
+    if train.spec.ed_brake is None:
+        return
+    speeds = np.linspace(1.0, train.max_speed / KMH, 100) * KMH
+    force = np.atleast_1d(train.ed_brake_force(speeds))
+    low, high, why = config.bound_in("train.ed_force", KN)
+    bad = np.flatnonzero(~((force >= low * KN) & (force <= high * KN)))
+    if bad.size:
+        i = bad[0]
+        raise InputError(f"{locate(('ed_brake',))}: ed_brake (branches_kN c0, c1, c2, table_kN, scale): the whole-train "
+                         f"ED force at {speeds[i] / KMH:.0f} km/h is {force[i] / KN:.4g} kN: must lie in [{low:g}, "
+                         f"{high:g}] kN ({why})")
 
 
 def _check_supply(model: _TrainFile, locate) -> None:
@@ -542,6 +560,9 @@ _UNIT_OF_SUFFIX = {"_t": "t", "_kgm2": "kg m^2", "_l": "l", "_mm2": "mm^2", "_m2
                    "_m": "m", "_bar": "bar", "_kN": "kN", "_s": "s", "_kg_s": "kg/s", "_kmh": "km/h",
                    "_kg": "kg", "_c": "degC", "_kN_per_mm": "kN/mm", "_kN_s_per_m": "kN s/m",
                    "_J_per_kgK": "J/(kg K)", "_kN_per_kmh": "kN/(km/h)", "_kN_per_kmh2": "kN/(km/h)^2"}
+
+
+_UNIT_OF_KEY = {"c0": "kN", "c1": "kN s/m", "c2": "kN m/s"}   # keys without a unit suffix (ed_brake.branches_kN)
 
 
 def _unwrap(annotation):
@@ -584,8 +605,8 @@ def _range_text(model, error) -> str | None:
             lo, low_open = m.gt, True
         hi = getattr(m, "le", hi)
     key = str(error["loc"][-1])
-    unit = next((u for suffix, u in sorted(_UNIT_OF_SUFFIX.items(), key=lambda x: -len(x[0]))
-                 if key.endswith(suffix)), "")
+    unit = _UNIT_OF_KEY.get(key) or next((u for suffix, u in sorted(_UNIT_OF_SUFFIX.items(), key=lambda x: -len(x[0]))
+                                          if key.endswith(suffix)), "")
     if lo is None or hi is None:
         return None
     why = f" ({info.description})" if info.description else ""

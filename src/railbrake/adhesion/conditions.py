@@ -18,7 +18,7 @@ from typing import Mapping, Union
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from railbrake import _core
+from railbrake import _core, config
 from railbrake.config import parse_yaml, read_text
 from railbrake.contact import (
     HertzContact,
@@ -28,7 +28,7 @@ from railbrake.contact import (
     polach_peak,
 )
 from railbrake.errors import InputError
-from railbrake.units import ms_to_kmh
+from railbrake.units import KMH, ms_to_kmh
 
 AXLES_PER_CAR = 4
 SCHEMA = "railbrake.adhesion/1"
@@ -125,7 +125,8 @@ class _ParamsModel(BaseModel):
 class _ConditioningModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
     leading_factor: float = Field(gt=0.0, le=1.0)
-    recovery_axles: float = Field(gt=0.0)
+    recovery_axles: float = Field(ge=config.bound_in("adhesion.recovery_axles")[0],
+                                  le=config.bound_in("adhesion.recovery_axles")[1])
 
 
 class _TargetModel(BaseModel):
@@ -170,9 +171,11 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     cond, valid = model.conditioning, model.validity
-    if valid is not None and not (len(valid.speed_kmh) == 2 and 0.0 <= valid.speed_kmh[0] < valid.speed_kmh[1]):
-        raise InputError(f"{origin}: validity.speed_kmh = {list(valid.speed_kmh)}: give [min, max] "
-                         "with 0 <= min < max (km/h)")
+    if valid is not None and not (len(valid.speed_kmh) == 2 and valid.speed_kmh[0] < valid.speed_kmh[1]
+                                  and all(config.within("train.table_speed", v * KMH) for v in valid.speed_kmh)):
+        line = _config_lines(text).get(("validity", "speed_kmh"))
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: validity.speed_kmh = {list(valid.speed_kmh)}: "
+                         f"give [min, max] with min < max, each {config.range_text('train.table_speed', 'km/h', KMH)}")
     validity = None if valid is None else Validity(valid.speed_kmh[0], valid.speed_kmh[1],
                                                    " ".join(valid.conditions.split()),
                                                    " ".join(valid.source.split()))
