@@ -79,7 +79,7 @@ class _Source:
 
 def _read(text: str, origin: str, folder: Path | None) -> _Source:
     data = config.load_mapping(text, origin)
-    return _Source(data, origin, config._line_index(yaml.compose(text)), folder)
+    return _Source(data, origin, config.line_index(text), folder)
 
 
 def _from_spec(scenario: scenarios.Scenario, cars: int | None, sets: SetsLike) -> Resolved:

@@ -13,7 +13,6 @@ from importlib import resources
 from pathlib import Path
 from typing import Annotated, Literal
 
-import yaml
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
 from railbrake import config
@@ -87,8 +86,26 @@ Acceleration = _quantity("acceleration")
 Pressure = _quantity("pressure")
 Area = _quantity("area")
 Gradient = _quantity("gradient")
-Position = _quantity("length", "scenario.track_position")   # along the track, the front at 0 m at t = 0
-EventTime = _quantity("time", "scenario.event_time")
+
+# bounded quantities of the schema: (dimension, C bound)
+Q_WSP_DECEL_THRESHOLD = _quantity("acceleration", "wsp.decel_threshold")
+Q_WSP_REACCEL_THRESHOLD = _quantity("acceleration", "wsp.reaccel_threshold")
+Q_WSP_REF_DECEL_MAX = _quantity("acceleration", "wsp.ref_decel_max")
+Q_SCENARIO_FAULT_LEAK_AREA = _quantity("area", "scenario.fault_leak_area")
+Q_SCENARIO_GRADIENT = _quantity("gradient", "scenario.gradient")
+Q_SCENARIO_TRACK_POSITION = _quantity("length", "scenario.track_position")
+Q_INITIAL_SPEED = _quantity("speed", "initial_speed")
+Q_SCENARIO_FAULT_NOISE = _quantity("speed", "scenario.fault_noise")
+Q_SCENARIO_STOP_SPEED = _quantity("speed", "scenario.stop_speed")
+Q_WSP_SPEED_THRESHOLD = _quantity("speed", "wsp.speed_threshold")
+Q_BCU_CYCLE = _quantity("time", "bcu.cycle")
+Q_SCENARIO_EVENT_TIME = _quantity("time", "scenario.event_time")
+Q_SCENARIO_MAX_TIME = _quantity("time", "scenario.max_time")
+Q_SCENARIO_RECORD_INTERVAL = _quantity("time", "scenario.record_interval")
+Q_WSP_SAFETY_TIME = _quantity("time", "wsp.safety_time")
+Q_WSP_SLIP_THRESHOLD = _bounded("wsp.slip_threshold")
+Position = Q_SCENARIO_TRACK_POSITION   # along the track, the front at 0 m at t = 0
+EventTime = Q_SCENARIO_EVENT_TIME
 
 
 class _Strict(BaseModel):
@@ -106,7 +123,7 @@ class GradientStep(_Strict):
     `gradient` (rise over run, "5 ‰" or "0.5 %"; uphill positive, within +-100 ‰); the first
     step also applies before its start."""
     start: Position
-    gradient: _quantity("gradient", "scenario.gradient")
+    gradient: Q_SCENARIO_GRADIENT
 
 
 class Track(_Strict):
@@ -147,13 +164,13 @@ class WspSettings(_Strict):
     enabled: bool = True
     per_bogie: bool = False   # valves per bogie (both axles share the commands) instead of per axle
     # overrides of the C defaults (rb_wsp_default_params), each inside its C bound (rb_wsp_check)
-    speed_threshold: _quantity("speed", "wsp.speed_threshold") | None = None
-    slip_threshold: _bounded("wsp.slip_threshold") | None = None
-    decel_threshold: _quantity("acceleration", "wsp.decel_threshold") | None = None
-    reaccel_threshold: _quantity("acceleration", "wsp.reaccel_threshold") | None = None
-    ref_decel_max: _quantity("acceleration", "wsp.ref_decel_max") | None = None
-    safety_time: _quantity("time", "wsp.safety_time") | None = None
-    cycle: _quantity("time", "bcu.cycle") = 0.01
+    speed_threshold: Q_WSP_SPEED_THRESHOLD | None = None
+    slip_threshold: Q_WSP_SLIP_THRESHOLD | None = None
+    decel_threshold: Q_WSP_DECEL_THRESHOLD | None = None
+    reaccel_threshold: Q_WSP_REACCEL_THRESHOLD | None = None
+    ref_decel_max: Q_WSP_REF_DECEL_MAX | None = None
+    safety_time: Q_WSP_SAFETY_TIME | None = None
+    cycle: Q_BCU_CYCLE = 0.01
 
 
 FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
@@ -166,17 +183,17 @@ class FaultSpec(_Strict):
     car: int = Field(ge=1, description="1-based")
     axle: int | None = Field(default=None, ge=1, le=4, description="1-based; omitted: every axle of the car")
     start: EventTime = 0.0
-    noise: _quantity("speed", "scenario.fault_noise") | None = None         # sensor_noisy only
-    leak_area: _quantity("area", "scenario.fault_leak_area") | None = None  # cylinder_leak only
+    noise: Q_SCENARIO_FAULT_NOISE | None = None         # sensor_noisy only
+    leak_area: Q_SCENARIO_FAULT_LEAK_AREA | None = None  # cylinder_leak only
 
 
 class Stop(_Strict):
-    speed: _quantity("speed", "scenario.stop_speed") = 0.05
-    max_time: _quantity("time", "scenario.max_time") = 300.0
+    speed: Q_SCENARIO_STOP_SPEED = 0.05
+    max_time: Q_SCENARIO_MAX_TIME = 300.0
 
 
 class Outputs(_Strict):
-    record_interval: _quantity("time", "scenario.record_interval") = 0.02
+    record_interval: Q_SCENARIO_RECORD_INTERVAL = 0.02
 
 
 class ScenarioFile(_Strict):
@@ -184,7 +201,7 @@ class ScenarioFile(_Strict):
     name: str
     title: str = ""
     train: Train = Field(default_factory=Train)
-    initial_speed: _quantity("speed", "initial_speed")
+    initial_speed: Q_INITIAL_SPEED
     demand: list[DemandStep] = Field(min_length=1, max_length=16)
     adhesion: Adhesion = Field(default_factory=Adhesion)
     track: Track = Field(default_factory=Track)
@@ -338,7 +355,7 @@ def preset_names() -> list[str]:
 
 def parse(text: str, origin: str) -> Scenario:
     data = config.load_mapping(text, origin)
-    lines = config._line_index(yaml.compose(text))
+    lines = config.line_index(text)
     return from_data(data, origin, lines)
 
 
@@ -363,7 +380,7 @@ def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = Non
     except InputError as exc:
         raise InputError(f"{scenario.where('train', 'preset')}: {exc}") from None
     scenario.check_speed(train)
-    scenario.check_cars(scenario.cars())
+    scenario.check_cars(spec.train.cars if spec.train.cars is not None else len(train.cars))
     return scenario
 
 

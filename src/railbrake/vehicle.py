@@ -21,7 +21,6 @@ from pathlib import Path
 from typing import ClassVar, Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from railbrake import _core, config
@@ -512,12 +511,34 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     locate = config.locator(origin, lines, overrides)
     _check_supply(model, locate)
+    _check_references(model, locate)
     try:
         train = _build(model, _load_case(loaded, model, origin))
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
     _check_ed_force(train, locate)
     return train
+
+
+def _check_references(model: _TrainFile, locate) -> None:
+    """The brake steps' profiles load and the valve designs name a design file: a name that names
+    nothing is refused here, with its key, not when a run first needs it."""
+    from railbrake.sizing import load_profile
+    for step in ("emergency", "service"):
+        name = getattr(model.brake_steps, step).profile
+        try:
+            load_profile(name)
+        except InputError as exc:
+            raise InputError(f"{locate(('brake_steps', step, 'profile'))}: brake_steps.{step}.profile = {name!r}: "
+                             f"{str(exc).removeprefix(f'profile = {name!r}: ')}") from None
+    designs = sorted(p.name[:-5] for p in (resources.files("railbrake") / "data" / "valves").iterdir()
+                     if p.name.endswith(".yaml"))
+    for type_name, t in model.car_types.items():
+        for valve in ("ep_valve", "relay_valve"):
+            design = getattr(t, valve).design
+            if design not in designs and not Path(design).is_file():
+                raise InputError(f"{locate(('car_types', type_name, valve, 'design'))}: car_types.{type_name}.{valve}"
+                                 f".design = {design!r}: not a valve design ({', '.join(designs)}) nor a file")
 
 
 def _check_ed_force(train: Train, locate) -> None:
@@ -553,7 +574,7 @@ def _check_supply(model: _TrainFile, locate) -> None:
 def read_train_data(text: str, origin: str) -> tuple[dict, dict]:
     """The data of a train file's text and its line index (key path -> line)."""
     data = config.load_mapping(text, origin)
-    return data, config._line_index(yaml.compose(text))
+    return data, config.line_index(text)
 
 
 _UNIT_OF_SUFFIX = {"_t": "t", "_kgm2": "kg m^2", "_l": "l", "_mm2": "mm^2", "_m2": "m^2", "_mm": "mm",

@@ -200,10 +200,7 @@ def _located(kind, block, section: str, text: str, origin: str):
 
 
 def _config_lines(text: str) -> dict:
-    import yaml
-
-    from railbrake.config import _line_index
-    return _line_index(yaml.compose(text, Loader=yaml.SafeLoader))
+    return config.line_index(text)
 
 
 ConditionLike = Union[str, Path, PolachParams, Mapping, AdhesionCondition]

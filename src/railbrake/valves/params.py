@@ -34,7 +34,7 @@ def load(default_name: str, override=None) -> dict:
         origin = str(override)
         text = config.read_text(override)
         override = config.load_mapping(text, origin) if text.strip() else {}
-        lines = config._line_index(yaml.compose(text)) if text.strip() else {}
+        lines = config.line_index(text) if text.strip() else {}
     merged = _merge(params, override, default_name)
     _check_pressures(merged, override, config.locator(origin, lines))
     return merged

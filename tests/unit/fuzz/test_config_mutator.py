@@ -58,9 +58,12 @@ FRACTIONS = {"service", "slip_threshold", "efficiency", "discharge_coefficient",
              "leading_factor", "sintered_low_speed", "release_fraction", "rel_tolerance", "peak",
              "peak_creep", "kA", "kS", "A", "mu0", "scale"}
 
+# Text keys that name a preset, a file or one of a set of choices.
+REFERENCES = {"preset", "condition", "profile", "design", "mounting", "kind", "formation", "load_case", "type"}
+
 # classes that must be refused, whatever the key
 MEANINGLESS = {"nan/inf", "not a number", "negative", "huge", "percent for a fraction", "inconsistent pair",
-               "file-level"}
+               "file-level", "dangling reference"}
 # classes an accepted variant may belong to, each reviewed (tests/unit/fuzz/accepted_variants.md)
 ACCEPTED = {
     "tiny": "x 1e-12 of a value whose range starts at 0 (a start time, a stop speed, a damping): "
@@ -72,8 +75,7 @@ ACCEPTED = {
                                "holds it (a 0.3 s ED response as 30 s is refused; 0.5 l as 50 l is a valid volume)",
     "negative of a signed key": "a zone or gradient start behind the train's front, a falling ED branch",
     "null for an optional key": "null where the key is optional: the documented default",
-    "text key": "a name, a preset, a design or an assumption replaced by other text (an assumption or a "
-                "condition text is free; a name must name what exists)",
+    "text key": "free text replaced by other text: an assumption, the conditions of a validity",
     "other Boolean": "true for false or false for true (ED blending, emergency)",
     "missing key": "an optional key left out (assumptions, validity, targets, title, faults): its default",
     "file-level, still valid": "a byte flip or truncation inside a comment or the source text",
@@ -163,12 +165,14 @@ def physical_variants(path, node):
         yield ("percent for a fraction" if key in FRACTIONS else "percent, not a fraction"), _written(x * 100, unit)
 
 
-def generic_class(value: str, original) -> str:
+def generic_class(value: str, original, key: str) -> str:
     """The class of a generic replacement of a leaf whose original scalar is `original`."""
     if original.tag.endswith(":bool"):
         return "other Boolean" if value in ("true", "false") else "not a number"
     numeric = _number_of(original)
-    if numeric is None:   # a text key: any text may name something that exists
+    if numeric is None and key in REFERENCES:   # names a preset, file or choice: other text names nothing
+        return "null for an optional key" if value == "null" else "dangling reference"
+    if numeric is None:   # free text (assumptions, the conditions of a validity)
         return "null for an optional key" if value == "null" else "text key"
     if value in (".nan", ".inf", "-.inf", "nan s", "inf m/s"):
         return "nan/inf"
@@ -252,7 +256,7 @@ def variants(kind: str, text: str, rng: random.Random):
     for path, leaf in scalars:
         dotted = ".".join(map(str, path))
         for value in NOT_A_NUMBER + ODD_NUMBERS + ODD_QUANTITIES:
-            yield generic_class(value, leaf), f"{dotted} = {value}", replace_value(text, leaf, value), key_name(path)
+            yield generic_class(value, leaf, key_name(path)), f"{dotted} = {value}", replace_value(text, leaf, value), key_name(path)
         for cls, value in physical_variants(path, leaf):
             yield cls, f"{dotted} = {value}", replace_value(text, leaf, value), key_name(path)
     lines = text.splitlines(keepends=True)
