@@ -261,6 +261,9 @@ class _CarType(_Strict):
         for i, x in enumerate(self.axle_positions_m):
             if not 0.0 <= x <= self.length_m:
                 raise ValueError(f"axle_positions_m[{i}] = {x}: must lie in [0, length_m = {self.length_m}] m")
+            if i and not x > self.axle_positions_m[i - 1]:   # axles count from the front (rail conditioning)
+                raise ValueError(f"axle_positions_m[{i}] = {x}: must exceed axle_positions_m[{i - 1}] = "
+                                 f"{self.axle_positions_m[i - 1]} m (axles from the front end)")
         return self
 
 

@@ -132,8 +132,10 @@ class _ConditioningModel(BaseModel):
 class _TargetModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
     speed_kmh: float = Field(ge=0.0, le=600.0)
-    peak: float = Field(gt=0.0, le=1.0)            # an adhesion coefficient F/Q
-    rel_tolerance: float = Field(gt=0.0, le=1.0)
+    peak: float = Field(ge=config.bound_in("adhesion.target_peak")[0],      # an adhesion coefficient F/Q
+                        le=config.bound_in("adhesion.target_peak")[1])
+    rel_tolerance: float = Field(ge=config.bound_in("adhesion.target_tolerance")[0],
+                                 le=config.bound_in("adhesion.target_tolerance")[1])
     source: str
     peak_creep: float | None = Field(default=None, gt=0.0, le=1.0)
     car: int | None = Field(default=None, ge=1, le=16)

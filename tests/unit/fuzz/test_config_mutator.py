@@ -49,8 +49,8 @@ ODD_NUMBERS = ["1e308", "-1e308", "-1", "0", "5e-324", "1e-9", "1e12", "17", "-0
 ODD_QUANTITIES = ["1e-9 s", "1e12 m/s", "-1 m/s", "0 s", "1e308 km/h", "nan s", "inf m/s", "250 kmh", "250"]
 
 # Keys whose value may be negative: positions along the track, gradients, the ED curve's
-# polynomial coefficients (a falling branch), and a signed creep-force coefficient.
-SIGNED = {"start", "end", "gradient", "c0", "c1", "c2", "value"}
+# polynomial coefficients (a falling branch), a signed creep-force coefficient, degC.
+SIGNED = {"start", "end", "gradient", "c0", "c1", "c2", "value", "air_temperature_c"}
 # Keys that are not physical quantities: no plausibility bound beyond their type.
 NOT_PHYSICAL = {"seed"}
 # Fractions (0..1): a value x 100 is a percent given where a fraction is asked.
@@ -377,6 +377,10 @@ def test_config_mutator(tmp_path):
     print(f"{len(chosen)} variants of {len(fixed) + len(pool)} ({len(fixed)} pairs): {len(accepted)} accepted, "
           f"{len(chosen) - len(accepted)} refused; accepted by class: {counts}")
     print("accepted (for review):", *[f"[{c}] {w}" for c, w in accepted[:80]], sep="\n  ")
+    listing = os.environ.get("RAILBRAKE_FUZZ_ACCEPTED_LIST")   # the whole list, for the review
+    if listing:
+        with open(listing, "w") as handle:
+            handle.writelines(f"[{c}] {w}\n" for c, w in sorted(accepted))
     assert len(chosen) >= min(VARIANTS, 1000)
     assert not out["tracebacks"], out["tracebacks"][:10]
     assert not out["hangs"], out["hangs"]
