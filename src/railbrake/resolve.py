@@ -282,4 +282,5 @@ def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) 
     train_data = {k: v for k, v in tree["train"].items() if k not in _TRAIN_KEYS}
     train_labels = {k[1:]: v for k, v in labels.items() if k[:1] == ("train",)}
     train = vehicle.parse_train_data(train_data, train_source.origin, train_source.lines, overrides=train_labels)
+    spec.check_speed(train)   # the train as overridden, not only its file
     return Resolved(spec, train, spec.cars(), tree)
