@@ -283,4 +283,5 @@ def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) 
     train_labels = {k[1:]: v for k, v in labels.items() if k[:1] == ("train",)}
     train = vehicle.parse_train_data(train_data, train_source.origin, train_source.lines, overrides=train_labels)
     spec.check_speed(train)   # the train as overridden, not only its file
+    spec.check_faults_on(train)
     return Resolved(spec, train, spec.cars(), tree)

@@ -253,6 +253,14 @@ class Scenario:
                              f"maximum speed of train {train.name}, {train.max_speed * 3.6:g} km/h "
                              f"(allowed: 0 to {train.max_speed * 3.6:g} km/h)")
 
+    def check_faults_on(self, train) -> None:
+        """An ED-brake fault on a car without an ED brake (a trailer) changes nothing: refused."""
+        for i, fault in enumerate(self.spec.faults):
+            car = train.cars[(fault.car - 1) % len(train.cars)]   # the formation repeats with --cars
+            if fault.type == "ed_lost" and not car.motor:
+                raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: an ed_lost fault on a trailer "
+                                 f"({car.type_name}) of train {train.name}, which has no ED brake: name a motor car")
+
     def check_cars(self, n_cars: int) -> None:
         """Faults must name cars of the train, and the recording must fit the bound on its size."""
         for i, fault in enumerate(self.spec.faults):
@@ -380,6 +388,7 @@ def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = Non
     except InputError as exc:
         raise InputError(f"{scenario.where('train', 'preset')}: {exc}") from None
     scenario.check_speed(train)
+    scenario.check_faults_on(train)
     scenario.check_cars(spec.train.cars if spec.train.cars is not None else len(train.cars))
     return scenario
 

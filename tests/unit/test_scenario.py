@@ -76,6 +76,8 @@ def test_cli_rejects_a_bad_file(tmp_path):
      r"demand\.1\.time = '400 s': at or after stop\.max_time = 300 s", 7),
     ("start: 2 s}", "start: 2 s, leak_area: 10 mm^2}",
      r"faults\.0\.leak_area: a vent_stuck_open fault does not use leak_area", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: ed_lost, car: 8}",
+     r"faults\.0\.car = 8: an ed_lost fault on a trailer \(trailer\) of train crh380a-8", 8),
     ("{type: vent_stuck_open, car: 3, axle: 2,", "{type: car_isolated, car: 3, axle: 2,",
      r"faults\.0\.axle = 2: a car_isolated fault acts on the whole car", 8),
     ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: cylinder_leak, car: 3, leak_area: 1e12 mm^2}",
