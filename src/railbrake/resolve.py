@@ -79,7 +79,7 @@ class _Source:
 
 def _read(text: str, origin: str, folder: Path | None) -> _Source:
     data = config.load_mapping(text, origin)
-    return _Source(data, origin, config._line_index(yaml.compose(text)), folder)
+    return _Source(data, origin, config.line_index(text), folder)
 
 
 def _from_spec(scenario: scenarios.Scenario, cars: int | None, sets: SetsLike) -> Resolved:
@@ -104,7 +104,7 @@ def _read_scenario(name) -> _Source:
         return _read(text, f"preset {name}", None)
     path = Path(name)
     if path.is_file():
-        return _read(path.read_text(), str(path), path.resolve().parent)
+        return _read(config.read_text(path), str(path), path.resolve().parent)
     raise InputError(f"scenario = {name!r}: not a preset ({', '.join(scenarios.preset_names())}) nor a file")
 
 
@@ -122,7 +122,7 @@ def _read_train(preset: str) -> _Source:
         return _read(text, f"train {preset}", None)
     path = Path(preset)
     if path.suffix in (".yaml", ".yml") and path.is_file():
-        return _read(path.read_text(), str(path), path.resolve().parent)
+        return _read(config.read_text(path), str(path), path.resolve().parent)
     raise InputError(f"train = {preset!r}: not a preset ({', '.join(vehicle.preset_names())}) nor a YAML file")
 
 
@@ -282,4 +282,6 @@ def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) 
     train_data = {k: v for k, v in tree["train"].items() if k not in _TRAIN_KEYS}
     train_labels = {k[1:]: v for k, v in labels.items() if k[:1] == ("train",)}
     train = vehicle.parse_train_data(train_data, train_source.origin, train_source.lines, overrides=train_labels)
+    spec.check_speed(train)   # the train as overridden, not only its file
+    spec.check_faults_on(train)
     return Resolved(spec, train, spec.cars(), tree)

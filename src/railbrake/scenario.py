@@ -13,8 +13,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Annotated, Literal
 
-import yaml
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
 from railbrake import config
 from railbrake.errors import InputError
@@ -34,7 +33,10 @@ _UNITS = {
 _QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$")
 
 
-def _quantity(dimension: str):
+def _quantity(dimension: str, bound: str | None = None):
+    """A quantity with a unit of `dimension`, in SI; with `bound` (a name of the C plausibility
+    table, core/src/bounds.c) it must lie inside it, and the error gives the range in the unit
+    the user wrote."""
     allowed = [u for u, (d, _) in _UNITS.items() if d == dimension]
 
     def parse(value):
@@ -42,15 +44,39 @@ def _quantity(dimension: str):
             raise ValueError(f"a unit is required ({dimension}: {', '.join(allowed)}), e.g. '{value} {allowed[0]}'")
         if not isinstance(value, str):
             raise ValueError(f"expected a quantity with a unit ({', '.join(allowed)})")
+        if _is_number(value):
+            raise ValueError(f"a unit is required ({dimension}: {', '.join(allowed)}), e.g. '{value.strip()} "
+                             f"{allowed[0]}'")
         match = _QUANTITY.match(value)
         if not match:
             raise ValueError(f"expected '<number> <unit>' with a unit among {', '.join(allowed)}")
         number, unit = float(match.group(1)), match.group(2)
         if unit not in allowed:
             raise ValueError(f"unit {unit!r} is not a {dimension} unit ({', '.join(allowed)})")
-        return number * _UNITS[unit][1]
+        factor = _UNITS[unit][1]
+        if bound is not None and not config.within(bound, number * factor):
+            raise ValueError(config.range_text(bound, unit, factor))
+        return number * factor
 
     return Annotated[float, BeforeValidator(parse)]
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _bounded(bound: str):
+    """A plain number (a fraction) inside the C plausibility bound `bound`."""
+    def check(value: float) -> float:
+        if not config.within(bound, value):
+            raise ValueError(config.range_text(bound, ""))
+        return value
+
+    return Annotated[float, AfterValidator(check)]
 
 
 Speed = _quantity("speed")
@@ -60,6 +86,26 @@ Acceleration = _quantity("acceleration")
 Pressure = _quantity("pressure")
 Area = _quantity("area")
 Gradient = _quantity("gradient")
+
+# bounded quantities of the schema: (dimension, C bound)
+Q_WSP_DECEL_THRESHOLD = _quantity("acceleration", "wsp.decel_threshold")
+Q_WSP_REACCEL_THRESHOLD = _quantity("acceleration", "wsp.reaccel_threshold")
+Q_WSP_REF_DECEL_MAX = _quantity("acceleration", "wsp.ref_decel_max")
+Q_SCENARIO_FAULT_LEAK_AREA = _quantity("area", "scenario.fault_leak_area")
+Q_SCENARIO_GRADIENT = _quantity("gradient", "scenario.gradient")
+Q_SCENARIO_TRACK_POSITION = _quantity("length", "scenario.track_position")
+Q_INITIAL_SPEED = _quantity("speed", "initial_speed")
+Q_SCENARIO_FAULT_NOISE = _quantity("speed", "scenario.fault_noise")
+Q_SCENARIO_STOP_SPEED = _quantity("speed", "scenario.stop_speed")
+Q_WSP_SPEED_THRESHOLD = _quantity("speed", "wsp.speed_threshold")
+Q_BCU_CYCLE = _quantity("time", "bcu.cycle")
+Q_SCENARIO_EVENT_TIME = _quantity("time", "scenario.event_time")
+Q_SCENARIO_MAX_TIME = _quantity("time", "scenario.max_time")
+Q_SCENARIO_RECORD_INTERVAL = _quantity("time", "scenario.record_interval")
+Q_WSP_SAFETY_TIME = _quantity("time", "wsp.safety_time")
+Q_WSP_SLIP_THRESHOLD = _bounded("wsp.slip_threshold")
+Position = Q_SCENARIO_TRACK_POSITION   # along the track, the front at 0 m at t = 0
+EventTime = Q_SCENARIO_EVENT_TIME
 
 
 class _Strict(BaseModel):
@@ -76,8 +122,8 @@ class GradientStep(_Strict):
     """From `start` (along the track, the train's front at 0 m at t = 0) on, the track rises by
     `gradient` (rise over run, "5 ‰" or "0.5 %"; uphill positive, within +-100 ‰); the first
     step also applies before its start."""
-    start: Length
-    gradient: Gradient = Field(ge=-0.1, le=0.1)
+    start: Position
+    gradient: Q_SCENARIO_GRADIENT
 
 
 class Track(_Strict):
@@ -92,14 +138,14 @@ class Track(_Strict):
 
 
 class DemandStep(_Strict):
-    time: Time = Field(ge=0.0)
+    time: EventTime
     emergency: bool = False
     service: float = Field(default=0.0, ge=0.0, le=1.0, description="fraction of full service")
 
 
 class Zone(_Strict):
-    start: Length
-    end: Length
+    start: Position
+    end: Position
     condition: str
 
     @model_validator(mode="after")
@@ -117,13 +163,14 @@ class Adhesion(_Strict):
 class WspSettings(_Strict):
     enabled: bool = True
     per_bogie: bool = False   # valves per bogie (both axles share the commands) instead of per axle
-    speed_threshold: Speed | None = None
-    slip_threshold: float | None = Field(default=None, ge=0.0, le=0.5)
-    decel_threshold: Acceleration | None = None
-    reaccel_threshold: Acceleration | None = None
-    ref_decel_max: Acceleration | None = None
-    safety_time: Time | None = None
-    cycle: Time = 0.01
+    # overrides of the C defaults (rb_wsp_default_params), each inside its C bound (rb_wsp_check)
+    speed_threshold: Q_WSP_SPEED_THRESHOLD | None = None
+    slip_threshold: Q_WSP_SLIP_THRESHOLD | None = None
+    decel_threshold: Q_WSP_DECEL_THRESHOLD | None = None
+    reaccel_threshold: Q_WSP_REACCEL_THRESHOLD | None = None
+    ref_decel_max: Q_WSP_REF_DECEL_MAX | None = None
+    safety_time: Q_WSP_SAFETY_TIME | None = None
+    cycle: Q_BCU_CYCLE = 0.01
 
 
 FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
@@ -135,18 +182,18 @@ class FaultSpec(_Strict):
     type: FaultType
     car: int = Field(ge=1, description="1-based")
     axle: int | None = Field(default=None, ge=1, le=4, description="1-based; omitted: every axle of the car")
-    start: Time = Field(default=0.0, ge=0.0)
-    noise: Speed | None = None
-    leak_area: Area | None = None
+    start: EventTime = 0.0
+    noise: Q_SCENARIO_FAULT_NOISE | None = None         # sensor_noisy only
+    leak_area: Q_SCENARIO_FAULT_LEAK_AREA | None = None  # cylinder_leak only
 
 
 class Stop(_Strict):
-    speed: Speed = 0.05
-    max_time: Time = 300.0
+    speed: Q_SCENARIO_STOP_SPEED = 0.05
+    max_time: Q_SCENARIO_MAX_TIME = 300.0
 
 
 class Outputs(_Strict):
-    record_interval: Time = 0.02
+    record_interval: Q_SCENARIO_RECORD_INTERVAL = 0.02
 
 
 class ScenarioFile(_Strict):
@@ -154,7 +201,7 @@ class ScenarioFile(_Strict):
     name: str
     title: str = ""
     train: Train = Field(default_factory=Train)
-    initial_speed: Speed
+    initial_speed: Q_INITIAL_SPEED
     demand: list[DemandStep] = Field(min_length=1, max_length=16)
     adhesion: Adhesion = Field(default_factory=Adhesion)
     track: Track = Field(default_factory=Track)
@@ -163,6 +210,7 @@ class ScenarioFile(_Strict):
     stop: Stop = Field(default_factory=Stop)
     outputs: Outputs = Field(default_factory=Outputs)
     seed: int = Field(default=1, ge=0)
+    coast: bool = False   # true: a run without braking is meant (coast-down against the running resistance)
     source: str = ""
 
 
@@ -205,11 +253,104 @@ class Scenario:
                              f"maximum speed of train {train.name}, {train.max_speed * 3.6:g} km/h "
                              f"(allowed: 0 to {train.max_speed * 3.6:g} km/h)")
 
+    def check_faults_on(self, train) -> None:
+        """An ED-brake fault on a car without an ED brake (a trailer) changes nothing: refused."""
+        for i, fault in enumerate(self.spec.faults):
+            car = train.cars[(fault.car - 1) % len(train.cars)]   # the formation repeats with --cars
+            if fault.type == "ed_lost" and not car.motor:
+                raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: an ed_lost fault on a trailer "
+                                 f"({car.type_name}) of train {train.name}, which has no ED brake: name a motor car")
+
     def check_cars(self, n_cars: int) -> None:
-        """Faults must name cars of the train."""
+        """Faults must name cars of the train, and the recording must fit the bound on its size."""
         for i, fault in enumerate(self.spec.faults):
             if fault.car > n_cars:
                 raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: the train has cars 1..{n_cars}")
+        self._check_recording(n_cars)
+
+    def _check_recording(self, n_cars: int) -> None:
+        from railbrake import _core
+        stop, interval = self.spec.stop, self.spec.outputs.record_interval
+        channels = _core.rb_run_channel_count(n_cars)
+        values = (stop.max_time / interval + 3) * channels
+        if not config.within("scenario.recorded_values", values):
+            _, most, why = config.bound_in("scenario.recorded_values")
+            shortest = stop.max_time * channels / (most - 3 * channels)
+            raise InputError(f"{self.where('outputs', 'record_interval')} = {self._as_written('outputs', 'record_interval')}: "
+                             f"{values:.3g} recorded values ({channels} channels of {n_cars} cars over stop.max_time = "
+                             f"{stop.max_time:g} s) exceed {most:.3g} ({why}): with this max_time it must be at "
+                             f"least {shortest:.3g} s")
+
+    def _as_written(self, *key) -> str:
+        """The value of `key` as the file (or the override) gave it, e.g. '250 km/h'."""
+        node = self.data
+        for part in key:
+            try:
+                node = node[part]
+            except (KeyError, IndexError, TypeError):
+                return "(default)"
+        return repr(node)
+
+    def check_consistency(self) -> None:
+        """Values that are each plausible but meaningless together (each error names both keys)."""
+        self._check_demand()
+        self._check_faults()
+        self._check_zones()
+        spec = self.spec
+        if not spec.stop.speed < spec.initial_speed:
+            raise InputError(f"{self.where('stop', 'speed')} = {self._as_written('stop', 'speed')}: must be below "
+                             f"initial_speed = {self._as_written('initial_speed')} ({spec.initial_speed * 3.6:g} "
+                             "km/h): the run would end before it starts")
+
+    def _check_demand(self) -> None:
+        spec = self.spec
+        for i, step in enumerate(spec.demand):
+            if step.emergency and step.service > 0.0:
+                raise InputError(f"{self.where('demand', i)}: demand[{i}] has emergency: true and service = "
+                                 f"{step.service:g}: give one of them (emergency is the full brake; service "
+                                 "a fraction of full service in [0, 1])")
+            if i and not step.time > spec.demand[i - 1].time:
+                raise InputError(f"{self.where('demand', i, 'time')} = {self._as_written('demand', i, 'time')}: "
+                                 f"demand times must increase (demand[{i - 1}].time = "
+                                 f"{self._as_written('demand', i - 1, 'time')})")
+            if step.time >= spec.stop.max_time:
+                raise InputError(f"{self.where('demand', i, 'time')} = {self._as_written('demand', i, 'time')}: "
+                                 f"at or after stop.max_time = {spec.stop.max_time:g} s, so never applied")
+        if not spec.coast and not any(step.emergency or step.service > 0.0 for step in spec.demand):
+            raise InputError(f"{self.where('demand')}: no demand step brakes (every step has emergency: false "
+                             "and service: 0): the run would measure no braking; give emergency: true or "
+                             "service in (0, 1], or coast: true if a run without braking is meant")
+
+    # the parameter each fault kind reads (rb_plant.h, rb_fault_kind); every other is refused
+    _FAULT_VALUE = {"sensor_noisy": "noise", "cylinder_leak": "leak_area"}
+    _CAR_FAULTS = ("ep_valve_failed", "ed_lost", "car_isolated", "compressor_off")   # no axle
+
+    def _check_faults(self) -> None:
+        spec = self.spec
+        for i, fault in enumerate(spec.faults):
+            needed = self._FAULT_VALUE.get(fault.type)
+            for key in ("noise", "leak_area"):
+                if getattr(fault, key) is not None and key != needed:
+                    raise InputError(f"{self.where('faults', i, key)}: a {fault.type} fault does not use {key} "
+                                     f"(only {'a sensor_noisy' if key == 'noise' else 'a cylinder_leak'} fault "
+                                     "does): remove it")
+            if needed and getattr(fault, needed) is None:
+                raise InputError(f"{self.where('faults', i, 'type')}: a {fault.type} fault needs {needed}")
+            if fault.axle is not None and fault.type in self._CAR_FAULTS:
+                raise InputError(f"{self.where('faults', i, 'axle')} = {fault.axle}: a {fault.type} fault acts on "
+                                 "the whole car (or train), not on one axle: remove axle")
+            if fault.start >= spec.stop.max_time:
+                raise InputError(f"{self.where('faults', i, 'start')} = {self._as_written('faults', i, 'start')}: "
+                                 f"at or after stop.max_time = {spec.stop.max_time:g} s, so never applied")
+
+    def _check_zones(self) -> None:
+        zones = sorted(enumerate(self.spec.adhesion.zones), key=lambda iz: iz[1].start)
+        for (i, a), (j, b) in zip(zones, zones[1:]):
+            if b.start < a.end:
+                raise InputError(f"{self.where('adhesion', 'zones', j)}: adhesion.zones[{j}] ({b.start:g} to "
+                                 f"{b.end:g} m, {b.condition}) overlaps adhesion.zones[{i}] ({a.start:g} to "
+                                 f"{a.end:g} m, {a.condition}; {self.where('adhesion', 'zones', i)}): zones "
+                                 "must not overlap (which one holds would be undefined)")
 
 
 def _preset_dir():
@@ -222,7 +363,7 @@ def preset_names() -> list[str]:
 
 def parse(text: str, origin: str) -> Scenario:
     data = config.load_mapping(text, origin)
-    lines = config._line_index(yaml.compose(text))
+    lines = config.line_index(text)
     return from_data(data, origin, lines)
 
 
@@ -234,18 +375,21 @@ def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = Non
         raise InputError(f"{scenario.where('schema')} = {spec.schema_!r}: expected {SCHEMA!r}")
     from railbrake.adhesion import load_condition
     from railbrake.vehicle import load_train
+    scenario.check_consistency()
     for key, name in [(("adhesion", "condition"), spec.adhesion.condition)] + [
             (("adhesion", "zones", i, "condition"), z.condition) for i, z in enumerate(spec.adhesion.zones)]:
         try:
             load_condition(name)
-        except InputError:
-            raise InputError(f"{scenario.where(*key)} = {name!r}: not an adhesion preset or file") from None
+        except InputError as exc:   # an error inside the adhesion file names that file and line
+            detail = str(exc).removeprefix(f"condition = {name!r}: ")
+            raise InputError(f"{scenario.where(*key)} = {name!r}: {detail}") from None
     try:
         train = load_train(spec.train.preset)
     except InputError as exc:
         raise InputError(f"{scenario.where('train', 'preset')}: {exc}") from None
     scenario.check_speed(train)
-    scenario.check_cars(scenario.cars())
+    scenario.check_faults_on(train)
+    scenario.check_cars(spec.train.cars if spec.train.cars is not None else len(train.cars))
     return scenario
 
 

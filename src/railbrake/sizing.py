@@ -22,7 +22,7 @@ from typing import Optional, Union
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from railbrake import _core
+from railbrake import _core, config
 from railbrake._args import real, reals, text
 from railbrake.config import parse_yaml, read_text
 from railbrake.errors import InputError
@@ -37,8 +37,10 @@ ADHESION_LIMIT = 0.15  # design limit on the adhesion an axle may demand [T]
 
 class _Response(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    delay_s: float = Field(ge=0.0)
-    build_up_s: float = Field(ge=0.0)
+    # in the C plausibility bound profile.response_time (core/src/bounds.c)
+    delay_s: float = Field(ge=config.bound_in("profile.response_time")[0], le=config.bound_in("profile.response_time")[1])
+    build_up_s: float = Field(ge=config.bound_in("profile.response_time")[0],
+                              le=config.bound_in("profile.response_time")[1])
 
 
 class _ProfileFile(BaseModel):
@@ -64,14 +66,14 @@ def _check_profile_points(speed_kmh, decel):
     if not 1 <= len(speed_kmh) <= _core.MAX_TABLE:
         raise ValueError(f"speed_kmh: {len(speed_kmh)} points: a profile has 1 to {_core.MAX_TABLE}")
     for i, v in enumerate(speed_kmh):
-        if not v >= 0.0:
-            raise ValueError(f"speed_kmh[{i}] = {v}: must be >= 0")
+        if not config.within("train.table_speed", v * KMH):
+            raise ValueError(f"speed_kmh[{i}] = {v}: {config.range_text('train.table_speed', 'km/h', KMH)}")
         if i and not v > speed_kmh[i - 1]:
             raise ValueError(f"speed_kmh[{i}] = {v}: the profile must be monotonic in speed "
                              f"(strictly above speed_kmh[{i - 1}] = {speed_kmh[i - 1]})")
     for i, a in enumerate(decel):
-        if not 0.0 < a <= 5.0:
-            raise ValueError(f"deceleration_ms2[{i}] = {a}: must lie in (0, 5] m/s^2")
+        if not config.within("profile.deceleration", a):
+            raise ValueError(f"deceleration_ms2[{i}] = {a}: {config.range_text('profile.deceleration', 'm/s^2')}")
 
 
 @dataclass(frozen=True)

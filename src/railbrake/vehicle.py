@@ -18,22 +18,23 @@ from dataclasses import dataclass, replace
 from importlib import resources
 import types
 from pathlib import Path
-from typing import Literal, Optional, Union, get_args, get_origin
+from typing import ClassVar, Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from railbrake import _core, config
 from railbrake._args import real, reals
 from railbrake.errors import InputError
-from railbrake.units import KMH, bar_to_pa, kn_to_n, tonne_to_kg
+from railbrake.units import KMH, TONNE, bar_to_pa, kn_to_n, tonne_to_kg
 
 SCHEMA = "railbrake.train/2"
 OLD_SCHEMAS = ("railbrake.train/1",)
 LOAD_CASES = ("tare", "normal", "crush")
 P_ATM = 101325.0  # Pa, standard atmosphere
 SINTERED_LOW_SPEED = 0.42  # lambda at standstill of the default sintered pad [T]
+ZERO_CELSIUS = 273.15  # K
+MM, L, MM2, KN, BAR = 1e-3, 1e-3, 1e-6, 1e3, 1e5   # file units -> SI
 
 
 # ------------------------------------------------------------------ file schema
@@ -44,26 +45,37 @@ class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", strict=True)
 
 
-def _num(lo: float, hi: float, *, open_low: bool = False, default=...):
-    """A float in [lo, hi] of the unit its key names ((lo, hi] with open_low)."""
-    bounds = {"gt": lo} if open_low else {"ge": lo}
-    return Field(default, le=hi, **bounds)
+def _num(bound: str, per: float = 1.0, offset: float = 0.0, *, default=...):
+    """A float in the C plausibility bound `bound` (core/src/bounds.c, SI: one table for the
+    plant, the FMU and the files), in the unit its key names: SI = value * per + offset."""
+    low, high, why = config.bound_in(bound, per, offset)
+    return Field(default, ge=low, le=high, description=why)
 
 
 class _Resistance(_Strict):
-    A_kN: float = _num(0.0, 50.0)
-    B_kN_per_kmh: float = _num(0.0, 1.0)
-    C_kN_per_kmh2: float = _num(0.0, 0.05)
+    A_kN: float = _num("train.resistance_a", KN)
+    B_kN_per_kmh: float = _num("train.resistance_b", KN / KMH)
+    C_kN_per_kmh2: float = _num("train.resistance_c", KN / KMH**2)
     source: str
 
 
 class _Branch(_Strict):
-    c0: float  # kN
-    c1: float = 0.0  # kN s/m
-    c2: float = 0.0  # kN m/s
+    c0: float = _num("train.ed_c0", KN)               # kN
+    c1: float = _num("train.ed_c1", KN, default=0.0)  # kN s/m
+    c2: float = _num("train.ed_c2", KN, default=0.0)  # kN m/s
+
+
+def _out_of_bound(key: str, values, bound: str, per: float, unit: str) -> None:
+    """ValueError naming the first of `values` outside the C bound `bound` (file unit: SI / per)."""
+    low, high, _ = config.bound_in(bound, per)
+    for i, x in enumerate(values):
+        if not low <= x <= high:
+            raise ValueError(f"{key}[{i}] = {x:g}: {config.range_text(bound, unit, per)}")
 
 
 class _Table(_Strict):
+    """A table over speed; its values in the bound VALUE_BOUND ((name, per, unit) of core/src/bounds.c)."""
+    VALUE_BOUND: ClassVar[tuple] = ()
     speed_kmh: list[float]
     value: list[float]
 
@@ -75,15 +87,30 @@ class _Table(_Strict):
         for i in range(1, len(self.speed_kmh)):
             if not self.speed_kmh[i] > self.speed_kmh[i - 1]:
                 raise ValueError(f"speed_kmh[{i}] = {self.speed_kmh[i]}: speeds must increase strictly")
+        _out_of_bound("speed_kmh", self.speed_kmh, "train.table_speed", KMH, "km/h")
+        if self.VALUE_BOUND:
+            _out_of_bound("value", self.value, *self.VALUE_BOUND)
         return self
+
+
+class _EdTable(_Table):
+    VALUE_BOUND: ClassVar[tuple] = ("train.ed_force", KN, "kN")
+
+
+class _PadTable(_Table):
+    VALUE_BOUND: ClassVar[tuple] = ("train.pad_friction", 1.0, "")
+
+
+class _CoolingTable(_Table):
+    VALUE_BOUND: ClassVar[tuple] = ("train.disc_cooling", 1.0, "W/K")
 
 
 class _EdBrake(_Strict):
     branches_kN: list[_Branch] = Field(default=[], max_length=_core.MAX_ED_TERMS)
-    table_kN: Optional[_Table] = None
-    scale: float = _num(0.0, 10.0, default=1.0)
-    fade_kmh: float = _num(0.0, 50.0, default=0.0)
-    response_s: float = _num(0.0, 5.0, open_low=True)
+    table_kN: Optional[_EdTable] = None
+    scale: float = _num("train.ed_scale", default=1.0)
+    fade_kmh: float = _num("train.ed_fade_speed", KMH, default=0.0)
+    response_s: float = _num("train.ed_response")
     source: str
 
 
@@ -100,21 +127,21 @@ class _BrakeSteps(_Strict):
 
 class _Compressor(_Strict):
     car: int = Field(ge=1, le=_core.MAX_CARS)      # 1-based position in the formation
-    delivery_kg_s: float = _num(0.0, 0.2, open_low=True)
+    delivery_kg_s: float = _num("train.compressor_delivery")
 
 
 class _MainReservoirPipe(_Strict):
-    diameter_mm: float = _num(10.0, 50.0)
-    coupling_area_mm2: float = _num(1.0, 2000.0)   # flow area of the hose couplings between cars
+    diameter_mm: float = _num("train.pipe_diameter", MM)
+    coupling_area_mm2: float = _num("train.air_flow_area", MM2)   # flow area of the hose couplings between cars
 
 
 class _AirSupply(_Strict):
     compressors: list[_Compressor] = Field(min_length=1, max_length=_core.MAX_COMPRESSORS)
-    governor_on_bar: float = _num(4.0, 12.0)       # gauge: a compressor starts below
-    governor_off_bar: float = _num(4.0, 12.0)      # gauge: and stops above
-    charged_bar: float = _num(4.0, 12.0)           # gauge: main reservoir and pipe at the start
-    main_reservoir_l: float = _num(10.0, 5000.0)   # lumped main reservoirs of the whole train
-    main_reservoir_outlet_mm2: float = _num(1.0, 2000.0)
+    governor_on_bar: float = _num("train.main_reservoir_gauge", BAR)       # gauge: a compressor starts below
+    governor_off_bar: float = _num("train.main_reservoir_gauge", BAR)      # gauge: and stops above
+    charged_bar: float = _num("train.main_reservoir_gauge", BAR)           # gauge: main reservoir and pipe at the start
+    main_reservoir_l: float = _num("main_reservoir_volume", L)   # lumped main reservoirs of the whole train
+    main_reservoir_outlet_mm2: float = _num("train.air_flow_area", MM2)
     pipe: _MainReservoirPipe
     source: str
 
@@ -123,47 +150,50 @@ class _AirSupply(_Strict):
         if not self.governor_off_bar > self.governor_on_bar:
             raise ValueError(f"governor_off_bar = {self.governor_off_bar} must exceed governor_on_bar = "
                              f"{self.governor_on_bar} (bar gauge)")
+        if not self.charged_bar <= self.governor_off_bar:
+            raise ValueError(f"charged_bar = {self.charged_bar} must not exceed governor_off_bar = "
+                             f"{self.governor_off_bar} (bar gauge): the compressors stop there")
         return self
 
 
 class _Pneumatics(_Strict):
-    air_temperature_c: float = _num(-40.0, 60.0)
-    discharge_coefficient: float = _num(0.3, 1.0)
-    critical_ratio: float = _num(0.1, 0.9)
+    air_temperature_c: float = _num("temperature", offset=ZERO_CELSIUS)
+    discharge_coefficient: float = _num("train.discharge_coefficient")
+    critical_ratio: float = _num("train.critical_ratio")
     source: str
 
 
 class _Coupler(_Strict):
-    slack_mm: float = _num(0.0, 100.0)
-    stiffness_kN_per_mm: float = _num(0.1, 1000.0)
-    damping_kN_s_per_m: float = _num(0.0, 10000.0)
+    slack_mm: float = _num("train.coupler_slack", MM)
+    stiffness_kN_per_mm: float = _num("coupler.stiffness", KN / MM)
+    damping_kN_s_per_m: float = _num("coupler.damping", KN)
     source: str
 
 
 class _Discs(_Strict):
     per_axle: int = Field(ge=1, le=8)
     mounting: Literal["axle", "wheel"]
-    mean_radius_m: float = _num(0.1, 0.5)
-    mass_kg: float = _num(10.0, 500.0)                   # one disc (the part that stores heat)
-    specific_heat_J_per_kgK: float = _num(300.0, 1000.0)
-    cooling_W_per_K: _Table                             # per disc, over speed
+    mean_radius_m: float = _num("train.disc_radius")
+    mass_kg: float = _num("train.disc_mass")                   # one disc (the part that stores heat)
+    specific_heat_J_per_kgK: float = _num("train.disc_specific_heat")
+    cooling_W_per_K: _CoolingTable                             # per disc, over speed
 
 
 class _Cylinder(_Strict):
-    area_m2: float = _num(0.002, 0.1)          # one cylinder per disc (caliper)
-    stroke_mm: float = _num(1.0, 100.0)
-    dead_volume_l: float = _num(0.0, 20.0)
-    return_spring_kN: float = _num(0.0, 20.0)
+    area_m2: float = _num("car.cylinder_area")          # one cylinder per disc (caliper)
+    stroke_mm: float = _num("train.cylinder_stroke", MM)
+    dead_volume_l: float = _num("train.cylinder_dead_volume", L)
+    return_spring_kN: float = _num("train.return_spring", KN)
 
 
 class _Caliper(_Strict):
-    lever_ratio: float = _num(0.5, 10.0)
-    efficiency: float = _num(0.5, 1.0)
+    lever_ratio: float = _num("train.lever_ratio")
+    efficiency: float = _num("train.caliper_efficiency")
 
 
 class _PadFriction(_Strict):
-    sintered_low_speed: Optional[float] = _num(0.35, 0.6, default=None)
-    table: Optional[_Table] = None
+    sintered_low_speed: Optional[float] = _num("train.pad_sintered_low_speed", default=None)
+    table: Optional[_PadTable] = None
 
     @model_validator(mode="after")
     def _one_form(self):
@@ -173,47 +203,47 @@ class _PadFriction(_Strict):
 
 
 class _SupplyReservoir(_Strict):
-    volume_l: float = _num(5.0, 1000.0)
-    charge_area_mm2: float = _num(0.1, 200.0)   # check valve and choke from the MR pipe
+    volume_l: float = _num("car.supply_volume", L)
+    charge_area_mm2: float = _num("train.charge_area", MM2)   # check valve and choke from the MR pipe
 
 
 class _EpValve(_Strict):
     design: str                                  # valve design file (railbrake valve)
-    pilot_volume_l: float = _num(0.01, 10.0)
-    port_area_mm2: float = _num(0.1, 100.0)
-    response_s: float = _num(0.001, 2.0)
-    band_bar: float = _num(0.001, 2.0)
+    pilot_volume_l: float = _num("car.pilot_volume", L)
+    port_area_mm2: float = _num("train.valve_port_area", MM2)
+    response_s: float = _num("car.ep_tau")
+    band_bar: float = _num("train.valve_band", BAR)
 
 
 class _RelayValve(_Strict):
     design: str
-    output_volume_l: float = _num(0.01, 20.0)
-    supply_area_mm2: float = _num(0.1, 500.0)
-    exhaust_area_mm2: float = _num(0.1, 500.0)
-    band_bar: float = _num(0.001, 2.0)
+    output_volume_l: float = _num("car.relay_volume", L)
+    supply_area_mm2: float = _num("train.valve_port_area", MM2)
+    exhaust_area_mm2: float = _num("train.valve_port_area", MM2)
+    band_bar: float = _num("train.valve_band", BAR)
 
 
 class _WspValves(_Strict):
-    hold_area_mm2: float = _num(0.1, 500.0)
-    vent_area_mm2: float = _num(0.1, 500.0)
-    response_s: float = _num(0.0, 0.2)
+    hold_area_mm2: float = _num("car.hold_area", MM2)
+    vent_area_mm2: float = _num("car.vent_area", MM2)
+    response_s: float = _num("car.valve_delay")
 
 
 class _Payload(_Strict):
     """Payload per car (t) of the load cases; "tare" carries none."""
-    normal: float = _num(0.0, 40.0)
-    crush: float = _num(0.0, 60.0)
+    normal: float = _num("train.car_payload", TONNE)
+    crush: float = _num("train.car_payload", TONNE)
 
 
 class _CarType(_Strict):
     kind: Literal["motor", "trailer"]
-    tare_t: float = _num(5.0, 100.0)
+    tare_t: float = _num("train.car_tare", TONNE)
     payload_t: _Payload
     axles: int = Field(ge=1, le=8)
-    length_m: float = _num(5.0, 40.0)
+    length_m: float = _num("train.car_length")
     axle_positions_m: list[float] = Field(min_length=1, max_length=8)
-    wheel_radius_m: float = _num(0.3, 0.65)
-    wheelset_inertia_kgm2: float = _num(10.0, 1000.0)
+    wheel_radius_m: float = _num("train.wheel_radius")
+    wheelset_inertia_kgm2: float = _num("train.wheelset_inertia")
     discs: _Discs
     cylinder: _Cylinder
     caliper: _Caliper
@@ -231,6 +261,9 @@ class _CarType(_Strict):
         for i, x in enumerate(self.axle_positions_m):
             if not 0.0 <= x <= self.length_m:
                 raise ValueError(f"axle_positions_m[{i}] = {x}: must lie in [0, length_m = {self.length_m}] m")
+            if i and not x > self.axle_positions_m[i - 1]:   # axles count from the front (rail conditioning)
+                raise ValueError(f"axle_positions_m[{i}] = {x}: must exceed axle_positions_m[{i - 1}] = "
+                                 f"{self.axle_positions_m[i - 1]} m (axles from the front end)")
         return self
 
 
@@ -240,9 +273,9 @@ class _TrainFile(_Strict):
     title: str
     source: str
     assumptions: list[str] = []
-    max_speed_kmh: float = _num(50.0, 500.0)
-    supply_pressure_bar: float = _num(1.0, 10.0)          # gauge, highest cylinder pressure
-    atmospheric_pressure_bar: float = _num(0.5, 1.2)      # absolute
+    max_speed_kmh: float = _num("train.max_speed", KMH)
+    supply_pressure_bar: float = Field(gt=0.0)              # gauge, highest cylinder pressure (bound: _supply)
+    atmospheric_pressure_bar: float = _num("train.atmosphere", BAR)  # absolute
     running_resistance: _Resistance
     ed_brake: Optional[_EdBrake] = None
     brake_steps: _BrakeSteps
@@ -479,22 +512,81 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
     model = validate_data(data, _TrainFile, config.locator(origin, lines, overrides))
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
+    locate = config.locator(origin, lines, overrides)
+    _check_supply(model, locate)
+    _check_references(model, locate)
     try:
-        return _build(model, _load_case(loaded, model, origin))
+        train = _build(model, _load_case(loaded, model, origin))
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
+    _check_ed_force(train, locate)
+    return train
+
+
+def _check_references(model: _TrainFile, locate) -> None:
+    """The brake steps' profiles load and the valve designs name a design file: a name that names
+    nothing is refused here, with its key, not when a run first needs it."""
+    from railbrake.sizing import load_profile
+    for step in ("emergency", "service"):
+        name = getattr(model.brake_steps, step).profile
+        try:
+            load_profile(name)
+        except InputError as exc:
+            raise InputError(f"{locate(('brake_steps', step, 'profile'))}: brake_steps.{step}.profile = {name!r}: "
+                             f"{str(exc).removeprefix(f'profile = {name!r}: ')}") from None
+    designs = sorted(p.name[:-5] for p in (resources.files("railbrake") / "data" / "valves").iterdir()
+                     if p.name.endswith(".yaml"))
+    for type_name, t in model.car_types.items():
+        for valve in ("ep_valve", "relay_valve"):
+            design = getattr(t, valve).design
+            if design not in designs and not Path(design).is_file():
+                raise InputError(f"{locate(('car_types', type_name, valve, 'design'))}: car_types.{type_name}.{valve}"
+                                 f".design = {design!r}: not a valve design ({', '.join(designs)}) nor a file")
+
+
+def _check_ed_force(train: Train, locate) -> None:
+    """The ED curve (any branches and table) inside the bound train.ed_force from 1 km/h to the top speed."""
+    if train.spec.ed_brake is None:
+        return
+    speeds = np.linspace(1.0, train.max_speed / KMH, 100) * KMH
+    force = np.atleast_1d(train.ed_brake_force(speeds))
+    low, high, why = config.bound_in("train.ed_force", KN)
+    bad = np.flatnonzero(~((force >= low * KN) & (force <= high * KN)))
+    if bad.size:
+        i = bad[0]
+        raise InputError(f"{locate(('ed_brake',))}: ed_brake (branches_kN c0, c1, c2, table_kN, scale): the whole-train "
+                         f"ED force at {speeds[i] / KMH:.0f} km/h is {force[i] / KN:.4g} kN: must lie in [{low:g}, "
+                         f"{high:g}] kN ({why})")
+
+
+def _check_supply(model: _TrainFile, locate) -> None:
+    """The brake supply: absolute inside the plant's bound, and below the main reservoir that charges it."""
+    gauge, atm = model.supply_pressure_bar, model.atmospheric_pressure_bar
+    where = f"{locate(('supply_pressure_bar',))}: supply_pressure_bar = {gauge:g}"
+    if not config.within("car.supply_pressure", bar_to_pa(atm + gauge)):
+        low, high, why = config.bound_in("car.supply_pressure", BAR, bar_to_pa(atm))
+        raise InputError(f"{where}: must lie in [{low:.3g}, {high:.3g}] bar gauge at atmospheric_pressure_bar = "
+                         f"{atm:g} ({why})")
+    governor_on = model.air_supply.governor_on_bar
+    if not gauge < governor_on:
+        raise InputError(f"{where}: must stay below air_supply.governor_on_bar = {governor_on:g} (bar gauge; "
+                         f"{locate(('air_supply', 'governor_on_bar'))}): the main reservoir pipe charges the "
+                         "brake supply")
 
 
 def read_train_data(text: str, origin: str) -> tuple[dict, dict]:
     """The data of a train file's text and its line index (key path -> line)."""
     data = config.load_mapping(text, origin)
-    return data, config._line_index(yaml.compose(text))
+    return data, config.line_index(text)
 
 
 _UNIT_OF_SUFFIX = {"_t": "t", "_kgm2": "kg m^2", "_l": "l", "_mm2": "mm^2", "_m2": "m^2", "_mm": "mm",
                    "_m": "m", "_bar": "bar", "_kN": "kN", "_s": "s", "_kg_s": "kg/s", "_kmh": "km/h",
                    "_kg": "kg", "_c": "degC", "_kN_per_mm": "kN/mm", "_kN_s_per_m": "kN s/m",
                    "_J_per_kgK": "J/(kg K)", "_kN_per_kmh": "kN/(km/h)", "_kN_per_kmh2": "kN/(km/h)^2"}
+
+
+_UNIT_OF_KEY = {"c0": "kN", "c1": "kN s/m", "c2": "kN m/s"}   # keys without a unit suffix (ed_brake.branches_kN)
 
 
 def _unwrap(annotation):
@@ -537,11 +629,12 @@ def _range_text(model, error) -> str | None:
             lo, low_open = m.gt, True
         hi = getattr(m, "le", hi)
     key = str(error["loc"][-1])
-    unit = next((u for suffix, u in sorted(_UNIT_OF_SUFFIX.items(), key=lambda x: -len(x[0]))
-                 if key.endswith(suffix)), "")
+    unit = _UNIT_OF_KEY.get(key) or next((u for suffix, u in sorted(_UNIT_OF_SUFFIX.items(), key=lambda x: -len(x[0]))
+                                          if key.endswith(suffix)), "")
     if lo is None or hi is None:
         return None
-    return f"must lie in {'(' if low_open else '['}{lo:g}, {hi:g}] {unit}".rstrip()
+    why = f" ({info.description})" if info.description else ""
+    return f"must lie in {'(' if low_open else '['}{lo:.6g}, {hi:.6g}] {unit}".rstrip() + why
 
 
 def validate_data(data: dict, model, locate):

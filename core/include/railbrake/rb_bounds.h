@@ -1,6 +1,9 @@
 /* Plausibility bounds of the tunable physical parameters: one table, read by the C checks
  * (rb_plant_bounds_check, rb_wsp_check), the FMU's variable ranges (railbrake.fmu, via _core.py)
- * and the scenario/train checks in Python (railbrake._core.bound). SI units throughout.
+ * and the file schemas in Python (railbrake.config.bound_in: scenario, train, adhesion, profile and
+ * valve files name an entry next to the unit of each key, and give its range in the user's unit).
+ * SI units throughout; entries "train.*", "scenario.*", "profile.*", "adhesion.*", "valve.*" are
+ * only read by the schemas (the plant gets those quantities through others).
  *
  * Two kinds of limit: what is physically meaningful for a high-speed train (a car of 5 to 200 t),
  * and what the fixed-step numerics of the plant can bear (dt = 1 ms, explicit mechanics): a coupler

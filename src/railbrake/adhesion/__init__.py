@@ -17,11 +17,11 @@ from railbrake.adhesion.conditions import (
     preset_names,
     warn_outside_range,
 )
-from railbrake.adhesion.fit import PolachFit, identify_polach
+from railbrake.adhesion.fit import PolachFit, check_points, identify_polach
 
 __all__ = [
     "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",
     "Peak", "PolachFit", "RailConditioning",
-    "car_axles", "car_of_axle", "conditions", "creep_curves", "identify_polach", "load_condition",
+    "car_axles", "car_of_axle", "check_points", "conditions", "creep_curves", "identify_polach", "load_condition",
     "peak_adhesion", "preset_names", "warn_outside_range",
 ]

@@ -18,7 +18,7 @@ from typing import Mapping, Union
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from railbrake import _core
+from railbrake import _core, config
 from railbrake.config import parse_yaml, read_text
 from railbrake.contact import (
     HertzContact,
@@ -28,7 +28,7 @@ from railbrake.contact import (
     polach_peak,
 )
 from railbrake.errors import InputError
-from railbrake.units import ms_to_kmh
+from railbrake.units import KMH, ms_to_kmh
 
 AXLES_PER_CAR = 4
 SCHEMA = "railbrake.adhesion/1"
@@ -125,14 +125,17 @@ class _ParamsModel(BaseModel):
 class _ConditioningModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
     leading_factor: float = Field(gt=0.0, le=1.0)
-    recovery_axles: float = Field(gt=0.0)
+    recovery_axles: float = Field(ge=config.bound_in("adhesion.recovery_axles")[0],
+                                  le=config.bound_in("adhesion.recovery_axles")[1])
 
 
 class _TargetModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
     speed_kmh: float = Field(ge=0.0, le=600.0)
-    peak: float = Field(gt=0.0, le=1.0)            # an adhesion coefficient F/Q
-    rel_tolerance: float = Field(gt=0.0, le=1.0)
+    peak: float = Field(ge=config.bound_in("adhesion.target_peak")[0],      # an adhesion coefficient F/Q
+                        le=config.bound_in("adhesion.target_peak")[1])
+    rel_tolerance: float = Field(ge=config.bound_in("adhesion.target_tolerance")[0],
+                                 le=config.bound_in("adhesion.target_tolerance")[1])
     source: str
     peak_creep: float | None = Field(default=None, gt=0.0, le=1.0)
     car: int | None = Field(default=None, ge=1, le=16)
@@ -170,9 +173,11 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
     if model.schema_ != SCHEMA:
         raise InputError(f"{origin}: schema = {model.schema_!r}: expected {SCHEMA!r}")
     cond, valid = model.conditioning, model.validity
-    if valid is not None and not (len(valid.speed_kmh) == 2 and 0.0 <= valid.speed_kmh[0] < valid.speed_kmh[1]):
-        raise InputError(f"{origin}: validity.speed_kmh = {list(valid.speed_kmh)}: give [min, max] "
-                         "with 0 <= min < max (km/h)")
+    if valid is not None and not (len(valid.speed_kmh) == 2 and valid.speed_kmh[0] < valid.speed_kmh[1]
+                                  and all(config.within("train.table_speed", v * KMH) for v in valid.speed_kmh)):
+        line = _config_lines(text).get(("validity", "speed_kmh"))
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: validity.speed_kmh = {list(valid.speed_kmh)}: "
+                         f"give [min, max] with min < max, each {config.range_text('train.table_speed', 'km/h', KMH)}")
     validity = None if valid is None else Validity(valid.speed_kmh[0], valid.speed_kmh[1],
                                                    " ".join(valid.conditions.split()),
                                                    " ".join(valid.source.split()))
@@ -197,10 +202,7 @@ def _located(kind, block, section: str, text: str, origin: str):
 
 
 def _config_lines(text: str) -> dict:
-    import yaml
-
-    from railbrake.config import _line_index
-    return _line_index(yaml.compose(text, Loader=yaml.SafeLoader))
+    return config.line_index(text)
 
 
 ConditionLike = Union[str, Path, PolachParams, Mapping, AdhesionCondition]
@@ -222,7 +224,7 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
         text = (_preset_dir() / f"{name}.yaml").read_text()
         return _parse_condition_file(text, f"preset {name}")
     path = Path(name)
-    if path.suffix in (".yaml", ".yml") and path.is_file():
+    if path.suffix in (".yaml", ".yml"):   # read_text names a missing or unreadable file
         return _parse_condition_file(read_text(path), str(path))
     raise InputError(f"condition = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 

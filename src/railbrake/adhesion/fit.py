@@ -42,13 +42,29 @@ def _check_data(creep, coefficient, speed):
         bad = np.flatnonzero(~np.isfinite(values))
         if bad.size:
             raise InputError(f"{name}[{bad[0]}] = {values[bad[0]]}: must be a finite number")
-    if np.any(speed < 0):
-        i = int(np.flatnonzero(speed < 0)[0])
-        raise InputError(f"speed[{i}] = {speed[i]}: must be >= 0 (m/s)")
+    check_points(creep, coefficient, speed, lambda name, i: f"{name}[{i}]")
     if creep.size < MIN_POINTS:
         raise InputError(f"{creep.size} points: at least {MIN_POINTS} are needed to determine "
                          "5 parameters and their uncertainty")
     return creep, coefficient, speed
+
+
+def check_points(creep, coefficient, speed, where, speed_unit: tuple = ("m/s", 1.0)) -> None:
+    """Each point inside the C plausibility bounds (core/src/bounds.c); where(name, i) names a value
+    (e.g. 'creep[3]' or 'data.csv, line 5: creep'); speed_unit: (unit, factor to m/s) of `speed`.
+    Creep given in percent is refused with a hint."""
+    from railbrake import config
+    for name, values, bound, per, unit in (("creep", creep, "adhesion.creep", 1.0, ""),
+                                           ("coefficient", coefficient, "adhesion.coefficient", 1.0, ""),
+                                           ("speed", speed, "train.table_speed", speed_unit[1], speed_unit[0])):
+        bad = [i for i, x in enumerate(values) if not config.within(bound, x * per)]
+        if not bad:
+            continue
+        i = bad[0]
+        hint = ""
+        if name == "creep" and np.all(np.abs(creep) <= 100.0):
+            hint = "; creep is a fraction (0.05 = 5 %): the values look like percent, divide them by 100"
+        raise InputError(f"{where(name, i)} = {values[i]:g}: {config.range_text(bound, unit, per)}{hint}")
 
 
 def _has_peak(creep, coefficient, speed) -> bool:

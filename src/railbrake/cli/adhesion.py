@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import io
 from pathlib import Path
 from typing import Optional
 
@@ -15,7 +16,7 @@ from railbrake import adhesion as adh
 from railbrake.cli._common import parse_float_list, prepare_plot, print_json, reports_errors
 from railbrake.contact import default_contact, polach_coefficient
 from railbrake.errors import InputError
-from railbrake.units import kmh_to_ms, ms_to_kmh
+from railbrake.units import KMH, kmh_to_ms, ms_to_kmh
 
 app = typer.Typer(help="Wheel-rail adhesion: creep-force curves, conditions, parameter fit.",
                   no_args_is_help=True)
@@ -79,7 +80,9 @@ def list_conditions(json: bool = typer.Option(False, "--json", help="Print as JS
 
 
 def _read_measurements(path: Path):
-    with path.open(newline="") as handle:
+    from railbrake.config import read_text
+    text = read_text(path)   # names a missing, unreadable or non-UTF-8 file
+    with io.StringIO(text, newline="") as handle:
         reader = csv.DictReader(handle)
         needed = {"creep", "coefficient", "speed_kmh"}
         if not reader.fieldnames or not needed <= set(reader.fieldnames):
@@ -93,6 +96,9 @@ def _read_measurements(path: Path):
     if not rows:
         raise InputError(f"{path}: no data rows")
     data = np.array(rows)
+    adh.check_points(data[:, 0], data[:, 1], data[:, 2],
+                     lambda name, i: f"{path}, line {i + 2}: {'speed_kmh' if name == 'speed' else name}",
+                     speed_unit=("km/h", KMH))
     return data[:, 0], data[:, 1], kmh_to_ms(data[:, 2])
 
 

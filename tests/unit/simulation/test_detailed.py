@@ -88,7 +88,7 @@ def test_no_demand_no_pressure_and_free_rolling_against_resistance(tmp_path):
     path.write_text("schema: railbrake.scenario/1\nname: coast\ntrain: {preset: crh380a-8}\n"
                     "initial_speed: 250 km/h\ndemand:\n  - {time: 0 s, service: 0}\n"
                     "adhesion: {condition: dry-medium}\nstop: {speed: 0.05 m/s, max_time: 20 s}\n"
-                    "source: test\n")
+                    "coast: true\nsource: test\n")
     det = D.run_detailed(path, cars=1)
     for name in det.axle_channels("cylinder"):
         assert np.max(np.abs(det.outputs[name] - ATM)) < 1e-3 * BAR
