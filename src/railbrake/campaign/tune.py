@@ -178,8 +178,8 @@ def _storage(out: Path) -> str:
 
 
 def tune(study: Study, names: list[str], objective: str, budget: int, out: Path, workers=None,
-         scheduler=None, only=(), air_limit: float | None = None, progress=None, start: Path | None = None) -> dict:
-    """start: a WSP fragment tried right after the default WSP (once, also on a resume)."""
+         scheduler=None, only=(), air_limit: float | None = None, progress=None, start=()) -> dict:
+    """start: WSP fragments tried right after the default WSP (each once, also on a resume)."""
     import optuna
     if objective not in OBJECTIVES:
         raise InputError(f"--objective {objective}: one of {', '.join(OBJECTIVES)}")
@@ -203,10 +203,10 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
     trials = optuna.create_study(study_name=name, storage=_storage(out), sampler=sampler,
                                  directions=directions, load_if_exists=True)
     _recover(trials, {p.key: defaults[p.key] for p in params})
-    if start is not None:
-        first = start_values(start, params)
+    for fragment in [start] if isinstance(start, (str, Path)) else start:
+        first = start_values(fragment, params)
         if not any(first in (t.params, t.system_attrs.get("fixed_params")) for t in trials.trials):
-            trials.enqueue_trial(first, user_attrs={"start": str(start)})
+            trials.enqueue_trial(first, user_attrs={"start": str(fragment)})
     client, cluster = execute.connect(execute.scheduler_address(scheduler), workers)
     try:
         evaluate = Evaluator(study, out, client, keep)
@@ -227,7 +227,7 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
                 return (ds if math.isfinite(ds) else PENALTY * 10), figures["air_drawn_kg"]
             return _objective_value(figures, air_limit)
 
-        done = sum(t.state.is_finished() for t in trials.trials)
+        done = sum(t.state.name == "COMPLETE" for t in trials.trials)   # failed: interrupted, run again
         remaining = max(0, budget - done)
         if remaining:
             trials.optimize(run_trial, n_trials=remaining, catch=())

@@ -26,8 +26,8 @@ def tune(
                                        "(default: out/campaigns/<study>/tuning)."),
     workers: Optional[int] = typer.Option(None, help="Local worker processes (default: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT."),
-    start: Optional[Path] = typer.Option(None, help="A WSP fragment (wsp-fragment.yaml, e.g. from a tuning on "
-                                         "some of the cases) to try right after the default WSP."),
+    start: List[Path] = typer.Option([], help="A WSP fragment (wsp-fragment.yaml, e.g. from a tuning on some "
+                                     "of the cases) to try right after the default WSP (repeatable)."),
     front: bool = typer.Option(False, "--front", help="Print the Pareto front too (objective pareto)."),
     json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ):
