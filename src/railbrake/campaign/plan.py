@@ -83,7 +83,9 @@ def _describe(values: dict) -> str:
     return ", ".join(f"{k}={v['name'] if isinstance(v, dict) else v}" for k, v in values.items())
 
 
-def plan(study: Study) -> list[Run]:
+def plan(study: Study, keep=None) -> list[Run]:
+    """Every run of the study, resolved and keyed; keep(factors) -> bool leaves points out before
+    they are resolved (wsp tune --only)."""
     design_seq, noise_seq = np.random.SeedSequence(study.spec.seed).spawn(2)
     points = designs.points(study, np.random.default_rng(design_seq))
     noise = [int(s) for s in noise_seq.generate_state(study.spec.seeds)]
@@ -94,6 +96,8 @@ def plan(study: Study) -> list[Run]:
         sets = point_sets(study, point.values, base_tree)
         factors = {f.name: (f.si(point.values[f.name]) if f.name in point.values else None)
                    for f in study.factors}
+        if keep is not None and not keep(factors):
+            continue
         for r, seed in enumerate(noise):
             run_sets = dict(sets, **{SEED_KEY: seed})
             try:

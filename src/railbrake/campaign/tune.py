@@ -60,6 +60,29 @@ def default_values(params: list[Parameter]) -> dict:
     return {p.key: float(getattr(w, p.key.split(".", 1)[1])) for p in params}
 
 
+def start_values(fragment: Path, params: list[Parameter]) -> dict:
+    """The parameters of a WSP fragment (`wsp:` block, file units; e.g. from a tuning on some of
+    the cases) in SI, for a first trial. Each tuned parameter must be in it and in its range."""
+    from railbrake import config
+    data = config.load_mapping(Path(fragment).read_text(), str(fragment))
+    wsp = data.get("wsp")
+    if not isinstance(wsp, dict):
+        raise InputError(f"--start {fragment}: needs a 'wsp:' block (wsp-fragment.yaml of a tuning)")
+    values = {}
+    for p in params:
+        name = p.key.split(".", 1)[1]
+        if name not in wsp:
+            raise InputError(f"--start {fragment}: wsp.{name} missing (tuned: "
+                             f"{', '.join(q.key for q in params)})")
+        value = p.factor.si(wsp[name]) if p.factor.kind == "quantity" else float(wsp[name])
+        if not p.factor.low <= value <= p.factor.high:
+            raise InputError(f"--start {fragment}: wsp.{name} = {wsp[name]} outside "
+                             f"its tuning range [{p.factor.file_value(p.factor.low)}, "
+                             f"{p.factor.file_value(p.factor.high)}]")
+        values[p.key] = value
+    return values
+
+
 def _with_sets(study: Study, sets: dict) -> Study:
     variant = copy.copy(study)
     variant.fixed = dict(study.fixed, **sets)
@@ -81,8 +104,8 @@ def select(study: Study, only: list[str]) -> callable:
     def matches(got, value) -> bool:
         return got == value or (isinstance(value, float) and math.isclose(got, value, rel_tol=1e-9))
 
-    def keep(run) -> bool:
-        return all(any(matches(run.factors[n], v) for v in values) for n, values in wanted.items())
+    def keep(factors: dict) -> bool:   # a run's factor values (SI)
+        return all(any(matches(factors[n], v) for v in values) for n, values in wanted.items())
     return keep
 
 
@@ -98,7 +121,7 @@ class Evaluator:
     def __call__(self, values_si: dict, params: list[Parameter]) -> dict:
         sets = {p.key: p.factor.file_value(values_si[p.key]) for p in params}
         variant = _with_sets(self.study, sets)
-        runs = [r for r in plan(variant) if self.keep(r)]
+        runs = plan(variant, self.keep)
         if not runs:
             raise InputError("--only: no case of the study is left")
         groups = execute.batches(runs, max(1, len(self.client.scheduler_info()["workers"])), 1)
@@ -138,13 +161,25 @@ def _objective_value(figures: dict, air_limit: float | None) -> float:
     return value
 
 
+def _recover(trials, defaults: dict) -> None:
+    """After an interruption: the trials it left running are failed (one tuning per folder at a
+    time), and the default WSP is queued first unless it was evaluated (or is queued) already."""
+    from optuna.trial import TrialState
+    for t in trials.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
+        trials._storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
+    if not any(t.user_attrs.get("default") for t in trials.get_trials(
+            deepcopy=False, states=(TrialState.COMPLETE, TrialState.WAITING))):
+        trials.enqueue_trial(defaults, user_attrs={"default": True})
+
+
 def _storage(out: Path) -> str:
     out.mkdir(parents=True, exist_ok=True)
     return f"sqlite:///{(out / DB).resolve()}"
 
 
 def tune(study: Study, names: list[str], objective: str, budget: int, out: Path, workers=None,
-         scheduler=None, only=(), air_limit: float | None = None, progress=None) -> dict:
+         scheduler=None, only=(), air_limit: float | None = None, progress=None, start=()) -> dict:
+    """start: WSP fragments tried right after the default WSP (each once, also on a resume)."""
     import optuna
     if objective not in OBJECTIVES:
         raise InputError(f"--objective {objective}: one of {', '.join(OBJECTIVES)}")
@@ -167,8 +202,11 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
     name = f"{study.name}:{objective}:{','.join(p.key for p in params)}:{' '.join(sorted(only))}"
     trials = optuna.create_study(study_name=name, storage=_storage(out), sampler=sampler,
                                  directions=directions, load_if_exists=True)
-    if not trials.trials:
-        trials.enqueue_trial({p.key: defaults[p.key] for p in params}, user_attrs={"default": True})
+    _recover(trials, {p.key: defaults[p.key] for p in params})
+    for fragment in [start] if isinstance(start, (str, Path)) else start:
+        first = start_values(fragment, params)
+        if not any(first in (t.params, t.system_attrs.get("fixed_params")) for t in trials.trials):
+            trials.enqueue_trial(first, user_attrs={"start": str(fragment)})
     client, cluster = execute.connect(execute.scheduler_address(scheduler), workers)
     try:
         evaluate = Evaluator(study, out, client, keep)
@@ -189,7 +227,7 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
                 return (ds if math.isfinite(ds) else PENALTY * 10), figures["air_drawn_kg"]
             return _objective_value(figures, air_limit)
 
-        done = sum(t.state.is_finished() for t in trials.trials)
+        done = sum(t.state.name == "COMPLETE" for t in trials.trials)   # failed: interrupted, run again
         remaining = max(0, budget - done)
         if remaining:
             trials.optimize(run_trial, n_trials=remaining, catch=())
@@ -207,7 +245,7 @@ def _figures(trial) -> dict:
 
 def summarise(trials, params: list[Parameter], objective: str, air_limit, out: Path, only=()) -> dict:
     complete = [t for t in trials.trials if t.state.name == "COMPLETE"]
-    default = next(t for t in complete if t.user_attrs.get("default") or t.number == 0)
+    default = next(t for t in complete if t.user_attrs.get("default"))
     if objective == "pareto":
         front = [t for t in trials.best_trials if t.user_attrs["locks"] == 0]
         best = min(front or complete, key=lambda t: t.values[0])

@@ -26,6 +26,8 @@ def tune(
                                        "(default: out/campaigns/<study>/tuning)."),
     workers: Optional[int] = typer.Option(None, help="Local worker processes (default: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT."),
+    start: List[Path] = typer.Option([], help="A WSP fragment (wsp-fragment.yaml, e.g. from a tuning on some "
+                                     "of the cases) to try right after the default WSP (repeatable)."),
     front: bool = typer.Option(False, "--front", help="Print the Pareto front too (objective pareto)."),
     json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ):
@@ -40,7 +42,7 @@ def tune(
     task = bar.add_task("tune", total=budget)
     with bar:
         summary = tuning.tune(spec, [p.strip() for p in params.split(",") if p.strip()], objective, budget,
-                              folder, workers=workers, scheduler=scheduler, only=only, air_limit=air,
+                              folder, workers=workers, scheduler=scheduler, only=only, air_limit=air, start=start,
                               progress=lambda n, total: bar.update(task, completed=n, total=total))
     if json:
         data = {k: summary[k] for k in ("default", "tuned", "evaluations")}

@@ -1,26 +1,50 @@
-"""Dask clusters shared by the campaign tests: starting worker processes is the slow part."""
+"""Dask clusters shared by the campaign tests. Starting worker processes (and resolving runs) is
+what costs here, so each cluster starts once: a LocalCluster of two single-threaded workers for
+the whole session, and a `dask scheduler` with one `dask worker`, started as separate processes
+the way a user starts a cluster, for the module that runs a study against it."""
 
 import logging
+import socket
+import subprocess
+import sys
 import warnings
+from pathlib import Path
 
 import pytest
 
-
-def _cluster(workers: int):
-    from dask.distributed import LocalCluster
-    warnings.filterwarnings("ignore", message="Port .* is already in use")   # HTTP routes move ports
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                        silence_logs=logging.ERROR)
+BIN = Path(sys.executable).parent
 
 
-@pytest.fixture(scope="session")
-def one_worker():
-    """The address of a running local cluster of one single-threaded worker process."""
-    with _cluster(1) as cluster:
-        yield cluster.scheduler_address
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
 
 
 @pytest.fixture(scope="session")
 def two_workers():
-    with _cluster(2) as cluster:
+    """The address of a running local cluster of two single-threaded worker processes."""
+    from dask.distributed import LocalCluster
+    warnings.filterwarnings("ignore", message="Port .* is already in use")   # HTTP routes move ports
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster:
         yield cluster.scheduler_address
+
+
+@pytest.fixture(scope="module")
+def dask_cli_cluster():
+    """`dask scheduler` and one single-threaded `dask worker`, started here as processes and
+    stopped at the end of the module; yields the scheduler's address."""
+    address = f"tcp://127.0.0.1:{free_port()}"
+    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    processes = [subprocess.Popen([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1",
+                                   "--port", address.rsplit(":", 1)[1], "--no-dashboard"], **quiet)]
+    try:
+        processes.append(subprocess.Popen([str(BIN / "dask"), "worker", address, "--nthreads", "1",
+                                           "--nworkers", "1", "--no-dashboard"], **quiet))
+        yield address
+    finally:
+        for p in reversed(processes):
+            p.terminate()
+        for p in reversed(processes):
+            p.wait(timeout=30)   # a process that does not stop fails the module's teardown

@@ -12,6 +12,7 @@ from scipy.stats import qmc
 from railbrake.campaign import execute, report, study, tune
 from railbrake.campaign.assess import assess, worst
 from railbrake.campaign.study import Assessment
+from railbrake.errors import InputError
 
 DATA = Path(__file__).parent / "data"
 
@@ -89,6 +90,7 @@ def assessed(tmp_path_factory, two_workers):
     return s, out
 
 
+@pytest.mark.slow   # a Dask cluster: separate processes, not under the sanitizers
 def test_report_is_self_contained_and_shows_the_cases(assessed):
     _, out = assessed
     summary = report.write(out, out / "report.html")
@@ -100,15 +102,18 @@ def test_report_is_self_contained_and_shows_the_cases(assessed):
     assert low["worst_delta_s_pct"] > 0 and low["failed_runs"] == 0   # low adhesion stops longer
 
 
-@pytest.mark.slow
+@pytest.mark.slow   # a Dask cluster: separate processes, not under the sanitizers
 def test_tuning_stores_its_trials_and_resumes(assessed, two_workers, tmp_path):
     s, _ = assessed
     first = tune.tune(s, ["decel_threshold"], "worst-delta-s", 1, tmp_path, scheduler=two_workers)
     assert first["evaluations"] == 1                     # the default WSP
     default = tune.default_values(tune.parameters(s, ["decel_threshold"]))["wsp.decel_threshold"]
     assert first["tuned"] == {**first["default"], "params": {"decel_threshold": default}}
-    again = tune.tune(s, ["decel_threshold"], "worst-delta-s", 2, tmp_path, scheduler=two_workers)
-    assert again["evaluations"] == 2            # one more trial, the first from the storage
+    start = tmp_path / "start.yaml"
+    start.write_text("wsp:\n  decel_threshold: 3.5 m/s^2\n")
+    again = tune.tune(s, ["decel_threshold"], "worst-delta-s", 2, tmp_path, scheduler=two_workers, start=start)
+    assert again["evaluations"] == 2            # one more trial (the start fragment), the first from the storage
+    assert again["tuned"]["params"]["decel_threshold"] in (pytest.approx(default), pytest.approx(3.5))
     assert again["default"] == first["default"]
     assert again["default"]["worst_delta_s_pct"] >= again["tuned"]["worst_delta_s_pct"]
     assert (tmp_path / "wsp-fragment.yaml").read_text().count("decel_threshold") == 1
@@ -116,3 +121,31 @@ def test_tuning_stores_its_trials_and_resumes(assessed, two_workers, tmp_path):
     assert (tmp_path / "convergence.png").stat().st_size > 0
     assert 1.5 <= again["tuned"]["params"]["decel_threshold"] <= 4.0
     assert np.isfinite(again["tuned"]["worst_delta_s_pct"])
+
+
+def test_a_start_fragment_is_read_in_si_and_checked_against_the_tuning_range(tmp_path):
+    s = study.parse(ASSESSED, "tiny.yaml")
+    params = tune.parameters(s, ["decel_threshold"])
+    fragment = tmp_path / "wsp-fragment.yaml"
+    fragment.write_text("wsp:\n  decel_threshold: 3 m/s^2\n")
+    assert tune.start_values(fragment, params) == {"wsp.decel_threshold": pytest.approx(3.0)}
+    fragment.write_text("wsp:\n  decel_threshold: 5 m/s^2\n")
+    with pytest.raises(InputError, match=r"wsp.decel_threshold = 5 m/s\^2 outside its tuning range \[1.5 m/s\^2, 4 m/s\^2\]"):
+        tune.start_values(fragment, params)
+    fragment.write_text("wsp:\n  speed_threshold: 0.5 m/s\n")
+    with pytest.raises(InputError, match="wsp.decel_threshold missing"):
+        tune.start_values(fragment, params)
+
+
+def test_a_tuning_interrupted_during_the_default_trial_queues_the_default_again():
+    import optuna
+    from optuna.trial import TrialState
+    trials = optuna.create_study()
+    tune._recover(trials, {"wsp.decel_threshold": 2.5})
+    trials.ask()                                # the default trial starts ... and the process is killed
+    tune._recover(trials, {"wsp.decel_threshold": 2.5})
+    states = [t.state for t in trials.get_trials(deepcopy=False)]
+    assert states == [TrialState.FAIL, TrialState.WAITING]
+    assert trials.trials[1].user_attrs == {"default": True}
+    tune._recover(trials, {"wsp.decel_threshold": 2.5})   # queued already: not twice
+    assert len(trials.trials) == 2

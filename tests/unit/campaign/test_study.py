@@ -65,7 +65,7 @@ def test_grid_is_the_full_factorial_and_values_are_si():
     runs = plan.plan(s)
     assert len(runs) == 2 * 2 * 2
     speeds = sorted({r.factors["initial_speed"] for r in runs})
-    assert speeds == pytest.approx([60 / 3.6, 100 / 3.6])
+    assert speeds == pytest.approx([40 / 3.6, 60 / 3.6])
     assert s.factor("initial_speed").unit == "m/s"
     assert len({r.key for r in runs}) == len(runs)
 
@@ -77,7 +77,14 @@ def test_latin_hypercube_fills_each_stratum_once_and_seeds_repeat():
     v = np.array([float(p.values["initial_speed"].split()[0]) for p in points])
     strata = np.floor((v - 60) / 12).astype(int)
     assert sorted(strata) == [0, 1, 2, 3, 4]
-    assert [r.key for r in plan.plan(s)] == [r.key for r in plan.plan(s)]   # same SeedSequence
+    # the same SeedSequence gives the same runs (keys), another seed other ones (each run is resolved:
+    # two samples are enough)
+    two = parse("factors:\n  initial_speed: {low: 60 km/h, high: 120 km/h}\n"
+                "design: {kind: latin-hypercube, samples: 2}\nseed: 7\n")
+    keys = [r.key for r in plan.plan(two)]
+    assert keys == [r.key for r in plan.plan(two)] and len(set(keys)) == 2
+    two.spec.seed = 8
+    assert not set(keys) & {r.key for r in plan.plan(two)}
 
 
 def test_sobol_design_is_saltelli_a_b_ab():
@@ -130,7 +137,30 @@ def test_only_keeps_the_points_at_any_of_the_values_given_per_factor():
     s = parse("factors:\n  initial_speed: [\"60 km/h\", \"100 km/h\"]\n"
               "  adhesion.condition: [dry-medium, wet, oil-film]\ndesign: {kind: grid}\n")
     keep = tune.select(s, ["initial_speed=100 km/h", "adhesion.condition=wet", "adhesion.condition=oil-film"])
-    kept = [(r.factors["initial_speed"], r.factors["adhesion.condition"]) for r in plan.plan(s) if keep(r)]
+    kept = [(r.factors["initial_speed"], r.factors["adhesion.condition"]) for r in plan.plan(s, keep)]
     assert kept == [(pytest.approx(100 / 3.6), "wet"), (pytest.approx(100 / 3.6), "oil-film")]
     with pytest.raises(InputError, match="--only speed=1: 'speed' is not a factor"):
         tune.select(s, ["speed=1"])
+
+
+def test_the_en15595_preset_crosses_speeds_adhesion_brakes_and_load_cases():
+    from railbrake.campaign import configuration
+    s = study.load("wsp-en15595")
+    train = configuration.resolve(s.base, s.fixed).train
+    speeds = s.factor("initial_speed").levels
+    assert s.factor("initial_speed").si(speeds[0]) == pytest.approx(120 / 3.6)
+    assert s.factor("initial_speed").si(speeds[-1]) == pytest.approx(train.max_speed)   # the train's maximum
+    assert s.factor("train.load_case").levels == ["tare", "normal", "crush"]
+    names = {f: [level["name"] for level in s.factor(f).levels] for f in ("adhesion_case", "brake")}
+    assert names == {"adhesion_case": ["dry", "low", "extremely-low", "dry-low-dry"],
+                     "brake": ["emergency", "full-service"]}
+    points = designs.points(s, np.random.default_rng(0))
+    assert len(points) == 2 * 4 * 2 * 3
+    # every case has its dry reference at the same speed, brake and load
+    reference = s.spec.assessment.reference["adhesion_case"]
+    others = {(p.values["initial_speed"], p.values["brake"]["name"], p.values["train.load_case"])
+              for p in points}
+    refs = {(p.values["initial_speed"], p.values["brake"]["name"], p.values["train.load_case"])
+            for p in points if p.values["adhesion_case"]["name"] == reference}
+    assert others == refs
+    assert s.spec.assessment.criteria.max_lock_events == 0 and s.spec.assessment.criteria.min_utilisation == 0.85
