@@ -231,7 +231,12 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
         d->caliper_atmosphere[c] = b->caliper.atmospheric_pressure;
         d->caliper_area[c] = b->caliper.cylinder_area;
         d->caliper_spring[c] = b->caliper.return_spring;
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->pad_bracket[a] = 0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            d->pad_bracket[a] = 0;
+            d->pad_speed_lo[a] = d->pad_speed_hi[a] = 0.0;   /* empty: the kernel's first look-up fills it */
+            d->pad_speed_span[a] = 1.0;
+            d->pad_value_lo[a] = d->pad_value_span[a] = 0.0;
+        }
     }
 }
 

@@ -40,9 +40,27 @@ static double polach(const rb_plant_derived *d, int a, double creep, double spee
     return creep < 0.0 ? -f : f;
 }
 
+/* Pad friction coefficient of axle a at wheel speed `speed` from its car's table, as
+   rb_speed_table_at_from; inside the table it caches the interval and its spans (rb_plant_derived)
+   for the kernel's own interpolation, the same operations in the same order. */
+static double pad_lookup(const rb_speed_table *t, rb_plant_derived *d, int a, double speed)
+{
+    double value = rb_speed_table_at_from(t, speed, &d->pad_bracket[a]);
+    if (t->n >= 2 && speed > t->speed[0] && speed < t->speed[t->n - 1]) {
+        int lo = d->pad_bracket[a], hi = lo + 1;
+        d->pad_speed_lo[a] = t->speed[lo];
+        d->pad_speed_hi[a] = t->speed[hi];
+        d->pad_speed_span[a] = t->speed[hi] - t->speed[lo];
+        d->pad_value_lo[a] = t->value[lo];
+        d->pad_value_span[a] = t->value[hi] - t->value[lo];
+    }
+    return value;
+}
+
 /* Working arrays of one pass over the train. */
 typedef struct {
-    double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], ex[RB_PLANT_MAX_AXLES], pad[RB_PLANT_MAX_AXLES];
+    double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], ex[RB_PLANT_MAX_AXLES];
+    double wheel[RB_PLANT_MAX_AXLES], pad[RB_PLANT_MAX_AXLES], friction[RB_PLANT_MAX_AXLES];
     double f[RB_PLANT_MAX_AXLES], omega[RB_PLANT_MAX_AXLES], force[RB_PLANT_MAX_AXLES];
 } pass_arrays;
 
@@ -53,7 +71,8 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
     const int n = p->n_cars * NA;
     pass_arrays x;
 
-    /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential */
+    /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential,
+       the pad friction in each axle's cached interval */
     for (int c = 0; c < p->n_cars; ++c) {
         const double r = d->radius[c], v = in->speed[c], inv_vr = in->inv_creep_speed[c];
         for (int a = c * NA; a < c * NA + NA; ++a) {
@@ -61,12 +80,13 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
             double creep = fabs(x.w[a] * inv_vr);
             x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
             x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
+            x.wheel[a] = s->omega[a] * r;
+            x.pad[a] = d->pad_value_lo[a] + ((x.wheel[a] - d->pad_speed_lo[a]) / d->pad_speed_span[a]) * d->pad_value_span[a];
         }
     }
-    for (int a = 0; a < n; ++a) {
-        const rb_speed_table *pad = &p->car[a / NA].vehicle.brake.pad.table;
-        x.pad[a] = rb_speed_table_at_from(pad, s->omega[a] * d->radius[a / NA], &d->pad_bracket[a]);
-    }
+    for (int a = 0; a < n; ++a)   /* outside the cached interval (rarely): the table */
+        if (!(x.wheel[a] >= d->pad_speed_lo[a] && x.wheel[a] < d->pad_speed_hi[a]))
+            x.pad[a] = pad_lookup(&p->car[a / NA].vehicle.brake.pad.table, d, a, x.wheel[a]);
     for (int c = 0; c < p->n_cars; ++c) {
         const double r = d->radius[c], inv_J = d->inv_inertia[c], gain = d->polach_gain[c];
         const double axle_load = d->axle_load[c], compliance = d->compliance[c], brake_gain = d->brake_gain[c];
@@ -83,7 +103,7 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
             /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
             double piston = (cylinder[a] - p_atm) * area - spring;
             double friction = brake_gain * x.pad[a] * (piston > 0.0 ? piston : 0.0);
-            s->brake_torque[a] = friction;   /* for the discs' energy (plant_train.c) */
+            x.friction[a] = friction;
             double torque = friction + ed;
             /* slip velocity, linearly implicit in this axle's own rail force */
             double others = others_all - s->force[a];
@@ -93,17 +113,23 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
         }
     }
     for (int a = 0; a < n; ++a) {
-        int c = a / NA;
         if (x.omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
+            int c = a / NA;
             double creep = -in->speed[c] * in->inv_creep_speed[c];
             /* a wheel locked already was probed at that very creep: the same coefficient */
             double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[c]);
             x.omega[a] = 0.0;
             x.force[a] = d->axle_load[c] * f;
         }
-        s->omega[a] = x.omega[a];
-        s->force[a] = x.force[a];
-        s->coefficient[a] = x.force[a] / d->axle_load[c];
+    }
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double axle_load = d->axle_load[c];
+        for (int a = c * NA; a < c * NA + NA; ++a) {
+            s->omega[a] = x.omega[a];
+            s->force[a] = x.force[a];
+            s->coefficient[a] = x.force[a] / axle_load;
+            s->brake_torque[a] = x.friction[a];   /* for the discs' energy (plant_train.c) */
+        }
     }
 }
 

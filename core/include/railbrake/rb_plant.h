@@ -228,7 +228,11 @@ typedef struct {
     /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
     double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
-    int pad_bracket[RB_PLANT_MAX_AXLES];     /* last pad-table interval used by each axle */
+    /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends and
+       spans (so the kernel interpolates without the table; empty: pad_speed_lo = +inf, never hit) */
+    int pad_bracket[RB_PLANT_MAX_AXLES];
+    double pad_speed_lo[RB_PLANT_MAX_AXLES], pad_speed_hi[RB_PLANT_MAX_AXLES];
+    double pad_speed_span[RB_PLANT_MAX_AXLES], pad_value_lo[RB_PLANT_MAX_AXLES], pad_value_span[RB_PLANT_MAX_AXLES];
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
