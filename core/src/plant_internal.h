@@ -46,6 +46,7 @@ typedef struct {
     double noise_sd[RB_PLANT_MAX_AXLES];    /* m/s */
     uint8_t ep_failed[RB_PLANT_MAX_CARS], ed_lost[RB_PLANT_MAX_CARS], isolated[RB_PLANT_MAX_CARS];
     int compressor_off;
+    int sensor_faults;                      /* any sensor lost or noisy */
 } rb_plant_faults;
 
 void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f);

@@ -233,6 +233,7 @@ typedef struct {
     int pad_bracket[RB_PLANT_MAX_AXLES];
     double pad_speed_lo[RB_PLANT_MAX_AXLES], pad_speed_hi[RB_PLANT_MAX_AXLES];
     double pad_speed_span[RB_PLANT_MAX_AXLES], pad_value_lo[RB_PLANT_MAX_AXLES], pad_value_span[RB_PLANT_MAX_AXLES];
+    int cooling_bracket[RB_PLANT_MAX_CARS];  /* last disc-cooling table interval of each car */
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
