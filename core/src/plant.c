@@ -171,6 +171,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
     d->h = p->dt / p->substeps;
     d->g_unit = rb_orifice_unit_conductance(p->discharge_coefficient, p->temperature);
     rb_orifice_law_init(p->critical_ratio, &d->orifice);
+    d->h_laminar = d->h * d->orifice.laminar_slope;
     d->k_mr = rt / p->main_reservoir_volume;
     d->g_mr = d->g_unit * p->main_reservoir_area;
     for (int c = 0; c < p->n_cars; ++c) {

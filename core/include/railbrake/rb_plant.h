@@ -234,6 +234,7 @@ typedef struct {
     double pad_speed_lo[RB_PLANT_MAX_AXLES], pad_speed_hi[RB_PLANT_MAX_AXLES];
     double pad_speed_span[RB_PLANT_MAX_AXLES], pad_value_lo[RB_PLANT_MAX_AXLES], pad_value_span[RB_PLANT_MAX_AXLES];
     int cooling_bracket[RB_PLANT_MAX_CARS];  /* last disc-cooling table interval of each car */
+    double h_laminar;           /* s: h x the orifice law's laminar slope (rb_plant_link_mass) */
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
