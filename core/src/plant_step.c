@@ -77,6 +77,19 @@ static double valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *time
     return on;
 }
 
+/* The four WSP valve pairs of the car from axle a on at rest: commanded as they stand, no timer
+ * running, none stuck (four bytes compared at once). */
+static int valves_at_rest(const rb_plant_inputs *in, const rb_plant_state *s, const rb_plant_faults *f, int a)
+{
+    uint32_t cmd_hold, cmd_vent, hold, vent, pending_hold, pending_vent, stuck_hold, stuck_vent;
+    memcpy(&cmd_hold, &in->hold[a], 4); memcpy(&cmd_vent, &in->vent[a], 4);
+    memcpy(&hold, &s->hold[a], 4); memcpy(&vent, &s->vent[a], 4);
+    memcpy(&pending_hold, &s->hold_pending[a], 4); memcpy(&pending_vent, &s->vent_pending[a], 4);
+    memcpy(&stuck_hold, &f->hold[a], 4); memcpy(&stuck_vent, &f->vent[a], 4);
+    return ((cmd_hold ^ hold) | (cmd_vent ^ vent) | (pending_hold ^ hold) | (pending_vent ^ vent) |
+            ~stuck_hold | ~stuck_vent) == 0;   /* commands 0/1 as the states; stuck -1: none */
+}
+
 /* Phase 1, supply: compressor with on/off governor, main reservoir, the MR pipe along the train,
  * and each car's check valve and choke into its supply reservoir. */
 static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
@@ -163,6 +176,15 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
     double vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {
         const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c];
+        if (valves_at_rest(in, s, f, c * RB_AXLES_PER_CAR)) {   /* what valve() would give them */
+            for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+                hold_open[a] = 1.0 - (double)s->hold[a];
+                outlet[a] = g_vent * (double)s->vent[a] + g_unit * f->leak[a];
+                s->hold_effective[a] = s->hold[a];
+                s->vent_effective[a] = s->vent[a];
+            }
+            continue;
+        }
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             hold_open[a] = 1.0 - valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
                                        h, f->hold[a], &s->hold_effective[a]);
