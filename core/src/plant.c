@@ -233,6 +233,16 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
         d->caliper_area[c] = b->caliper.cylinder_area;
         d->caliper_spring[c] = b->caliper.return_spring;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            d->axle_radius[a] = d->radius[c];
+            d->axle_inv_inertia[a] = d->inv_inertia[c];
+            d->axle_inv_mass[a] = d->inv_mass[c];
+            d->axle_polach_gain[a] = d->polach_gain[c];
+            d->axle_axle_load[a] = d->axle_load[c];
+            d->axle_compliance[a] = d->compliance[c];
+            d->axle_brake_gain[a] = d->brake_gain[c];
+            d->axle_caliper_atmosphere[a] = d->caliper_atmosphere[c];
+            d->axle_caliper_area[a] = d->caliper_area[c];
+            d->axle_caliper_spring[a] = d->caliper_spring[c];
             d->pad_bracket[a] = 0;
             d->pad_speed_lo[a] = d->pad_speed_hi[a] = 0.0;   /* empty: the kernel's first look-up fills it */
             d->pad_speed_span[a] = 1.0;

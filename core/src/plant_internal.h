@@ -63,12 +63,13 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
    implementation of the mechanics, shared by the real-time plant and the detailed model. */
 void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                              const rb_plant_faults *f, const double *cylinder, double dt);
-/* Each car's state as the wheelset kernel needs it (filled per car by the mechanics). */
+/* Each car's state as the wheelset kernel needs it, repeated for each of its axles (filled by the
+   mechanics). */
 typedef struct {
-    double speed[RB_PLANT_MAX_CARS];             /* m/s */
-    double inv_creep_speed[RB_PLANT_MAX_CARS];   /* 1 / max(speed, creep_speed_min) */
-    double others[RB_PLANT_MAX_CARS];            /* N: coupler, resistance and every rail force on the car */
-    double ed_torque[RB_PLANT_MAX_CARS];         /* N m per axle, its share of the ED brake */
+    double speed[RB_PLANT_MAX_AXLES];             /* m/s, the car's */
+    double inv_creep_speed[RB_PLANT_MAX_AXLES];   /* 1 / max(speed, creep_speed_min) */
+    double others[RB_PLANT_MAX_AXLES];            /* N: coupler, resistance and every rail force on the car */
+    double ed_torque[RB_PLANT_MAX_AXLES];         /* N m per axle, its share of the car's ED brake */
 } rb_wheelset_inputs;
 
 /* Every wheelset of the train over dt (plant_kernel.c, in s->kernel): torque balance with Polach

@@ -73,63 +73,52 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
 
     /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential,
        the pad friction in each axle's cached interval */
-    for (int c = 0; c < p->n_cars; ++c) {
-        const double r = d->radius[c], v = in->speed[c], inv_vr = in->inv_creep_speed[c];
-        for (int a = c * NA; a < c * NA + NA; ++a) {
-            x.w[a] = s->omega[a] * r - v;
-            double creep = fabs(x.w[a] * inv_vr);
-            x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
-            x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
-            x.wheel[a] = s->omega[a] * r;
-            x.pad[a] = d->pad_value_lo[a] + ((x.wheel[a] - d->pad_speed_lo[a]) / d->pad_speed_span[a]) * d->pad_value_span[a];
-        }
+    for (int a = 0; a < n; ++a) {
+        const double v = in->speed[a];
+        x.w[a] = s->omega[a] * d->axle_radius[a] - v;
+        double creep = fabs(x.w[a] * in->inv_creep_speed[a]);
+        x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
+        x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
+        x.wheel[a] = s->omega[a] * d->axle_radius[a];
+        x.pad[a] = d->pad_value_lo[a] + ((x.wheel[a] - d->pad_speed_lo[a]) / d->pad_speed_span[a]) * d->pad_value_span[a];
     }
     for (int a = 0; a < n; ++a)   /* outside the cached interval (rarely): the table */
         if (!(x.wheel[a] >= d->pad_speed_lo[a] && x.wheel[a] < d->pad_speed_hi[a]))
             x.pad[a] = pad_lookup(&p->car[a / NA].vehicle.brake.pad.table, d, a, x.wheel[a]);
-    for (int c = 0; c < p->n_cars; ++c) {
-        const double r = d->radius[c], inv_J = d->inv_inertia[c], gain = d->polach_gain[c];
-        const double axle_load = d->axle_load[c], compliance = d->compliance[c], brake_gain = d->brake_gain[c];
-        const double p_atm = d->caliper_atmosphere[c], area = d->caliper_area[c], spring = d->caliper_spring[c];
-        const double inv_vr = in->inv_creep_speed[c], others_all = in->others[c], ed = in->ed_torque[c];
-        const double inv_mass = d->inv_mass[c];
-        for (int a = c * NA; a < c * NA + NA; ++a) {
-            double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
-            double eps = gain * x.abs_probe[a] / mu;
-            double ka_eps = d->polach_kA[a] * eps;
-            double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
-            x.f[a] = f;
-            double stiffness = axle_load * (f / x.abs_probe[a]) * inv_vr;  /* N per m/s */
-            /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
-            double piston = (cylinder[a] - p_atm) * area - spring;
-            double friction = brake_gain * x.pad[a] * (piston > 0.0 ? piston : 0.0);
-            x.friction[a] = friction;
-            double torque = friction + ed;
-            /* slip velocity, linearly implicit in this axle's own rail force */
-            double others = others_all - s->force[a];
-            double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * inv_mass)) / (1.0 + dt * stiffness * compliance);
-            x.force[a] = stiffness * w_new;
-            x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
-        }
+    for (int a = 0; a < n; ++a) {
+        const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a];
+        double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
+        double eps = d->axle_polach_gain[a] * x.abs_probe[a] / mu;
+        double ka_eps = d->polach_kA[a] * eps;
+        double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
+        x.f[a] = f;
+        double stiffness = d->axle_axle_load[a] * (f / x.abs_probe[a]) * in->inv_creep_speed[a];  /* N per m/s */
+        /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
+        double piston = (cylinder[a] - d->axle_caliper_atmosphere[a]) * d->axle_caliper_area[a] - d->axle_caliper_spring[a];
+        double friction = d->axle_brake_gain[a] * x.pad[a] * (piston > 0.0 ? piston : 0.0);
+        x.friction[a] = friction;
+        double torque = friction + in->ed_torque[a];
+        /* slip velocity, linearly implicit in this axle's own rail force */
+        double others = in->others[a] - s->force[a];
+        double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * d->axle_inv_mass[a])) /
+                       (1.0 + dt * stiffness * d->axle_compliance[a]);
+        x.force[a] = stiffness * w_new;
+        x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
     }
     for (int a = 0; a < n; ++a) {
         if (x.omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
-            int c = a / NA;
-            double creep = -in->speed[c] * in->inv_creep_speed[c];
+            double creep = -in->speed[a] * in->inv_creep_speed[a];
             /* a wheel locked already was probed at that very creep: the same coefficient */
-            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[c]);
+            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[a]);
             x.omega[a] = 0.0;
-            x.force[a] = d->axle_load[c] * f;
+            x.force[a] = d->axle_axle_load[a] * f;
         }
     }
-    for (int c = 0; c < p->n_cars; ++c) {
-        const double axle_load = d->axle_load[c];
-        for (int a = c * NA; a < c * NA + NA; ++a) {
-            s->omega[a] = x.omega[a];
-            s->force[a] = x.force[a];
-            s->coefficient[a] = x.force[a] / axle_load;
-            s->brake_torque[a] = x.friction[a];   /* for the discs' energy (plant_train.c) */
-        }
+    for (int a = 0; a < n; ++a) {
+        s->omega[a] = x.omega[a];
+        s->force[a] = x.force[a];
+        s->coefficient[a] = x.force[a] / d->axle_axle_load[a];
+        s->brake_torque[a] = x.friction[a];   /* for the discs' energy (plant_train.c) */
     }
 }
 

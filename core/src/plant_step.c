@@ -241,10 +241,12 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * car->vehicle.wheelset.wheel_radius;
         double others = other[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
-        w.speed[c] = v;
-        w.inv_creep_speed[c] = inv_vr;
-        w.others[c] = others;
-        w.ed_torque[c] = ed_axle;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            w.speed[a] = v;
+            w.inv_creep_speed[a] = inv_vr;
+            w.others[a] = others;
+            w.ed_torque[a] = ed_axle;
+        }
     }
     rb_plant_wheelsets(p, s, &w, cylinder, dt);
     for (int c = 0; c < p->n_cars; ++c) {

@@ -235,6 +235,12 @@ typedef struct {
     double pad_speed_span[RB_PLANT_MAX_AXLES], pad_value_lo[RB_PLANT_MAX_AXLES], pad_value_span[RB_PLANT_MAX_AXLES];
     int cooling_bracket[RB_PLANT_MAX_CARS];  /* last disc-cooling table interval of each car */
     double h_laminar;           /* s: h x the orifice law's laminar slope (rb_plant_link_mass) */
+    /* the per-car constants of the wheelset kernel repeated for each axle (its passes run over the
+       train's axles in one loop: full vectors, no per-car set-up) */
+    double axle_radius[RB_PLANT_MAX_AXLES], axle_inv_inertia[RB_PLANT_MAX_AXLES], axle_inv_mass[RB_PLANT_MAX_AXLES];
+    double axle_polach_gain[RB_PLANT_MAX_AXLES], axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
+    double axle_brake_gain[RB_PLANT_MAX_AXLES], axle_caliper_atmosphere[RB_PLANT_MAX_AXLES];
+    double axle_caliper_area[RB_PLANT_MAX_AXLES], axle_caliper_spring[RB_PLANT_MAX_AXLES];
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
