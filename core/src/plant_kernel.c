@@ -85,13 +85,16 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
     for (int a = 0; a < n; ++a)   /* outside the cached interval (rarely): the table */
         if (!(x.wheel[a] >= d->pad_speed_lo[a] && x.wheel[a] < d->pad_speed_hi[a]))
             x.pad[a] = pad_lookup(&p->car[a / NA].vehicle.brake.pad.table, d, a, x.wheel[a]);
+    /* Polach's coefficient at the probe creep (its own pass: short dependency chains, so the
+       processor overlaps many axles) */
     for (int a = 0; a < n; ++a) {
-        const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a];
         double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
         double eps = d->axle_polach_gain[a] * x.abs_probe[a] / mu;
         double ka_eps = d->polach_kA[a] * eps;
-        double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
-        x.f[a] = f;
+        x.f[a] = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
+    }
+    for (int a = 0; a < n; ++a) {
+        const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a], f = x.f[a];
         double stiffness = d->axle_axle_load[a] * (f / x.abs_probe[a]) * in->inv_creep_speed[a];  /* N per m/s */
         /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
         double piston = (cylinder[a] - d->axle_caliper_atmosphere[a]) * d->axle_caliper_area[a] - d->axle_caliper_spring[a];
