@@ -120,7 +120,7 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
     for (int a = 0; a < n; ++a) {
         s->omega[a] = x.omega[a];
         s->force[a] = x.force[a];
-        s->coefficient[a] = x.force[a] / d->axle_axle_load[a];
+        s->coefficient[a] = x.force[a] * d->axle_inv_axle_load[a];   /* an output only */
         s->brake_torque[a] = x.friction[a];   /* for the discs' energy (plant_train.c) */
     }
 }

@@ -264,10 +264,14 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
     if (!f->sensor_faults) {   /* every sensor sound: what the loop below would write */
-        memset(s->sensor_lost, 0, sizeof s->sensor_lost);
-        memset(s->noise, 0, sizeof s->noise);
+        if (s->sensors_written) {
+            memset(s->sensor_lost, 0, sizeof s->sensor_lost);
+            memset(s->noise, 0, sizeof s->noise);
+            s->sensors_written = 0;
+        }
         return;
     }
+    s->sensors_written = 1;
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
         s->sensor_lost[a] = f->noise_sd[a] < 0.0;
         s->noise[a] = f->noise_sd[a] > 0.0 ? f->noise_sd[a] * gaussian(&s->rng) : 0.0;

@@ -241,6 +241,7 @@ typedef struct {
     double axle_polach_gain[RB_PLANT_MAX_AXLES], axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
     double axle_brake_gain[RB_PLANT_MAX_AXLES], axle_caliper_atmosphere[RB_PLANT_MAX_AXLES];
     double axle_caliper_area[RB_PLANT_MAX_AXLES], axle_caliper_spring[RB_PLANT_MAX_AXLES];
+    double axle_inv_axle_load[RB_PLANT_MAX_AXLES];   /* 1 / axle load: the adhesion coefficient output */
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
@@ -281,6 +282,7 @@ typedef struct {
     double disc_temperature[RB_PLANT_MAX_AXLES]; /* K */
     double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
     double brake_torque[RB_PLANT_MAX_AXLES];     /* N m, friction brake torque of the last step (kernel) */
+    int sensors_written;      /* a sensor fault has set noise or loss since the last clearing */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
