@@ -13,6 +13,7 @@
  * own build) the results are the same, only scalar. */
 #include "plant_internal.h"
 
+#include <float.h>
 #include <math.h>
 
 
@@ -30,7 +31,7 @@
 
 /* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived
    (rb_polach_coefficient_fast's law, contact_polach.c). */
-static double polach(const rb_plant_derived *d, int a, double creep, double speed)
+RB_ALWAYS_INLINE double polach(const rb_plant_derived *d, int a, double creep, double speed)
 {
     double abs_creep = fabs(creep);
     double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
@@ -41,12 +42,29 @@ static double polach(const rb_plant_derived *d, int a, double creep, double spee
 }
 
 /* Pad friction coefficient of axle a at wheel speed `speed` from its car's table, as
-   rb_speed_table_at_from; inside the table it caches the interval and its spans (rb_plant_derived)
-   for the kernel's own interpolation, the same operations in the same order. */
-static double pad_lookup(const rb_speed_table *t, rb_plant_derived *d, int a, double speed)
+   rb_speed_table_at_from; it caches the interval the speed falls in, with its spans
+   (rb_plant_derived), for the kernel's own interpolation, the same operations in the same order:
+   inside the table speed[lo] <= speed < speed[lo + 1]; below it [-DBL_MAX, speed[0]) and above it
+   [speed[n - 1], inf), each with value span 0 (value[0] or value[n - 1] + 0). Inlined into each
+   kernel, so the vector one never calls code of another instruction set. */
+RB_ALWAYS_INLINE double pad_lookup(const rb_speed_table *t, rb_plant_derived *d, int a, double speed)
 {
     double value = rb_speed_table_at_from(t, speed, &d->pad_bracket[a]);
-    if (t->n >= 2 && speed > t->speed[0] && speed < t->speed[t->n - 1]) {
+    int n = t->n;
+    if (n < 1) return value;
+    if (speed < t->speed[0]) {
+        d->pad_speed_lo[a] = -DBL_MAX;
+        d->pad_speed_hi[a] = t->speed[0];
+        d->pad_value_lo[a] = t->value[0];
+        d->pad_speed_span[a] = 1.0;
+        d->pad_value_span[a] = 0.0;
+    } else if (speed >= t->speed[n - 1]) {
+        d->pad_speed_lo[a] = t->speed[n - 1];
+        d->pad_speed_hi[a] = HUGE_VAL;
+        d->pad_value_lo[a] = t->value[n - 1];
+        d->pad_speed_span[a] = 1.0;
+        d->pad_value_span[a] = 0.0;
+    } else {
         int lo = d->pad_bracket[a], hi = lo + 1;
         d->pad_speed_lo[a] = t->speed[lo];
         d->pad_speed_hi[a] = t->speed[hi];
