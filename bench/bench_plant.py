@@ -3,8 +3,9 @@ most 1.5x the mean): the plant alone at one 1 ms step (timing loop in C, rb_plan
 16 cars with each wheelset kernel, and the wall-clock time of the default scenario (BCU + plant +
 recording + KPIs).
 
-The machine may be shared: each case is timed REPEAT times and the run with the lowest mean step time is
-printed (the others were slowed down by other processes, not by the plant). `--repeat N` sets REPEAT.
+The machine may be shared: the mean step time is the timing thread's CPU time (rb_plant_bench), each case
+is timed REPEAT times and the run with the lowest mean is printed (the others were slowed down by other
+processes, not by the plant), with the machine's load average when it ran. `--repeat N` sets REPEAT.
 """
 
 import argparse
@@ -29,10 +30,12 @@ def main() -> None:
     for kernel in KERNELS:
         for cars in CARS:
             f = best_of(cars, kernel, repeat)
+            load = "?" if f["load_average"] is None else f"{f['load_average']:.1f}"
             print(f"  {cars:2d} cars, {f['kernel']:8s} kernel, {f['substeps']} sub-step: "
-                  f"{f['realtime_factor']:6.0f}x real time, step {f['step_us_mean']:6.2f} us mean, "
-                  f"{f['step_us_p99']:6.2f} us p99 ({f['step_us_p99'] / f['step_us_mean']:.2f}x mean), "
-                  f"{f['step_us_max']:8.1f} us max", flush=True)
+                  f"{f['realtime_factor']:6.0f}x real time, step {f['step_us_mean']:6.2f} us mean CPU "
+                  f"({f['step_us_wall_mean']:6.2f} wall), {f['step_us_p99']:6.2f} us p99 "
+                  f"({f['step_us_p99'] / f['step_us_mean']:.2f}x mean), {f['step_us_max']:8.1f} us max, "
+                  f"load {load}", flush=True)
     t0 = time.perf_counter()
     r = simulation.run("emergency-300-heavy-rain")
     wall = time.perf_counter() - t0

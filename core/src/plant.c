@@ -171,6 +171,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
     d->h = p->dt / p->substeps;
     d->g_unit = rb_orifice_unit_conductance(p->discharge_coefficient, p->temperature);
     rb_orifice_law_init(p->critical_ratio, &d->orifice);
+    d->h_laminar = d->h * d->orifice.laminar_slope;
     d->k_mr = rt / p->main_reservoir_volume;
     d->g_mr = d->g_unit * p->main_reservoir_area;
     for (int c = 0; c < p->n_cars; ++c) {
@@ -231,7 +232,23 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
         d->caliper_atmosphere[c] = b->caliper.atmospheric_pressure;
         d->caliper_area[c] = b->caliper.cylinder_area;
         d->caliper_spring[c] = b->caliper.return_spring;
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->pad_bracket[a] = 0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            d->axle_radius[a] = d->radius[c];
+            d->axle_inv_inertia[a] = d->inv_inertia[c];
+            d->axle_inv_mass[a] = d->inv_mass[c];
+            d->axle_polach_gain[a] = d->polach_gain[c];
+            d->axle_axle_load[a] = d->axle_load[c];
+            d->axle_compliance[a] = d->compliance[c];
+            d->axle_brake_gain[a] = d->brake_gain[c];
+            d->axle_caliper_atmosphere[a] = d->caliper_atmosphere[c];
+            d->axle_caliper_area[a] = d->caliper_area[c];
+            d->axle_caliper_spring[a] = d->caliper_spring[c];
+            d->axle_inv_axle_load[a] = 1.0 / d->axle_load[c];
+            d->pad_bracket[a] = 0;
+            d->pad_speed_lo[a] = d->pad_speed_hi[a] = 0.0;   /* empty: the kernel's first look-up fills it */
+            d->pad_speed_span[a] = 1.0;
+            d->pad_value_lo[a] = d->pad_value_span[a] = 0.0;
+        }
     }
 }
 

@@ -21,15 +21,23 @@
 /* Mass (kg) one link moves from node i to node j (pressures pi, pj) in a step of d->h, through
  * conductance g (kg/(s Pa)); ik = 1 / (n_i k_i + n_j k_j), so (pi - pj) ik is the mass that would
  * equalise the nodes (each node's volume shared among its links). The exponential solution of the
- * link linearised in its pressure difference: dm = dm_eq (1 - exp(-h q / dm_eq)), h q when the link
- * is slow, never beyond equalisation when it is stiff. */
+ * link linearised in its pressure difference: dm = dm_eq (1 - exp(-y)), y = h q / dm_eq with q the
+ * orifice flow (rb_orifice_flow_law): h q when the link is slow, never beyond equalisation when it
+ * is stiff. The law is written in y directly, so the chain of links along the train waits on few
+ * operations: near equal pressures (down >= RB_ORIFICE_LAMINAR_RATIO up) the flow is linear in the
+ * difference, g slope (pi - pj), and y = h slope g / ik does not depend on the pressures at all;
+ * elsewhere y = [h g p_up / (|pi - pj| ik)] phi(p_down / p_up), the bracket computed alongside the
+ * pressure ratio. */
 static inline double rb_plant_link_mass(const rb_plant_derived *d, double pi, double pj, double g, double ik)
 {
     double diff = pi - pj;
     if (!(g > 0.0) || fabs(diff) < 0.01) return 0.0;   /* closed, or balanced to 0.01 Pa */
-    double flow = d->h * rb_orifice_flow_law(pi, pj, g, &d->orifice);
-    double equalise = diff * ik;
-    return equalise * rb_one_minus_exp_neg(flow / equalise);
+    double up = diff > 0.0 ? pi : pj, down = diff > 0.0 ? pj : pi, y;
+    if (down >= RB_ORIFICE_LAMINAR_RATIO * up && !d->orifice.laminar_only)
+        y = d->h_laminar * g / ik;
+    else
+        y = d->h * g * up / (fabs(diff) * ik) * rb_orifice_flow_function_law(down / up, &d->orifice);
+    return diff * ik * rb_one_minus_exp_neg(y);
 }
 
 /* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */
@@ -46,6 +54,7 @@ typedef struct {
     double noise_sd[RB_PLANT_MAX_AXLES];    /* m/s */
     uint8_t ep_failed[RB_PLANT_MAX_CARS], ed_lost[RB_PLANT_MAX_CARS], isolated[RB_PLANT_MAX_CARS];
     int compressor_off;
+    int sensor_faults;                      /* any sensor lost or noisy */
 } rb_plant_faults;
 
 void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f);
@@ -54,12 +63,13 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
    implementation of the mechanics, shared by the real-time plant and the detailed model. */
 void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                              const rb_plant_faults *f, const double *cylinder, double dt);
-/* Each car's state as the wheelset kernel needs it (filled per car by the mechanics). */
+/* Each car's state as the wheelset kernel needs it, repeated for each of its axles (filled by the
+   mechanics). */
 typedef struct {
-    double speed[RB_PLANT_MAX_CARS];             /* m/s */
-    double inv_creep_speed[RB_PLANT_MAX_CARS];   /* 1 / max(speed, creep_speed_min) */
-    double others[RB_PLANT_MAX_CARS];            /* N: coupler, resistance and every rail force on the car */
-    double ed_torque[RB_PLANT_MAX_CARS];         /* N m per axle, its share of the ED brake */
+    double speed[RB_PLANT_MAX_AXLES];             /* m/s, the car's */
+    double inv_creep_speed[RB_PLANT_MAX_AXLES];   /* 1 / max(speed, creep_speed_min) */
+    double others[RB_PLANT_MAX_AXLES];            /* N: coupler, resistance and every rail force on the car */
+    double ed_torque[RB_PLANT_MAX_AXLES];         /* N m per axle, its share of the car's ED brake */
 } rb_wheelset_inputs;
 
 /* Every wheelset of the train over dt (plant_kernel.c, in s->kernel): torque balance with Polach

@@ -13,6 +13,7 @@
  * own build) the results are the same, only scalar. */
 #include "plant_internal.h"
 
+#include <float.h>
 #include <math.h>
 
 
@@ -30,7 +31,7 @@
 
 /* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived
    (rb_polach_coefficient_fast's law, contact_polach.c). */
-static double polach(const rb_plant_derived *d, int a, double creep, double speed)
+RB_ALWAYS_INLINE double polach(const rb_plant_derived *d, int a, double creep, double speed)
 {
     double abs_creep = fabs(creep);
     double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
@@ -40,9 +41,44 @@ static double polach(const rb_plant_derived *d, int a, double creep, double spee
     return creep < 0.0 ? -f : f;
 }
 
+/* Pad friction coefficient of axle a at wheel speed `speed` from its car's table, as
+   rb_speed_table_at_from; it caches the interval the speed falls in, with its spans
+   (rb_plant_derived), for the kernel's own interpolation, the same operations in the same order:
+   inside the table speed[lo] <= speed < speed[lo + 1]; below it [-DBL_MAX, speed[0]) and above it
+   [speed[n - 1], inf), each with value span 0 (value[0] or value[n - 1] + 0). Inlined into each
+   kernel, so the vector one never calls code of another instruction set. */
+RB_ALWAYS_INLINE double pad_lookup(const rb_speed_table *t, rb_plant_derived *d, int a, double speed)
+{
+    double value = rb_speed_table_at_from(t, speed, &d->pad_bracket[a]);
+    int n = t->n;
+    if (n < 1) return value;
+    if (speed < t->speed[0]) {
+        d->pad_speed_lo[a] = -DBL_MAX;
+        d->pad_speed_hi[a] = t->speed[0];
+        d->pad_value_lo[a] = t->value[0];
+        d->pad_speed_span[a] = 1.0;
+        d->pad_value_span[a] = 0.0;
+    } else if (speed >= t->speed[n - 1]) {
+        d->pad_speed_lo[a] = t->speed[n - 1];
+        d->pad_speed_hi[a] = HUGE_VAL;
+        d->pad_value_lo[a] = t->value[n - 1];
+        d->pad_speed_span[a] = 1.0;
+        d->pad_value_span[a] = 0.0;
+    } else {
+        int lo = d->pad_bracket[a], hi = lo + 1;
+        d->pad_speed_lo[a] = t->speed[lo];
+        d->pad_speed_hi[a] = t->speed[hi];
+        d->pad_speed_span[a] = t->speed[hi] - t->speed[lo];
+        d->pad_value_lo[a] = t->value[lo];
+        d->pad_value_span[a] = t->value[hi] - t->value[lo];
+    }
+    return value;
+}
+
 /* Working arrays of one pass over the train. */
 typedef struct {
-    double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], ex[RB_PLANT_MAX_AXLES], pad[RB_PLANT_MAX_AXLES];
+    double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], ex[RB_PLANT_MAX_AXLES];
+    double wheel[RB_PLANT_MAX_AXLES], pad[RB_PLANT_MAX_AXLES], friction[RB_PLANT_MAX_AXLES];
     double f[RB_PLANT_MAX_AXLES], omega[RB_PLANT_MAX_AXLES], force[RB_PLANT_MAX_AXLES];
 } pass_arrays;
 
@@ -53,57 +89,57 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
     const int n = p->n_cars * NA;
     pass_arrays x;
 
-    /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential */
-    for (int c = 0; c < p->n_cars; ++c) {
-        const double r = d->radius[c], v = in->speed[c], inv_vr = in->inv_creep_speed[c];
-        for (int a = c * NA; a < c * NA + NA; ++a) {
-            x.w[a] = s->omega[a] * r - v;
-            double creep = fabs(x.w[a] * inv_vr);
-            x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
-            x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
-        }
+    /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential,
+       the pad friction in each axle's cached interval */
+    for (int a = 0; a < n; ++a) {
+        const double v = in->speed[a];
+        x.w[a] = s->omega[a] * d->axle_radius[a] - v;
+        double creep = fabs(x.w[a] * in->inv_creep_speed[a]);
+        x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
+        x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
+        x.wheel[a] = s->omega[a] * d->axle_radius[a];
+        x.pad[a] = d->pad_value_lo[a] + ((x.wheel[a] - d->pad_speed_lo[a]) / d->pad_speed_span[a]) * d->pad_value_span[a];
+    }
+    for (int a = 0; a < n; ++a)   /* outside the cached interval (rarely): the table */
+        if (!(x.wheel[a] >= d->pad_speed_lo[a] && x.wheel[a] < d->pad_speed_hi[a]))
+            x.pad[a] = pad_lookup(&p->car[a / NA].vehicle.brake.pad.table, d, a, x.wheel[a]);
+    /* Polach's coefficient at the probe creep (its own pass: short dependency chains, so the
+       processor overlaps many axles) */
+    for (int a = 0; a < n; ++a) {
+        double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
+        double eps = d->axle_polach_gain[a] * x.abs_probe[a] / mu;
+        double ka_eps = d->polach_kA[a] * eps;
+        x.f[a] = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
     }
     for (int a = 0; a < n; ++a) {
-        const rb_speed_table *pad = &p->car[a / NA].vehicle.brake.pad.table;
-        x.pad[a] = rb_speed_table_at_from(pad, s->omega[a] * d->radius[a / NA], &d->pad_bracket[a]);
-    }
-    for (int c = 0; c < p->n_cars; ++c) {
-        const double r = d->radius[c], inv_J = d->inv_inertia[c], gain = d->polach_gain[c];
-        const double axle_load = d->axle_load[c], compliance = d->compliance[c], brake_gain = d->brake_gain[c];
-        const double p_atm = d->caliper_atmosphere[c], area = d->caliper_area[c], spring = d->caliper_spring[c];
-        const double inv_vr = in->inv_creep_speed[c], others_all = in->others[c], ed = in->ed_torque[c];
-        const double inv_mass = d->inv_mass[c];
-        for (int a = c * NA; a < c * NA + NA; ++a) {
-            double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
-            double eps = gain * x.abs_probe[a] / mu;
-            double ka_eps = d->polach_kA[a] * eps;
-            double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
-            x.f[a] = f;
-            double stiffness = axle_load * (f / x.abs_probe[a]) * inv_vr;  /* N per m/s */
-            /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
-            double piston = (cylinder[a] - p_atm) * area - spring;
-            double friction = brake_gain * x.pad[a] * (piston > 0.0 ? piston : 0.0);
-            s->brake_torque[a] = friction;   /* for the discs' energy (plant_train.c) */
-            double torque = friction + ed;
-            /* slip velocity, linearly implicit in this axle's own rail force */
-            double others = others_all - s->force[a];
-            double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * inv_mass)) / (1.0 + dt * stiffness * compliance);
-            x.force[a] = stiffness * w_new;
-            x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
-        }
+        const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a], f = x.f[a];
+        double stiffness = d->axle_axle_load[a] * (f / x.abs_probe[a]) * in->inv_creep_speed[a];  /* N per m/s */
+        /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
+        double piston = (cylinder[a] - d->axle_caliper_atmosphere[a]) * d->axle_caliper_area[a] - d->axle_caliper_spring[a];
+        double friction = d->axle_brake_gain[a] * x.pad[a] * (piston > 0.0 ? piston : 0.0);
+        x.friction[a] = friction;
+        double torque = friction + in->ed_torque[a];
+        /* slip velocity, linearly implicit in this axle's own rail force */
+        double others = in->others[a] - s->force[a];
+        double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * d->axle_inv_mass[a])) /
+                       (1.0 + dt * stiffness * d->axle_compliance[a]);
+        x.force[a] = stiffness * w_new;
+        x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
     }
     for (int a = 0; a < n; ++a) {
-        int c = a / NA;
         if (x.omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
-            double creep = -in->speed[c] * in->inv_creep_speed[c];
+            double creep = -in->speed[a] * in->inv_creep_speed[a];
             /* a wheel locked already was probed at that very creep: the same coefficient */
-            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[c]);
+            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[a]);
             x.omega[a] = 0.0;
-            x.force[a] = d->axle_load[c] * f;
+            x.force[a] = d->axle_axle_load[a] * f;
         }
+    }
+    for (int a = 0; a < n; ++a) {
         s->omega[a] = x.omega[a];
         s->force[a] = x.force[a];
-        s->coefficient[a] = x.force[a] / d->axle_load[c];
+        s->coefficient[a] = x.force[a] * d->axle_inv_axle_load[a];   /* an output only */
+        s->brake_torque[a] = x.friction[a];   /* for the discs' energy (plant_train.c) */
     }
 }
 

@@ -21,8 +21,8 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
             case RB_FAULT_HOLD_STUCK_CLOSED: f->hold[a] = 1; break;
             case RB_FAULT_VENT_STUCK_OPEN: f->vent[a] = 1; break;
             case RB_FAULT_VENT_STUCK_CLOSED: f->vent[a] = 0; break;
-            case RB_FAULT_SENSOR_LOST: f->noise_sd[a] = -1.0; break;
-            case RB_FAULT_SENSOR_NOISY: if (f->noise_sd[a] >= 0.0) f->noise_sd[a] = q->value; break;
+            case RB_FAULT_SENSOR_LOST: f->noise_sd[a] = -1.0; f->sensor_faults = 1; break;
+            case RB_FAULT_SENSOR_NOISY: if (f->noise_sd[a] >= 0.0) f->noise_sd[a] = q->value; f->sensor_faults = 1; break;
             case RB_FAULT_CYLINDER_LEAK: f->leak[a] += q->value; break;
             default: break;
             }
@@ -58,21 +58,36 @@ static double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 static double valve(uint8_t cmd, uint8_t *actual, uint8_t *pending, double *timer, double delay,
                     double h, signed char stuck, uint8_t *effective)
 {
-    if (cmd != *pending) { *pending = cmd; *timer = delay; }
-    double on = *actual;
-    if (*actual != *pending) {
-        if (*timer < h * (1.0 - 1e-9)) {   /* runs out within this step (not at its very end) */
-            double after = *timer > 0.0 ? (h - *timer) / h : 1.0;
-            on = *pending ? after : 1.0 - after;
-            *actual = *pending;
+    uint8_t now = *actual, next = *pending;   /* in locals: stores through uint8_t * alias everything */
+    double on = now;
+    if (cmd != next) { *pending = next = cmd; *timer = delay; }
+    if (now != next) {
+        double left = *timer;
+        if (left < h * (1.0 - 1e-9)) {   /* runs out within this step (not at its very end) */
+            double after = left > 0.0 ? (h - left) / h : 1.0;
+            on = next ? after : 1.0 - after;
+            *actual = now = next;
             *timer = 0.0;
         } else {
-            *timer -= h;
+            *timer = left - h;
         }
     }
     if (stuck >= 0) { *effective = (uint8_t)stuck; return stuck; }
-    *effective = *actual;
+    *effective = now;
     return on;
+}
+
+/* The four WSP valve pairs of the car from axle a on at rest: commanded as they stand, no timer
+ * running, none stuck (four bytes compared at once). */
+static int valves_at_rest(const rb_plant_inputs *in, const rb_plant_state *s, const rb_plant_faults *f, int a)
+{
+    uint32_t cmd_hold, cmd_vent, hold, vent, pending_hold, pending_vent, stuck_hold, stuck_vent;
+    memcpy(&cmd_hold, &in->hold[a], 4); memcpy(&cmd_vent, &in->vent[a], 4);
+    memcpy(&hold, &s->hold[a], 4); memcpy(&vent, &s->vent[a], 4);
+    memcpy(&pending_hold, &s->hold_pending[a], 4); memcpy(&pending_vent, &s->vent_pending[a], 4);
+    memcpy(&stuck_hold, &f->hold[a], 4); memcpy(&stuck_vent, &f->vent[a], 4);
+    return ((cmd_hold ^ hold) | (cmd_vent ^ vent) | (pending_hold ^ hold) | (pending_vent ^ vent) |
+            ~stuck_hold | ~stuck_vent) == 0;   /* commands 0/1 as the states; stuck -1: none */
 }
 
 /* Phase 1, supply: compressor with on/off governor, main reservoir, the MR pipe along the train,
@@ -100,31 +115,37 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
 }
 
 /* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
- * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. */
+ * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The cars
+ * are independent: all EP valves first, then all relays (a car's relay sees its own EP valve's
+ * result either way), so the cars' links overlap instead of forming one chain. */
 static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                              const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
-    double patm = p->atmosphere, vented = 0.0;
+    const double patm = p->atmosphere;
+    double ep_vented[RB_PLANT_MAX_CARS], relay_vented[RB_PLANT_MAX_CARS], p_pilot[RB_PLANT_MAX_CARS];
     for (int c = 0; c < p->n_cars; ++c) {
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
-        double p_pilot = s->m_pilot[c] * d->k_pilot[c];
-        if (!f->ep_failed[c]) {
-            double e = (s->ep_demand_lag[c] - p_pilot) * d->inv_ep_band[c];
-            if (e > 0.0) {
-                double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot, d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
-                s->m_supply[c] -= dm;
-                s->m_pilot[c] += dm;
-            } else if (e < 0.0) {
-                double dm = rb_plant_link_mass(d, p_pilot, patm, d->g_ep[c] * clamp01(-e), d->ik_ep_out[c]);
-                s->m_pilot[c] -= dm;
-                vented += dm;
-            }
-            p_pilot = s->m_pilot[c] * d->k_pilot[c];
+        p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
+        ep_vented[c] = 0.0;
+        if (f->ep_failed[c]) continue;
+        double e = (s->ep_demand_lag[c] - p_pilot[c]) * d->inv_ep_band[c];
+        if (e > 0.0) {
+            double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot[c], d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
+            s->m_supply[c] -= dm;
+            s->m_pilot[c] += dm;
+        } else if (e < 0.0) {
+            double dm = rb_plant_link_mass(d, p_pilot[c], patm, d->g_ep[c] * clamp01(-e), d->ik_ep_out[c]);
+            s->m_pilot[c] -= dm;
+            ep_vented[c] = dm;
         }
+        p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
+    }
+    for (int c = 0; c < p->n_cars; ++c) {
         double p_relay = s->m_relay[c] * d->k_relay[c];
-        double e = ((f->isolated[c] ? patm : p_pilot) - p_relay) * d->inv_relay_band[c];
+        double e = ((f->isolated[c] ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
+        relay_vented[c] = 0.0;
         if (e > 0.0 && !f->isolated[c]) {
             double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_relay, d->g_relay_supply[c] * clamp01(e),
                                   d->ik_relay_supply[c]);
@@ -134,9 +155,11 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
             double open = f->isolated[c] ? 1.0 : clamp01(-e);
             double dm = rb_plant_link_mass(d, p_relay, patm, d->g_relay_exhaust[c] * open, d->ik_relay_exhaust[c]);
             s->m_relay[c] -= dm;
-            vented += dm;
+            relay_vented[c] = dm;
         }
     }
+    double vented = 0.0;   /* booked car by car, EP before relay */
+    for (int c = 0; c < p->n_cars; ++c) vented = (vented + ep_vented[c]) + relay_vented[c];
     return vented;
 }
 
@@ -148,27 +171,38 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
                             const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
-    const int n = p->n_cars * RB_AXLES_PER_CAR;
+    const double h = d->h, g_unit = d->g_unit, patm = p->atmosphere;
     double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
     double vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {
-        double delay = p->car[c].valve_delay;
+        const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c];
+        if (valves_at_rest(in, s, f, c * RB_AXLES_PER_CAR)) {   /* what valve() would give them */
+            for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+                hold_open[a] = 1.0 - (double)s->hold[a];
+                outlet[a] = g_vent * (double)s->vent[a] + g_unit * f->leak[a];
+                s->hold_effective[a] = s->hold[a];
+                s->vent_effective[a] = s->vent[a];
+            }
+            continue;
+        }
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             hold_open[a] = 1.0 - valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
-                                       d->h, f->hold[a], &s->hold_effective[a]);
+                                       h, f->hold[a], &s->hold_effective[a]);
             double vent = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a], delay,
-                                d->h, f->vent[a], &s->vent_effective[a]);
-            outlet[a] = d->g_vent[c] * vent + d->g_unit * f->leak[a];
+                                h, f->vent[a], &s->vent_effective[a]);
+            outlet[a] = g_vent * vent + g_unit * f->leak[a];
         }
     }
-    for (int a = 0; a < n; ++a) {
-        int c = a / RB_AXLES_PER_CAR;
-        taken[a] = rb_plant_link_mass(d, s->m_relay[c] * d->k_relay[c], s->m_cyl[a] * d->k_cyl[c],
-                                      d->g_hold[c] * hold_open[a], d->ik_hold[c]);
-        s->m_cyl[a] += taken[a];
-        double dm = rb_plant_link_mass(d, s->m_cyl[a] * d->k_cyl[c], p->atmosphere, outlet[a], d->ik_vent[c]);
-        s->m_cyl[a] -= dm;
-        vented += dm;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double p_relay = s->m_relay[c] * d->k_relay[c], k_cyl = d->k_cyl[c];
+        const double g_hold = d->g_hold[c], ik_hold = d->ik_hold[c], ik_vent = d->ik_vent[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            taken[a] = rb_plant_link_mass(d, p_relay, s->m_cyl[a] * k_cyl, g_hold * hold_open[a], ik_hold);
+            s->m_cyl[a] += taken[a];
+            double dm = rb_plant_link_mass(d, s->m_cyl[a] * k_cyl, patm, outlet[a], ik_vent);
+            s->m_cyl[a] -= dm;
+            vented += dm;
+        }
     }
     for (int c = 0; c < p->n_cars; ++c) {
         double to_cylinders = 0.0;
@@ -192,8 +226,9 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
         double v = s->v[c];
-        double ed_max = car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
         double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
+        /* the ED limit (>= 0) matters only when ED force is asked for */
+        double ed_max = ed > 0.0 && car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
         double ed_target = ed < ed_max ? ed : ed_max;
         s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
         double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * d->mass_share[c] : 0.0;
@@ -206,10 +241,12 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * car->vehicle.wheelset.wheel_radius;
         double others = other[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
-        w.speed[c] = v;
-        w.inv_creep_speed[c] = inv_vr;
-        w.others[c] = others;
-        w.ed_torque[c] = ed_axle;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            w.speed[a] = v;
+            w.inv_creep_speed[a] = inv_vr;
+            w.others[a] = others;
+            w.ed_torque[a] = ed_axle;
+        }
     }
     rb_plant_wheelsets(p, s, &w, cylinder, dt);
     for (int c = 0; c < p->n_cars; ++c) {
@@ -226,6 +263,15 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
 
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
+    if (!f->sensor_faults) {   /* every sensor sound: what the loop below would write */
+        if (s->sensors_written) {
+            memset(s->sensor_lost, 0, sizeof s->sensor_lost);
+            memset(s->noise, 0, sizeof s->noise);
+            s->sensors_written = 0;
+        }
+        return;
+    }
+    s->sensors_written = 1;
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
         s->sensor_lost[a] = f->noise_sd[a] < 0.0;
         s->noise[a] = f->noise_sd[a] > 0.0 ? f->noise_sd[a] * gaussian(&s->rng) : 0.0;

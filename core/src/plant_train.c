@@ -101,15 +101,16 @@ void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
 {
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
-        double cooling = car->disc_cooling.n > 0 ? rb_speed_table_at(&car->disc_cooling, s->v[c]) : 0.0;
+        const double cooling = car->disc_cooling.n > 0
+            ? rb_speed_table_at_from(&car->disc_cooling, s->v[c], &s->derived.cooling_bracket[c]) : 0.0;
+        const double capacity = car->disc_heat_capacity, to_ambient = cooling * p->ambient_temperature;
+        const double inv_retained = 1.0 / (capacity + dt * cooling);
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
             double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
             s->brake_energy[a] += power * dt;
-            if (car->disc_heat_capacity > 0.0)   /* implicit in the cooling: stable at any step */
-                s->disc_temperature[a] = (car->disc_heat_capacity * s->disc_temperature[a] +
-                                          dt * (power + cooling * p->ambient_temperature)) /
-                                         (car->disc_heat_capacity + dt * cooling);
+            if (capacity > 0.0)   /* implicit in the cooling: stable at any step */
+                s->disc_temperature[a] = (capacity * s->disc_temperature[a] + dt * (power + to_ambient)) * inv_retained;
         }
     }
 }

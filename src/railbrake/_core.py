@@ -409,7 +409,7 @@ rb_run_channel_count = _declare("rb_run_channel_count", c_int, c_int)
 rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
                                c_size_t, _err_p)
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
-                          c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
+                          c_double_p, c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
 
 for _struct, _size in ((BcuParams, "rb_bcu_params_size"), (Kpis, "rb_kpis_size")):
     if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():

@@ -228,7 +228,20 @@ typedef struct {
     /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
     double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
-    int pad_bracket[RB_PLANT_MAX_AXLES];     /* last pad-table interval used by each axle */
+    /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends and
+       spans (so the kernel interpolates without the table; empty: pad_speed_lo = +inf, never hit) */
+    int pad_bracket[RB_PLANT_MAX_AXLES];
+    double pad_speed_lo[RB_PLANT_MAX_AXLES], pad_speed_hi[RB_PLANT_MAX_AXLES];
+    double pad_speed_span[RB_PLANT_MAX_AXLES], pad_value_lo[RB_PLANT_MAX_AXLES], pad_value_span[RB_PLANT_MAX_AXLES];
+    int cooling_bracket[RB_PLANT_MAX_CARS];  /* last disc-cooling table interval of each car */
+    double h_laminar;           /* s: h x the orifice law's laminar slope (rb_plant_link_mass) */
+    /* the per-car constants of the wheelset kernel repeated for each axle (its passes run over the
+       train's axles in one loop: full vectors, no per-car set-up) */
+    double axle_radius[RB_PLANT_MAX_AXLES], axle_inv_inertia[RB_PLANT_MAX_AXLES], axle_inv_mass[RB_PLANT_MAX_AXLES];
+    double axle_polach_gain[RB_PLANT_MAX_AXLES], axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
+    double axle_brake_gain[RB_PLANT_MAX_AXLES], axle_caliper_atmosphere[RB_PLANT_MAX_AXLES];
+    double axle_caliper_area[RB_PLANT_MAX_AXLES], axle_caliper_spring[RB_PLANT_MAX_AXLES];
+    double axle_inv_axle_load[RB_PLANT_MAX_AXLES];   /* 1 / axle load: the adhesion coefficient output */
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
@@ -269,6 +282,7 @@ typedef struct {
     double disc_temperature[RB_PLANT_MAX_AXLES]; /* K */
     double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
     double brake_torque[RB_PLANT_MAX_AXLES];     /* N m, friction brake torque of the last step (kernel) */
+    int sensors_written;      /* a sensor fault has set noise or loss since the last clearing */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */

@@ -100,12 +100,16 @@ int rb_run_channel_count(int n_cars);
 rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_size, char *unit,
                               size_t unit_size, rb_error *err);
 
-/* The plant alone at its fixed step with constant inputs (brakes at pressure_demand): wall-clock
- * time per step after a warm-up of steps / 10 (at most 1000), mean, 99th percentile and largest
- * (microseconds), and the name of the wheelset kernel used (rb_plant_kernel_name) into kernel. */
+/* The plant alone at its fixed step with constant inputs (brakes at pressure_demand), `steps` steps
+ * after a warm-up of steps / 10 (at most 1000), in microseconds per step: step_us_mean the CPU time
+ * of the calling thread over the steps (on a shared machine, without the time other processes held
+ * the core; wall-clock where the system has no thread CPU clock), step_us_wall_mean the wall-clock
+ * mean, step_us_p99 and step_us_max the 99th percentile and the largest wall-clock time of one step
+ * (each including one clock read, about 30 ns); the name of the wheelset kernel used
+ * (rb_plant_kernel_name) into kernel. */
 rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, long steps,
-                         double *step_us_mean, double *step_us_p99, double *step_us_max, char *kernel,
-                         size_t kernel_size, rb_error *err);
+                         double *step_us_mean, double *step_us_p99, double *step_us_max,
+                         double *step_us_wall_mean, char *kernel, size_t kernel_size, rb_error *err);
 
 #ifdef __cplusplus
 }
