@@ -74,7 +74,10 @@ def test_forged_step_does_not_silence_the_bcu(bcu_process):
 def test_ctrl_c_keeps_the_recording_and_the_summary(bcu_process, railbrake_cli, tmp_path):
     bcu, port = bcu_process(SCENARIO, "--cars", "1", "--idle-timeout", "0.5")
     record = tmp_path / "interrupted.mf4"
-    run = plant(railbrake_cli, port, "--cars", "1", "--record", str(record))
+    # Ctrl-C as from a terminal: a shell's background job (make test run with &) ignores SIGINT, and
+    # Python keeps an ignored SIGINT, so the plant gets the default disposition back
+    run = plant(railbrake_cli, port, "--cars", "1", "--record", str(record),
+                preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     while "session 0x" not in run.stderr.readline():   # the plant is running
         assert run.poll() is None
     time.sleep(1.0)
