@@ -6,14 +6,7 @@
 
 double rb_speed_table_at(const rb_speed_table *t, double speed)
 {
-    int n = t->n;
-    if (n <= 0)
-        return 0.0;
-    if (speed <= t->speed[0])
-        return t->value[0];
-    if (speed >= t->speed[n - 1])
-        return t->value[n - 1];
-    int lo = 0, hi = n - 1;  /* bisection: speed[lo] < speed < speed[hi] */
+    int lo = 0, hi = t->n - 1;   /* bisection for the interval, then the bracketed look-up */
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
         if (t->speed[mid] <= speed)
@@ -21,8 +14,7 @@ double rb_speed_table_at(const rb_speed_table *t, double speed)
         else
             hi = mid;
     }
-    double w = (speed - t->speed[lo]) / (t->speed[hi] - t->speed[lo]);
-    return t->value[lo] + w * (t->value[hi] - t->value[lo]);
+    return rb_speed_table_at_from(t, speed, &lo);
 }
 
 rb_status rb_speed_table_check(const rb_speed_table *t, const char *name, double lo, double hi,

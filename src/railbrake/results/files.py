@@ -5,13 +5,13 @@ content in their own metadata, so each file stands alone; load() reads any of th
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from railbrake import jsonio
 from railbrake.errors import InputError
 from railbrake.results.record import RunRecord
 
@@ -19,21 +19,8 @@ FORMATS = {"parquet": "timeseries.parquet", "csv": "timeseries.csv", "mf4": "tim
 _READ_ORDER = ("parquet", "mf4", "csv")
 
 
-def _json_value(value):
-    """JSON for KPIs and metadata: NaN and infinities become null (JSON has neither)."""
-    if isinstance(value, dict):
-        return {k: _json_value(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_value(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
 def dumps(data) -> str:
-    return json.dumps(_json_value(data), indent=2, allow_nan=False)
+    return jsonio.dumps(data, indent=2)   # NaN and infinities become null
 
 
 def parse_formats(text: str | None, option: str = "--format") -> list[str]:
