@@ -180,7 +180,7 @@ FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "
 
 class FaultSpec(_Strict):
     type: FaultType
-    car: int = Field(ge=1, description="1-based")
+    car: int | None = Field(default=None, ge=1, description="1-based; every fault but compressor_off needs it")
     axle: int | None = Field(default=None, ge=1, le=4, description="1-based; omitted: every axle of the car")
     start: EventTime = 0.0
     noise: Q_SCENARIO_FAULT_NOISE | None = None         # sensor_noisy only
@@ -256,15 +256,17 @@ class Scenario:
     def check_faults_on(self, train) -> None:
         """An ED-brake fault on a car without an ED brake (a trailer) changes nothing: refused."""
         for i, fault in enumerate(self.spec.faults):
+            if fault.type != "ed_lost":
+                continue
             car = train.cars[(fault.car - 1) % len(train.cars)]   # the formation repeats with --cars
-            if fault.type == "ed_lost" and not car.motor:
+            if not car.motor:
                 raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: an ed_lost fault on a trailer "
                                  f"({car.type_name}) of train {train.name}, which has no ED brake: name a motor car")
 
     def check_cars(self, n_cars: int) -> None:
         """Faults must name cars of the train, and the recording must fit the bound on its size."""
         for i, fault in enumerate(self.spec.faults):
-            if fault.car > n_cars:
+            if fault.car is not None and fault.car > n_cars:
                 raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: the train has cars 1..{n_cars}")
         self._check_recording(n_cars)
 
@@ -336,6 +338,13 @@ class Scenario:
                                      "does): remove it")
             if needed and getattr(fault, needed) is None:
                 raise InputError(f"{self.where('faults', i, 'type')}: a {fault.type} fault needs {needed}")
+            if fault.type == "compressor_off":
+                if fault.car is not None:
+                    raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: a compressor_off fault stops "
+                                     "every compressor of the train (one compressor failing alone is not "
+                                     "modelled): remove car")
+            elif fault.car is None:
+                raise InputError(f"{self.where('faults', i, 'type')}: a {fault.type} fault needs car (1-based)")
             if fault.axle is not None and fault.type in self._CAR_FAULTS:
                 raise InputError(f"{self.where('faults', i, 'axle')} = {fault.axle}: a {fault.type} fault acts on "
                                  "the whole car (or train), not on one axle: remove axle")

@@ -183,7 +183,7 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
         if value is None and f.type in ("sensor_noisy", "cylinder_leak"):
             key = "noise" if f.type == "sensor_noisy" else "leak_area"
             raise InputError(f"{scenario.where('faults', i, 'type')}: a {f.type} fault needs {key}")
-        p.fault[i] = _core.Fault(_FAULT_INDEX[f.type], f.car - 1, -1 if f.axle is None else f.axle - 1,
+        p.fault[i] = _core.Fault(_FAULT_INDEX[f.type], 0 if f.car is None else f.car - 1, -1 if f.axle is None else f.axle - 1,
                                  f.start, value or 0.0)
     p.noise_seed = spec.seed
     _core.call(_core.rb_plant_check, ctypes.byref(p))

@@ -5,6 +5,8 @@ adhesion 0.02 front car to 0.05 car 4 at 300 km/h [P]; EN 15595 adhesion utilisa
 lock, safety timer on continuous venting [T].
 """
 
+from importlib import resources
+
 import numpy as np
 import pytest
 
@@ -289,3 +291,19 @@ def test_heavy_rain_demo_reports_its_supply_truthfully(heavy_rain):
     from railbrake.cli.simulation import warnings_for
     warned = [w for w in warnings_for(heavy_rain) if "supply reservoir" in w or "brake cylinder" in w]
     assert (k["min_supply_margin_bar"] < 0.0 or k["cylinder_shortfall_s"] > 2.0) == bool(warned)
+
+
+def test_compressor_off_stops_every_compressor_and_the_air_balance_still_closes(tmp_path):
+    """A compressor_off fault (no car: it stops the train's air supply) from t = 0, in heavy rain on
+    1 car: the governor calls for air as the main reservoir falls (compressor_on), but nothing is
+    delivered, so the main reservoir only falls where the healthy train's recovers, and the air
+    balance closes without compressor air."""
+    text = resources.files("railbrake").joinpath("data/scenarios/emergency-300-heavy-rain.yaml").read_text()
+    path = tmp_path / "no-compressor.yaml"
+    path.write_text(text.replace("wsp: {enabled: true}", "wsp: {enabled: true}\nfaults:\n  - {type: compressor_off}"))
+    healthy, failed = simulation.run("emergency-300-heavy-rain", cars=1), simulation.run(str(path), cars=1)
+    mr = [r.outputs["main_reservoir"] for r in (healthy, failed)]
+    assert failed.outputs["compressor_on"].max() == 1.0
+    assert (mr[0] - np.minimum.accumulate(mr[0])).max() > 0.05e5   # recovers by 0.05 bar or more
+    assert np.diff(mr[1]).max() <= 0.0
+    assert failed.kpis["air_balance_error"] < 1e-9
