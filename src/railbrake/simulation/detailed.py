@@ -34,7 +34,7 @@ def load_valves(override: dict | None = None) -> dict:
     """The valve designs {"epv": epv.yaml, "relay": relay.yaml} with the detailed model's settings
     (air, drive, solver), updated by a dict of overrides (unknown keys are refused)."""
     params = {"epv": load_epv(), "relay": load_relay(), **yaml.safe_load((DATA / "valves.yaml").read_text())}
-    return params if override is None else _merge(params, override, "detailed")
+    return params if override is None else _merge(params, override, lambda path: "detailed valves")
 
 
 def _area(d_mm: float) -> float:

@@ -41,7 +41,6 @@ def _valve(load):
 
 LOADERS = {"scenarios": scenario.load, "trains": vehicle.load_train, "adhesion": adhesion.load_condition,
            "profiles": sizing.load_profile, "epv": _valve(load_epv), "relay": _valve(load_relay)}
-LEAF_KINDS = ("scenarios", "trains", "adhesion", "profiles")   # the valve files: the pairs only
 
 # replacement values for a leaf, as YAML text; NOT_A_NUMBER must never be read as a number
 NOT_A_NUMBER = [".nan", ".inf", "-.inf", "true", "false", '"1_000"', '"12"', "null", "[]", "{}", "abc"]
@@ -50,7 +49,8 @@ ODD_QUANTITIES = ["1e-9 s", "1e12 m/s", "-1 m/s", "0 s", "1e308 km/h", "nan s", 
 
 # Keys whose value may be negative: positions along the track, gradients, the ED curve's
 # polynomial coefficients (a falling branch), a signed creep-force coefficient, degC.
-SIGNED = {"start", "end", "gradient", "c0", "c1", "c2", "value", "air_temperature_c"}
+SIGNED = {"start", "end", "gradient", "c0", "c1", "c2", "value", "air_temperature_c",
+          "x_mm", "volume_cm3"}   # a relay membrane's positions and volumes either side of its centre
 # Keys that are not physical quantities: no plausibility bound beyond their type.
 NOT_PHYSICAL = {"seed"}
 # Fractions (0..1): a value x 100 is a percent given where a fraction is asked.
@@ -59,7 +59,8 @@ FRACTIONS = {"service", "slip_threshold", "efficiency", "discharge_coefficient",
              "peak_creep", "kA", "kS", "A", "mu0", "scale"}
 
 # Text keys that name a preset, a file or one of a set of choices.
-REFERENCES = {"preset", "condition", "profile", "design", "mounting", "kind", "formation", "load_case", "type"}
+REFERENCES = {"preset", "condition", "profile", "design", "mounting", "kind", "formation", "load_case", "type",
+              "solenoid_table"}
 
 # classes that must be refused, whatever the key
 MEANINGLESS = {"nan/inf", "not a number", "negative", "huge", "percent for a fraction", "inconsistent pair",
@@ -87,7 +88,7 @@ def preset_files() -> list:
     kinds = {"scenarios": "scenarios", "trains": "trains", "adhesion": "adhesion", "profiles": "profiles"}
     files = [(kind, data / folder / p.name) for kind, folder in kinds.items()
              for p in sorted((data / folder).iterdir(), key=lambda q: q.name) if p.name.endswith(".yaml")]
-    return files
+    return files + [(kind, data / "valves" / f"{kind}.yaml") for kind in ("epv", "relay")]   # as overrides
 
 
 def leaves(node, path=()):
@@ -261,8 +262,9 @@ def variants(kind: str, text: str, rng: random.Random):
             yield cls, f"{dotted} = {value}", replace_value(text, leaf, value), key_name(path)
     lines = text.splitlines(keepends=True)
     top_keys = [n.value for n, _ in node.value]
+    first_value = next(l for l in lines if re.match(r"^\w[\w-]*:", l)).split(":", 1)[1].split("#")[0].strip()
     for key in top_keys:
-        yield "file-level", f"duplicate {key}", text + f"{key}: {lines[0].split(':', 1)[1].strip()}\n", key
+        yield "file-level", f"duplicate {key}", text + f"{key}: {first_value}\n", key
         kept = "".join(drop_block(lines, key))
         yield "missing key", f"missing {key}", kept, key   # refused unless optional
     yield "file-level", "unknown key", text + "no_such_key: 1\n", "no_such_key"
@@ -328,9 +330,6 @@ def build_pool(tmp_path, rng):
         fixed += [(kind, path.name, "inconsistent pair", what, content, key)
                   for what, content, key in pairs(kind, path.name[:-5], text, tmp_path)]
         pool += [(kind, path.name, *v) for v in variants(kind, text, rng)]
-    for kind in ("relay", "epv"):
-        fixed += [(kind, f"{kind}.yaml", "inconsistent pair", what, content, key)
-                  for what, content, key in pairs(kind, kind, "", tmp_path)]
     rng.shuffle(pool)
     return fixed, pool
 

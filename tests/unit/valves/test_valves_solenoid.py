@@ -47,8 +47,8 @@ def test_steady_coil_temperature_closed_form():
 
 
 @pytest.mark.parametrize("override, match", [
-    ({"coil": {"turns": -10}}, r"coil.turns = -10: must be > 0"),
-    ({"coil": {"resistance_20c_ohm": -1.0}}, r"coil.resistance_20c_ohm = -1.0: must be >= 0 ohm"),
+    ({"coil": {"turns": -10}}, r"coil.turns = -10: must lie in \[1, 100000\] \(a coil of"),
+    ({"coil": {"resistance_20c_ohm": -1.0}}, r"coil.resistance_20c_ohm = -1.0: must lie in \[0.001, 10000\] ohm"),
     ({"magnetic": {"bh_curve": {"h_a_per_m": [0, 100, 200], "b_t": [0, 1.2, 1.1]}}},
      r"bh_curve.b_t\[2\] = 1.1 after 1.2: must be strictly increasing"),
     ({"force_table": {"current_a": [0, 0.5, 0.8]}}, r"must cover the rated current 1 A"),
