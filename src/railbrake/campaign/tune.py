@@ -161,20 +161,23 @@ def _objective_value(figures: dict, air_limit: float | None) -> float:
     return value
 
 
-def _recover(trials, defaults: dict) -> None:
+def _recover(trials, storage, defaults: dict) -> None:
     """After an interruption: the trials it left running are failed (one tuning per folder at a
     time), and the default WSP is queued first unless it was evaluated (or is queued) already."""
     from optuna.trial import TrialState
+    study_id = storage.get_study_id_from_name(trials.study_name)
     for t in trials.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
-        trials._storage.set_trial_state_values(t._trial_id, TrialState.FAIL)
+        storage.set_trial_state_values(storage.get_trial_id_from_study_id_trial_number(study_id, t.number),
+                                       TrialState.FAIL)
     if not any(t.user_attrs.get("default") for t in trials.get_trials(
             deepcopy=False, states=(TrialState.COMPLETE, TrialState.WAITING))):
         trials.enqueue_trial(defaults, user_attrs={"default": True})
 
 
-def _storage(out: Path) -> str:
+def _storage(out: Path):
+    import optuna
     out.mkdir(parents=True, exist_ok=True)
-    return f"sqlite:///{(out / DB).resolve()}"
+    return optuna.storages.RDBStorage(f"sqlite:///{(out / DB).resolve()}")
 
 
 def tune(study: Study, names: list[str], objective: str, budget: int, out: Path, workers=None,
@@ -200,9 +203,10 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
         sampler = optuna.samplers.TPESampler(seed=seed, n_startup_trials=min(8, max(1, budget // 3)))
         directions = ["minimize"]
     name = f"{study.name}:{objective}:{','.join(p.key for p in params)}:{' '.join(sorted(only))}"
-    trials = optuna.create_study(study_name=name, storage=_storage(out), sampler=sampler,
+    storage = _storage(out)
+    trials = optuna.create_study(study_name=name, storage=storage, sampler=sampler,
                                  directions=directions, load_if_exists=True)
-    _recover(trials, {p.key: defaults[p.key] for p in params})
+    _recover(trials, storage, {p.key: defaults[p.key] for p in params})
     for fragment in [start] if isinstance(start, (str, Path)) else start:
         first = start_values(fragment, params)
         if not any(first in (t.params, t.system_attrs.get("fixed_params")) for t in trials.trials):

@@ -137,15 +137,18 @@ def test_a_start_fragment_is_read_in_si_and_checked_against_the_tuning_range(tmp
         tune.start_values(fragment, params)
 
 
-def test_a_tuning_interrupted_during_the_default_trial_queues_the_default_again():
+def test_a_tuning_interrupted_during_the_default_trial_queues_the_default_again(tmp_path):
     import optuna
     from optuna.trial import TrialState
-    trials = optuna.create_study()
-    tune._recover(trials, {"wsp.decel_threshold": 2.5})
+    storage = tune._storage(tmp_path)
+    trials = optuna.create_study(study_name="t", storage=storage)
+    tune._recover(trials, storage, {"wsp.decel_threshold": 2.5})
     trials.ask()                                # the default trial starts ... and the process is killed
-    tune._recover(trials, {"wsp.decel_threshold": 2.5})
+    storage = tune._storage(tmp_path)           # the rerun opens the folder's database again
+    trials = optuna.load_study(study_name="t", storage=storage)
+    tune._recover(trials, storage, {"wsp.decel_threshold": 2.5})
     states = [t.state for t in trials.get_trials(deepcopy=False)]
     assert states == [TrialState.FAIL, TrialState.WAITING]
     assert trials.trials[1].user_attrs == {"default": True}
-    tune._recover(trials, {"wsp.decel_threshold": 2.5})   # queued already: not twice
+    tune._recover(trials, storage, {"wsp.decel_threshold": 2.5})   # queued already: not twice
     assert len(trials.trials) == 2
