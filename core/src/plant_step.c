@@ -163,16 +163,33 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     return vented;
 }
 
+/* Each cylinder's temperature (m T) / m and its orifice flow's factor sqrt(T_wall / T) (the
+ * conductances are the wall temperature's): one division and one square root per axle, in a
+ * loop without branches that the compiler vectorises. */
+static void cylinder_temperatures(const rb_plant_state *s, int n_axles, double wall, double *temp, double *root)
+{
+    for (int a = 0; a < n_axles; ++a) {
+        double q = 1.0 / (s->m_cyl[a] * s->mt_cyl[a]);   /* T = (m T)^2 q, sqrt(wall / T) = m sqrt(wall q) */
+        temp[a] = s->mt_cyl[a] * s->mt_cyl[a] * q;
+        root[a] = s->m_cyl[a] * sqrt(wall * q);
+    }
+}
+
 /* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
  * each port's area weighted by the part of the step it is open, and cylinder leaks. The axles of a
  * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
- * volume among its links, so together they never overshoot). */
+ * volume among its links, so together they never overshoot). The cylinders' energy balance
+ * (wall_time > 0): the air taken brings its upstream enthalpy (the relay's air at the wall's
+ * temperature, or the cylinder's own when it flows back), the air vented leaves with the
+ * cylinder's, the wall exchanges heat; temperatures from the start of the phase. */
 static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                             const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
-    const double h = d->h, g_unit = d->g_unit, patm = p->atmosphere;
+    const double h = d->h, g_unit = d->g_unit, patm = p->atmosphere, wall = p->temperature, gamma = d->gamma_cyl;
+    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
     double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
+    double temp[RB_PLANT_MAX_AXLES], root[RB_PLANT_MAX_AXLES];
     double vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {
         const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c];
@@ -193,17 +210,30 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
             outlet[a] = g_vent * vent + g_unit * f->leak[a];
         }
     }
+    if (gamma > 1.0) {
+        cylinder_temperatures(s, n_axles, wall, temp, root);
+    } else {
+        for (int a = 0; a < n_axles; ++a) { temp[a] = wall; root[a] = 1.0; }
+    }
     for (int c = 0; c < p->n_cars; ++c) {
-        const double p_relay = s->m_relay[c] * d->k_relay[c], k_cyl = d->k_cyl[c];
+        const double p_relay = s->m_relay[c] * d->k_relay[c], r_cyl = d->r_cyl[c];
         const double g_hold = d->g_hold[c], ik_hold = d->ik_hold[c], ik_vent = d->ik_vent[c];
+        const double ik_hold_rate = d->ik_hold_rate[c], ik_vent_rate = d->ik_vent_rate[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            taken[a] = rb_plant_link_mass(d, p_relay, s->m_cyl[a] * k_cyl, g_hold * hold_open[a], ik_hold);
+            double p_cyl = s->mt_cyl[a] * r_cyl;
+            int from_relay = p_relay >= p_cyl;
+            double t_up = from_relay ? wall : temp[a], root_up = from_relay ? 1.0 : root[a];
+            taken[a] = rb_plant_link_mass_capped(d, p_relay, p_cyl, g_hold * hold_open[a] * root_up, ik_hold_rate, ik_hold);
             s->m_cyl[a] += taken[a];
-            double dm = rb_plant_link_mass(d, s->m_cyl[a] * k_cyl, patm, outlet[a], ik_vent);
+            s->mt_cyl[a] += gamma * t_up * taken[a];   /* enthalpy in: m T rises by gamma T_up dm */
+            double dm = rb_plant_link_mass_capped(d, s->mt_cyl[a] * r_cyl, patm, outlet[a] * root[a], ik_vent_rate, ik_vent);
             s->m_cyl[a] -= dm;
+            s->mt_cyl[a] += d->axle_heat_cyl[a] * (wall - temp[a]) - gamma * temp[a] * dm;
             vented += dm;
         }
     }
+    if (!(gamma > 1.0))   /* isothermal: m T stays m times the wall's temperature, exactly */
+        for (int a = 0; a < n_axles; ++a) s->mt_cyl[a] = s->m_cyl[a] * wall;
     for (int c = 0; c < p->n_cars; ++c) {
         double to_cylinders = 0.0;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) to_cylinders += taken[a];
@@ -282,7 +312,7 @@ void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const 
 static void cylinder_pressures(const rb_plant_params *p, const rb_plant_state *s, double *out)
 {
     for (int c = 0; c < p->n_cars; ++c)
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) out[a] = s->m_cyl[a] * s->derived.k_cyl[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) out[a] = s->mt_cyl[a] * s->derived.r_cyl[c];
 }
 
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
