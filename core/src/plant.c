@@ -186,6 +186,8 @@ static void derive_cylinders(const rb_plant_params *p, rb_plant_derived *d)
         d->ik_vent[c] = 1.0 / (cyl_links * k_cyl);
         d->ik_hold_rate[c] = 1.0 / (d->k_relay[c] + k_cyl);
         d->ik_vent_rate[c] = 1.0 / k_cyl;
+        double fill = d->ik_hold_rate[c] * rb_one_minus_exp_neg(d->h * d->orifice.laminar_slope * d->g_hold[c] / d->ik_hold_rate[c]);
+        d->hold_laminar[c] = fill < d->ik_hold[c] ? fill : d->ik_hold[c];
     }
 }
 

@@ -264,6 +264,8 @@ typedef struct {
     /* the WSP links' exponential rates from the link alone, 1 / (k_i + k_j) with the adiabatic
        stiffness gamma k of the cylinder (the shared ik_hold, ik_vent only cap them) */
     double ik_hold_rate[RB_PLANT_MAX_CARS], ik_vent_rate[RB_PLANT_MAX_CARS];
+    double hold_laminar[RB_PLANT_MAX_CARS];  /* kg/Pa: the open hold link's step mass per Pa in its
+                                                laminar region, relay air (rb_plant_link_mass_capped) */
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
