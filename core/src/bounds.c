@@ -27,6 +27,7 @@ static const rb_bound bounds[] = {
     {"compressor_flow", "kg/s", 0.0, 1.0, "up to 50 m3/min of free air"},
     {"initial_speed", "m/s", 0.0, 150.0, "up to 540 km/h"},
     {"temperature", "K", 200.0, 400.0, "-73 to 127 degC"},
+    {"wall_time", "s", 0.0, 1e3, "a wall heat-exchange time of the cylinders' air up to 1000 s (0: isothermal)"},
     {"bcu.cycle", "s", 1e-4, 0.1, "a BCU cycle of 0.1 to 100 ms"},
     {"bcu.service_decel", "m/s2", 0.0, 3.0, "up to 3 m/s2"},
     {"bcu.emergency_decel", "m/s2", 0.0, 3.0, "up to 3 m/s2"},
@@ -207,7 +208,8 @@ rb_status rb_plant_bounds_check(const rb_plant_params *p, rb_error *err)
     if ((s = rb_bound_check(err, "main_reservoir_volume", "main_reservoir_volume", p->main_reservoir_volume)) ||
         (s = rb_bound_check(err, "compressor_flow", "compressor_flow", p->compressor_flow)) ||
         (s = rb_bound_check(err, "initial_speed", "initial_speed", p->initial_speed)) ||
-        (s = rb_bound_check(err, "temperature", "temperature", p->temperature)))
+        (s = rb_bound_check(err, "temperature", "temperature", p->temperature)) ||
+        (s = rb_bound_check(err, "wall_time", "wall_time", p->wall_time)))
         return s;
     return RB_OK;
 }

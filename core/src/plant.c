@@ -1,5 +1,6 @@
 /* Whole-train plant: parameter checks, initial state, outputs (the step is in plant_step.c). */
 #include "plant_internal.h"
+#include "railbrake/rb_bounds.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -126,6 +127,7 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if (p->kernel != RB_PLANT_KERNEL_AUTO && p->kernel != RB_PLANT_KERNEL_PORTABLE)
         return rb_fail(err, RB_EINVAL, "kernel = %d: must be %d (auto) or %d (portable)", p->kernel,
                        RB_PLANT_KERNEL_AUTO, RB_PLANT_KERNEL_PORTABLE);
+    if ((s = rb_bound_check(err, "wall_time", "wall_time", p->wall_time))) return s;
     if ((s = rb_plant_train_check(p, err))) return s;
     return check_faults(p, err);
 }
@@ -164,6 +166,31 @@ static double pipe_links(const rb_plant_params *p, int c)
     return 1.0 + (c > 0) + (c < p->n_cars - 1) + (c == p->compressor_car);
 }
 
+/* The cylinders' energy balance (rb_plant_params.wall_time): adiabatic exponent, R / V, and the
+ * wall's exchange per step, h x h A / cv = h m_ref / wall_time (kg; times wall minus air
+ * temperature, the step's change of m T). Within a step an adiabatic cylinder is gamma times
+ * stiffer than an isothermal one (dp = gamma R T dm / V): its links' equalising masses say so. */
+static void derive_cylinders(const rb_plant_params *p, rb_plant_derived *d)
+{
+    int thermal = p->wall_time > 0.0;
+    double m_ref_per_volume = RB_WALL_REFERENCE_PRESSURE / (RB_AIR_R * p->temperature);
+    d->gamma_cyl = thermal ? RB_AIR_GAMMA : 1.0;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        d->r_cyl[c] = RB_AIR_R / car->cylinder_volume;
+        double heat = thermal ? d->h * m_ref_per_volume * car->cylinder_volume / p->wall_time : 0.0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->axle_heat_cyl[a] = heat;
+        const double relay_links = 2.0 + RB_AXLES_PER_CAR, cyl_links = 3.0;
+        double k_cyl = d->gamma_cyl * d->k_cyl[c];
+        d->ik_hold[c] = 1.0 / (relay_links * d->k_relay[c] + cyl_links * k_cyl);
+        d->ik_vent[c] = 1.0 / (cyl_links * k_cyl);
+        d->ik_hold_rate[c] = 1.0 / (d->k_relay[c] + k_cyl);
+        d->ik_vent_rate[c] = 1.0 / k_cyl;
+        double fill = d->ik_hold_rate[c] * rb_one_minus_exp_neg(d->h * d->orifice.laminar_slope * d->g_hold[c] / d->ik_hold_rate[c]);
+        d->hold_laminar[c] = fill < d->ik_hold[c] ? fill : d->ik_hold[c];
+    }
+}
+
 /* The air system's constants: node stiffness R T / V, link conductances, 1 / (n_i k_i + n_j k_j). */
 static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
 {
@@ -182,7 +209,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->k_relay[c] = rt / car->relay_volume;
         d->k_cyl[c] = rt / car->cylinder_volume;
     }
-    const double supply_links = 3.0, pilot_links = 2.0, relay_links = 2.0 + RB_AXLES_PER_CAR, cyl_links = 3.0;
+    const double supply_links = 3.0, pilot_links = 2.0, relay_links = 2.0 + RB_AXLES_PER_CAR;
     int cc = p->compressor_car;
     d->ik_mr = 1.0 / (d->k_mr + pipe_links(p, cc) * d->k_pipe[cc]);
     for (int c = 0; c < p->n_cars; ++c) {
@@ -201,12 +228,11 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->ik_relay_exhaust[c] = 1.0 / (relay_links * d->k_relay[c]);
         d->g_hold[c] = d->g_unit * car->hold_area;
         d->g_vent[c] = d->g_unit * car->vent_area;
-        d->ik_hold[c] = 1.0 / (relay_links * d->k_relay[c] + cyl_links * d->k_cyl[c]);
-        d->ik_vent[c] = 1.0 / (cyl_links * d->k_cyl[c]);
         d->inv_ep_band[c] = 1.0 / car->ep_band;
         d->inv_relay_band[c] = 1.0 / car->relay_band;
         d->ep_lag[c] = d->h / (car->ep_tau + d->h);
     }
+    derive_cylinders(p, d);
 }
 
 /* The mechanics' constants per car and per axle (the step's own dt stays an argument: the detailed
@@ -294,6 +320,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
             s->m_cyl[a] = p->atmosphere * car->cylinder_volume / rt;
+            s->mt_cyl[a] = s->m_cyl[a] * p->temperature;
             s->omega[a] = p->initial_speed / car->vehicle.wheelset.wheel_radius;
             s->zone_of[a] = -1;
             rb_plant_zone_update(p, s, a, s->x[c] - car->axle_position[k]);
@@ -357,7 +384,7 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
             out->wheel_speed_measured[a] = s->sensor_lost[a] ? -1.0 : w + s->noise[a];
             out->slip[a] = (w - s->v[c]) / vr;
             out->adhesion[a] = s->coefficient[a];
-            out->cylinder[a] = s->m_cyl[a] * rt / car->cylinder_volume;
+            out->cylinder[a] = s->mt_cyl[a] * s->derived.r_cyl[c];
             out->hold[a] = s->hold_effective[a];
             out->vent[a] = s->vent_effective[a];
         }

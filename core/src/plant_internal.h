@@ -40,6 +40,18 @@ static inline double rb_plant_link_mass(const rb_plant_derived *d, double pi, do
     return diff * ik * rb_one_minus_exp_neg(y);
 }
 
+/* rb_plant_link_mass with the exponential's rate from the link alone (ik_rate = 1 / (k_i + k_j)),
+ * capped at the equalising mass of the nodes' shares (ik_cap = 1 / (n_i k_i + n_j k_j) <= ik_rate).
+ * The shared ik in the exponent makes a slow link's flow fall n times too fast within the step
+ * (a WSP vent moved 1.2 % less air per pulse at 1 ms than at 0.25 ms); the cap keeps every link,
+ * together with its node's others, from overshooting equalisation when it is stiff. */
+static inline double rb_plant_link_mass_capped(const rb_plant_derived *d, double pi, double pj, double g,
+                                               double ik_rate, double ik_cap)
+{
+    double dm = rb_plant_link_mass(d, pi, pj, g, ik_rate), cap = (pi - pj) * ik_cap;
+    return pi > pj ? (dm < cap ? dm : cap) : (dm > cap ? dm : cap);
+}
+
 /* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */
 int rb_plant_resolve_kernel(int requested);
 

@@ -163,16 +163,31 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     return vented;
 }
 
+/* Each cylinder's temperature (m T) / m: one division per axle, in a loop the compiler vectorises. */
+static void cylinder_temperatures(const rb_plant_state *s, int n_axles, double *temp)
+{
+    for (int a = 0; a < n_axles; ++a) temp[a] = s->mt_cyl[a] / s->m_cyl[a];
+}
+
+/* The orifice flow's factor sqrt(T_wall / T) of air at T (the conductances are the wall
+ * temperature's). */
+static double flow_factor(double wall, double t) { return sqrt(wall / t); }
+
 /* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
  * each port's area weighted by the part of the step it is open, and cylinder leaks. The axles of a
  * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
- * volume among its links, so together they never overshoot). */
+ * volume among its links, so together they never overshoot). The cylinders' energy balance
+ * (wall_time > 0): the air taken brings its upstream enthalpy (the relay's air at the wall's
+ * temperature, or the cylinder's own when it flows back), the air vented leaves with the
+ * cylinder's, the wall exchanges heat; temperatures from the start of the phase. */
 static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                             const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
-    const double h = d->h, g_unit = d->g_unit, patm = p->atmosphere;
+    const double h = d->h, g_unit = d->g_unit, patm = p->atmosphere, wall = p->temperature, gamma = d->gamma_cyl;
+    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
     double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
+    double temp[RB_PLANT_MAX_AXLES];
     double vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {
         const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c];
@@ -193,17 +208,45 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
             outlet[a] = g_vent * vent + g_unit * f->leak[a];
         }
     }
+    if (gamma > 1.0) {
+        cylinder_temperatures(s, n_axles, temp);
+    } else {
+        for (int a = 0; a < n_axles; ++a) temp[a] = wall;
+    }
+    const int laminar = !d->orifice.laminar_only;
     for (int c = 0; c < p->n_cars; ++c) {
-        const double p_relay = s->m_relay[c] * d->k_relay[c], k_cyl = d->k_cyl[c];
+        const double p_relay = s->m_relay[c] * d->k_relay[c], r_cyl = d->r_cyl[c];
         const double g_hold = d->g_hold[c], ik_hold = d->ik_hold[c], ik_vent = d->ik_vent[c];
+        const double ik_hold_rate = d->ik_hold_rate[c], ik_vent_rate = d->ik_vent_rate[c];
+        const double p_laminar = RB_ORIFICE_LAMINAR_RATIO * p_relay;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            taken[a] = rb_plant_link_mass(d, p_relay, s->m_cyl[a] * k_cyl, g_hold * hold_open[a], ik_hold);
-            s->m_cyl[a] += taken[a];
-            double dm = rb_plant_link_mass(d, s->m_cyl[a] * k_cyl, patm, outlet[a], ik_vent);
-            s->m_cyl[a] -= dm;
-            vented += dm;
+            double p_cyl = s->mt_cyl[a] * r_cyl;
+            if (hold_open[a] == 1.0 && p_cyl <= p_relay && p_cyl >= p_laminar && laminar) {
+                /* relay air into a cylinder near its pressure (a released or held brake whose air
+                   cools at the wall): the link's linear law, its step factor derived at init */
+                taken[a] = p_relay - p_cyl < 0.01 ? 0.0 : (p_relay - p_cyl) * d->hold_laminar[c];
+                s->m_cyl[a] += taken[a];
+                s->mt_cyl[a] += gamma * wall * taken[a];
+            } else {
+                int from_relay = p_relay >= p_cyl;
+                double t_up = from_relay ? wall : temp[a], root_up = from_relay ? 1.0 : flow_factor(wall, temp[a]);
+                taken[a] = rb_plant_link_mass_capped(d, p_relay, p_cyl, g_hold * hold_open[a] * root_up, ik_hold_rate,
+                                                     ik_hold);
+                s->m_cyl[a] += taken[a];
+                s->mt_cyl[a] += gamma * t_up * taken[a];   /* enthalpy in: m T rises by gamma T_up dm */
+            }
+            double dm = 0.0;
+            if (outlet[a] > 0.0) {
+                dm = rb_plant_link_mass_capped(d, s->mt_cyl[a] * r_cyl, patm, outlet[a] * flow_factor(wall, temp[a]),
+                                               ik_vent_rate, ik_vent);
+                s->m_cyl[a] -= dm;
+                vented += dm;
+            }
+            s->mt_cyl[a] += d->axle_heat_cyl[a] * (wall - temp[a]) - gamma * temp[a] * dm;
         }
     }
+    if (!(gamma > 1.0))   /* isothermal: m T stays m times the wall's temperature, exactly */
+        for (int a = 0; a < n_axles; ++a) s->mt_cyl[a] = s->m_cyl[a] * wall;
     for (int c = 0; c < p->n_cars; ++c) {
         double to_cylinders = 0.0;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) to_cylinders += taken[a];
@@ -282,7 +325,7 @@ void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const 
 static void cylinder_pressures(const rb_plant_params *p, const rb_plant_state *s, double *out)
 {
     for (int c = 0; c < p->n_cars; ++c)
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) out[a] = s->m_cyl[a] * s->derived.k_cyl[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) out[a] = s->mt_cyl[a] * s->derived.r_cyl[c];
 }
 
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)

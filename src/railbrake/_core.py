@@ -303,7 +303,8 @@ class PlantParams(Structure):
                 + [("n_compressors", c_int), ("compressor_position", c_int * MAX_COMPRESSORS),
                    ("compressor_delivery", c_double * MAX_COMPRESSORS),
                    ("n_gradients", c_int), ("gradient_start", c_double * MAX_GRADIENTS),
-                   ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)])
+                   ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)]
+                + [("wall_time", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.

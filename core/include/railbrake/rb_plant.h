@@ -11,13 +11,20 @@
  * torque uses the step-mean cylinder pressure; each air link moves the exponential solution of
  * its linearised flow (below). The laws' constant parts are derived at rb_plant_init
  * (rb_plant_derived); every init recomputes them, so parameters may change between inits.
- *  - Air: isothermal lumped volumes (p = m R T / V) linked by orifices, advanced in phases (train
+ *  - Air: lumped volumes (p = m R T / V; isothermal but for the brake cylinders, below) linked
+ *    by orifices, advanced in phases (train
  *    line, then each car's EP and relay valves, then WSP valves and cylinders). With q the
  *    orifice flow and dm_eq the mass that would equalise the two nodes (volumes divided by their
  *    number of links), a link moves dm = dm_eq (1 - exp(-h |q| / dm_eq)) in a step: the
  *    exponential solution of the link linearised in its pressure difference, never beyond full
- *    equalisation. Every link takes from one node what it gives the other, so air mass is
- *    conserved to round-off (vented and compressor air are booked).
+ *    equalisation (the WSP links take the exponential's rate from the link alone and cap the
+ *    mass at their node's share: one 1 ms step moves what four of 0.25 ms do). Every link
+ *    takes from one node what it gives the other, so air mass is conserved to round-off
+ *    (vented and compressor air are booked).
+ *  - Brake cylinders (wall_time > 0): state m and m T; the air taken brings its enthalpy
+ *    (m T rises by gamma T_up dm), the air vented leaves with the cylinder's (m T falls by
+ *    gamma T dm), the wall adds h A (T_wall - T) / cv per second; orifice flows scale with
+ *    sqrt(T_wall / T_up). A fast fill rises gamma times the isothermal rise, then relaxes to it.
  *  - Per car: supply reservoir fed from the main-reservoir pipe through a check valve and a
  *    choke; EP valve (first-order lag on the pressure demand, inlet/exhaust ports opening in
  *    proportion to the error) filling a pilot volume; relay valve (supply/exhaust ports opening
@@ -162,6 +169,13 @@ typedef struct {
     double gradient_start[RB_MAX_GRADIENTS];
     double gradient[RB_MAX_GRADIENTS];
     double ambient_temperature;   /* K: discs at t = 0 and the cooling's reference */
+    /* brake cylinders with an energy balance, as the detailed model's volumes: the air fills
+     * adiabatically, expands on venting and exchanges heat with a wall at `temperature`;
+     * wall_time (s): the time constant of that exchange for the cylinder's air at
+     * RB_WALL_REFERENCE_PRESSURE (wall conductance h A = m_ref cv / wall_time, m_ref the air mass
+     * at that pressure; at a lower pressure the air, having less mass, follows the wall faster).
+     * 0: isothermal cylinders. */
+    double wall_time;
 } rb_plant_params;
 
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
@@ -242,6 +256,16 @@ typedef struct {
     double axle_brake_gain[RB_PLANT_MAX_AXLES], axle_caliper_atmosphere[RB_PLANT_MAX_AXLES];
     double axle_caliper_area[RB_PLANT_MAX_AXLES], axle_caliper_spring[RB_PLANT_MAX_AXLES];
     double axle_inv_axle_load[RB_PLANT_MAX_AXLES];   /* 1 / axle load: the adhesion coefficient output */
+    /* cylinders' energy balance (rb_plant_params.wall_time): state m T, pressure R (m T) / V */
+    double gamma_cyl;                        /* adiabatic exponent; 1: isothermal (wall_time = 0) */
+    double r_cyl[RB_PLANT_MAX_CARS];         /* R / V_cylinder, Pa/(kg K) */
+    double axle_heat_cyl[RB_PLANT_MAX_AXLES]; /* kg: h x h A / cv, times (wall - air temperature) the
+                                                step's change of m T by the wall */
+    /* the WSP links' exponential rates from the link alone, 1 / (k_i + k_j) with the adiabatic
+       stiffness gamma k of the cylinder (the shared ik_hold, ik_vent only cap them) */
+    double ik_hold_rate[RB_PLANT_MAX_CARS], ik_vent_rate[RB_PLANT_MAX_CARS];
+    double hold_laminar[RB_PLANT_MAX_CARS];  /* kg/Pa: the open hold link's step mass per Pa in its
+                                                laminar region, relay air (rb_plant_link_mass_capped) */
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
@@ -283,6 +307,9 @@ typedef struct {
     double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
     double brake_torque[RB_PLANT_MAX_AXLES];     /* N m, friction brake torque of the last step (kernel) */
     int sensors_written;      /* a sensor fault has set noise or loss since the last clearing */
+    /* each cylinder's air mass times its temperature (kg K): pressure R (m T) / V (isothermal:
+       m times the wall's temperature) */
+    double mt_cyl[RB_PLANT_MAX_AXLES];
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */

@@ -19,6 +19,10 @@ extern "C" {
 
 #define RB_AIR_R 287.05        /* J/(kg K) */
 #define RB_AIR_GAMMA 1.4
+/* Pressure (Pa abs) at which a volume's wall heat exchange time is stated: the wall conductance
+   h A = m cv / thermal time, m the volume's air mass at this pressure and the wall temperature
+   (the detailed model's and the valve models' convention, rb_detailed_params.thermal_time). */
+#define RB_WALL_REFERENCE_PRESSURE 5e5
 #define RB_ISO6358_RHO0 1.185  /* kg/m^3, reference density of ISO 6358 */
 #define RB_ISO6358_T0 293.15   /* K, reference temperature of ISO 6358 */
 /* Above this pressure ratio p_down/p_up the flow is linear in the pressure difference

@@ -11,9 +11,12 @@ import ctypes
 import math
 import os
 from dataclasses import dataclass
+from functools import cache
+from importlib import resources
 from typing import Callable
 
 import numpy as np
+import yaml
 
 from railbrake import _core, sizing
 from railbrake.adhesion import load_condition, warn_outside_range
@@ -141,6 +144,15 @@ def scenario_train(scenario: Scenario, n_cars: int | None = None):
     return with_cars(train, scenario.cars(n_cars) if n_cars is None else n_cars)
 
 
+@cache
+def wall_time() -> float:
+    """The brake cylinders' wall heat-exchange time (s): the detailed model's, for every volume of it
+    (data/detailed/valves.yaml, air.thermal_time_s, with its source), so that both models'
+    cylinders exchange heat alike (rb_plant_params.wall_time)."""
+    settings = yaml.safe_load((resources.files("railbrake") / "data" / "detailed" / "valves.yaml").read_text())
+    return float(settings["air"]["thermal_time_s"])
+
+
 def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int | None = None,
                  kernel: str | None = None, train=None) -> _core.PlantParams:
     """The plant's parameters; substeps None: substeps_for(dt); kernel: see kernel_code; train: the
@@ -157,6 +169,7 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
     p.ambient_temperature = p.temperature
     p.atmosphere = train.atmospheric_pressure
     p.discharge_coefficient, p.critical_ratio = eq.pneumatics.discharge_coefficient, eq.pneumatics.critical_ratio
+    p.wall_time = wall_time()
     for i in range(n_cars):
         p.car[i] = _car(train, i)
     k = eq.coupler

@@ -143,17 +143,9 @@ def step_study(scenario, detailed: Result, steps_ms=STEPS_MS, progress=None) -> 
     return rows
 
 
-def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=None,
-            progress: Callable[[str, float], None] | None = None) -> Comparison:
-    """Both models on one scenario; steps_ms: the study's steps (default STEPS_MS; () skips it);
-    progress(stage, fraction of that stage done) while it works."""
-    steps_ms = STEPS_MS if steps_ms is None else steps_ms
-    resolved = resolve(scenario, cars)
-    sc, n = resolved.scenario, resolved.cars
-    v0 = sc.spec.initial_speed
-    on_speed = None if progress is None else (lambda _t, v: progress("detailed model", 1.0 - v / v0))
-    det = run_detailed(resolved, progress=on_speed)
-    rt = run(resolved)
+def figures(rt: Result, det: Result) -> tuple[dict, dict, dict]:
+    """The comparison's figures of a real-time run against a detailed one: (summary, per-axle
+    figures, per-car valve chain)."""
     chain = valve_chain(rt, det)
     axles = {}
     for channel in det.axle_channels("cylinder"):
@@ -177,5 +169,20 @@ def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=None
         "detailed_wall_s": det.kpis["wall_s"], "detailed_ode_steps": det.kpis["ode_steps"],
         "detailed_air_balance_error": det.kpis["air_balance_error"],
     }
+    return summary, axles, chain
+
+
+def compare(scenario="emergency-250-dry", cars: int | None = None, steps_ms=None,
+            progress: Callable[[str, float], None] | None = None) -> Comparison:
+    """Both models on one scenario; steps_ms: the study's steps (default STEPS_MS; () skips it);
+    progress(stage, fraction of that stage done) while it works."""
+    steps_ms = STEPS_MS if steps_ms is None else steps_ms
+    resolved = resolve(scenario, cars)
+    sc, n = resolved.scenario, resolved.cars
+    v0 = sc.spec.initial_speed
+    on_speed = None if progress is None else (lambda _t, v: progress("detailed model", 1.0 - v / v0))
+    det = run_detailed(resolved, progress=on_speed)
+    rt = run(resolved)
+    summary, axles, chain = figures(rt, det)
     steps = step_study(resolved, det, steps_ms, progress) if steps_ms else []
     return Comparison(sc.name, n, rt, det, summary, axles, steps, chain)

@@ -3,11 +3,11 @@ table, energy balance, variable-step stiff solver) on the same train, scenario a
 
 Issue 6 asks, on emergency-250-dry and emergency-300-heavy-rain with 1 and 8 cars, for stopping
 distances within 1 % and cylinder pressure RMS differences under 0.1 bar. Measured (docs/detailed.md):
-both hold on dry rail; in heavy rain the distances hold but the raw pressure RMS does not (0.31 and
-0.49 bar for 1 and 8 cars): the WSP cycles of the two models drift out of phase, as do those of the
+both hold on dry rail; in heavy rain the distances hold but the raw pressure RMS does not (0.32 and
+0.57 bar for 1 and 8 cars): the WSP cycles of the two models drift out of phase, as do those of the
 real-time plant at two steps (test below) and of the detailed model at two tolerances. The heavy-rain
-tests check distance, WSP activity and the valve chain, and keep the phase-insensitive 1 s mean
-pressure RMS (< 0.1 bar), which does not hold in heavy rain, as a strict xfail.
+tests check distance, WSP activity and the valve chain, and the phase-insensitive 1 s mean pressure
+RMS (< 0.1 bar, issues 11 and 12), which holds on 1 car and, on 8 cars, is kept as a strict xfail.
 """
 
 import numpy as np
@@ -43,6 +43,10 @@ def _check_rain(c):
     assert s["vent_open_detailed_s"] == pytest.approx(s["vent_open_rt_s"], rel=0.10)
     for axle in c.axles.values():
         assert axle["rt"]["vent_commands"] > 10 and axle["detailed"]["vent_commands"] > 10
+    # the cylinders fill and vent as the detailed model's (energy balance): the WSP vents as often,
+    # within 5 % over the train (isothermal cylinders: 20 % fewer)
+    vents = {m: sum(a[m]["vent_commands"] for a in c.axles.values()) for m in ("rt", "detailed")}
+    assert vents["rt"] == pytest.approx(vents["detailed"], rel=0.05)
 
 
 def test_heavy_rain_one_car(compared):
@@ -58,16 +62,20 @@ def test_heavy_rain_eight_cars(compared):
     _check_rain(compared(RAIN, 8))
 
 
-# Issue 11/12: the brake effort each axle received, averaged over 1 s, agrees within 0.1 bar. Does
-# not hold in heavy rain (docs/detailed.md): on 1 car the plant stops 0.7 % further, so it reaches
-# the WSP's low-speed release (about 5 km/h, cylinders to full pressure) 1.1 s later, and that one
-# 1.8 bar step of the 1 s means is most of the 0.117 bar; on 8 cars the detailed cylinders, with
-# their energy balance, vent more air than the isothermal plant's, the supply falls further and
-# the cars' EP and relay outputs part (0.107 bar). Kept failing as a finding.
-@pytest.mark.parametrize("cars", [1, pytest.param(8, marks=pytest.mark.slow)])
-@pytest.mark.xfail(strict=True, reason="heavy rain: 1 s-mean cylinder RMS 0.117 bar (1 car), 0.107 bar (8 cars)")
-def test_heavy_rain_mean_pressure_agrees(compared, cars):
-    assert compared(RAIN, cars).summary["cylinder_mean_rms_bar"] < 0.1
+# Issue 11/12: the brake effort each axle received, averaged over 1 s, agrees within 0.1 bar. With
+# the plant's cylinders given the detailed model's energy balance (docs/detailed.md) it holds on
+# 1 car (0.099 bar: a narrow margin, the figure follows the stopping time through the WSP's final
+# fill) but not on 8 cars (0.116 bar): the detailed EP and relay valves consume air the reduced ones
+# do not (pilot-stage bleed, refilling the control chamber the relay membrane sweeps), so the rear
+# cars' supply reservoirs run lower in the last 40 s. Kept failing as a finding.
+def test_heavy_rain_mean_pressure_agrees_one_car(compared):
+    assert compared(RAIN, 1).summary["cylinder_mean_rms_bar"] < 0.1
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="heavy rain, 8 cars: 1 s-mean cylinder RMS 0.116 bar")
+def test_heavy_rain_mean_pressure_agrees_eight_cars(compared):
+    assert compared(RAIN, 8).summary["cylinder_mean_rms_bar"] < 0.1
 
 
 def test_wsp_cycle_phase_dominates_the_raw_pressure_rms(compared):
@@ -86,8 +94,9 @@ def test_step_size_study_converges_and_is_stable(compared):
     assert [(r["dt_ms"], r["substeps"]) for r in steps] == [(0.25, 1), (0.5, 1), (1.0, 1), (2.0, 1), (5.0, 3),
                                                             (5.0, 1)]
     assert all(r["stable"] for r in steps)
-    rms = [r["cylinder_rms_bar"] for r in steps if r["substeps"] == 1]
-    assert rms == sorted(rms)                                # error grows with the bare step
+    rms = [r["cylinder_rms_bar"] for r in steps if r["substeps"] == 1]   # 0.25, 0.5, 1, 2, 5 ms
+    assert rms[2:] == sorted(rms[2:]) and rms[4] > 1.2 * rms[2]   # the error grows with the bare step
+    assert max(rms[:3]) < 1.02 * min(rms[:3])                    # up to 1 ms converged (the models' difference)
     assert steps[2]["stopping_distance_m"] == pytest.approx(c.summary["stopping_distance_rt_m"])
 
 
