@@ -206,6 +206,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->inv_ep_band[c] = 1.0 / car->ep_band;
         d->inv_relay_band[c] = 1.0 / car->relay_band;
         d->ep_lag[c] = d->h / (car->ep_tau + d->h);
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->axle_k_cyl[a] = d->k_cyl[c];
     }
 }
 
@@ -232,6 +233,8 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
         d->caliper_atmosphere[c] = b->caliper.atmospheric_pressure;
         d->caliper_area[c] = b->caliper.cylinder_area;
         d->caliper_spring[c] = b->caliper.return_spring;
+        d->car_length[c] = car->length;
+        d->ed_lag[c] = d->h / (car->ed_tau + d->h);   /* derive_air set h */
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             d->axle_radius[a] = d->radius[c];
             d->axle_inv_inertia[a] = d->inv_inertia[c];
@@ -246,8 +249,7 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
             d->axle_inv_axle_load[a] = 1.0 / d->axle_load[c];
             d->pad_bracket[a] = 0;
             d->pad_speed_lo[a] = d->pad_speed_hi[a] = 0.0;   /* empty: the kernel's first look-up fills it */
-            d->pad_speed_span[a] = 1.0;
-            d->pad_value_lo[a] = d->pad_value_span[a] = 0.0;
+            d->pad_value_lo[a] = d->pad_slope[a] = 0.0;
         }
     }
 }

@@ -16,6 +16,7 @@
 
 #define RB_G 9.80665
 
+#include <float.h>
 #include <math.h>
 
 /* Mass (kg) one link moves from node i to node j (pressures pi, pj) in a step of d->h, through
@@ -38,6 +39,32 @@ static inline double rb_plant_link_mass(const rb_plant_derived *d, double pi, do
     else
         y = d->h * g * up / (fabs(diff) * ik) * rb_orifice_flow_function_law(down / up, &d->orifice);
     return diff * ik * rb_one_minus_exp_neg(y);
+}
+
+/* The interval of speed table t that holds `speed`, found from *bracket as rb_speed_table_at_from
+ * finds it, as the line value + (speed - lo) slope that holds for lo <= speed < hi: inside the table
+ * speed[i] <= speed < speed[i + 1]; below it [-DBL_MAX, speed[0]) and above it [speed[n - 1], inf)
+ * with slope 0; an empty table everywhere 0. A caller keeps it and interpolates without the table
+ * (or a division) until the speed leaves it. */
+static inline void rb_plant_table_interval(const rb_speed_table *t, double speed, int *bracket, double *lo,
+                                           double *hi, double *value, double *slope)
+{
+    int n = t->n;
+    *slope = 0.0;
+    if (n < 1) {
+        *lo = -DBL_MAX; *hi = HUGE_VAL; *value = 0.0;
+    } else if (speed < t->speed[0]) {
+        *lo = -DBL_MAX; *hi = t->speed[0]; *value = t->value[0];
+    } else if (speed >= t->speed[n - 1]) {
+        *lo = t->speed[n - 1]; *hi = HUGE_VAL; *value = t->value[n - 1];
+    } else {
+        int i = *bracket < 0 ? 0 : (*bracket > n - 2 ? n - 2 : *bracket);   /* rb_speed_table_at_from's search */
+        while (t->speed[i] > speed) --i;
+        while (t->speed[i + 1] <= speed) ++i;
+        *bracket = i;
+        *lo = t->speed[i]; *hi = t->speed[i + 1]; *value = t->value[i];
+        *slope = (t->value[i + 1] - t->value[i]) / (t->speed[i + 1] - t->speed[i]);
+    }
 }
 
 /* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */

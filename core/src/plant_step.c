@@ -218,27 +218,29 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
                              const rb_plant_faults *f, const double *cylinder, double dt)
 {
     const rb_plant_derived *d = &s->derived;
+    const int n_cars = p->n_cars;
     double coupler[RB_PLANT_MAX_CARS + 1] = {0.0}, other[RB_PLANT_MAX_CARS];
     rb_wheelset_inputs w;
-    for (int c = 0; c + 1 < p->n_cars; ++c)  /* tension positive */
-        coupler[c + 1] = rb_coupler_force(&p->coupler, s->x[c] - s->x[c + 1] - p->car[c].length,
-                                          s->v[c] - s->v[c + 1]);
-    for (int c = 0; c < p->n_cars; ++c) {
+    if (n_cars < 1) return;   /* (rb_plant_check: never; tells the compiler the loops fill w) */
+    for (int c = 0; c + 1 < n_cars; ++c)  /* tension positive */
+        coupler[c + 1] = rb_coupler_force_law(&p->coupler, s->x[c] - s->x[c + 1] - d->car_length[c], s->v[c] - s->v[c + 1]);
+    for (int c = 0; c < n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
         double v = s->v[c];
         double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
         /* the ED limit (>= 0) matters only when ED force is asked for */
         double ed_max = ed > 0.0 && car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
         double ed_target = ed < ed_max ? ed : ed_max;
-        s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
-        double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * d->mass_share[c] : 0.0;
-        other[c] = coupler[c] - coupler[c + 1] - resistance   /* tension pulls c back */
-                   - rb_plant_gradient_force(p, s, c);
+        double ed_lag = dt == d->h ? d->ed_lag[c] : dt / (car->ed_tau + dt);   /* the plant's step: from init */
+        s->ed_force[c] += (ed_target - s->ed_force[c]) * ed_lag;
+        double resistance = v > 0.0 ? rb_running_resistance_law(&p->resistance, v) * d->mass_share[c] : 0.0;
+        other[c] = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
+        if (p->n_gradients > 0) other[c] -= rb_plant_gradient_force(p, s, c);
         if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
             for (int k = 0; k < RB_AXLES_PER_CAR; ++k)
                 rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - car->axle_position[k]);
         double vr = v > p->creep_speed_min ? v : p->creep_speed_min, inv_vr = 1.0 / vr;
-        double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * car->vehicle.wheelset.wheel_radius;
+        double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * d->radius[c];
         double others = other[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
@@ -249,12 +251,12 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
         }
     }
     rb_plant_wheelsets(p, s, &w, cylinder, dt);
-    for (int c = 0; c < p->n_cars; ++c) {
+    for (int c = 0; c < n_cars; ++c) {
         double rail = 0.0;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) rail += s->force[a];
         s->a[c] = (rail + other[c]) * d->inv_mass[c];
     }
-    for (int c = 0; c < p->n_cars; ++c) {
+    for (int c = 0; c < n_cars; ++c) {
         s->v[c] += dt * s->a[c];
         if (s->v[c] < 0.0) s->v[c] = 0.0;   /* brakes hold a stopped train */
         s->x[c] += dt * s->v[c];
@@ -278,30 +280,23 @@ void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const 
     }
 }
 
-/* Cylinder pressures (Pa) per axle. */
-static void cylinder_pressures(const rb_plant_params *p, const rb_plant_state *s, double *out)
-{
-    for (int c = 0; c < p->n_cars; ++c)
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) out[a] = s->m_cyl[a] * s->derived.k_cyl[c];
-}
-
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
 {
+    const rb_plant_derived *d = &s->derived;
     rb_plant_faults f;
     double start[RB_PLANT_MAX_AXLES], mean[RB_PLANT_MAX_AXLES];
-    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
     rb_plant_gather_faults(p, s, &f);
     for (int k = 0; k < p->substeps; ++k) {
-        cylinder_pressures(p, s, start);
+        for (int a = 0; a < n_axles; ++a) start[a] = s->m_cyl[a] * d->axle_k_cyl[a];   /* Pa */
         /* air, in phases */
         air_supply(p, s, &f);
         s->m_vented += air_car_valves(p, s, in, &f);
         s->m_vented += air_cylinders(p, s, in, &f);
         /* mechanics, braked by the step-mean cylinder pressure */
-        cylinder_pressures(p, s, mean);
-        for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + mean[a]);
-        rb_plant_step_mechanics(p, s, in, &f, mean, s->derived.h);
-        rb_plant_discs(p, s, s->derived.h);
+        for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + s->m_cyl[a] * d->axle_k_cyl[a]);
+        rb_plant_step_mechanics(p, s, in, &f, mean, d->h);
+        rb_plant_discs(p, s, d->h);
     }
     rb_plant_update_sensors(p, s, &f);
     s->step += 1;

@@ -3,6 +3,7 @@
 #include "plant_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 
 rb_status rb_plant_train_check(const rb_plant_params *p, rb_error *err)
@@ -50,6 +51,11 @@ void rb_plant_train_init(const rb_plant_params *p, rb_plant_state *s)
         double fed = c == p->compressor_car ? s->m_mr * rt / p->main_reservoir_volume
                                             : s->m_pipe[c] * rt / p->car[c].pipe_volume;
         s->compressor_running[i] = fed < p->governor_on;
+    }
+    for (int c = 0; c < p->n_cars; ++c) {   /* empty: the first step finds the cooling's interval */
+        s->derived.disc_capacity[c] = p->car[c].disc_heat_capacity;
+        s->derived.cooling_lo[c] = s->derived.cooling_hi[c] = 0.0;
+        s->derived.cooling_value_lo[c] = s->derived.cooling_slope[c] = 0.0;
     }
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
         s->disc_temperature[a] = p->ambient_temperature;
@@ -99,12 +105,24 @@ double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s
 
 void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
 {
-    for (int c = 0; c < p->n_cars; ++c) {
-        const rb_plant_car *car = &p->car[c];
-        const double cooling = car->disc_cooling.n > 0
-            ? rb_speed_table_at_from(&car->disc_cooling, s->v[c], &s->derived.cooling_bracket[c]) : 0.0;
-        const double capacity = car->disc_heat_capacity, to_ambient = cooling * p->ambient_temperature;
-        const double inv_retained = 1.0 / (capacity + dt * cooling);
+    rb_plant_derived *d = &s->derived;
+    const int n_cars = p->n_cars;
+    double cooling[RB_PLANT_MAX_CARS];
+    int64_t outside = 0;   /* as the wheelset kernel's pad look-up (plant_kernel.c) */
+    for (int c = 0; c < n_cars; ++c) {   /* W/K, in each car's cached table interval */
+        cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
+        outside |= (s->v[c] >= d->cooling_lo[c] && s->v[c] < d->cooling_hi[c]) ? 0 : -1;
+    }
+    if (outside < 0)
+        for (int c = 0; c < n_cars; ++c)
+            if (!(s->v[c] >= d->cooling_lo[c] && s->v[c] < d->cooling_hi[c])) {
+                rb_plant_table_interval(&p->car[c].disc_cooling, s->v[c], &d->cooling_bracket[c], &d->cooling_lo[c],
+                                        &d->cooling_hi[c], &d->cooling_value_lo[c], &d->cooling_slope[c]);
+                cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
+            }
+    for (int c = 0; c < n_cars; ++c) {
+        const double capacity = d->disc_capacity[c], to_ambient = cooling[c] * p->ambient_temperature;
+        const double inv_retained = 1.0 / (capacity + dt * cooling[c]);
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;
             double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */

@@ -228,11 +228,12 @@ typedef struct {
     /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
     double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
-    /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends and
-       spans (so the kernel interpolates without the table; empty: pad_speed_lo = +inf, never hit) */
+    /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends,
+       value and slope (so the kernel interpolates without the table or a division; empty at init:
+       pad_speed_lo = pad_speed_hi, never hit) */
     int pad_bracket[RB_PLANT_MAX_AXLES];
     double pad_speed_lo[RB_PLANT_MAX_AXLES], pad_speed_hi[RB_PLANT_MAX_AXLES];
-    double pad_speed_span[RB_PLANT_MAX_AXLES], pad_value_lo[RB_PLANT_MAX_AXLES], pad_value_span[RB_PLANT_MAX_AXLES];
+    double pad_value_lo[RB_PLANT_MAX_AXLES], pad_slope[RB_PLANT_MAX_AXLES];
     int cooling_bracket[RB_PLANT_MAX_CARS];  /* last disc-cooling table interval of each car */
     double h_laminar;           /* s: h x the orifice law's laminar slope (rb_plant_link_mass) */
     /* the per-car constants of the wheelset kernel repeated for each axle (its passes run over the
@@ -242,6 +243,13 @@ typedef struct {
     double axle_brake_gain[RB_PLANT_MAX_AXLES], axle_caliper_atmosphere[RB_PLANT_MAX_AXLES];
     double axle_caliper_area[RB_PLANT_MAX_AXLES], axle_caliper_spring[RB_PLANT_MAX_AXLES];
     double axle_inv_axle_load[RB_PLANT_MAX_AXLES];   /* 1 / axle load: the adhesion coefficient output */
+    /* what the rest of the step reads of the cars, compact (the car records are 3.6 kB each) */
+    double axle_k_cyl[RB_PLANT_MAX_AXLES];   /* k_cyl of the axle's car */
+    double car_length[RB_PLANT_MAX_CARS], ed_lag[RB_PLANT_MAX_CARS];   /* m; h / (ed_tau + h) */
+    double disc_capacity[RB_PLANT_MAX_CARS];  /* J/K per axle */
+    /* each car's last disc-cooling interval (cooling_bracket), as the pad's above */
+    double cooling_lo[RB_PLANT_MAX_CARS], cooling_hi[RB_PLANT_MAX_CARS];
+    double cooling_value_lo[RB_PLANT_MAX_CARS], cooling_slope[RB_PLANT_MAX_CARS];
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
