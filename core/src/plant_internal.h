@@ -14,10 +14,20 @@
 #define RB_PLANT_HAVE_AVX2 0
 #endif
 
+/* Inline every call in the function's body (its own file's functions), so that a copy compiled for
+   another instruction set (function-level target attribute) computes all of it there. */
+#if defined(__GNUC__) || defined(__clang__)
+#define RB_FLATTEN __attribute__((flatten))
+#else
+#define RB_FLATTEN
+#endif
+
 #define RB_G 9.80665
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 /* Mass (kg) one link moves from node i to node j (pressures pi, pj) in a step of d->h, through
  * conductance g (kg/(s Pa)); ik = 1 / (n_i k_i + n_j k_j), so (pi - pj) ik is the mass that would
@@ -39,6 +49,16 @@ static inline double rb_plant_link_mass(const rb_plant_derived *d, double pi, do
     else
         y = d->h * g * up / (fabs(diff) * ik) * rb_orifice_flow_function_law(down / up, &d->orifice);
     return diff * ik * rb_one_minus_exp_neg(y);
+}
+
+/* The bits of x, its sign in the top one: ORed over a pass, (x - lo) | ~(x - hi) is negative when
+ * some x lies outside [lo, hi) (IEEE: a difference is 0 only between equal numbers, and then +0; a
+ * NaN sets one of the two), without a compare that would stop the portable build's vectoriser. */
+static inline int64_t rb_plant_sign_bits(double x)
+{
+    int64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
 }
 
 /* The interval of speed table t that holds `speed`, found from *bracket as rb_speed_table_at_from

@@ -31,15 +31,6 @@
 
 #define NA RB_AXLES_PER_CAR
 
-/* The bits of x: its sign in the top one (ORed over a pass, without a compare that would stop the
-   portable build's vectoriser). */
-RB_ALWAYS_INLINE int64_t bits_of(double x)
-{
-    int64_t b;
-    memcpy(&b, &x, sizeof b);
-    return b;
-}
-
 /* Polach's coefficient (its magnitude) at friction coefficient mu and probe creep |creep|, with the
    axle's constants: 2 mu / pi (k_A eps / (1 + (k_A eps)^2) + atan(k_S eps)), eps = gain |creep| / mu
    (rb_polach_coefficient_fast's law, contact_polach.c). The first fraction and atan's rational
@@ -76,16 +67,15 @@ RB_ALWAYS_INLINE double pad_lookup(const rb_speed_table *t, rb_plant_derived *d,
 typedef struct {
     double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], mu[RB_PLANT_MAX_AXLES];
     double pad[RB_PLANT_MAX_AXLES], f[RB_PLANT_MAX_AXLES];
-    double omega[RB_PLANT_MAX_AXLES], force[RB_PLANT_MAX_AXLES], friction[RB_PLANT_MAX_AXLES];
 } pass_arrays;
 
-RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
-                                const double *cylinder, double dt)
+RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restrict s,
+                                const rb_wheelset_inputs *restrict in, const double *restrict cylinder, double dt)
 {
     rb_plant_derived *d = &s->derived;
     const int n = p->n_cars * NA;
     pass_arrays x;
-    int64_t outside = 0, locking = 0;   /* sign bits ORed over the axles (bits_of): any negative */
+    int64_t outside = 0, locking = 0;   /* sign bits ORed over the axles (rb_plant_sign_bits) */
 
     /* slip velocity, the probe creep of the secant stiffness, the falling friction coefficient, the
        pad friction in each axle's cached interval (and whether any axle left its interval) */
@@ -96,9 +86,7 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
         x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
         x.mu[a] = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v)) + d->mu_static[a];
         x.pad[a] = d->pad_value_lo[a] + (wheel - d->pad_speed_lo[a]) * d->pad_slope[a];
-        /* wheel - lo >= 0 exactly when wheel >= lo, wheel - hi < 0 when wheel < hi (IEEE: a difference
-           is 0 only between equal numbers, then +0); a NaN sets one of the two */
-        outside |= bits_of(wheel - d->pad_speed_lo[a]) | ~bits_of(wheel - d->pad_speed_hi[a]);
+        outside |= rb_plant_sign_bits(wheel - d->pad_speed_lo[a]) | ~rb_plant_sign_bits(wheel - d->pad_speed_hi[a]);
     }
     if (outside < 0)   /* rarely: the table */
         for (int a = 0; a < n; ++a) {
@@ -110,12 +98,11 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
        processor overlaps many axles) */
     for (int a = 0; a < n; ++a)
         x.f[a] = polach_magnitude(x.mu[a], x.abs_probe[a], d->axle_polach_gain[a], d->polach_kA[a], d->polach_kS[a]);
-    for (int a = 0; a < n; ++a) {
+    for (int a = 0; a < n; ++a) {   /* the new state, straight into s (restrict: nothing else is s) */
         const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a];
         /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
         double piston = (cylinder[a] - d->axle_caliper_atmosphere[a]) * d->axle_caliper_area[a] - d->axle_caliper_spring[a];
         double friction = d->axle_brake_gain[a] * x.pad[a] * (piston > 0.0 ? piston : 0.0);
-        x.friction[a] = friction;
         double torque = friction + in->ed_torque[a];
         /* slip velocity, linearly implicit in this axle's own rail force F = k w with the secant
            stiffness k = K f / |probe| (N per m/s), K = Q / max(v, v_min): w_new = w_free / (1 + dt
@@ -123,26 +110,26 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, con
         double others = in->others[a] - s->force[a];
         double w_free = x.w[a] + dt * (-r * torque * inv_J - others * d->axle_inv_mass[a]);
         double kf = d->axle_axle_load[a] * in->inv_creep_speed[a] * x.f[a];
-        x.force[a] = kf * w_free / (x.abs_probe[a] + dt * d->axle_compliance[a] * kf);
-        x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
-        locking |= bits_of(x.omega[a]);   /* also -0 or a NaN: the loop below checks */
+        double force = kf * w_free / (x.abs_probe[a] + dt * d->axle_compliance[a] * kf);
+        double omega = s->omega[a] + dt * (-force * r - torque) * inv_J;
+        s->omega[a] = omega;
+        s->force[a] = force;
+        s->coefficient[a] = force * d->axle_inv_axle_load[a];   /* an output only */
+        s->brake_torque[a] = friction;   /* for the discs' energy (plant_train.c) */
+        locking |= rb_plant_sign_bits(omega);   /* also -0 or a NaN: the loop below checks */
     }
     if (locking < 0)
         for (int a = 0; a < n; ++a) {
-            if (x.omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
+            if (s->omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
                 double creep = -in->speed[a] * in->inv_creep_speed[a];
-                /* a wheel locked already was probed at that very creep: the same coefficient */
-                double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[a]);
-                x.omega[a] = 0.0;
-                x.force[a] = d->axle_axle_load[a] * f;
+                /* probed at that very creep (a wheel locked already): the pass's coefficient, which
+                   polach() would compute again from the same operands */
+                double f = x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[a]);
+                s->omega[a] = 0.0;
+                s->force[a] = d->axle_axle_load[a] * f;
+                s->coefficient[a] = s->force[a] * d->axle_inv_axle_load[a];
             }
         }
-    for (int a = 0; a < n; ++a) {
-        s->omega[a] = x.omega[a];
-        s->force[a] = x.force[a];
-        s->coefficient[a] = x.force[a] * d->axle_inv_axle_load[a];   /* an output only */
-        s->brake_torque[a] = x.friction[a];   /* for the discs' energy (plant_train.c) */
-    }
 }
 
 static void wheelsets_portable(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,

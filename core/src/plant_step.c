@@ -5,7 +5,15 @@
 #include <string.h>
 
 
-void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
+/* The faults of a plant without any: every valve as commanded, nothing leaking or lost (what
+   gather_faults gives then, without its clearing of 1.2 kB in every step). */
+#define RB_NONE_4 -1, -1, -1, -1
+#define RB_NONE_16 RB_NONE_4, RB_NONE_4, RB_NONE_4, RB_NONE_4
+typedef char rb_no_faults_fills_every_axle[RB_PLANT_MAX_AXLES == 64 ? 1 : -1];
+static const rb_plant_faults no_faults = {{RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16},
+                                          {RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16}, {0.0}, {0.0}, {0}, {0}, {0}, 0, 0};
+
+static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
 {
     memset(f, 0, sizeof *f);
     memset(f->hold, -1, sizeof f->hold);
@@ -32,6 +40,12 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
         if (q->kind == RB_FAULT_CAR_ISOLATED) f->isolated[q->car] = 1;
         if (q->kind == RB_FAULT_COMPRESSOR_OFF) f->compressor_off = 1;
     }
+}
+
+/* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
+void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
+{
+    gather_faults(p, s, f);
 }
 
 /* Deterministic noise: xorshift64*, Gaussian by Box-Muller. */
@@ -214,8 +228,8 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
 
 /* ------------------------------------------------------------------ mechanics */
 
-void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                             const rb_plant_faults *f, const double *cylinder, double dt)
+static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                           const rb_plant_faults *f, const double *cylinder, double dt)
 {
     const rb_plant_derived *d = &s->derived;
     const int n_cars = p->n_cars;
@@ -263,7 +277,14 @@ void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const 
     }
 }
 
-void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
+/* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
+void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                             const rb_plant_faults *f, const double *cylinder, double dt)
+{
+    step_mechanics(p, s, in, f, cylinder, dt);
+}
+
+static void update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
     if (!f->sensor_faults) {   /* every sensor sound: what the loop below would write */
         if (s->sensors_written) {
@@ -280,25 +301,64 @@ void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const 
     }
 }
 
-void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+/* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
+void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
+{
+    update_sensors(p, s, f);
+}
+
+static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
 {
     const rb_plant_derived *d = &s->derived;
-    rb_plant_faults f;
+    rb_plant_faults gathered;
+    const rb_plant_faults *f = &no_faults;
     double start[RB_PLANT_MAX_AXLES], mean[RB_PLANT_MAX_AXLES];
     const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    rb_plant_gather_faults(p, s, &f);
+    if (p->n_faults > 0) {
+        gather_faults(p, s, &gathered);
+        f = &gathered;
+    }
     for (int k = 0; k < p->substeps; ++k) {
         for (int a = 0; a < n_axles; ++a) start[a] = s->m_cyl[a] * d->axle_k_cyl[a];   /* Pa */
         /* air, in phases */
-        air_supply(p, s, &f);
-        s->m_vented += air_car_valves(p, s, in, &f);
-        s->m_vented += air_cylinders(p, s, in, &f);
+        air_supply(p, s, f);
+        s->m_vented += air_car_valves(p, s, in, f);
+        s->m_vented += air_cylinders(p, s, in, f);
         /* mechanics, braked by the step-mean cylinder pressure */
         for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + s->m_cyl[a] * d->axle_k_cyl[a]);
-        rb_plant_step_mechanics(p, s, in, &f, mean, d->h);
+        step_mechanics(p, s, in, f, mean, d->h);
         rb_plant_discs(p, s, d->h);
     }
-    rb_plant_update_sensors(p, s, &f);
+    update_sensors(p, s, f);
     s->step += 1;
     s->time = (double)s->step * p->dt;
+}
+
+/* The step with every phase of this file inlined (flatten), once for the portable build and once
+ * for AVX2 where the build and CPU have it (s->kernel, as the wheelset kernel's): the same
+ * operations in the same order (no fused multiply-add), so the same results bit for bit
+ * (core/tests/test_plant_kernel.c); the vector build only widens the loops over the axles and
+ * encodes the scalar ones more compactly. */
+RB_FLATTEN static void step_portable(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+{
+    step(p, s, in);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2"), flatten))
+static void step_avx2(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+{
+    step(p, s, in);
+}
+#endif
+
+void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+{
+#if RB_PLANT_HAVE_AVX2
+    if (s->kernel == RB_PLANT_KERNEL_AVX2) {
+        step_avx2(p, s, in);
+        return;
+    }
+#endif
+    step_portable(p, s, in);
 }

@@ -103,7 +103,7 @@ double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s
     return p->car[c].vehicle.mass * RB_GRAVITY * g / sqrt(1.0 + g * g);
 }
 
-void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
+static void discs(const rb_plant_params *p, rb_plant_state *s, double dt)
 {
     rb_plant_derived *d = &s->derived;
     const int n_cars = p->n_cars;
@@ -111,7 +111,7 @@ void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
     int64_t outside = 0;   /* as the wheelset kernel's pad look-up (plant_kernel.c) */
     for (int c = 0; c < n_cars; ++c) {   /* W/K, in each car's cached table interval */
         cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
-        outside |= (s->v[c] >= d->cooling_lo[c] && s->v[c] < d->cooling_hi[c]) ? 0 : -1;
+        outside |= rb_plant_sign_bits(s->v[c] - d->cooling_lo[c]) | ~rb_plant_sign_bits(s->v[c] - d->cooling_hi[c]);
     }
     if (outside < 0)
         for (int c = 0; c < n_cars; ++c)
@@ -120,17 +120,49 @@ void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
                                         &d->cooling_hi[c], &d->cooling_value_lo[c], &d->cooling_slope[c]);
                 cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
             }
+    /* each car's constants repeated for its axles, so the axles' pass below is one vector loop */
+    double capacity[RB_PLANT_MAX_AXLES], to_ambient[RB_PLANT_MAX_AXLES], inv_retained[RB_PLANT_MAX_AXLES];
     for (int c = 0; c < n_cars; ++c) {
-        const double capacity = d->disc_capacity[c], to_ambient = cooling[c] * p->ambient_temperature;
-        const double inv_retained = 1.0 / (capacity + dt * cooling[c]);
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-            int a = c * RB_AXLES_PER_CAR + k;
-            double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
-            s->brake_energy[a] += power * dt;
-            if (capacity > 0.0)   /* implicit in the cooling: stable at any step */
-                s->disc_temperature[a] = (capacity * s->disc_temperature[a] + dt * (power + to_ambient)) * inv_retained;
+        const double cap = d->disc_capacity[c], amb = cooling[c] * p->ambient_temperature;
+        const double inv = 1.0 / (cap + dt * cooling[c]);
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            capacity[a] = cap;
+            to_ambient[a] = amb;
+            inv_retained[a] = inv;
         }
     }
+    for (int a = 0; a < n_cars * RB_AXLES_PER_CAR; ++a) {
+        double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
+        s->brake_energy[a] += power * dt;
+        /* implicit in the cooling: stable at any step; without a heat capacity no temperature */
+        double heated = (capacity[a] * s->disc_temperature[a] + dt * (power + to_ambient[a])) * inv_retained[a];
+        s->disc_temperature[a] = capacity[a] > 0.0 ? heated : s->disc_temperature[a];
+    }
+}
+
+/* As the plant's step (plant_step.c): portable, or for AVX2 in s->kernel, bit for bit the same. */
+RB_FLATTEN static void discs_portable(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+    discs(p, s, dt);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2"), flatten))
+static void discs_avx2(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+    discs(p, s, dt);
+}
+#endif
+
+void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+#if RB_PLANT_HAVE_AVX2
+    if (s->kernel == RB_PLANT_KERNEL_AVX2) {
+        discs_avx2(p, s, dt);
+        return;
+    }
+#endif
+    discs_portable(p, s, dt);
 }
 
 void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)

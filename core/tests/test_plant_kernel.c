@@ -151,9 +151,38 @@ static void test_link_law(void)
     CHECK(rb_plant_link_mass(d, 5e5, 1e5, 0.0, ik) == 0.0);            /* closed */
 }
 
+/* Without faults the step takes its constant no-fault record instead of gathering one: the same
+ * state bit for bit as a plant whose only fault never starts (gathered in every step), over an
+ * emergency stop with the WSP valves commanded to cycle. */
+static void test_no_fault_shortcut(void)
+{
+    static rb_plant_params p, q;
+    static rb_plant_state a, b;
+    rb_plant_inputs in;
+    fill_plant(&p, 2, 200 / 3.6);
+    q = p;
+    q.n_faults = 1;
+    q.fault[0] = (rb_fault){RB_FAULT_VENT_STUCK_OPEN, 1, 2, 1e9, 0.0};
+    CHECK(rb_plant_init(&p, &a, NULL) == RB_OK && rb_plant_init(&q, &b, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    for (int c = 0; c < 2; ++c) in.pressure_demand[c] = p.atmosphere + 3.8e5;
+    for (int i = 0; i < 20000; ++i) {
+        for (int x = 0; x < 8; ++x) in.vent[x] = in.hold[x] = (uint8_t)((i / 40 + x) % 3 == 0);
+        rb_plant_step(&p, &a, &in);
+        rb_plant_step(&q, &b, &in);
+    }
+    CHECK(a.v[0] < 200 / 3.6 - 10.0);   /* braked */
+    CHECK(memcmp(a.m_cyl, b.m_cyl, sizeof a.m_cyl) == 0);
+    CHECK(memcmp(a.omega, b.omega, sizeof a.omega) == 0);
+    CHECK(memcmp(a.x, b.x, sizeof a.x) == 0);
+    CHECK(memcmp(a.vent_effective, b.vent_effective, sizeof a.vent_effective) == 0);
+    CHECK(a.m_vented == b.m_vented && a.m_vented > 0.0);
+}
+
 int main(void)
 {
     test_link_law();
+    test_no_fault_shortcut();
     test_kernels_agree(1);
     test_kernels_agree(0);
     test_valve_delay();
