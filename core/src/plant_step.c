@@ -234,34 +234,57 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
     const rb_plant_derived *d = &s->derived;
     const int n_cars = p->n_cars;
     double coupler[RB_PLANT_MAX_CARS + 1] = {0.0}, other[RB_PLANT_MAX_CARS];
+    double inv_vr[RB_PLANT_MAX_CARS], ed_axle[RB_PLANT_MAX_CARS];
     rb_wheelset_inputs w;
     if (n_cars < 1) return;   /* (rb_plant_check: never; tells the compiler the loops fill w) */
     for (int c = 0; c + 1 < n_cars; ++c)  /* tension positive */
         coupler[c + 1] = rb_coupler_force_law(&p->coupler, s->x[c] - s->x[c + 1] - d->car_length[c], s->v[c] - s->v[c + 1]);
+    /* ED force: the target min(demand, limit) where ED force is asked for (the limit, >= 0, is a
+       call: a scalar loop, skipped without any demand), then the lag (a vector loop) */
+    double ed_target[RB_PLANT_MAX_CARS], ed_lag_dt[RB_PLANT_MAX_CARS];
+    const double *ed_lag = d->ed_lag;   /* the plant's step: from init */
+    int64_t asked = 0;
     for (int c = 0; c < n_cars; ++c) {
-        const rb_plant_car *car = &p->car[c];
+        ed_target[c] = 0.0;
+        asked |= rb_plant_sign_bits(-in->ed_demand[c]);   /* demand > 0 (or -0, or a NaN: checked below) */
+    }
+    if (asked < 0)
+        for (int c = 0; c < n_cars; ++c) {
+            const rb_plant_car *car = &p->car[c];
+            double v = s->v[c], ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
+            double ed_max = ed > 0.0 && car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
+            ed_target[c] = ed < ed_max ? ed : ed_max;
+        }
+    if (dt != d->h) {
+        for (int c = 0; c < n_cars; ++c) ed_lag_dt[c] = dt / (p->car[c].ed_tau + dt);
+        ed_lag = ed_lag_dt;
+    }
+    for (int c = 0; c < n_cars; ++c) s->ed_force[c] += (ed_target[c] - s->ed_force[c]) * ed_lag[c];
+    for (int c = 0; c < n_cars; ++c) {   /* the cars' other forces and creep reference: vector loops */
         double v = s->v[c];
-        double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
-        /* the ED limit (>= 0) matters only when ED force is asked for */
-        double ed_max = ed > 0.0 && car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
-        double ed_target = ed < ed_max ? ed : ed_max;
-        double ed_lag = dt == d->h ? d->ed_lag[c] : dt / (car->ed_tau + dt);   /* the plant's step: from init */
-        s->ed_force[c] += (ed_target - s->ed_force[c]) * ed_lag;
-        double resistance = v > 0.0 ? rb_running_resistance_law(&p->resistance, v) * d->mass_share[c] : 0.0;
+        double share = rb_running_resistance_law(&p->resistance, v) * d->mass_share[c];   /* loaded either way */
+        double resistance = v > 0.0 ? share : 0.0;
         other[c] = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
-        if (p->n_gradients > 0) other[c] -= rb_plant_gradient_force(p, s, c);
-        if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
+        double vr = v > p->creep_speed_min ? v : p->creep_speed_min;
+        inv_vr[c] = 1.0 / vr;
+        ed_axle[c] = s->ed_force[c] / RB_AXLES_PER_CAR * d->radius[c];
+    }
+    for (int c = 0; c < n_cars; ++c)
+        if (f->ed_lost[c]) ed_axle[c] = 0.0;
+    if (p->n_gradients > 0)
+        for (int c = 0; c < n_cars; ++c) other[c] -= rb_plant_gradient_force(p, s, c);
+    if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
+        for (int c = 0; c < n_cars; ++c)
             for (int k = 0; k < RB_AXLES_PER_CAR; ++k)
-                rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - car->axle_position[k]);
-        double vr = v > p->creep_speed_min ? v : p->creep_speed_min, inv_vr = 1.0 / vr;
-        double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * d->radius[c];
+                rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - p->car[c].axle_position[k]);
+    for (int c = 0; c < n_cars; ++c) {   /* each car's figures for each of its axles */
         double others = other[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            w.speed[a] = v;
-            w.inv_creep_speed[a] = inv_vr;
+            w.speed[a] = s->v[c];
+            w.inv_creep_speed[a] = inv_vr[c];
             w.others[a] = others;
-            w.ed_torque[a] = ed_axle;
+            w.ed_torque[a] = ed_axle[c];
         }
     }
     rb_plant_wheelsets(p, s, &w, cylinder, dt);

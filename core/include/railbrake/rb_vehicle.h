@@ -168,18 +168,15 @@ typedef struct rb_coupler {
 
 double rb_coupler_force(const rb_coupler *c, double dx, double dv);
 /* The law of rb_coupler_force: tension positive, dx the extension beyond the couplers' length, dv its
-   rate; a free play of `slack`, then linear and cubic stiffness with damping (inline: the plant
-   evaluates it per coupler and step). */
+   rate; a free play of `slack`, then linear and cubic stiffness with damping (inline and
+   branch-free: the plant evaluates it per coupler and step, as a vector loop). */
 static inline double rb_coupler_force_law(const rb_coupler *c, double dx, double dv)
 {
-    double half = 0.5 * c->slack, e;
-    if (dx > half)
-        e = dx - half;
-    else if (dx < -half)
-        e = dx + half;
-    else
-        return 0.0;  /* inside the free play: no force, no damping */
-    return c->stiffness * e + c->stiffness_cubic * e * e * e + c->damping * dv;
+    double half = 0.5 * c->slack;
+    int engaged = dx > half || dx < -half;   /* inside the free play: no force, no damping */
+    double e = dx > half ? dx - half : dx + half;
+    double force = c->stiffness * e + c->stiffness_cubic * e * e * e + c->damping * dv;
+    return engaged ? force : 0.0;
 }
 rb_status rb_coupler_check(const rb_coupler *c, rb_error *err);
 
