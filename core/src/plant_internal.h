@@ -124,6 +124,9 @@ typedef struct {
    force and coefficient per axle. */
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
                         const double *cylinder, double dt);
+/* Polach's coefficient of axle `axle` at a creep and speed as the wheelset kernel computes it (its
+   portable build; for the tests). */
+double rb_plant_polach(const rb_plant_state *s, int axle, double creep, double speed);
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
 

@@ -33,14 +33,15 @@
 
 /* Polach's coefficient (its magnitude) at friction coefficient mu and probe creep |creep|, with the
    axle's constants: 2 mu / pi (k_A eps / (1 + (k_A eps)^2) + atan(k_S eps)), eps = gain |creep| / mu
-   (rb_polach_coefficient_fast's law, contact_polach.c). The first fraction and atan's rational
-   (rb_atan_nonneg_parts) are added as one fraction: one division for both. */
+   (rb_polach_coefficient_fast's law, contact_polach.c), written without eps: with G = gain |creep|,
+   K = k_A G, the first fraction is K mu / (mu^2 + K^2) and the arc tangent that of k_S G over mu
+   (rb_atan_ratio_parts), and the two are added as one fraction: two divisions in all, neither
+   waiting on the other's. */
 RB_ALWAYS_INLINE double polach_magnitude(double mu, double abs_creep, double gain, double kA, double kS)
 {
-    double eps = gain * abs_creep / mu;
-    double ka_eps = kA * eps, ka_den = 1.0 + ka_eps * ka_eps, base, num, den;
-    rb_atan_nonneg_parts(kS * eps, &base, &num, &den);
-    return mu * (2.0 / M_PI) * (base + (num * ka_den + ka_eps * den) / (den * ka_den));
+    double g = gain * abs_creep, k = kA * g, k_den = mu * mu + k * k, base, num, den;
+    rb_atan_ratio_parts(kS * g, mu, &base, &num, &den);
+    return mu * (2.0 / M_PI) * (base + (num * k_den + k * mu * den) / (den * k_den));
 }
 
 /* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived: the
@@ -146,6 +147,11 @@ static void wheelsets_avx2(const rb_plant_params *p, rb_plant_state *s, const rb
     wheelsets(p, s, in, cylinder, dt);
 }
 #endif
+
+double rb_plant_polach(const rb_plant_state *s, int axle, double creep, double speed)
+{
+    return polach(&s->derived, axle, creep, speed);
+}
 
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
                         const double *cylinder, double dt)

@@ -71,9 +71,9 @@ static void deliver(rb_plant_state *s, double *node, double flow, double dt)
 
 void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f, double dt)
 {
-    double rt = RB_AIR_R * p->temperature;
+    const rb_plant_derived *d = &s->derived;   /* the nodes' stiffness R T / V, from init */
     if (p->n_compressors == 0) {   /* the single compressor on compressor_car */
-        double p_mr = s->m_mr * rt / p->main_reservoir_volume;
+        double p_mr = s->m_mr * d->k_mr;
         if (p_mr < p->governor_on) s->compressor_on = 1;
         if (p_mr > p->governor_off) s->compressor_on = 0;
         if (s->compressor_on && !f->compressor_off) deliver(s, &s->m_mr, p->compressor_flow, dt);
@@ -84,7 +84,7 @@ void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_
         int c = p->compressor_position[i];
         int into_mr = c == p->compressor_car;
         double *node = into_mr ? &s->m_mr : &s->m_pipe[c];
-        double fed = *node * rt / (into_mr ? p->main_reservoir_volume : p->car[c].pipe_volume);
+        double fed = *node * (into_mr ? d->k_mr : d->k_pipe[c]);
         if (fed < p->governor_on) s->compressor_running[i] = 1;
         if (fed > p->governor_off) s->compressor_running[i] = 0;
         if (s->compressor_running[i] && !f->compressor_off) deliver(s, node, p->compressor_delivery[i], dt);

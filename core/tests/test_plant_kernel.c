@@ -151,6 +151,34 @@ static void test_link_law(void)
     CHECK(rb_plant_link_mass(d, 5e5, 1e5, 0.0, ik) == 0.0);            /* closed */
 }
 
+/* The kernel's Polach coefficient (divisions merged, rb_atan_ratio_parts) against the law with libm
+ * (rb_polach_coefficient_fast) over creeps from 1e-7 to 1 and speeds from 0.5 to 100 m/s, on dry
+ * and wet rail (each axle its conditioning): within 1e-14 relative. */
+static void test_polach(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state s;
+    double worst = 0.0;
+    fill_plant(&p, 1, 50.0);
+    p.n_conditions = 1;
+    for (int set = 0; set < 2; ++set) {
+        p.condition[0] = set ? (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0}
+                             : (rb_plant_condition){{0.55, 0.40, 0.60, 0.4, 0.2}, 1.0, 0.0};
+        CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+        double wheel_load = 0.5 * p.car[0].vehicle.wheelset.axle_load * 9.80665;
+        for (int axle = 0; axle < RB_AXLES_PER_CAR; ++axle)
+            for (int i = 0; i <= 700; ++i)
+                for (int j = 0; j <= 20; ++j) {
+                    double creep = -pow(10.0, -7.0 + i * 0.01), speed = 0.5 * pow(200.0, j / 20.0);
+                    double law = rb_polach_coefficient_fast(creep, speed, wheel_load, &p.car[0].contact, &s.polach[axle]);
+                    double e = fabs(rb_plant_polach(&s, axle, creep, speed) - law) / fabs(law);
+                    if (e > worst) worst = e;
+                }
+    }
+    printf("kernel Polach coefficient: largest relative error %.2e against the law with libm\n", worst);
+    CHECK(worst < 1e-14);
+}
+
 /* Without faults the step takes its constant no-fault record instead of gathering one: the same
  * state bit for bit as a plant whose only fault never starts (gathered in every step), over an
  * emergency stop with the WSP valves commanded to cycle. */
@@ -182,6 +210,7 @@ static void test_no_fault_shortcut(void)
 int main(void)
 {
     test_link_law();
+    test_polach();
     test_no_fault_shortcut();
     test_kernels_agree(1);
     test_kernels_agree(0);
