@@ -246,7 +246,7 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
     int64_t asked = 0;
     for (int c = 0; c < n_cars; ++c) {
         ed_target[c] = 0.0;
-        asked |= rb_plant_sign_bits(-in->ed_demand[c]);   /* demand > 0 (or -0, or a NaN: checked below) */
+        asked |= rb_plant_sign_bits(0.0 - in->ed_demand[c]);   /* demand > 0 (0 - 0 is +0; a NaN: checked below) */
     }
     if (asked < 0)
         for (int c = 0; c < n_cars; ++c) {

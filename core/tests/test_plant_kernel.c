@@ -207,8 +207,41 @@ static void test_no_fault_shortcut(void)
     CHECK(a.m_vented == b.m_vented && a.m_vented > 0.0);
 }
 
+/* ED brake of a motor car: asked for in the steps' loop only when some car has a demand; the
+ * force follows min(demand, limit) with the first-order lag h / (tau + h) per step, so after n
+ * steps from 0 it is target (1 - (1 - lag)^n); a car that lost its ED gives none, and a demand of 0
+ * lets the force decay by the same lag. */
+static void test_ed_force(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state s;
+    rb_plant_inputs in;
+    fill_plant(&p, 2, 50.0);
+    p.car[0].vehicle.motor = p.car[1].vehicle.motor = 1;
+    for (int c = 0; c < 2; ++c) {
+        rb_ed_curve *e = &p.car[c].vehicle.ed;
+        memset(e, 0, sizeof *e);
+        e->terms = 1; e->c0[0] = 40e3; e->scale = 1.0;   /* 40 kN at any speed */
+    }
+    p.n_faults = 1;
+    p.fault[0] = (rb_fault){RB_FAULT_ED_LOST, 1, -1, 0.0, 0.0};
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    in.ed_demand[0] = in.ed_demand[1] = 100e3;   /* above the limit: the limit */
+    const double lag = 1e-3 / (0.3 + 1e-3);
+    for (int i = 0; i < 200; ++i) rb_plant_step(&p, &s, &in);
+    CHECK_CLOSE(s.ed_force[0], 40e3 * (1.0 - pow(1.0 - lag, 200)), 1e-12, 0.0);
+    CHECK(s.ed_force[1] == 0.0);   /* lost */
+    double held = s.ed_force[0];
+    in.ed_demand[0] = in.ed_demand[1] = 0.0;
+    for (int i = 0; i < 100; ++i) rb_plant_step(&p, &s, &in);
+    CHECK_CLOSE(s.ed_force[0], held * pow(1.0 - lag, 100), 1e-12, 0.0);
+    CHECK(held > 15e3);
+}
+
 int main(void)
 {
+    test_ed_force();
     test_link_law();
     test_polach();
     test_no_fault_shortcut();
