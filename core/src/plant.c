@@ -242,10 +242,8 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
             d->axle_polach_gain[a] = d->polach_gain[c];
             d->axle_axle_load[a] = d->axle_load[c];
             d->axle_compliance[a] = d->compliance[c];
-            d->axle_brake_gain[a] = d->brake_gain[c];
-            d->axle_caliper_atmosphere[a] = d->caliper_atmosphere[c];
-            d->axle_caliper_area[a] = d->caliper_area[c];
-            d->axle_caliper_spring[a] = d->caliper_spring[c];
+            d->axle_brake_per_pa[a] = d->brake_gain[c] * d->caliper_area[c];
+            d->axle_brake_offset[a] = d->brake_gain[c] * (d->caliper_atmosphere[c] * d->caliper_area[c] + d->caliper_spring[c]);
             d->axle_inv_axle_load[a] = 1.0 / d->axle_load[c];
             d->pad_bracket[a] = 0;
             d->pad_speed_lo[a] = d->pad_speed_hi[a] = 0.0;   /* empty: the kernel's first look-up fills it */

@@ -66,7 +66,7 @@ RB_ALWAYS_INLINE double pad_lookup(const rb_speed_table *t, rb_plant_derived *d,
 
 /* Working arrays of one pass over the train. */
 typedef struct {
-    double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], mu[RB_PLANT_MAX_AXLES];
+    double abs_probe[RB_PLANT_MAX_AXLES], mu[RB_PLANT_MAX_AXLES];
     double pad[RB_PLANT_MAX_AXLES], f[RB_PLANT_MAX_AXLES];
 } pass_arrays;
 
@@ -82,8 +82,7 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restri
        pad friction in each axle's cached interval (and whether any axle left its interval) */
     for (int a = 0; a < n; ++a) {
         const double v = in->speed[a], wheel = s->omega[a] * d->axle_radius[a];
-        x.w[a] = wheel - v;
-        double creep = fabs(x.w[a] * in->inv_creep_speed[a]);
+        double creep = fabs((wheel - v) * in->inv_creep_speed[a]);
         x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
         x.mu[a] = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v)) + d->mu_static[a];
         x.pad[a] = d->pad_value_lo[a] + (wheel - d->pad_speed_lo[a]) * d->pad_slope[a];
@@ -101,15 +100,16 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restri
         x.f[a] = polach_magnitude(x.mu[a], x.abs_probe[a], d->axle_polach_gain[a], d->polach_kA[a], d->polach_kS[a]);
     for (int a = 0; a < n; ++a) {   /* the new state, straight into s (restrict: nothing else is s) */
         const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a];
-        /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
-        double piston = (cylinder[a] - d->axle_caliper_atmosphere[a]) * d->axle_caliper_area[a] - d->axle_caliper_spring[a];
-        double friction = d->axle_brake_gain[a] * x.pad[a] * (piston > 0.0 ? piston : 0.0);
+        /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors merged (rb_plant_derived) */
+        double push = cylinder[a] * d->axle_brake_per_pa[a] - d->axle_brake_offset[a];
+        double friction = x.pad[a] * (push > 0.0 ? push : 0.0);
         double torque = friction + in->ed_torque[a];
         /* slip velocity, linearly implicit in this axle's own rail force F = k w with the secant
            stiffness k = K f / |probe| (N per m/s), K = Q / max(v, v_min): w_new = w_free / (1 + dt
            compliance k), so F = K f w_free / (|probe| + dt compliance K f), one division */
         double others = in->others[a] - s->force[a];
-        double w_free = x.w[a] + dt * (-r * torque * inv_J - others * d->axle_inv_mass[a]);
+        double w = s->omega[a] * r - in->speed[a];   /* the slip velocity of the first pass */
+        double w_free = w + dt * (-r * torque * inv_J - others * d->axle_inv_mass[a]);
         double kf = d->axle_axle_load[a] * in->inv_creep_speed[a] * x.f[a];
         double force = kf * w_free / (x.abs_probe[a] + dt * d->axle_compliance[a] * kf);
         double omega = s->omega[a] + dt * (-force * r - torque) * inv_J;

@@ -240,8 +240,9 @@ typedef struct {
        train's axles in one loop: full vectors, no per-car set-up) */
     double axle_radius[RB_PLANT_MAX_AXLES], axle_inv_inertia[RB_PLANT_MAX_AXLES], axle_inv_mass[RB_PLANT_MAX_AXLES];
     double axle_polach_gain[RB_PLANT_MAX_AXLES], axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
-    double axle_brake_gain[RB_PLANT_MAX_AXLES], axle_caliper_atmosphere[RB_PLANT_MAX_AXLES];
-    double axle_caliper_area[RB_PLANT_MAX_AXLES], axle_caliper_spring[RB_PLANT_MAX_AXLES];
+    /* friction torque = pad friction x max(p_cyl brake_per_pa - brake_offset, 0): brake_gain x the
+       caliper's pad force (cylinder area (p - atmosphere) - return spring) with the factors merged */
+    double axle_brake_per_pa[RB_PLANT_MAX_AXLES], axle_brake_offset[RB_PLANT_MAX_AXLES];
     double axle_inv_axle_load[RB_PLANT_MAX_AXLES];   /* 1 / axle load: the adhesion coefficient output */
     /* what the rest of the step reads of the cars, compact (the car records are 3.6 kB each) */
     double axle_k_cyl[RB_PLANT_MAX_AXLES];   /* k_cyl of the axle's car */
