@@ -152,8 +152,8 @@ int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, 
         d->mu_static[axle] = q->mu0 * q->A;
         d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
         d->polach_B[axle] = q->B;
-        d->polach_kA[axle] = q->kA;
-        d->polach_kS[axle] = q->kS;
+        d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
+        d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
     }
     return condition;
 }
@@ -239,7 +239,6 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
             d->axle_radius[a] = d->radius[c];
             d->axle_inv_inertia[a] = d->inv_inertia[c];
             d->axle_inv_mass[a] = d->inv_mass[c];
-            d->axle_polach_gain[a] = d->polach_gain[c];
             d->axle_axle_load[a] = d->axle_load[c];
             d->axle_compliance[a] = d->compliance[c];
             d->axle_brake_per_pa[a] = d->brake_gain[c] * d->caliper_area[c];

@@ -33,14 +33,14 @@
 
 /* Polach's coefficient (its magnitude) at friction coefficient mu and probe creep |creep|, with the
    axle's constants: 2 mu / pi (k_A eps / (1 + (k_A eps)^2) + atan(k_S eps)), eps = gain |creep| / mu
-   (rb_polach_coefficient_fast's law, contact_polach.c), written without eps: with G = gain |creep|,
-   K = k_A G, the first fraction is K mu / (mu^2 + K^2) and the arc tangent that of k_S G over mu
-   (rb_atan_ratio_parts), and the two are added as one fraction: two divisions in all, neither
+   (rb_polach_coefficient_fast's law, contact_polach.c), written without eps: with K = k_A gain
+   |creep|, the first fraction is K mu / (mu^2 + K^2), and the arc tangent that of k_S gain |creep|
+   over mu (rb_atan_ratio_parts); the two are added as one fraction: two divisions in all, neither
    waiting on the other's. */
-RB_ALWAYS_INLINE double polach_magnitude(double mu, double abs_creep, double gain, double kA, double kS)
+RB_ALWAYS_INLINE double polach_magnitude(double mu, double abs_creep, double kA_gain, double kS_gain)
 {
-    double g = gain * abs_creep, k = kA * g, k_den = mu * mu + k * k, base, num, den;
-    rb_atan_ratio_parts(kS * g, mu, &base, &num, &den);
+    double k = kA_gain * abs_creep, k_den = mu * mu + k * k, base, num, den;
+    rb_atan_ratio_parts(kS_gain * abs_creep, mu, &base, &num, &den);
     return mu * (2.0 / M_PI) * (base + (num * k_den + k * mu * den) / (den * k_den));
 }
 
@@ -50,7 +50,7 @@ RB_ALWAYS_INLINE double polach(const rb_plant_derived *d, int a, double creep, d
 {
     double abs_creep = fabs(creep);
     double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
-    double f = polach_magnitude(mu, abs_creep, d->axle_polach_gain[a], d->polach_kA[a], d->polach_kS[a]);
+    double f = polach_magnitude(mu, abs_creep, d->polach_kA_gain[a], d->polach_kS_gain[a]);
     return creep < 0.0 ? -f : f;
 }
 
@@ -97,7 +97,7 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restri
     /* Polach's coefficient at the probe creep (its own pass: short dependency chains, so the
        processor overlaps many axles) */
     for (int a = 0; a < n; ++a)
-        x.f[a] = polach_magnitude(x.mu[a], x.abs_probe[a], d->axle_polach_gain[a], d->polach_kA[a], d->polach_kS[a]);
+        x.f[a] = polach_magnitude(x.mu[a], x.abs_probe[a], d->polach_kA_gain[a], d->polach_kS_gain[a]);
     for (int a = 0; a < n; ++a) {   /* the new state, straight into s (restrict: nothing else is s) */
         const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a];
         /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors merged (rb_plant_derived) */

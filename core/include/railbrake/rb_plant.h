@@ -225,9 +225,10 @@ typedef struct {
     double brake_gain[RB_PLANT_MAX_CARS];    /* discs x 2 x mean radius x lever x efficiency */
     double caliper_atmosphere[RB_PLANT_MAX_CARS], caliper_area[RB_PLANT_MAX_CARS];
     double caliper_spring[RB_PLANT_MAX_CARS];
-    /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
+    /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w); k_A and
+       k_S times the car's polach_gain (k_A eps = kA_gain |creep| / mu) */
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
-    double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
+    double polach_B[RB_PLANT_MAX_AXLES], polach_kA_gain[RB_PLANT_MAX_AXLES], polach_kS_gain[RB_PLANT_MAX_AXLES];
     /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends,
        value and slope (so the kernel interpolates without the table or a division; empty at init:
        pad_speed_lo = pad_speed_hi, never hit) */
@@ -239,7 +240,7 @@ typedef struct {
     /* the per-car constants of the wheelset kernel repeated for each axle (its passes run over the
        train's axles in one loop: full vectors, no per-car set-up) */
     double axle_radius[RB_PLANT_MAX_AXLES], axle_inv_inertia[RB_PLANT_MAX_AXLES], axle_inv_mass[RB_PLANT_MAX_AXLES];
-    double axle_polach_gain[RB_PLANT_MAX_AXLES], axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
+    double axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
     /* friction torque = pad friction x max(p_cyl brake_per_pa - brake_offset, 0): brake_gain x the
        caliper's pad force (cylinder area (p - atmosphere) - return spring) with the factors merged */
     double axle_brake_per_pa[RB_PLANT_MAX_AXLES], axle_brake_offset[RB_PLANT_MAX_AXLES];
