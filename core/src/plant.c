@@ -154,8 +154,8 @@ int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, 
         d->mu_static[axle] = q->mu0 * q->A;
         d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
         d->polach_B[axle] = q->B;
-        d->polach_kA[axle] = q->kA;
-        d->polach_kS[axle] = q->kS;
+        d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
+        d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
     }
     return condition;
 }
@@ -178,6 +178,7 @@ static void derive_cylinders(const rb_plant_params *p, rb_plant_derived *d)
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
         d->r_cyl[c] = RB_AIR_R / car->cylinder_volume;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->axle_r_cyl[a] = d->r_cyl[c];
         double heat = thermal ? d->h * m_ref_per_volume * car->cylinder_volume / p->wall_time : 0.0;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) d->axle_heat_cyl[a] = heat;
         const double relay_links = 2.0 + RB_AXLES_PER_CAR, cyl_links = 3.0;
@@ -258,22 +259,20 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
         d->caliper_atmosphere[c] = b->caliper.atmospheric_pressure;
         d->caliper_area[c] = b->caliper.cylinder_area;
         d->caliper_spring[c] = b->caliper.return_spring;
+        d->car_length[c] = car->length;
+        d->ed_lag[c] = d->h / (car->ed_tau + d->h);   /* derive_air set h */
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             d->axle_radius[a] = d->radius[c];
             d->axle_inv_inertia[a] = d->inv_inertia[c];
             d->axle_inv_mass[a] = d->inv_mass[c];
-            d->axle_polach_gain[a] = d->polach_gain[c];
             d->axle_axle_load[a] = d->axle_load[c];
             d->axle_compliance[a] = d->compliance[c];
-            d->axle_brake_gain[a] = d->brake_gain[c];
-            d->axle_caliper_atmosphere[a] = d->caliper_atmosphere[c];
-            d->axle_caliper_area[a] = d->caliper_area[c];
-            d->axle_caliper_spring[a] = d->caliper_spring[c];
+            d->axle_brake_per_pa[a] = d->brake_gain[c] * d->caliper_area[c];
+            d->axle_brake_offset[a] = d->brake_gain[c] * (d->caliper_atmosphere[c] * d->caliper_area[c] + d->caliper_spring[c]);
             d->axle_inv_axle_load[a] = 1.0 / d->axle_load[c];
             d->pad_bracket[a] = 0;
             d->pad_speed_lo[a] = d->pad_speed_hi[a] = 0.0;   /* empty: the kernel's first look-up fills it */
-            d->pad_speed_span[a] = 1.0;
-            d->pad_value_lo[a] = d->pad_value_span[a] = 0.0;
+            d->pad_value_lo[a] = d->pad_slope[a] = 0.0;
         }
     }
 }

@@ -14,9 +14,20 @@
 #define RB_PLANT_HAVE_AVX2 0
 #endif
 
+/* Inline every call in the function's body (its own file's functions), so that a copy compiled for
+   another instruction set (function-level target attribute) computes all of it there. */
+#if defined(__GNUC__) || defined(__clang__)
+#define RB_FLATTEN __attribute__((flatten))
+#else
+#define RB_FLATTEN
+#endif
+
 #define RB_G 9.80665
 
+#include <float.h>
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 /* Mass (kg) one link moves from node i to node j (pressures pi, pj) in a step of d->h, through
  * conductance g (kg/(s Pa)); ik = 1 / (n_i k_i + n_j k_j), so (pi - pj) ik is the mass that would
@@ -50,6 +61,42 @@ static inline double rb_plant_link_mass_capped(const rb_plant_derived *d, double
 {
     double dm = rb_plant_link_mass(d, pi, pj, g, ik_rate), cap = (pi - pj) * ik_cap;
     return pi > pj ? (dm < cap ? dm : cap) : (dm > cap ? dm : cap);
+}
+
+/* The bits of x, its sign in the top one: ORed over a pass, (x - lo) | ~(x - hi) is negative when
+ * some x lies outside [lo, hi) (IEEE: a difference is 0 only between equal numbers, and then +0; a
+ * NaN sets one of the two), without a compare that would stop the portable build's vectoriser. */
+static inline int64_t rb_plant_sign_bits(double x)
+{
+    int64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+/* The interval of speed table t that holds `speed`, found from *bracket as rb_speed_table_at_from
+ * finds it, as the line value + (speed - lo) slope that holds for lo <= speed < hi: inside the table
+ * speed[i] <= speed < speed[i + 1]; below it [-DBL_MAX, speed[0]) and above it [speed[n - 1], inf)
+ * with slope 0; an empty table everywhere 0. A caller keeps it and interpolates without the table
+ * (or a division) until the speed leaves it. */
+static inline void rb_plant_table_interval(const rb_speed_table *t, double speed, int *bracket, double *lo,
+                                           double *hi, double *value, double *slope)
+{
+    int n = t->n;
+    *slope = 0.0;
+    if (n < 1) {
+        *lo = -DBL_MAX; *hi = HUGE_VAL; *value = 0.0;
+    } else if (speed < t->speed[0]) {
+        *lo = -DBL_MAX; *hi = t->speed[0]; *value = t->value[0];
+    } else if (speed >= t->speed[n - 1]) {
+        *lo = t->speed[n - 1]; *hi = HUGE_VAL; *value = t->value[n - 1];
+    } else {
+        int i = *bracket < 0 ? 0 : (*bracket > n - 2 ? n - 2 : *bracket);   /* rb_speed_table_at_from's search */
+        while (t->speed[i] > speed) --i;
+        while (t->speed[i + 1] <= speed) ++i;
+        *bracket = i;
+        *lo = t->speed[i]; *hi = t->speed[i + 1]; *value = t->value[i];
+        *slope = (t->value[i + 1] - t->value[i]) / (t->speed[i + 1] - t->speed[i]);
+    }
 }
 
 /* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */
@@ -89,6 +136,9 @@ typedef struct {
    force and coefficient per axle. */
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
                         const double *cylinder, double dt);
+/* Polach's coefficient of axle `axle` at a creep and speed as the wheelset kernel computes it (its
+   portable build; for the tests). */
+double rb_plant_polach(const rb_plant_state *s, int axle, double creep, double speed);
 /* Wheel-speed sensor faults (loss, noise) for the outputs. */
 void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f);
 

@@ -15,6 +15,8 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 
 #ifndef M_PI
@@ -29,118 +31,106 @@
 
 #define NA RB_AXLES_PER_CAR
 
-/* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived
-   (rb_polach_coefficient_fast's law, contact_polach.c). */
+/* Polach's coefficient (its magnitude) at friction coefficient mu and probe creep |creep|, with the
+   axle's constants: 2 mu / pi (k_A eps / (1 + (k_A eps)^2) + atan(k_S eps)), eps = gain |creep| / mu
+   (rb_polach_coefficient_fast's law, contact_polach.c), written without eps: with K = k_A gain
+   |creep|, the first fraction is K mu / (mu^2 + K^2), and the arc tangent that of k_S gain |creep|
+   over mu (rb_atan_ratio_parts); the two are added as one fraction: two divisions in all, neither
+   waiting on the other's. */
+RB_ALWAYS_INLINE double polach_magnitude(double mu, double abs_creep, double kA_gain, double kS_gain)
+{
+    double k = kA_gain * abs_creep, k_den = mu * mu + k * k, base, num, den;
+    rb_atan_ratio_parts(kS_gain * abs_creep, mu, &base, &num, &den);
+    return mu * (2.0 / M_PI) * (base + (num * k_den + k * mu * den) / (den * k_den));
+}
+
+/* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived: the
+   kernel's own passes' operations, in their order. */
 RB_ALWAYS_INLINE double polach(const rb_plant_derived *d, int a, double creep, double speed)
 {
     double abs_creep = fabs(creep);
     double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
-    double eps = d->polach_gain[a / NA] * abs_creep / mu;
-    double ka_eps = d->polach_kA[a] * eps;
-    double f = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
+    double f = polach_magnitude(mu, abs_creep, d->polach_kA_gain[a], d->polach_kS_gain[a]);
     return creep < 0.0 ? -f : f;
 }
 
-/* Pad friction coefficient of axle a at wheel speed `speed` from its car's table, as
-   rb_speed_table_at_from; it caches the interval the speed falls in, with its spans
-   (rb_plant_derived), for the kernel's own interpolation, the same operations in the same order:
-   inside the table speed[lo] <= speed < speed[lo + 1]; below it [-DBL_MAX, speed[0]) and above it
-   [speed[n - 1], inf), each with value span 0 (value[0] or value[n - 1] + 0). Inlined into each
-   kernel, so the vector one never calls code of another instruction set. */
+/* Pad friction coefficient of axle a at wheel speed `speed` from its car's table; caches the
+   table's interval there (rb_plant_table_interval) for the kernel's own interpolation. Inlined into
+   each kernel, so the vector one never calls code of another instruction set. */
 RB_ALWAYS_INLINE double pad_lookup(const rb_speed_table *t, rb_plant_derived *d, int a, double speed)
 {
-    double value = rb_speed_table_at_from(t, speed, &d->pad_bracket[a]);
-    int n = t->n;
-    if (n < 1) return value;
-    if (speed < t->speed[0]) {
-        d->pad_speed_lo[a] = -DBL_MAX;
-        d->pad_speed_hi[a] = t->speed[0];
-        d->pad_value_lo[a] = t->value[0];
-        d->pad_speed_span[a] = 1.0;
-        d->pad_value_span[a] = 0.0;
-    } else if (speed >= t->speed[n - 1]) {
-        d->pad_speed_lo[a] = t->speed[n - 1];
-        d->pad_speed_hi[a] = HUGE_VAL;
-        d->pad_value_lo[a] = t->value[n - 1];
-        d->pad_speed_span[a] = 1.0;
-        d->pad_value_span[a] = 0.0;
-    } else {
-        int lo = d->pad_bracket[a], hi = lo + 1;
-        d->pad_speed_lo[a] = t->speed[lo];
-        d->pad_speed_hi[a] = t->speed[hi];
-        d->pad_speed_span[a] = t->speed[hi] - t->speed[lo];
-        d->pad_value_lo[a] = t->value[lo];
-        d->pad_value_span[a] = t->value[hi] - t->value[lo];
-    }
-    return value;
+    rb_plant_table_interval(t, speed, &d->pad_bracket[a], &d->pad_speed_lo[a], &d->pad_speed_hi[a],
+                            &d->pad_value_lo[a], &d->pad_slope[a]);
+    return d->pad_value_lo[a] + (speed - d->pad_speed_lo[a]) * d->pad_slope[a];
 }
 
 /* Working arrays of one pass over the train. */
 typedef struct {
-    double w[RB_PLANT_MAX_AXLES], abs_probe[RB_PLANT_MAX_AXLES], ex[RB_PLANT_MAX_AXLES];
-    double wheel[RB_PLANT_MAX_AXLES], pad[RB_PLANT_MAX_AXLES], friction[RB_PLANT_MAX_AXLES];
-    double f[RB_PLANT_MAX_AXLES], omega[RB_PLANT_MAX_AXLES], force[RB_PLANT_MAX_AXLES];
+    double abs_probe[RB_PLANT_MAX_AXLES], mu[RB_PLANT_MAX_AXLES];
+    double pad[RB_PLANT_MAX_AXLES], f[RB_PLANT_MAX_AXLES];
 } pass_arrays;
 
-RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
-                                const double *cylinder, double dt)
+RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restrict s,
+                                const rb_wheelset_inputs *restrict in, const double *restrict cylinder, double dt)
 {
     rb_plant_derived *d = &s->derived;
     const int n = p->n_cars * NA;
     pass_arrays x;
+    int64_t outside = 0, locking = 0;   /* sign bits ORed over the axles (rb_plant_sign_bits) */
 
-    /* slip velocity, the probe creep of the secant stiffness, the falling friction's exponential,
-       the pad friction in each axle's cached interval */
+    /* slip velocity, the probe creep of the secant stiffness, the falling friction coefficient, the
+       pad friction in each axle's cached interval (and whether any axle left its interval) */
     for (int a = 0; a < n; ++a) {
-        const double v = in->speed[a];
-        x.w[a] = s->omega[a] * d->axle_radius[a] - v;
-        double creep = fabs(x.w[a] * in->inv_creep_speed[a]);
+        const double v = in->speed[a], wheel = s->omega[a] * d->axle_radius[a];
+        double creep = fabs((wheel - v) * in->inv_creep_speed[a]);
         x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
-        x.ex[a] = rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v));
-        x.wheel[a] = s->omega[a] * d->axle_radius[a];
-        x.pad[a] = d->pad_value_lo[a] + ((x.wheel[a] - d->pad_speed_lo[a]) / d->pad_speed_span[a]) * d->pad_value_span[a];
+        x.mu[a] = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v)) + d->mu_static[a];
+        x.pad[a] = d->pad_value_lo[a] + (wheel - d->pad_speed_lo[a]) * d->pad_slope[a];
+        outside |= rb_plant_sign_bits(wheel - d->pad_speed_lo[a]) | ~rb_plant_sign_bits(wheel - d->pad_speed_hi[a]);
     }
-    for (int a = 0; a < n; ++a)   /* outside the cached interval (rarely): the table */
-        if (!(x.wheel[a] >= d->pad_speed_lo[a] && x.wheel[a] < d->pad_speed_hi[a]))
-            x.pad[a] = pad_lookup(&p->car[a / NA].vehicle.brake.pad.table, d, a, x.wheel[a]);
+    if (outside < 0)   /* rarely: the table */
+        for (int a = 0; a < n; ++a) {
+            const double wheel = s->omega[a] * d->axle_radius[a];
+            if (!(wheel >= d->pad_speed_lo[a] && wheel < d->pad_speed_hi[a]))
+                x.pad[a] = pad_lookup(&p->car[a / NA].vehicle.brake.pad.table, d, a, wheel);
+        }
     /* Polach's coefficient at the probe creep (its own pass: short dependency chains, so the
        processor overlaps many axles) */
-    for (int a = 0; a < n; ++a) {
-        double mu = d->mu_slip[a] * x.ex[a] + d->mu_static[a];
-        double eps = d->axle_polach_gain[a] * x.abs_probe[a] / mu;
-        double ka_eps = d->polach_kA[a] * eps;
-        x.f[a] = mu * (2.0 / M_PI) * (ka_eps / (1.0 + ka_eps * ka_eps) + rb_atan_nonneg(d->polach_kS[a] * eps));
-    }
-    for (int a = 0; a < n; ++a) {
-        const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a], f = x.f[a];
-        double stiffness = d->axle_axle_load[a] * (f / x.abs_probe[a]) * in->inv_creep_speed[a];  /* N per m/s */
-        /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors in brake_gain */
-        double piston = (cylinder[a] - d->axle_caliper_atmosphere[a]) * d->axle_caliper_area[a] - d->axle_caliper_spring[a];
-        double friction = d->axle_brake_gain[a] * x.pad[a] * (piston > 0.0 ? piston : 0.0);
-        x.friction[a] = friction;
+    for (int a = 0; a < n; ++a)
+        x.f[a] = polach_magnitude(x.mu[a], x.abs_probe[a], d->polach_kA_gain[a], d->polach_kS_gain[a]);
+    for (int a = 0; a < n; ++a) {   /* the new state, straight into s (restrict: nothing else is s) */
+        const double r = d->axle_radius[a], inv_J = d->axle_inv_inertia[a];
+        /* rb_axle_brake_torque (vehicle_brake.c) with its constant factors merged (rb_plant_derived) */
+        double push = cylinder[a] * d->axle_brake_per_pa[a] - d->axle_brake_offset[a];
+        double friction = x.pad[a] * (push > 0.0 ? push : 0.0);
         double torque = friction + in->ed_torque[a];
-        /* slip velocity, linearly implicit in this axle's own rail force */
+        /* slip velocity, linearly implicit in this axle's own rail force F = k w with the secant
+           stiffness k = K f / |probe| (N per m/s), K = Q / max(v, v_min): w_new = w_free / (1 + dt
+           compliance k), so F = K f w_free / (|probe| + dt compliance K f), one division */
         double others = in->others[a] - s->force[a];
-        double w_new = (x.w[a] + dt * (-r * torque * inv_J - others * d->axle_inv_mass[a])) /
-                       (1.0 + dt * stiffness * d->axle_compliance[a]);
-        x.force[a] = stiffness * w_new;
-        x.omega[a] = s->omega[a] + dt * (-x.force[a] * r - torque) * inv_J;
+        double w = s->omega[a] * r - in->speed[a];   /* the slip velocity of the first pass */
+        double w_free = w + dt * (-r * torque * inv_J - others * d->axle_inv_mass[a]);
+        double kf = d->axle_axle_load[a] * in->inv_creep_speed[a] * x.f[a];
+        double force = kf * w_free / (x.abs_probe[a] + dt * d->axle_compliance[a] * kf);
+        double omega = s->omega[a] + dt * (-force * r - torque) * inv_J;
+        s->omega[a] = omega;
+        s->force[a] = force;
+        s->coefficient[a] = force * d->axle_inv_axle_load[a];   /* an output only */
+        s->brake_torque[a] = friction;   /* for the discs' energy (plant_train.c) */
+        locking |= rb_plant_sign_bits(omega);   /* also -0 or a NaN: the loop below checks */
     }
-    for (int a = 0; a < n; ++a) {
-        if (x.omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
-            double creep = -in->speed[a] * in->inv_creep_speed[a];
-            /* a wheel locked already was probed at that very creep: the same coefficient */
-            double f = s->omega[a] == 0.0 && x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[a]);
-            x.omega[a] = 0.0;
-            x.force[a] = d->axle_axle_load[a] * f;
+    if (locking < 0)
+        for (int a = 0; a < n; ++a) {
+            if (s->omega[a] < 0.0) {   /* pads hold the wheel: locked, sliding at the train speed */
+                double creep = -in->speed[a] * in->inv_creep_speed[a];
+                /* probed at that very creep (a wheel locked already): the pass's coefficient, which
+                   polach() would compute again from the same operands */
+                double f = x.abs_probe[a] == -creep ? -x.f[a] : polach(d, a, creep, in->speed[a]);
+                s->omega[a] = 0.0;
+                s->force[a] = d->axle_axle_load[a] * f;
+                s->coefficient[a] = s->force[a] * d->axle_inv_axle_load[a];
+            }
         }
-    }
-    for (int a = 0; a < n; ++a) {
-        s->omega[a] = x.omega[a];
-        s->force[a] = x.force[a];
-        s->coefficient[a] = x.force[a] * d->axle_inv_axle_load[a];   /* an output only */
-        s->brake_torque[a] = x.friction[a];   /* for the discs' energy (plant_train.c) */
-    }
 }
 
 static void wheelsets_portable(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
@@ -157,6 +147,11 @@ static void wheelsets_avx2(const rb_plant_params *p, rb_plant_state *s, const rb
     wheelsets(p, s, in, cylinder, dt);
 }
 #endif
+
+double rb_plant_polach(const rb_plant_state *s, int axle, double creep, double speed)
+{
+    return polach(&s->derived, axle, creep, speed);
+}
 
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,
                         const double *cylinder, double dt)

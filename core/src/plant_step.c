@@ -5,7 +5,15 @@
 #include <string.h>
 
 
-void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
+/* The faults of a plant without any: every valve as commanded, nothing leaking or lost (what
+   gather_faults gives then, without its clearing of 1.2 kB in every step). */
+#define RB_NONE_4 -1, -1, -1, -1
+#define RB_NONE_16 RB_NONE_4, RB_NONE_4, RB_NONE_4, RB_NONE_4
+typedef char rb_no_faults_fills_every_axle[RB_PLANT_MAX_AXLES == 64 ? 1 : -1];
+static const rb_plant_faults no_faults = {{RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16},
+                                          {RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16}, {0.0}, {0.0}, {0}, {0}, {0}, 0, 0};
+
+static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
 {
     memset(f, 0, sizeof *f);
     memset(f->hold, -1, sizeof f->hold);
@@ -32,6 +40,12 @@ void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, r
         if (q->kind == RB_FAULT_CAR_ISOLATED) f->isolated[q->car] = 1;
         if (q->kind == RB_FAULT_COMPRESSOR_OFF) f->compressor_off = 1;
     }
+}
+
+/* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
+void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
+{
+    gather_faults(p, s, f);
 }
 
 /* Deterministic noise: xorshift64*, Gaussian by Box-Muller. */
@@ -257,54 +271,86 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
 
 /* ------------------------------------------------------------------ mechanics */
 
-void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                             const rb_plant_faults *f, const double *cylinder, double dt)
+static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                           const rb_plant_faults *f, const double *cylinder, double dt)
 {
     const rb_plant_derived *d = &s->derived;
+    const int n_cars = p->n_cars;
     double coupler[RB_PLANT_MAX_CARS + 1] = {0.0}, other[RB_PLANT_MAX_CARS];
+    double inv_vr[RB_PLANT_MAX_CARS], ed_axle[RB_PLANT_MAX_CARS];
     rb_wheelset_inputs w;
-    for (int c = 0; c + 1 < p->n_cars; ++c)  /* tension positive */
-        coupler[c + 1] = rb_coupler_force(&p->coupler, s->x[c] - s->x[c + 1] - p->car[c].length,
-                                          s->v[c] - s->v[c + 1]);
-    for (int c = 0; c < p->n_cars; ++c) {
-        const rb_plant_car *car = &p->car[c];
+    if (n_cars < 1) return;   /* (rb_plant_check: never; tells the compiler the loops fill w) */
+    for (int c = 0; c + 1 < n_cars; ++c)  /* tension positive */
+        coupler[c + 1] = rb_coupler_force_law(&p->coupler, s->x[c] - s->x[c + 1] - d->car_length[c], s->v[c] - s->v[c + 1]);
+    /* ED force: the target min(demand, limit) where ED force is asked for (the limit, >= 0, is a
+       call: a scalar loop, skipped without any demand), then the lag (a vector loop) */
+    double ed_target[RB_PLANT_MAX_CARS], ed_lag_dt[RB_PLANT_MAX_CARS];
+    const double *ed_lag = d->ed_lag;   /* the plant's step: from init */
+    int64_t asked = 0;
+    for (int c = 0; c < n_cars; ++c) {
+        ed_target[c] = 0.0;
+        asked |= rb_plant_sign_bits(0.0 - in->ed_demand[c]);   /* demand > 0 (0 - 0 is +0; a NaN: checked below) */
+    }
+    if (asked < 0)
+        for (int c = 0; c < n_cars; ++c) {
+            const rb_plant_car *car = &p->car[c];
+            double v = s->v[c], ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
+            double ed_max = ed > 0.0 && car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
+            ed_target[c] = ed < ed_max ? ed : ed_max;
+        }
+    if (dt != d->h) {
+        for (int c = 0; c < n_cars; ++c) ed_lag_dt[c] = dt / (p->car[c].ed_tau + dt);
+        ed_lag = ed_lag_dt;
+    }
+    for (int c = 0; c < n_cars; ++c) s->ed_force[c] += (ed_target[c] - s->ed_force[c]) * ed_lag[c];
+    for (int c = 0; c < n_cars; ++c) {   /* the cars' other forces and creep reference: vector loops */
         double v = s->v[c];
-        double ed = in->ed_demand[c] > 0.0 ? in->ed_demand[c] : 0.0;
-        /* the ED limit (>= 0) matters only when ED force is asked for */
-        double ed_max = ed > 0.0 && car->vehicle.motor && !f->ed_lost[c] && v > 0.0 ? rb_ed_brake_force_max(&car->vehicle.ed, v) : 0.0;
-        double ed_target = ed < ed_max ? ed : ed_max;
-        s->ed_force[c] += (ed_target - s->ed_force[c]) * dt / (car->ed_tau + dt);
-        double resistance = v > 0.0 ? rb_running_resistance(&p->resistance, v) * d->mass_share[c] : 0.0;
-        other[c] = coupler[c] - coupler[c + 1] - resistance   /* tension pulls c back */
-                   - rb_plant_gradient_force(p, s, c);
-        if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
+        double share = rb_running_resistance_law(&p->resistance, v) * d->mass_share[c];   /* loaded either way */
+        double resistance = v > 0.0 ? share : 0.0;
+        other[c] = coupler[c] - coupler[c + 1] - resistance;   /* tension pulls c back */
+        double vr = v > p->creep_speed_min ? v : p->creep_speed_min;
+        inv_vr[c] = 1.0 / vr;
+        ed_axle[c] = s->ed_force[c] / RB_AXLES_PER_CAR * d->radius[c];
+    }
+    for (int c = 0; c < n_cars; ++c)
+        if (f->ed_lost[c]) ed_axle[c] = 0.0;
+    if (p->n_gradients > 0)
+        for (int c = 0; c < n_cars; ++c) other[c] -= rb_plant_gradient_force(p, s, c);
+    if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
+        for (int c = 0; c < n_cars; ++c)
             for (int k = 0; k < RB_AXLES_PER_CAR; ++k)
-                rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - car->axle_position[k]);
-        double vr = v > p->creep_speed_min ? v : p->creep_speed_min, inv_vr = 1.0 / vr;
-        double ed_axle = f->ed_lost[c] ? 0.0 : s->ed_force[c] / RB_AXLES_PER_CAR * car->vehicle.wheelset.wheel_radius;
+                rb_plant_zone_update(p, s, c * RB_AXLES_PER_CAR + k, s->x[c] - p->car[c].axle_position[k]);
+    for (int c = 0; c < n_cars; ++c) {   /* each car's figures for each of its axles */
         double others = other[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) others += s->force[a];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            w.speed[a] = v;
-            w.inv_creep_speed[a] = inv_vr;
+            w.speed[a] = s->v[c];
+            w.inv_creep_speed[a] = inv_vr[c];
             w.others[a] = others;
-            w.ed_torque[a] = ed_axle;
+            w.ed_torque[a] = ed_axle[c];
         }
     }
     rb_plant_wheelsets(p, s, &w, cylinder, dt);
-    for (int c = 0; c < p->n_cars; ++c) {
+    for (int c = 0; c < n_cars; ++c) {
         double rail = 0.0;
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) rail += s->force[a];
         s->a[c] = (rail + other[c]) * d->inv_mass[c];
     }
-    for (int c = 0; c < p->n_cars; ++c) {
+    for (int c = 0; c < n_cars; ++c) {
         s->v[c] += dt * s->a[c];
         if (s->v[c] < 0.0) s->v[c] = 0.0;   /* brakes hold a stopped train */
         s->x[c] += dt * s->v[c];
     }
 }
 
-void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
+/* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
+void rb_plant_step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                             const rb_plant_faults *f, const double *cylinder, double dt)
+{
+    step_mechanics(p, s, in, f, cylinder, dt);
+}
+
+static void update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
     if (!f->sensor_faults) {   /* every sensor sound: what the loop below would write */
         if (s->sensors_written) {
@@ -321,32 +367,64 @@ void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const 
     }
 }
 
-/* Cylinder pressures (Pa) per axle. */
-static void cylinder_pressures(const rb_plant_params *p, const rb_plant_state *s, double *out)
+/* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
+void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
 {
-    for (int c = 0; c < p->n_cars; ++c)
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) out[a] = s->mt_cyl[a] * s->derived.r_cyl[c];
+    update_sensors(p, s, f);
 }
+
+static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+{
+    const rb_plant_derived *d = &s->derived;
+    rb_plant_faults gathered;
+    const rb_plant_faults *f = &no_faults;
+    double start[RB_PLANT_MAX_AXLES], mean[RB_PLANT_MAX_AXLES];
+    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    if (p->n_faults > 0) {
+        gather_faults(p, s, &gathered);
+        f = &gathered;
+    }
+    for (int k = 0; k < p->substeps; ++k) {
+        for (int a = 0; a < n_axles; ++a) start[a] = s->mt_cyl[a] * d->axle_r_cyl[a];   /* Pa */
+        /* air, in phases */
+        air_supply(p, s, f);
+        s->m_vented += air_car_valves(p, s, in, f);
+        s->m_vented += air_cylinders(p, s, in, f);
+        /* mechanics, braked by the step-mean cylinder pressure */
+        for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + s->mt_cyl[a] * d->axle_r_cyl[a]);
+        step_mechanics(p, s, in, f, mean, d->h);
+        rb_plant_discs(p, s, d->h);
+    }
+    update_sensors(p, s, f);
+    s->step += 1;
+    s->time = (double)s->step * p->dt;
+}
+
+/* The step with every phase of this file inlined (flatten), once for the portable build and once
+ * for AVX2 where the build and CPU have it (s->kernel, as the wheelset kernel's): the same
+ * operations in the same order (no fused multiply-add), so the same results bit for bit
+ * (core/tests/test_plant_kernel.c); the vector build only widens the loops over the axles and
+ * encodes the scalar ones more compactly. */
+RB_FLATTEN static void step_portable(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+{
+    step(p, s, in);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2"), flatten))
+static void step_avx2(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+{
+    step(p, s, in);
+}
+#endif
 
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
 {
-    rb_plant_faults f;
-    double start[RB_PLANT_MAX_AXLES], mean[RB_PLANT_MAX_AXLES];
-    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    rb_plant_gather_faults(p, s, &f);
-    for (int k = 0; k < p->substeps; ++k) {
-        cylinder_pressures(p, s, start);
-        /* air, in phases */
-        air_supply(p, s, &f);
-        s->m_vented += air_car_valves(p, s, in, &f);
-        s->m_vented += air_cylinders(p, s, in, &f);
-        /* mechanics, braked by the step-mean cylinder pressure */
-        cylinder_pressures(p, s, mean);
-        for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + mean[a]);
-        rb_plant_step_mechanics(p, s, in, &f, mean, s->derived.h);
-        rb_plant_discs(p, s, s->derived.h);
+#if RB_PLANT_HAVE_AVX2
+    if (s->kernel == RB_PLANT_KERNEL_AVX2) {
+        step_avx2(p, s, in);
+        return;
     }
-    rb_plant_update_sensors(p, s, &f);
-    s->step += 1;
-    s->time = (double)s->step * p->dt;
+#endif
+    step_portable(p, s, in);
 }

@@ -3,6 +3,7 @@
 #include "plant_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 
 rb_status rb_plant_train_check(const rb_plant_params *p, rb_error *err)
@@ -51,6 +52,11 @@ void rb_plant_train_init(const rb_plant_params *p, rb_plant_state *s)
                                             : s->m_pipe[c] * rt / p->car[c].pipe_volume;
         s->compressor_running[i] = fed < p->governor_on;
     }
+    for (int c = 0; c < p->n_cars; ++c) {   /* empty: the first step finds the cooling's interval */
+        s->derived.disc_capacity[c] = p->car[c].disc_heat_capacity;
+        s->derived.cooling_lo[c] = s->derived.cooling_hi[c] = 0.0;
+        s->derived.cooling_value_lo[c] = s->derived.cooling_slope[c] = 0.0;
+    }
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
         s->disc_temperature[a] = p->ambient_temperature;
         s->brake_energy[a] = 0.0;
@@ -65,9 +71,9 @@ static void deliver(rb_plant_state *s, double *node, double flow, double dt)
 
 void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f, double dt)
 {
-    double rt = RB_AIR_R * p->temperature;
+    const rb_plant_derived *d = &s->derived;   /* the nodes' stiffness R T / V, from init */
     if (p->n_compressors == 0) {   /* the single compressor on compressor_car */
-        double p_mr = s->m_mr * rt / p->main_reservoir_volume;
+        double p_mr = s->m_mr * d->k_mr;
         if (p_mr < p->governor_on) s->compressor_on = 1;
         if (p_mr > p->governor_off) s->compressor_on = 0;
         if (s->compressor_on && !f->compressor_off) deliver(s, &s->m_mr, p->compressor_flow, dt);
@@ -78,7 +84,7 @@ void rb_plant_compressors(const rb_plant_params *p, rb_plant_state *s, const rb_
         int c = p->compressor_position[i];
         int into_mr = c == p->compressor_car;
         double *node = into_mr ? &s->m_mr : &s->m_pipe[c];
-        double fed = *node * rt / (into_mr ? p->main_reservoir_volume : p->car[c].pipe_volume);
+        double fed = *node * (into_mr ? d->k_mr : d->k_pipe[c]);
         if (fed < p->governor_on) s->compressor_running[i] = 1;
         if (fed > p->governor_off) s->compressor_running[i] = 0;
         if (s->compressor_running[i] && !f->compressor_off) deliver(s, node, p->compressor_delivery[i], dt);
@@ -97,22 +103,66 @@ double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s
     return p->car[c].vehicle.mass * RB_GRAVITY * g / sqrt(1.0 + g * g);
 }
 
-void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
+static void discs(const rb_plant_params *p, rb_plant_state *s, double dt)
 {
-    for (int c = 0; c < p->n_cars; ++c) {
-        const rb_plant_car *car = &p->car[c];
-        const double cooling = car->disc_cooling.n > 0
-            ? rb_speed_table_at_from(&car->disc_cooling, s->v[c], &s->derived.cooling_bracket[c]) : 0.0;
-        const double capacity = car->disc_heat_capacity, to_ambient = cooling * p->ambient_temperature;
-        const double inv_retained = 1.0 / (capacity + dt * cooling);
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-            int a = c * RB_AXLES_PER_CAR + k;
-            double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
-            s->brake_energy[a] += power * dt;
-            if (capacity > 0.0)   /* implicit in the cooling: stable at any step */
-                s->disc_temperature[a] = (capacity * s->disc_temperature[a] + dt * (power + to_ambient)) * inv_retained;
+    rb_plant_derived *d = &s->derived;
+    const int n_cars = p->n_cars;
+    double cooling[RB_PLANT_MAX_CARS];
+    int64_t outside = 0;   /* as the wheelset kernel's pad look-up (plant_kernel.c) */
+    for (int c = 0; c < n_cars; ++c) {   /* W/K, in each car's cached table interval */
+        cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
+        outside |= rb_plant_sign_bits(s->v[c] - d->cooling_lo[c]) | ~rb_plant_sign_bits(s->v[c] - d->cooling_hi[c]);
+    }
+    if (outside < 0)
+        for (int c = 0; c < n_cars; ++c)
+            if (!(s->v[c] >= d->cooling_lo[c] && s->v[c] < d->cooling_hi[c])) {
+                rb_plant_table_interval(&p->car[c].disc_cooling, s->v[c], &d->cooling_bracket[c], &d->cooling_lo[c],
+                                        &d->cooling_hi[c], &d->cooling_value_lo[c], &d->cooling_slope[c]);
+                cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
+            }
+    /* each car's constants repeated for its axles, so the axles' pass below is one vector loop */
+    double capacity[RB_PLANT_MAX_AXLES], to_ambient[RB_PLANT_MAX_AXLES], inv_retained[RB_PLANT_MAX_AXLES];
+    for (int c = 0; c < n_cars; ++c) {
+        const double cap = d->disc_capacity[c], amb = cooling[c] * p->ambient_temperature;
+        const double inv = 1.0 / (cap + dt * cooling[c]);
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            capacity[a] = cap;
+            to_ambient[a] = amb;
+            inv_retained[a] = inv;
         }
     }
+    for (int a = 0; a < n_cars * RB_AXLES_PER_CAR; ++a) {
+        double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
+        s->brake_energy[a] += power * dt;
+        /* implicit in the cooling: stable at any step; without a heat capacity no temperature */
+        double heated = (capacity[a] * s->disc_temperature[a] + dt * (power + to_ambient[a])) * inv_retained[a];
+        s->disc_temperature[a] = capacity[a] > 0.0 ? heated : s->disc_temperature[a];
+    }
+}
+
+/* As the plant's step (plant_step.c): portable, or for AVX2 in s->kernel, bit for bit the same. */
+RB_FLATTEN static void discs_portable(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+    discs(p, s, dt);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2"), flatten))
+static void discs_avx2(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+    discs(p, s, dt);
+}
+#endif
+
+void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+#if RB_PLANT_HAVE_AVX2
+    if (s->kernel == RB_PLANT_KERNEL_AVX2) {
+        discs_avx2(p, s, dt);
+        return;
+    }
+#endif
+    discs_portable(p, s, dt);
 }
 
 void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)

@@ -36,7 +36,7 @@ rb_status rb_equivalent_rotating_mass(const rb_wheelset *w, size_t n, double *ou
 
 double rb_running_resistance(const rb_resistance *r, double speed)
 {
-    return r->A + speed * (r->B + speed * r->C);
+    return rb_running_resistance_law(r, speed);
 }
 
 rb_status rb_resistance_check(const rb_resistance *r, rb_error *err)
@@ -95,14 +95,7 @@ rb_status rb_ed_curve_check(const rb_ed_curve *e, rb_error *err)
 
 double rb_coupler_force(const rb_coupler *c, double dx, double dv)
 {
-    double half = 0.5 * c->slack, e;
-    if (dx > half)
-        e = dx - half;
-    else if (dx < -half)
-        e = dx + half;
-    else
-        return 0.0;  /* inside the free play: no force, no damping */
-    return c->stiffness * e + c->stiffness_cubic * e * e * e + c->damping * dv;
+    return rb_coupler_force_law(c, dx, dv);
 }
 
 rb_status rb_coupler_check(const rb_coupler *c, rb_error *err)

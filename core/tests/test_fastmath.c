@@ -28,6 +28,23 @@ static void test_atan(void)
     CHECK(rb_atan_nonneg(HUGE_VAL) == atan(HUGE_VAL));
 }
 
+/* rb_atan_ratio_parts: atan(y / x) without dividing y by x first, against libm's atan2 over ratios
+   from 1e-12 to 1e12 and denominators from 1e-3 to 1e3 (both edges of the reduction included). */
+static void test_atan_ratio(void)
+{
+    double worst = 0.0;
+    for (long i = 0; i <= 400000; ++i)
+        for (int j = 0; j <= 6; ++j) {
+            double x = pow(10.0, -3.0 + j), ratio = pow(10.0, -12.0 + 24.0 * i / 400000.0), y = ratio * x;
+            double base, num, den, ref = atan2(y, x);
+            rb_atan_ratio_parts(y, x, &base, &num, &den);
+            double e = fabs(base + num / den - ref) / ref;
+            if (e > worst) worst = e;
+        }
+    printf("rb_atan_ratio_parts: largest relative error %.2e\n", worst);
+    CHECK(worst < 1e-15);
+}
+
 /* rb_exp_nonpos against libm's exp over [-708, 0] (dense near 0 and around the rounding points of
  * n = x / ln 2), and 0 below. */
 static void test_exp(void)
@@ -79,6 +96,7 @@ static void test_one_minus_exp_neg(void)
 int main(void)
 {
     test_atan();
+    test_atan_ratio();
     test_exp();
     test_one_minus_exp_neg();
     return rb_test_summary("test_fastmath");

@@ -151,9 +151,100 @@ static void test_link_law(void)
     CHECK(rb_plant_link_mass(d, 5e5, 1e5, 0.0, ik) == 0.0);            /* closed */
 }
 
+/* The kernel's Polach coefficient (divisions merged, rb_atan_ratio_parts) against the law with libm
+ * (rb_polach_coefficient_fast) over creeps from 1e-7 to 1 and speeds from 0.5 to 100 m/s, on dry
+ * and wet rail (each axle its conditioning): within 1e-14 relative. */
+static void test_polach(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state s;
+    double worst = 0.0;
+    fill_plant(&p, 1, 50.0);
+    p.n_conditions = 1;
+    for (int set = 0; set < 2; ++set) {
+        p.condition[0] = set ? (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0}
+                             : (rb_plant_condition){{0.55, 0.40, 0.60, 0.4, 0.2}, 1.0, 0.0};
+        CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+        double wheel_load = 0.5 * p.car[0].vehicle.wheelset.axle_load * 9.80665;
+        for (int axle = 0; axle < RB_AXLES_PER_CAR; ++axle)
+            for (int i = 0; i <= 700; ++i)
+                for (int j = 0; j <= 20; ++j) {
+                    double creep = -pow(10.0, -7.0 + i * 0.01), speed = 0.5 * pow(200.0, j / 20.0);
+                    double law = rb_polach_coefficient_fast(creep, speed, wheel_load, &p.car[0].contact, &s.polach[axle]);
+                    double e = fabs(rb_plant_polach(&s, axle, creep, speed) - law) / fabs(law);
+                    if (e > worst) worst = e;
+                }
+    }
+    printf("kernel Polach coefficient: largest relative error %.2e against the law with libm\n", worst);
+    CHECK(worst < 1e-14);
+}
+
+/* Without faults the step takes its constant no-fault record instead of gathering one: the same
+ * state bit for bit as a plant whose only fault never starts (gathered in every step), over an
+ * emergency stop with the WSP valves commanded to cycle. */
+static void test_no_fault_shortcut(void)
+{
+    static rb_plant_params p, q;
+    static rb_plant_state a, b;
+    rb_plant_inputs in;
+    fill_plant(&p, 2, 200 / 3.6);
+    q = p;
+    q.n_faults = 1;
+    q.fault[0] = (rb_fault){RB_FAULT_VENT_STUCK_OPEN, 1, 2, 1e9, 0.0};
+    CHECK(rb_plant_init(&p, &a, NULL) == RB_OK && rb_plant_init(&q, &b, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    for (int c = 0; c < 2; ++c) in.pressure_demand[c] = p.atmosphere + 3.8e5;
+    for (int i = 0; i < 20000; ++i) {
+        for (int x = 0; x < 8; ++x) in.vent[x] = in.hold[x] = (uint8_t)((i / 40 + x) % 3 == 0);
+        rb_plant_step(&p, &a, &in);
+        rb_plant_step(&q, &b, &in);
+    }
+    CHECK(a.v[0] < 200 / 3.6 - 10.0);   /* braked */
+    CHECK(memcmp(a.m_cyl, b.m_cyl, sizeof a.m_cyl) == 0);
+    CHECK(memcmp(a.omega, b.omega, sizeof a.omega) == 0);
+    CHECK(memcmp(a.x, b.x, sizeof a.x) == 0);
+    CHECK(memcmp(a.vent_effective, b.vent_effective, sizeof a.vent_effective) == 0);
+    CHECK(a.m_vented == b.m_vented && a.m_vented > 0.0);
+}
+
+/* ED brake of a motor car: asked for in the steps' loop only when some car has a demand; the
+ * force follows min(demand, limit) with the first-order lag h / (tau + h) per step, so after n
+ * steps from 0 it is target (1 - (1 - lag)^n); a car that lost its ED gives none, and a demand of 0
+ * lets the force decay by the same lag. */
+static void test_ed_force(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state s;
+    rb_plant_inputs in;
+    fill_plant(&p, 2, 50.0);
+    p.car[0].vehicle.motor = p.car[1].vehicle.motor = 1;
+    for (int c = 0; c < 2; ++c) {
+        rb_ed_curve *e = &p.car[c].vehicle.ed;
+        memset(e, 0, sizeof *e);
+        e->terms = 1; e->c0[0] = 40e3; e->scale = 1.0;   /* 40 kN at any speed */
+    }
+    p.n_faults = 1;
+    p.fault[0] = (rb_fault){RB_FAULT_ED_LOST, 1, -1, 0.0, 0.0};
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    in.ed_demand[0] = in.ed_demand[1] = 100e3;   /* above the limit: the limit */
+    const double lag = 1e-3 / (0.3 + 1e-3);
+    for (int i = 0; i < 200; ++i) rb_plant_step(&p, &s, &in);
+    CHECK_CLOSE(s.ed_force[0], 40e3 * (1.0 - pow(1.0 - lag, 200)), 1e-12, 0.0);
+    CHECK(s.ed_force[1] == 0.0);   /* lost */
+    double held = s.ed_force[0];
+    in.ed_demand[0] = in.ed_demand[1] = 0.0;
+    for (int i = 0; i < 100; ++i) rb_plant_step(&p, &s, &in);
+    CHECK_CLOSE(s.ed_force[0], held * pow(1.0 - lag, 100), 1e-12, 0.0);
+    CHECK(held > 15e3);
+}
+
 int main(void)
 {
+    test_ed_force();
     test_link_law();
+    test_polach();
+    test_no_fault_shortcut();
     test_kernels_agree(1);
     test_kernels_agree(0);
     test_valve_delay();

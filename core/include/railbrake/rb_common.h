@@ -77,25 +77,46 @@ static inline double rb_one_minus_exp_neg(double y)
     return y * ((a + y2 * b) + y4 * (c + y2 * d));
 }
 
-/* atan(x) for x >= 0 (x = +inf gives pi/2), branch-free so that a loop of it vectorises: Cephes'
-   atan (S. L. Moshier, Cephes Math Library 2.8, atan.c: reduction to |x| <= 0.66 by pi/4 or pi/2 and
-   a 4/5 rational; 2.2e-16 peak relative error quoted over the whole range); core/tests/test_fastmath.c
-   checks it against libm's atan to 1e-15 relative over 0 to 1e300. */
-static inline double rb_atan_nonneg(double x)
+/* atan(y / x) for y >= 0, x > 0 (y = +inf gives pi/2) in two parts, atan(y / x) = *base + *num / *den,
+   so that a caller adding a fraction of its own to it needs one division for both, and none for y / x
+   itself (the Polach coefficient, plant_kernel.c); branch-free so that a loop of it vectorises.
+   Cephes' atan (S. L. Moshier, Cephes Math Library 2.8, atan.c: reduction to |r| <= 0.66 by pi/4 or
+   pi/2 and a 4/5 rational; 2.2e-16 peak relative error quoted over the whole range), its reduction
+   written in y and x: above tan(3 pi / 8) r = -x / y, above 0.66 r = (y - x) / (y + x), else y / x;
+   *base = y0 + (r + extra), the rational's correction r z p(z) / q(z) left as num / den.
+   core/tests/test_fastmath.c checks rb_atan_nonneg (x = 1) against libm's atan to 1e-15 relative
+   over 0 to 1e300, and ratios y / x spread over 1e-12 to 1e12. */
+static inline void rb_atan_ratio_parts(double y, double x, double *base, double *num, double *den)
 {
     const double t3p8 = 2.41421356237309504880, morebits = 6.123233995736765886130e-17;
-    /* above tan(3 pi / 8): pi/2 + atan(-1/x); above 0.66: pi/4 + atan((x - 1)/(x + 1)) */
-    double num = x > t3p8 ? -1.0 : (x > 0.66 ? x - 1.0 : x);
-    double den = x > t3p8 ? x : (x > 0.66 ? x + 1.0 : 1.0);
-    double y0 = x > t3p8 ? 1.57079632679489661923 : (x > 0.66 ? 0.78539816339744830962 : 0.0);
-    double extra = x > t3p8 ? morebits : (x > 0.66 ? 0.5 * morebits : 0.0);
-    double r = num / den, z = r * r;
+    int high = y > t3p8 * x, mid = y > 0.66 * x;
+    double n0 = high ? -x : (mid ? y - x : y);
+    double d0 = high ? y : (mid ? y + x : x);
+    double y0 = high ? 1.57079632679489661923 : (mid ? 0.78539816339744830962 : 0.0);
+    double extra = high ? morebits : (mid ? 0.5 * morebits : 0.0);
+    double r = n0 / d0, z = r * r;
     double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z
                  - 7.500855792314704667340e1) * z - 1.228866684490136173410e2) * z - 6.485021904942025371773e1;
     double q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z
                  + 4.328810604912902668951e2) * z + 4.853903996359136964868e2) * z + 1.945506571482613964425e2;
-    z = z * p / q;
-    return y0 + ((r * z + r) + extra);
+    *base = y0 + (r + extra);
+    *num = r * z * p;
+    *den = q;
+}
+
+/* atan(x) for x >= 0 in the two parts of rb_atan_ratio_parts (y = x over 1: the same operations as
+   Cephes' reduction of x). */
+static inline void rb_atan_nonneg_parts(double x, double *base, double *num, double *den)
+{
+    rb_atan_ratio_parts(x, 1.0, base, num, den);
+}
+
+/* atan(x) for x >= 0: rb_atan_nonneg_parts with its one division. */
+static inline double rb_atan_nonneg(double x)
+{
+    double base, num, den;
+    rb_atan_nonneg_parts(x, &base, &num, &den);
+    return base + num / den;
 }
 
 rb_status rb_check_finite(rb_error *err, const char *name, double value);

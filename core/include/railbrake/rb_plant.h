@@ -239,22 +239,25 @@ typedef struct {
     double brake_gain[RB_PLANT_MAX_CARS];    /* discs x 2 x mean radius x lever x efficiency */
     double caliper_atmosphere[RB_PLANT_MAX_CARS], caliper_area[RB_PLANT_MAX_CARS];
     double caliper_spring[RB_PLANT_MAX_CARS];
-    /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w) */
+    /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w); k_A and
+       k_S times the car's polach_gain (k_A eps = kA_gain |creep| / mu) */
     double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
-    double polach_B[RB_PLANT_MAX_AXLES], polach_kA[RB_PLANT_MAX_AXLES], polach_kS[RB_PLANT_MAX_AXLES];
-    /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends and
-       spans (so the kernel interpolates without the table; empty: pad_speed_lo = +inf, never hit) */
+    double polach_B[RB_PLANT_MAX_AXLES], polach_kA_gain[RB_PLANT_MAX_AXLES], polach_kS_gain[RB_PLANT_MAX_AXLES];
+    /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends,
+       value and slope (so the kernel interpolates without the table or a division; empty at init:
+       pad_speed_lo = pad_speed_hi, never hit) */
     int pad_bracket[RB_PLANT_MAX_AXLES];
     double pad_speed_lo[RB_PLANT_MAX_AXLES], pad_speed_hi[RB_PLANT_MAX_AXLES];
-    double pad_speed_span[RB_PLANT_MAX_AXLES], pad_value_lo[RB_PLANT_MAX_AXLES], pad_value_span[RB_PLANT_MAX_AXLES];
+    double pad_value_lo[RB_PLANT_MAX_AXLES], pad_slope[RB_PLANT_MAX_AXLES];
     int cooling_bracket[RB_PLANT_MAX_CARS];  /* last disc-cooling table interval of each car */
     double h_laminar;           /* s: h x the orifice law's laminar slope (rb_plant_link_mass) */
     /* the per-car constants of the wheelset kernel repeated for each axle (its passes run over the
        train's axles in one loop: full vectors, no per-car set-up) */
     double axle_radius[RB_PLANT_MAX_AXLES], axle_inv_inertia[RB_PLANT_MAX_AXLES], axle_inv_mass[RB_PLANT_MAX_AXLES];
-    double axle_polach_gain[RB_PLANT_MAX_AXLES], axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
-    double axle_brake_gain[RB_PLANT_MAX_AXLES], axle_caliper_atmosphere[RB_PLANT_MAX_AXLES];
-    double axle_caliper_area[RB_PLANT_MAX_AXLES], axle_caliper_spring[RB_PLANT_MAX_AXLES];
+    double axle_axle_load[RB_PLANT_MAX_AXLES], axle_compliance[RB_PLANT_MAX_AXLES];
+    /* friction torque = pad friction x max(p_cyl brake_per_pa - brake_offset, 0): brake_gain x the
+       caliper's pad force (cylinder area (p - atmosphere) - return spring) with the factors merged */
+    double axle_brake_per_pa[RB_PLANT_MAX_AXLES], axle_brake_offset[RB_PLANT_MAX_AXLES];
     double axle_inv_axle_load[RB_PLANT_MAX_AXLES];   /* 1 / axle load: the adhesion coefficient output */
     /* cylinders' energy balance (rb_plant_params.wall_time): state m T, pressure R (m T) / V */
     double gamma_cyl;                        /* adiabatic exponent; 1: isothermal (wall_time = 0) */
@@ -266,6 +269,13 @@ typedef struct {
     double ik_hold_rate[RB_PLANT_MAX_CARS], ik_vent_rate[RB_PLANT_MAX_CARS];
     double hold_laminar[RB_PLANT_MAX_CARS];  /* kg/Pa: the open hold link's step mass per Pa in its
                                                 laminar region, relay air (rb_plant_link_mass_capped) */
+    /* what the rest of the step reads of the cars, compact (the car records are 3.6 kB each) */
+    double axle_r_cyl[RB_PLANT_MAX_AXLES];   /* r_cyl of the axle's car: cylinder pressure = mt_cyl x it */
+    double car_length[RB_PLANT_MAX_CARS], ed_lag[RB_PLANT_MAX_CARS];   /* m; h / (ed_tau + h) */
+    double disc_capacity[RB_PLANT_MAX_CARS];  /* J/K per axle */
+    /* each car's last disc-cooling interval (cooling_bracket), as the pad's above */
+    double cooling_lo[RB_PLANT_MAX_CARS], cooling_hi[RB_PLANT_MAX_CARS];
+    double cooling_value_lo[RB_PLANT_MAX_CARS], cooling_slope[RB_PLANT_MAX_CARS];
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */

@@ -131,6 +131,11 @@ typedef struct rb_resistance {
 } rb_resistance;
 
 double rb_running_resistance(const rb_resistance *r, double speed);
+/* The law of rb_running_resistance, A + B v + C v^2 (inline: the plant evaluates it per car and step). */
+static inline double rb_running_resistance_law(const rb_resistance *r, double speed)
+{
+    return r->A + speed * (r->B + speed * r->C);
+}
 rb_status rb_resistance_check(const rb_resistance *r, rb_error *err);
 
 /* Maximum ED brake force (N) at speed:
@@ -162,6 +167,17 @@ typedef struct rb_coupler {
 } rb_coupler;
 
 double rb_coupler_force(const rb_coupler *c, double dx, double dv);
+/* The law of rb_coupler_force: tension positive, dx the extension beyond the couplers' length, dv its
+   rate; a free play of `slack`, then linear and cubic stiffness with damping (inline and
+   branch-free: the plant evaluates it per coupler and step, as a vector loop). */
+static inline double rb_coupler_force_law(const rb_coupler *c, double dx, double dv)
+{
+    double half = 0.5 * c->slack;
+    int engaged = dx > half || dx < -half;   /* inside the free play: no force, no damping */
+    double e = dx > half ? dx - half : dx + half;
+    double force = c->stiffness * e + c->stiffness_cubic * e * e * e + c->damping * dv;
+    return engaged ? force : 0.0;
+}
 rb_status rb_coupler_check(const rb_coupler *c, rb_error *err);
 
 /* ------------------------------------------------------------------ cars and trains */
