@@ -48,10 +48,11 @@ def test_the_mil_hil_stopping_distance_difference_of_the_docs_is_what_compare_re
     assert float(a) == pytest.approx(mil["stopping_distance_m"], abs=_digits(a))   # the MIL run of this code
     difference = kpi_difference(mil["stopping_distance_m"], float(b))              # what compare computes
     assert float(shown) == pytest.approx(difference, abs=_digits(shown) + _digits(a) + _digits(b))
-    prose = re.search(r"The HIL stop is ([\d.]+) m \(([\d.]+) %\) longer than the MIL stop",
+    prose = re.search(r"The HIL stop is ([\d.]+) m \(([\d.]+) %\) (longer|shorter) than the MIL stop",
                       DOCS.read_text(encoding="utf-8"))
     assert prose, "docs/hil.md no longer states the MIL-HIL difference"
-    metres, percent = float(prose[1]), float(prose[2])
+    sign = 1.0 if prose[3] == "longer" else -1.0
+    metres, percent = sign * float(prose[1]), sign * float(prose[2])
     assert metres == pytest.approx(difference, abs=0.05 + _digits(a) + _digits(b))
     assert percent == pytest.approx(100 * difference / mil["stopping_distance_m"], abs=0.005 + 1e-4)
     for key in ("stopping_time_s", "adhesion_utilisation", "air_drawn_kg"):   # the other MIL figures quoted
