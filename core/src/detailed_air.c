@@ -8,7 +8,6 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-static const double CV = RB_AIR_R / (RB_AIR_GAMMA - 1.0);
 
 #define CHECK_POS(field) \
     if ((s = rb_check_positive(err, "detailed." #field, d->field))) return s
@@ -45,7 +44,7 @@ static void volume_node(rb_net_node *n, double pressure, double volume, double T
     n->pressure = pressure;
     n->temperature = n->wall_temperature = T;
     n->volume = volume;
-    n->heat_conductance = 5e5 * volume / (RB_AIR_R * T) * CV / thermal_time;
+    n->heat_conductance = rb_wall_conductance(volume, T, thermal_time, RB_WALL_REFERENCE_PRESSURE);
 }
 
 static void link(rb_net_link *l, int kind, int from, int to, double area, const rb_plant_params *p)

@@ -23,7 +23,7 @@ static double *buf_cyl(rb_detailed_state *s, int i, int a) { return &s->buffer[i
 static void build_line(const rb_plant_params *p, const rb_detailed_params *d, rb_detailed_state *s)
 {
     int n = p->n_cars;
-    double T = p->temperature, cv = RB_AIR_R / (RB_AIR_GAMMA - 1.0);
+    double T = p->temperature;
     memset(s->line_node, 0, sizeof s->line_node);
     memset(s->line_link, 0, sizeof s->line_link);
     for (int i = 0; i <= n; ++i) {
@@ -32,7 +32,7 @@ static void build_line(const rb_plant_params *p, const rb_detailed_params *d, rb
         nd->pressure = p->initial_pressure;
         nd->temperature = nd->wall_temperature = T;
         nd->volume = i == 0 ? p->main_reservoir_volume : p->car[i - 1].pipe_volume;
-        nd->heat_conductance = p->initial_pressure * nd->volume / (RB_AIR_R * T) * cv / d->thermal_time;
+        nd->heat_conductance = rb_wall_conductance(nd->volume, T, d->thermal_time, p->initial_pressure);
     }
     for (int c = 0; c < n; ++c) {
         rb_net_node *nd = &s->line_node[n + 1 + c];

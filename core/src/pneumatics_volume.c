@@ -17,3 +17,9 @@ void rb_volume_rates(double m, double T, double V, double dV_dt,
     *dT_dt = dT;
     *dp_dt = R * (dm * T + m * dT) / V - p * dV_dt / V;
 }
+
+double rb_wall_conductance(double volume, double temperature, double thermal_time, double reference_pressure)
+{
+    const double cv = RB_AIR_R / (RB_AIR_GAMMA - 1.0);
+    return reference_pressure * volume / (RB_AIR_R * temperature) * cv / thermal_time;
+}

@@ -87,6 +87,14 @@ static void test_volume_rates(void)
     /* Discharge at the gas temperature leaves T falling as an isentrope: dT/T = (g-1)/g dp/p. */
     rb_volume_rates(m, 293.15, 1e-3, 0, 0, 0, 1e-4, 0, &dm, &dT, &dp);
     CHECK_CLOSE(dT / 293.15, (g - 1) / g * dp / 1e5, 1e-12, 0);
+    /* The wall's conductance for a thermal time: closed air at the reference pressure, 10 K above
+       the wall, cools at dT/dt = -10 K / thermal_time; at half the pressure (half the mass) twice as fast. */
+    double tw = 293.15, tau = 1.5, V = 2e-3, hA = rb_wall_conductance(V, tw, tau, RB_WALL_REFERENCE_PRESSURE);
+    for (int half = 0; half < 2; ++half) {
+        double p = RB_WALL_REFERENCE_PRESSURE / (half ? 2.0 : 1.0), T = tw + 10.0, mass = p * V / (R * tw);
+        rb_volume_rates(mass, T, V, 0, 0, 0, 0, hA * (tw - T), &dm, &dT, &dp);
+        CHECK_CLOSE(dT, -10.0 / tau * (half ? 2.0 : 1.0), 1e-12, 0);
+    }
 }
 
 static void test_elements(void)

@@ -491,6 +491,8 @@ rb_orifice_mass_flow = _declare("rb_orifice_mass_flow", c_int, c_double, c_doubl
                                 POINTER(Orifice), c_double_p, _err_p)
 rb_orifice_mass_flow_fast = _declare("rb_orifice_mass_flow_fast", c_double, *[c_double] * 7)
 rb_sonic_conductance = _declare("rb_sonic_conductance", c_double, c_double, c_double)
+rb_wall_conductance = _declare("rb_wall_conductance", c_double, *[c_double] * 4)
+WALL_REFERENCE_PRESSURE = 5e5   # Pa abs, as RB_WALL_REFERENCE_PRESSURE (rb_pneumatics.h)
 rb_membrane_init = _declare("rb_membrane_init", c_int, POINTER(Membrane), c_double_p, c_double_p, c_int,
                             _err_p)
 rb_membrane_eval = _declare("rb_membrane_eval", None, POINTER(Membrane), c_double, c_double_p, c_double_p)

@@ -95,6 +95,11 @@ rb_status rb_orifice_mass_flow(double p1, double T1, double p2, double T2, const
 void rb_volume_rates(double m, double T, double V, double dV_dt,
                      double mdot_in, double enthalpy_in, double mdot_out, double heat,
                      double *dm_dt, double *dT_dt, double *dp_dt);
+/* Wall heat conductance h A (W/K) of a volume V (m^3) whose air, at reference_pressure (Pa abs) and
+   the wall temperature T (K), follows the wall with the time constant thermal_time (s):
+   h A = m cv / thermal_time, m = reference_pressure V / (R T) (RB_WALL_REFERENCE_PRESSURE is the
+   models' usual reference). */
+double rb_wall_conductance(double volume, double temperature, double thermal_time, double reference_pressure);
 
 /* Variable-area elements driven by a body position (m); areas in m^2, never negative.
    Flapper-nozzle: curtain area pi D x, limited by the nozzle bore pi D^2/4. */

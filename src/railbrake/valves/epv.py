@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
+from railbrake import _core
 from railbrake.errors import InputError
 from railbrake.pneumatics import Network
-from railbrake.pneumatics.orifice import AIR_GAMMA, AIR_R
 from railbrake.units import BAR
 from railbrake.valves.params import DATA, load
 
@@ -73,8 +73,7 @@ def _wall_conductance(volume: float, thermal_time: float | None) -> float:
     detailed train model sets it (rb_detailed_params.thermal_time); None: adiabatic."""
     if thermal_time is None:
         return 0.0
-    cv = AIR_R / (AIR_GAMMA - 1.0)
-    return 5e5 * volume / (AIR_R * T_AMBIENT) * cv / thermal_time
+    return _core.rb_wall_conductance(volume, T_AMBIENT, thermal_time, _core.WALL_REFERENCE_PRESSURE)
 
 
 def epv_network(p: dict, current_schedule, force_table=None, thermal_time: float | None = None) -> Network:
