@@ -189,6 +189,10 @@ static void derive_cylinders(const rb_plant_params *p, rb_plant_derived *d)
         d->ik_vent_rate[c] = 1.0 / k_cyl;
         double fill = d->ik_hold_rate[c] * rb_one_minus_exp_neg(d->h * d->orifice.laminar_slope * d->g_hold[c] / d->ik_hold_rate[c]);
         d->hold_laminar[c] = fill < d->ik_hold[c] ? fill : d->ik_hold[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            d->axle_hold_laminar[a] = d->hold_laminar[c];
+            d->axle_g_vent[a] = d->g_vent[c];
+        }
     }
 }
 

@@ -177,43 +177,29 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     return vented;
 }
 
-/* Each cylinder's temperature (m T) / m: one division per axle, in a loop the compiler vectorises. */
-static void cylinder_temperatures(const rb_plant_state *s, int n_axles, double *temp)
-{
-    for (int a = 0; a < n_axles; ++a) temp[a] = s->mt_cyl[a] / s->m_cyl[a];
-}
-
 /* The orifice flow's factor sqrt(T_wall / T) of air at T (the conductances are the wall
  * temperature's). */
 static double flow_factor(double wall, double t) { return sqrt(wall / t); }
 
-/* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
- * each port's area weighted by the part of the step it is open, and cylinder leaks. The axles of a
- * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
- * volume among its links, so together they never overshoot). The cylinders' energy balance
- * (wall_time > 0): the air taken brings its upstream enthalpy (the relay's air at the wall's
- * temperature, or the cylinder's own when it flows back), the air vented leaves with the
- * cylinder's, the wall exchanges heat; temperatures from the start of the phase. */
-static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                            const rb_plant_faults *f)
+/* The WSP valves of every axle over the step: the part of the step each hold valve is open and
+ * each cylinder's outlet conductance (vent valve's open part, leak). First as every valve at rest
+ * gives them (one vector loop over the train), then the cars whose valves move or stick again
+ * through valve(). */
+static void wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                       const rb_plant_faults *f, double *hold_open, double *outlet)
 {
     const rb_plant_derived *d = &s->derived;
-    const double h = d->h, g_unit = d->g_unit, patm = p->atmosphere, wall = p->temperature, gamma = d->gamma_cyl;
+    const double h = d->h, g_unit = d->g_unit;
     const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
-    double temp[RB_PLANT_MAX_AXLES];
-    double vented = 0.0;
+    for (int a = 0; a < n_axles; ++a) {   /* what valve() gives a valve at rest */
+        hold_open[a] = 1.0 - (double)s->hold[a];
+        outlet[a] = d->axle_g_vent[a] * (double)s->vent[a] + g_unit * f->leak[a];
+    }
+    memcpy(s->hold_effective, s->hold, (size_t)n_axles);
+    memcpy(s->vent_effective, s->vent, (size_t)n_axles);
     for (int c = 0; c < p->n_cars; ++c) {
+        if (valves_at_rest(in, s, f, c * RB_AXLES_PER_CAR)) continue;
         const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c];
-        if (valves_at_rest(in, s, f, c * RB_AXLES_PER_CAR)) {   /* what valve() would give them */
-            for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-                hold_open[a] = 1.0 - (double)s->hold[a];
-                outlet[a] = g_vent * (double)s->vent[a] + g_unit * f->leak[a];
-                s->hold_effective[a] = s->hold[a];
-                s->vent_effective[a] = s->vent[a];
-            }
-            continue;
-        }
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             hold_open[a] = 1.0 - valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
                                        h, f->hold[a], &s->hold_effective[a]);
@@ -222,44 +208,86 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
             outlet[a] = g_vent * vent + g_unit * f->leak[a];
         }
     }
-    if (gamma > 1.0) {
-        cylinder_temperatures(s, n_axles, temp);
-    } else {
-        for (int a = 0; a < n_axles; ++a) temp[a] = wall;
+}
+
+/* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
+ * each port's area weighted by the part of the step it is open, and cylinder leaks. The axles of a
+ * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
+ * volume among its links, so together they never overshoot). The cylinders' energy balance
+ * (wall_time > 0): the air taken brings its upstream enthalpy (the relay's air at the wall's
+ * temperature, or the cylinder's own when it flows back), the air vented leaves with the
+ * cylinder's, the wall exchanges heat; temperatures from the start of the phase.
+ * Most axles most of the time have the hold valve open, the vent and any leak shut and the
+ * cylinder near the relay's pressure (a released or held brake): their step is the hold link's
+ * linear law with its factor from init, done for every axle in one branch-free vector loop that
+ * also marks the other axles; only those then take the general scalar path, which starts again
+ * from their unchanged state (the same operations as for every axle before, so the same results). */
+static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                            const rb_plant_faults *f)
+{
+    const rb_plant_derived *d = &s->derived;
+    const double patm = p->atmosphere, wall = p->temperature, gamma = d->gamma_cyl;
+    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
+    double temp[RB_PLANT_MAX_AXLES], p_relay[RB_PLANT_MAX_AXLES];
+    int64_t general[RB_PLANT_MAX_AXLES], any_general = 0;   /* negative: the axle takes the general path */
+    double vented = 0.0;
+    wsp_valves(p, s, in, f, hold_open, outlet);
+    for (int c = 0; c < p->n_cars; ++c) {   /* each car's relay pressure for each of its axles */
+        const double pr = s->m_relay[c] * d->k_relay[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) p_relay[a] = pr;
     }
-    const int laminar = !d->orifice.laminar_only;
-    for (int c = 0; c < p->n_cars; ++c) {
-        const double p_relay = s->m_relay[c] * d->k_relay[c], r_cyl = d->r_cyl[c];
-        const double g_hold = d->g_hold[c], ik_hold = d->ik_hold[c], ik_vent = d->ik_vent[c];
-        const double ik_hold_rate = d->ik_hold_rate[c], ik_vent_rate = d->ik_vent_rate[c];
-        const double p_laminar = RB_ORIFICE_LAMINAR_RATIO * p_relay;
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+    const double laminar = d->orifice.laminar_only ? 0.0 : 1.0;
+    const int thermal = gamma > 1.0;
+    for (int a = 0; a < n_axles; ++a) {   /* the open hold link near equal pressures: a vector loop */
+        const double m = s->m_cyl[a], mt = s->mt_cyl[a], pr = p_relay[a];
+        const double mean_t = mt / m, t = thermal ? mean_t : wall, p_cyl = mt * d->axle_r_cyl[a];
+        double simple = laminar;   /* 1: this path, 0: the general one (double selects: SSE2 has no
+                                      64-bit integer compare) */
+        simple = hold_open[a] == 1.0 ? simple : 0.0;
+        simple = p_cyl <= pr ? simple : 0.0;
+        simple = p_cyl >= RB_ORIFICE_LAMINAR_RATIO * pr ? simple : 0.0;
+        simple = outlet[a] > 0.0 ? 0.0 : simple;
+        const double linear = (pr - p_cyl) * d->axle_hold_laminar[a];   /* loaded either way: no branch */
+        const double in_mass = pr - p_cyl < 0.01 ? 0.0 : linear;
+        const double mt_in = mt + gamma * wall * in_mass;   /* relay air in at the wall's temperature */
+        /* the general path's wall term less gamma t dm with dm = 0, +0 for a finite t: the same */
+        const double mt_new = mt_in + d->axle_heat_cyl[a] * (wall - t);
+        temp[a] = t;
+        taken[a] = simple > 0.0 ? in_mass : 0.0;
+        s->m_cyl[a] = simple > 0.0 ? m + in_mass : m;
+        s->mt_cyl[a] = simple > 0.0 ? mt_new : mt;
+        general[a] = rb_plant_sign_bits(simple - 1.0);   /* -1 - its sign: the general path's */
+        any_general |= general[a];
+    }
+    if (any_general < 0)
+        for (int a = 0; a < n_axles; ++a) {
+            if (general[a] >= 0) continue;
+            const int c = a / RB_AXLES_PER_CAR;
+            const double r_cyl = d->r_cyl[c], pr = p_relay[a];
             double p_cyl = s->mt_cyl[a] * r_cyl;
-            if (hold_open[a] == 1.0 && p_cyl <= p_relay && p_cyl >= p_laminar && laminar) {
-                /* relay air into a cylinder near its pressure (a released or held brake whose air
-                   cools at the wall): the link's linear law, its step factor derived at init */
-                taken[a] = p_relay - p_cyl < 0.01 ? 0.0 : (p_relay - p_cyl) * d->hold_laminar[c];
+            if (hold_open[a] == 1.0 && p_cyl <= pr && p_cyl >= RB_ORIFICE_LAMINAR_RATIO * pr && laminar > 0.0) {
+                taken[a] = pr - p_cyl < 0.01 ? 0.0 : (pr - p_cyl) * d->hold_laminar[c];
                 s->m_cyl[a] += taken[a];
                 s->mt_cyl[a] += gamma * wall * taken[a];
             } else {
-                int from_relay = p_relay >= p_cyl;
+                int from_relay = pr >= p_cyl;
                 double t_up = from_relay ? wall : temp[a], root_up = from_relay ? 1.0 : flow_factor(wall, temp[a]);
-                taken[a] = rb_plant_link_mass_capped(d, p_relay, p_cyl, g_hold * hold_open[a] * root_up, ik_hold_rate,
-                                                     ik_hold);
+                taken[a] = rb_plant_link_mass_capped(d, pr, p_cyl, d->g_hold[c] * hold_open[a] * root_up,
+                                                     d->ik_hold_rate[c], d->ik_hold[c]);
                 s->m_cyl[a] += taken[a];
                 s->mt_cyl[a] += gamma * t_up * taken[a];   /* enthalpy in: m T rises by gamma T_up dm */
             }
             double dm = 0.0;
             if (outlet[a] > 0.0) {
                 dm = rb_plant_link_mass_capped(d, s->mt_cyl[a] * r_cyl, patm, outlet[a] * flow_factor(wall, temp[a]),
-                                               ik_vent_rate, ik_vent);
+                                               d->ik_vent_rate[c], d->ik_vent[c]);
                 s->m_cyl[a] -= dm;
                 vented += dm;
             }
             s->mt_cyl[a] += d->axle_heat_cyl[a] * (wall - temp[a]) - gamma * temp[a] * dm;
         }
-    }
-    if (!(gamma > 1.0))   /* isothermal: m T stays m times the wall's temperature, exactly */
+    if (!thermal)   /* isothermal: m T stays m times the wall's temperature, exactly */
         for (int a = 0; a < n_axles; ++a) s->mt_cyl[a] = s->m_cyl[a] * wall;
     for (int c = 0; c < p->n_cars; ++c) {
         double to_cylinders = 0.0;

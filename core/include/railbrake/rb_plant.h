@@ -269,6 +269,8 @@ typedef struct {
     double ik_hold_rate[RB_PLANT_MAX_CARS], ik_vent_rate[RB_PLANT_MAX_CARS];
     double hold_laminar[RB_PLANT_MAX_CARS];  /* kg/Pa: the open hold link's step mass per Pa in its
                                                 laminar region, relay air (rb_plant_link_mass_capped) */
+    /* the same per axle (the cylinders' vector pass), and the vent valves' conductance */
+    double axle_hold_laminar[RB_PLANT_MAX_AXLES], axle_g_vent[RB_PLANT_MAX_AXLES];
     /* what the rest of the step reads of the cars, compact (the car records are 3.6 kB each) */
     double axle_r_cyl[RB_PLANT_MAX_AXLES];   /* r_cyl of the axle's car: cylinder pressure = mt_cyl x it */
     double car_length[RB_PLANT_MAX_CARS], ed_lag[RB_PLANT_MAX_CARS];   /* m; h / (ed_tau + h) */
