@@ -236,7 +236,10 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->inv_ep_band[c] = 1.0 / car->ep_band;
         d->inv_relay_band[c] = 1.0 / car->relay_band;
         d->ep_lag[c] = d->h / (car->ep_tau + d->h);
+        d->fill_pipe[c] = rb_plant_link_laminar_fill(d, d->g_pipe[c], d->ik_pipe[c]);
+        d->fill_charge[c] = rb_plant_link_laminar_fill(d, d->g_charge[c], d->ik_charge[c]);
     }
+    d->fill_mr = rb_plant_link_laminar_fill(d, d->g_mr, d->ik_mr);
     derive_cylinders(p, d);
 }
 

@@ -51,6 +51,59 @@ static inline double rb_plant_link_mass(const rb_plant_derived *d, double pi, do
     return diff * ik * rb_one_minus_exp_neg(y);
 }
 
+/* The constants of rb_plant_link_mass as a caller's local copy (its loop then loads nothing that
+ * might not be there, and the compiler computes every arm). */
+typedef struct {
+    double h, h_laminar, b, inv_one_minus_b, laminar_slope;
+    int laminar_only;
+} rb_plant_link_law;
+
+static inline rb_plant_link_law rb_plant_link_law_of(const rb_plant_derived *d)
+{
+    rb_plant_link_law k;
+    k.h = d->h; k.h_laminar = d->h_laminar; k.b = d->orifice.b; k.inv_one_minus_b = d->orifice.inv_one_minus_b;
+    k.laminar_slope = d->orifice.laminar_slope; k.laminar_only = d->orifice.laminar_only;
+    return k;
+}
+
+/* rb_plant_link_mass with every arm computed (rb_orifice_flow_function_law's included) and the
+ * result selected: no branch, so a loop over the cars of it vectorises. Each arm is the same
+ * operations on the same operands, so the result is the same bit for bit
+ * (core/tests/test_plant_kernel.c compares the two). */
+static inline double rb_plant_link_mass_select(const rb_plant_link_law *k, double pi, double pj, double g, double ik)
+{
+    double diff = pi - pj, abs_diff = fabs(diff);
+    double up = diff > 0.0 ? pi : pj, down = diff > 0.0 ? pj : pi, r = down / up;
+    double s = (r - k->b) * k->inv_one_minus_b;   /* rb_orifice_flow_function_law's arms */
+    double subsonic = sqrt(1.0 - s * s), linear = k->laminar_slope * (1.0 - r), only = (1.0 - r) * k->inv_one_minus_b;
+    double phi = r <= k->b ? 1.0 : (k->laminar_only ? only : (r >= RB_ORIFICE_LAMINAR_RATIO ? linear : subsonic));
+    double y_laminar = k->h_laminar * g / ik, y_general = k->h * g * up / (abs_diff * ik) * phi;
+    double y = k->laminar_only ? y_general : (down >= RB_ORIFICE_LAMINAR_RATIO * up ? y_laminar : y_general);
+    double dm = diff * ik * rb_one_minus_exp_neg_select(y);
+    return g > 0.0 ? (abs_diff < 0.01 ? 0.0 : dm) : 0.0;   /* closed, or balanced to 0.01 Pa: nothing */
+}
+
+/* The fill 1 - exp(-y) of a link of fixed conductance g in its laminar region, y = h slope g / ik:
+ * rb_plant_link_mass's, once at init (rb_plant_link_laminar_fill) for the links whose g and ik never
+ * change (main reservoir, MR pipe, charge chokes); 0 for a closed link. */
+static inline double rb_plant_link_laminar_fill(const rb_plant_derived *d, double g, double ik)
+{
+    return g > 0.0 ? rb_one_minus_exp_neg(d->h_laminar * g / ik) : 0.0;
+}
+
+/* rb_plant_link_mass of a link of fixed g and ik with its laminar fill from init: the same
+ * operations on the same operands, so the same result. */
+static inline double rb_plant_link_mass_fixed(const rb_plant_derived *d, double pi, double pj, double g, double ik,
+                                              double laminar_fill)
+{
+    double diff = pi - pj;
+    if (!(g > 0.0) || fabs(diff) < 0.01) return 0.0;   /* closed, or balanced to 0.01 Pa */
+    double up = diff > 0.0 ? pi : pj, down = diff > 0.0 ? pj : pi;
+    if (down >= RB_ORIFICE_LAMINAR_RATIO * up && !d->orifice.laminar_only) return diff * ik * laminar_fill;
+    double y = d->h * g * up / (fabs(diff) * ik) * rb_orifice_flow_function_law(down / up, &d->orifice);
+    return diff * ik * rb_one_minus_exp_neg(y);
+}
+
 /* rb_plant_link_mass with the exponential's rate from the link alone (ik_rate = 1 / (k_i + k_j)),
  * capped at the equalising mass of the nodes' shares (ik_cap = 1 / (n_i k_i + n_j k_j) <= ik_rate).
  * The shared ik in the exponent makes a slow link's flow fall n times too fast within the step
@@ -111,7 +164,9 @@ typedef struct {
     signed char vent[RB_PLANT_MAX_AXLES];   /* -1: as commanded, 0: stuck closed, 1: stuck open */
     double leak[RB_PLANT_MAX_AXLES];        /* m^2 */
     double noise_sd[RB_PLANT_MAX_AXLES];    /* m/s */
-    uint8_t ep_failed[RB_PLANT_MAX_CARS], ed_lost[RB_PLANT_MAX_CARS], isolated[RB_PLANT_MAX_CARS];
+    uint8_t ed_lost[RB_PLANT_MAX_CARS];
+    double ep_failed[RB_PLANT_MAX_CARS], isolated[RB_PLANT_MAX_CARS];   /* 1 or 0: doubles, read in the
+                                                                        car valves' vector loops */
     int compressor_off;
     int sensor_faults;                      /* any sensor lost or noisy */
 } rb_plant_faults;

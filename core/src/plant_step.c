@@ -11,7 +11,7 @@
 #define RB_NONE_16 RB_NONE_4, RB_NONE_4, RB_NONE_4, RB_NONE_4
 typedef char rb_no_faults_fills_every_axle[RB_PLANT_MAX_AXLES == 64 ? 1 : -1];
 static const rb_plant_faults no_faults = {{RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16},
-                                          {RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16}, {0.0}, {0.0}, {0}, {0}, {0}, 0, 0};
+                                          {RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16}, {0.0}, {0.0}, {0}, {0.0}, {0.0}, 0, 0};
 
 static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
 {
@@ -35,9 +35,9 @@ static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_
             default: break;
             }
         }
-        if (q->kind == RB_FAULT_EP_VALVE) f->ep_failed[q->car] = 1;
+        if (q->kind == RB_FAULT_EP_VALVE) f->ep_failed[q->car] = 1.0;
         if (q->kind == RB_FAULT_ED_LOST) f->ed_lost[q->car] = 1;
-        if (q->kind == RB_FAULT_CAR_ISOLATED) f->isolated[q->car] = 1;
+        if (q->kind == RB_FAULT_CAR_ISOLATED) f->isolated[q->car] = 1.0;
         if (q->kind == RB_FAULT_COMPRESSOR_OFF) f->compressor_off = 1;
     }
 }
@@ -111,29 +111,29 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
     const rb_plant_derived *d = &s->derived;
     rb_plant_compressors(p, s, f, d->h);   /* governors, delivery (plant_train.c) */
     int cc = p->compressor_car;
-    double dm = rb_plant_link_mass(d, s->m_mr * d->k_mr, s->m_pipe[cc] * d->k_pipe[cc], d->g_mr, d->ik_mr);
+    double dm = rb_plant_link_mass_fixed(d, s->m_mr * d->k_mr, s->m_pipe[cc] * d->k_pipe[cc], d->g_mr, d->ik_mr,
+                                 d->fill_mr);
     s->m_mr -= dm;
     s->m_pipe[cc] += dm;
     for (int c = 0; c + 1 < p->n_cars; ++c) {
-        dm = rb_plant_link_mass(d, s->m_pipe[c] * d->k_pipe[c], s->m_pipe[c + 1] * d->k_pipe[c + 1], d->g_pipe[c], d->ik_pipe[c]);
+        dm = rb_plant_link_mass_fixed(d, s->m_pipe[c] * d->k_pipe[c], s->m_pipe[c + 1] * d->k_pipe[c + 1], d->g_pipe[c],
+                                      d->ik_pipe[c], d->fill_pipe[c]);
         s->m_pipe[c] -= dm;
         s->m_pipe[c + 1] += dm;
     }
     for (int c = 0; c < p->n_cars; ++c) {
         double p_pipe = s->m_pipe[c] * d->k_pipe[c], p_supply = s->m_supply[c] * d->k_supply[c];
         if (p_pipe <= p_supply) continue;   /* check valve: only towards the supply reservoir */
-        dm = rb_plant_link_mass(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c]);
+        dm = rb_plant_link_mass_fixed(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c], d->fill_charge[c]);
         s->m_pipe[c] -= dm;
         s->m_supply[c] += dm;
     }
 }
 
-/* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
- * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The cars
- * are independent: all EP valves first, then all relays (a car's relay sees its own EP valve's
- * result either way), so the cars' links overlap instead of forming one chain. */
-static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                             const rb_plant_faults *f)
+/* Phase 2 car by car, each valve's one link on its own (the portable build: SSE2's two lanes do not
+ * pay for computing every arm of the vector version below, which gives the same results). */
+static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                                    const rb_plant_faults *f)
 {
     const rb_plant_derived *d = &s->derived;
     const double patm = p->atmosphere;
@@ -143,7 +143,7 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
         p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
         ep_vented[c] = 0.0;
-        if (f->ep_failed[c]) continue;
+        if (f->ep_failed[c] > 0.0) continue;
         double e = (s->ep_demand_lag[c] - p_pilot[c]) * d->inv_ep_band[c];
         if (e > 0.0) {
             double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot[c], d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
@@ -158,19 +158,92 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     }
     for (int c = 0; c < p->n_cars; ++c) {
         double p_relay = s->m_relay[c] * d->k_relay[c];
-        double e = ((f->isolated[c] ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
+        double e = (((f->isolated[c] > 0.0) ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
         relay_vented[c] = 0.0;
-        if (e > 0.0 && !f->isolated[c]) {
+        if (e > 0.0 && !(f->isolated[c] > 0.0)) {
             double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_relay, d->g_relay_supply[c] * clamp01(e),
                                   d->ik_relay_supply[c]);
             s->m_supply[c] -= dm;
             s->m_relay[c] += dm;
-        } else if (e < 0.0 || f->isolated[c]) {
-            double open = f->isolated[c] ? 1.0 : clamp01(-e);
+        } else if (e < 0.0 || (f->isolated[c] > 0.0)) {
+            double open = (f->isolated[c] > 0.0) ? 1.0 : clamp01(-e);
             double dm = rb_plant_link_mass(d, p_relay, patm, d->g_relay_exhaust[c] * open, d->ik_relay_exhaust[c]);
             s->m_relay[c] -= dm;
             relay_vented[c] = dm;
         }
+    }
+    double vented = 0.0;   /* booked car by car, EP before relay */
+    for (int c = 0; c < p->n_cars; ++c) vented = (vented + ep_vented[c]) + relay_vented[c];
+    return vented;
+}
+
+/* The masses dm[i] of n links from node pressures pi[i] to pj[i] (rb_plant_link_mass_select): one
+ * vector loop of its own (so the compiler keeps every arm a select). */
+static void links_select(const rb_plant_link_law *law, int n, const double *pi, const double *pj, const double *g,
+                         const double *ik, double *dm)
+{
+    for (int i = 0; i < n; ++i) dm[i] = rb_plant_link_mass_select(law, pi[i], pj[i], g[i], ik[i]);
+}
+
+/* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
+ * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The cars
+ * are independent: all EP valves first, then all relays (a car's relay sees its own EP valve's
+ * result either way), so the cars' links overlap instead of forming one chain. With `vector` (the
+ * AVX2 build) each valve's one link (inlet, exhaust, or none: g = 0 moves nothing) is chosen by
+ * selects and every arm of the link law computed, so each pass is three vector loops over the
+ * cars (operands, links, masses), the same operations per car as air_car_valves_scalar's. */
+static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                             const rb_plant_faults *f, int vector)
+{
+    if (!vector) return air_car_valves_scalar(p, s, in, f);
+    const rb_plant_derived *d = &s->derived;
+    const rb_plant_link_law law = rb_plant_link_law_of(d);
+    const double patm = p->atmosphere;
+    double ep_vented[RB_PLANT_MAX_CARS], relay_vented[RB_PLANT_MAX_CARS], p_pilot[RB_PLANT_MAX_CARS];
+    const int n = p->n_cars;
+    double dir[RB_PLANT_MAX_CARS], pi[RB_PLANT_MAX_CARS], pj[RB_PLANT_MAX_CARS], g[RB_PLANT_MAX_CARS];
+    double ik[RB_PLANT_MAX_CARS], dm[RB_PLANT_MAX_CARS];
+    for (int c = 0; c < n; ++c) {   /* EP valves: inlet where dir > 0, exhaust where dir < 0 */
+        double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
+        s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
+        double p_now = s->m_pilot[c] * d->k_pilot[c], p_supply = s->m_supply[c] * d->k_supply[c];
+        double e = (s->ep_demand_lag[c] - p_now) * d->inv_ep_band[c];
+        double ik_in = d->ik_ep_in[c], ik_out = d->ik_ep_out[c], g_open = d->g_ep[c] * clamp01(e > 0.0 ? e : -e);
+        dir[c] = f->ep_failed[c] > 0.0 ? 0.0 : e;
+        pi[c] = e > 0.0 ? p_supply : p_now;
+        pj[c] = e > 0.0 ? p_now : patm;
+        ik[c] = e > 0.0 ? ik_in : ik_out;
+        g[c] = dir[c] > 0.0 ? g_open : (dir[c] < 0.0 ? g_open : 0.0);
+    }
+    links_select(&law, n, pi, pj, g, ik, dm);
+    for (int c = 0; c < n; ++c) {
+        double m_pilot = s->m_pilot[c], m_supply = s->m_supply[c];
+        double pilot_in = m_pilot + dm[c], pilot_out = m_pilot - dm[c], supply_out = m_supply - dm[c];
+        s->m_supply[c] = dir[c] > 0.0 ? supply_out : m_supply;
+        s->m_pilot[c] = m_pilot = dir[c] > 0.0 ? pilot_in : (dir[c] < 0.0 ? pilot_out : m_pilot);
+        ep_vented[c] = dir[c] < 0.0 ? dm[c] : 0.0;
+        p_pilot[c] = m_pilot * d->k_pilot[c];
+    }
+    for (int c = 0; c < n; ++c) {   /* relay valves: supply where dir > 0, exhaust where dir < 0 */
+        double p_relay = s->m_relay[c] * d->k_relay[c], p_supply = s->m_supply[c] * d->k_supply[c];
+        double isolated = f->isolated[c];
+        double e = ((isolated > 0.0 ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
+        double ik_in = d->ik_relay_supply[c], ik_out = d->ik_relay_exhaust[c];
+        double g_in = d->g_relay_supply[c] * clamp01(e);
+        double g_out = d->g_relay_exhaust[c] * (isolated > 0.0 ? 1.0 : clamp01(-e));
+        dir[c] = isolated > 0.0 ? -1.0 : e;   /* an isolated car's relay: vented, fully open */
+        pi[c] = dir[c] > 0.0 ? p_supply : p_relay;
+        pj[c] = dir[c] > 0.0 ? p_relay : patm;
+        ik[c] = dir[c] > 0.0 ? ik_in : ik_out;
+        g[c] = dir[c] > 0.0 ? g_in : (dir[c] < 0.0 ? g_out : 0.0);
+    }
+    links_select(&law, n, pi, pj, g, ik, dm);
+    for (int c = 0; c < n; ++c) {
+        double m_relay = s->m_relay[c], m_supply = s->m_supply[c];
+        double relay_in = m_relay + dm[c], relay_out = m_relay - dm[c], supply_out = m_supply - dm[c];
+        s->m_supply[c] = dir[c] > 0.0 ? supply_out : m_supply;
+        s->m_relay[c] = dir[c] > 0.0 ? relay_in : (dir[c] < 0.0 ? relay_out : m_relay);
+        relay_vented[c] = dir[c] < 0.0 ? dm[c] : 0.0;
     }
     double vented = 0.0;   /* booked car by car, EP before relay */
     for (int c = 0; c < p->n_cars; ++c) vented = (vented + ep_vented[c]) + relay_vented[c];
@@ -401,7 +474,7 @@ void rb_plant_update_sensors(const rb_plant_params *p, rb_plant_state *s, const 
     update_sensors(p, s, f);
 }
 
-static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
+static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in, int vector)
 {
     const rb_plant_derived *d = &s->derived;
     rb_plant_faults gathered;
@@ -416,7 +489,7 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
         for (int a = 0; a < n_axles; ++a) start[a] = s->mt_cyl[a] * d->axle_r_cyl[a];   /* Pa */
         /* air, in phases */
         air_supply(p, s, f);
-        s->m_vented += air_car_valves(p, s, in, f);
+        s->m_vented += air_car_valves(p, s, in, f, vector);
         s->m_vented += air_cylinders(p, s, in, f);
         /* mechanics, braked by the step-mean cylinder pressure */
         for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + s->mt_cyl[a] * d->axle_r_cyl[a]);
@@ -435,14 +508,14 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
  * encodes the scalar ones more compactly. */
 RB_FLATTEN static void step_portable(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
 {
-    step(p, s, in);
+    step(p, s, in, 0);
 }
 
 #if RB_PLANT_HAVE_AVX2
 __attribute__((target("avx2"), flatten))
 static void step_avx2(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in)
 {
-    step(p, s, in);
+    step(p, s, in, 1);
 }
 #endif
 

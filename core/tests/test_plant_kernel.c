@@ -151,6 +151,87 @@ static void test_link_law(void)
     CHECK(rb_plant_link_mass(d, 5e5, 1e5, 0.0, ik) == 0.0);            /* closed */
 }
 
+/* The link law's other forms give rb_plant_link_mass's result bit for bit: the branch-free one of
+ * the car valves' vector loops (rb_plant_link_mass_select), and the fixed links' one with its
+ * laminar fill from init (rb_plant_link_mass_fixed), at every pressure ratio (choked, subsonic,
+ * laminar, balanced), both directions, open, throttled and closed links, for the usual law and a
+ * laminar-only one (critical ratio above the laminar region). */
+static void test_link_forms(void)
+{
+    rb_plant_params p;
+    static rb_plant_state s;
+    static rb_plant_derived derived;
+    const double ratio[] = {0.1, 0.528, 0.6, 0.9, 0.99, 0.998, 0.999, 0.9995, 0.99999, 1.0 - 2e-8, 1.0};
+    int compared = 0;
+    fill_plant(&p, 1, 0.0);
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    for (int law_kind = 0; law_kind < 2; ++law_kind) {
+        derived = s.derived;
+        if (law_kind) {   /* laminar only (a critical ratio the plant's check does not allow) */
+            rb_orifice_law_init(0.9995, &derived.orifice);
+            derived.h_laminar = derived.h * derived.orifice.laminar_slope;
+        }
+        const rb_plant_derived *d = &derived;
+        CHECK(d->orifice.laminar_only == law_kind);
+        const rb_plant_link_law law = rb_plant_link_law_of(d);
+        const double ik[2] = {d->ik_hold[0], d->ik_ep_in[0]};
+        const double g[4] = {d->g_hold[0], 30.0 * d->g_hold[0], 1e-3 * d->g_hold[0], 0.0};
+        for (int m = 0; m < 2; ++m)
+            for (int k = 0; k < 4; ++k) {
+                double fill = rb_plant_link_laminar_fill(d, g[k], ik[m]);
+                for (size_t i = 0; i < sizeof ratio / sizeof ratio[0]; ++i)
+                    for (int dir = 0; dir < 2; ++dir) {
+                        double hi = 6.5e5, lo = hi * ratio[i], pi = dir ? lo : hi, pj = dir ? hi : lo;
+                        double ref = rb_plant_link_mass(d, pi, pj, g[k], ik[m]);
+                        double sel = rb_plant_link_mass_select(&law, pi, pj, g[k], ik[m]);
+                        double fixed = rb_plant_link_mass_fixed(d, pi, pj, g[k], ik[m], fill);
+                        CHECK(memcmp(&ref, &sel, sizeof ref) == 0);
+                        CHECK(memcmp(&ref, &fixed, sizeof ref) == 0);
+                        compared += 2;
+                    }
+            }
+    }
+    printf("link forms: %d results equal to rb_plant_link_mass bit for bit\n", compared);
+}
+
+/* The car valves' vector and scalar forms (the AVX2 and portable builds) with a failed EP valve and
+ * an isolated car among sound ones, under a demand that rises, holds and falls (inlets, exhausts,
+ * balanced valves): the same air state bit for bit. */
+static void test_kernels_agree_car_faults(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state a, b;
+    rb_plant_inputs in;
+    fill_plant(&p, 6, 200 / 3.6);
+    p.n_faults = 2;
+    p.fault[0] = (rb_fault){RB_FAULT_EP_VALVE, 1, -1, 0.5, 0.0};
+    p.fault[1] = (rb_fault){RB_FAULT_CAR_ISOLATED, 4, -1, 1.0, 0.0};
+    p.kernel = RB_PLANT_KERNEL_PORTABLE;
+    CHECK(rb_plant_init(&p, &a, NULL) == RB_OK);
+    p.kernel = RB_PLANT_KERNEL_AUTO;
+    CHECK(rb_plant_init(&p, &b, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    for (int i = 0; i < 6000; ++i) {
+        double t = i * 1e-3, demand = t < 3.0 ? p.atmosphere + 1.2e5 * t : (t < 4.5 ? p.atmosphere + 3.6e5 : p.atmosphere + 1.5e5);
+        for (int c = 0; c < p.n_cars; ++c) in.pressure_demand[c] = demand + 1e4 * c;
+        p.kernel = RB_PLANT_KERNEL_PORTABLE;
+        rb_plant_step(&p, &a, &in);
+        p.kernel = RB_PLANT_KERNEL_AUTO;
+        rb_plant_step(&p, &b, &in);
+    }
+    printf("car faults, kernels %s / %s: relay %.0f / %.0f Pa (car 0), isolated car %.0f Pa\n",
+           rb_plant_kernel_name(&a), rb_plant_kernel_name(&b), a.m_relay[0] * a.derived.k_relay[0],
+           b.m_relay[0] * b.derived.k_relay[0], a.m_relay[4] * a.derived.k_relay[4]);
+    CHECK(a.m_relay[0] * a.derived.k_relay[0] > p.atmosphere + 1e5);   /* braked */
+    CHECK(a.m_relay[4] * a.derived.k_relay[4] < p.atmosphere + 100.0);   /* isolated: vented */
+    CHECK(memcmp(a.m_pilot, b.m_pilot, sizeof a.m_pilot) == 0);
+    CHECK(memcmp(a.m_relay, b.m_relay, sizeof a.m_relay) == 0);
+    CHECK(memcmp(a.m_supply, b.m_supply, sizeof a.m_supply) == 0);
+    CHECK(memcmp(a.m_cyl, b.m_cyl, sizeof a.m_cyl) == 0);
+    CHECK(memcmp(a.ep_demand_lag, b.ep_demand_lag, sizeof a.ep_demand_lag) == 0);
+    CHECK(a.m_vented == b.m_vented);
+}
+
 /* The kernel's Polach coefficient (divisions merged, rb_atan_ratio_parts) against the law with libm
  * (rb_polach_coefficient_fast) over creeps from 1e-7 to 1 and speeds from 0.5 to 100 m/s, on dry
  * and wet rail (each axle its conditioning): within 1e-14 relative. */
@@ -243,6 +324,8 @@ int main(void)
 {
     test_ed_force();
     test_link_law();
+    test_link_forms();
+    test_kernels_agree_car_faults();
     test_polach();
     test_no_fault_shortcut();
     test_kernels_agree(1);

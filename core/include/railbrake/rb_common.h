@@ -68,13 +68,26 @@ static inline double rb_exp_nonpos(double x)
 /* 1 - exp(-y) for y >= 0. Below 1/16 the Taylor series of (1 - exp(-y)) / y to y^7 (truncation
    under y^8 / 9! < 7e-16 relative), above it 1 - exp(-y) (cancellation costs at most ulp(1) /
    (1 - exp(-1/16)) < 4e-15 relative); core/tests/test_fastmath.c checks it against expm1 to 1e-14. */
-static inline double rb_one_minus_exp_neg(double y)
+static inline double rb_one_minus_exp_neg_series(double y)
 {
-    if (y > 0.0625) return 1.0 - rb_exp_nonpos(-y);
     double y2 = y * y, y4 = y2 * y2;   /* Estrin's scheme: a short dependency chain */
     double a = 1.0 - y * (1.0 / 2), b = 1.0 / 6 - y * (1.0 / 24);
     double c = 1.0 / 120 - y * (1.0 / 720), d = 1.0 / 5040 - y * (1.0 / 40320);
     return y * ((a + y2 * b) + y4 * (c + y2 * d));
+}
+
+static inline double rb_one_minus_exp_neg(double y)
+{
+    if (y > 0.0625) return 1.0 - rb_exp_nonpos(-y);
+    return rb_one_minus_exp_neg_series(y);
+}
+
+/* rb_one_minus_exp_neg with both arms computed and one selected: no branch, so that a loop of it
+   vectorises; the same result for every y (for a NaN or negative y the unused arm is harmless). */
+static inline double rb_one_minus_exp_neg_select(double y)
+{
+    double large = 1.0 - rb_exp_nonpos(-y), small = rb_one_minus_exp_neg_series(y);
+    return y > 0.0625 ? large : small;
 }
 
 /* atan(y / x) for y >= 0, x > 0 (y = +inf gives pi/2) in two parts, atan(y / x) = *base + *num / *den,

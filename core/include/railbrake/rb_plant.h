@@ -251,6 +251,9 @@ typedef struct {
     double pad_value_lo[RB_PLANT_MAX_AXLES], pad_slope[RB_PLANT_MAX_AXLES];
     int cooling_bracket[RB_PLANT_MAX_CARS];  /* last disc-cooling table interval of each car */
     double h_laminar;           /* s: h x the orifice law's laminar slope (rb_plant_link_mass) */
+    /* the laminar fill 1 - exp(-h_laminar g / ik) of the links of fixed g and ik
+       (rb_plant_link_mass_fixed) */
+    double fill_mr, fill_pipe[RB_PLANT_MAX_CARS], fill_charge[RB_PLANT_MAX_CARS];
     /* the per-car constants of the wheelset kernel repeated for each axle (its passes run over the
        train's axles in one loop: full vectors, no per-car set-up) */
     double axle_radius[RB_PLANT_MAX_AXLES], axle_inv_inertia[RB_PLANT_MAX_AXLES], axle_inv_mass[RB_PLANT_MAX_AXLES];
