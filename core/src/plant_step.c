@@ -104,6 +104,23 @@ static int valves_at_rest(const rb_plant_inputs *in, const rb_plant_state *s, co
             ~stuck_hold | ~stuck_vent) == 0;   /* commands 0/1 as the states; stuck -1: none */
 }
 
+/* Whether every WSP valve of the train rests released: no hold or vent commanded, none held or
+ * vented, none waiting for its delay (the bytes of the six arrays ORed four at a time; a command
+ * is any non-zero byte, as valve() reads it). With no faults, what valve() gives every axle is
+ * then known without it: hold open all the step, vent shut. */
+static int train_valves_quiet(const rb_plant_inputs *in, const rb_plant_state *s, int n_axles)
+{
+    uint32_t any = 0;
+    for (int a = 0; a < n_axles; a += 4) {
+        uint32_t w[6];
+        memcpy(&w[0], &in->hold[a], 4); memcpy(&w[1], &in->vent[a], 4);
+        memcpy(&w[2], &s->hold[a], 4); memcpy(&w[3], &s->vent[a], 4);
+        memcpy(&w[4], &s->hold_pending[a], 4); memcpy(&w[5], &s->vent_pending[a], 4);
+        any |= w[0] | w[1] | w[2] | w[3] | w[4] | w[5];
+    }
+    return any == 0;
+}
+
 /* Phase 1, supply: compressor with on/off governor, main reservoir, the MR pipe along the train,
  * and each car's check valve and choke into its supply reservoir. */
 static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
@@ -264,6 +281,15 @@ static void wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_pla
     const rb_plant_derived *d = &s->derived;
     const double h = d->h, g_unit = d->g_unit;
     const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    if (f == &no_faults && train_valves_quiet(in, s, n_axles)) {   /* every hold open, every vent shut */
+        for (int a = 0; a < n_axles; ++a) {
+            hold_open[a] = 1.0;   /* 1 - 0 */
+            outlet[a] = 0.0;      /* g_vent 0 + g_unit 0 */
+        }
+        memset(s->hold_effective, 0, (size_t)n_axles);
+        memset(s->vent_effective, 0, (size_t)n_axles);
+        return;
+    }
     for (int a = 0; a < n_axles; ++a) {   /* what valve() gives a valve at rest */
         hold_open[a] = 1.0 - (double)s->hold[a];
         outlet[a] = d->axle_g_vent[a] * (double)s->vent[a] + g_unit * f->leak[a];
