@@ -320,9 +320,11 @@ static void wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_pla
  * cylinder near the relay's pressure (a released or held brake): their step is the hold link's
  * linear law with its factor from init, done for every axle in one branch-free vector loop that
  * also marks the other axles; only those then take the general scalar path, which starts again
- * from their unchanged state (the same operations as for every axle before, so the same results). */
+ * from their unchanged state (the same operations as for every axle before, so the same results).
+ * start: each cylinder's pressure at the start of the phase (the step's, as no earlier phase
+ * changes a cylinder), for the step-mean pressure of the brakes. */
 static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                            const rb_plant_faults *f)
+                            const rb_plant_faults *f, double *start)
 {
     const rb_plant_derived *d = &s->derived;
     const double patm = p->atmosphere, wall = p->temperature, gamma = d->gamma_cyl;
@@ -353,6 +355,7 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
         /* the general path's wall term less gamma t dm with dm = 0, +0 for a finite t: the same */
         const double mt_new = mt_in + d->axle_heat_cyl[a] * (wall - t);
         temp[a] = t;
+        start[a] = p_cyl;
         taken[a] = simple > 0.0 ? in_mass : 0.0;
         s->m_cyl[a] = simple > 0.0 ? m + in_mass : m;
         s->mt_cyl[a] = simple > 0.0 ? mt_new : mt;
@@ -512,11 +515,10 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
         f = &gathered;
     }
     for (int k = 0; k < p->substeps; ++k) {
-        for (int a = 0; a < n_axles; ++a) start[a] = s->mt_cyl[a] * d->axle_r_cyl[a];   /* Pa */
         /* air, in phases */
         air_supply(p, s, f);
         s->m_vented += air_car_valves(p, s, in, f, vector);
-        s->m_vented += air_cylinders(p, s, in, f);
+        s->m_vented += air_cylinders(p, s, in, f, start);   /* start: each cylinder's pressure before it, Pa */
         /* mechanics, braked by the step-mean cylinder pressure */
         for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + s->mt_cyl[a] * d->axle_r_cyl[a]);
         step_mechanics(p, s, in, f, mean, d->h);

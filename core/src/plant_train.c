@@ -120,23 +120,22 @@ static void discs(const rb_plant_params *p, rb_plant_state *s, double dt)
                                         &d->cooling_hi[c], &d->cooling_value_lo[c], &d->cooling_slope[c]);
                 cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
             }
-    /* each car's constants repeated for its axles, so the axles' pass below is one vector loop */
-    double capacity[RB_PLANT_MAX_AXLES], to_ambient[RB_PLANT_MAX_AXLES], inv_retained[RB_PLANT_MAX_AXLES];
+    /* each car's constants in a vector loop over the cars, then each car's axles (one vector of
+       four in AVX2) with them */
+    double to_ambient[RB_PLANT_MAX_CARS], inv_retained[RB_PLANT_MAX_CARS];
     for (int c = 0; c < n_cars; ++c) {
-        const double cap = d->disc_capacity[c], amb = cooling[c] * p->ambient_temperature;
-        const double inv = 1.0 / (cap + dt * cooling[c]);
-        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            capacity[a] = cap;
-            to_ambient[a] = amb;
-            inv_retained[a] = inv;
-        }
+        to_ambient[c] = cooling[c] * p->ambient_temperature;
+        inv_retained[c] = 1.0 / (d->disc_capacity[c] + dt * cooling[c]);
     }
-    for (int a = 0; a < n_cars * RB_AXLES_PER_CAR; ++a) {
-        double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
-        s->brake_energy[a] += power * dt;
-        /* implicit in the cooling: stable at any step; without a heat capacity no temperature */
-        double heated = (capacity[a] * s->disc_temperature[a] + dt * (power + to_ambient[a])) * inv_retained[a];
-        s->disc_temperature[a] = capacity[a] > 0.0 ? heated : s->disc_temperature[a];
+    for (int c = 0; c < n_cars; ++c) {
+        const double capacity = d->disc_capacity[c], amb = to_ambient[c], inv = inv_retained[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
+            s->brake_energy[a] += power * dt;
+            /* implicit in the cooling: stable at any step; without a heat capacity no temperature */
+            double heated = (capacity * s->disc_temperature[a] + dt * (power + amb)) * inv;
+            s->disc_temperature[a] = capacity > 0.0 ? heated : s->disc_temperature[a];
+        }
     }
 }
 
