@@ -331,7 +331,8 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
     const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
     double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
     double temp[RB_PLANT_MAX_AXLES], p_relay[RB_PLANT_MAX_AXLES];
-    int64_t general[RB_PLANT_MAX_AXLES], any_general = 0;   /* negative: the axle takes the general path */
+    double done[RB_PLANT_MAX_AXLES];   /* 1: by the vector pass, 0: the axle takes the general path */
+    int64_t any_general = 0;           /* negative if some axle does (rb_plant_sign_bits) */
     double vented = 0.0;
     wsp_valves(p, s, in, f, hold_open, outlet);
     for (int c = 0; c < p->n_cars; ++c) {   /* each car's relay pressure for each of its axles */
@@ -359,12 +360,12 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
         taken[a] = simple > 0.0 ? in_mass : 0.0;
         s->m_cyl[a] = simple > 0.0 ? m + in_mass : m;
         s->mt_cyl[a] = simple > 0.0 ? mt_new : mt;
-        general[a] = rb_plant_sign_bits(simple - 1.0);   /* -1 - its sign: the general path's */
-        any_general |= general[a];
+        done[a] = simple;
     }
+    for (int a = 0; a < n_axles; ++a) any_general |= rb_plant_sign_bits(done[a] - 1.0);   /* -1 if not done */
     if (any_general < 0)
         for (int a = 0; a < n_axles; ++a) {
-            if (general[a] >= 0) continue;
+            if (done[a] > 0.0) continue;
             const int c = a / RB_AXLES_PER_CAR;
             const double r_cyl = d->r_cyl[c], pr = p_relay[a];
             double p_cyl = s->mt_cyl[a] * r_cyl;
