@@ -83,10 +83,11 @@ static inline double rb_one_minus_exp_neg(double y)
 }
 
 /* rb_one_minus_exp_neg with both arms computed and one selected: no branch, so that a loop of it
-   vectorises; the same result for every y (for a NaN or negative y the unused arm is harmless). */
+   vectorises; the same result for every y. The exponential's arm gets y only where it is taken
+   (else 1: a NaN would overflow rb_exp_nonpos's integer shift, undefined behaviour). */
 static inline double rb_one_minus_exp_neg_select(double y)
 {
-    double large = 1.0 - rb_exp_nonpos(-y), small = rb_one_minus_exp_neg_series(y);
+    double large = 1.0 - rb_exp_nonpos(-(y > 0.0625 ? y : 1.0)), small = rb_one_minus_exp_neg_series(y);
     return y > 0.0625 ? large : small;
 }
 
