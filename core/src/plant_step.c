@@ -132,18 +132,26 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
                                  d->fill_mr);
     s->m_mr -= dm;
     s->m_pipe[cc] += dm;
-    for (int c = 0; c + 1 < p->n_cars; ++c) {
-        dm = rb_plant_link_mass_fixed(d, s->m_pipe[c] * d->k_pipe[c], s->m_pipe[c + 1] * d->k_pipe[c + 1], d->g_pipe[c],
-                                      d->ik_pipe[c], d->fill_pipe[c]);
-        s->m_pipe[c] -= dm;
-        s->m_pipe[c + 1] += dm;
-    }
+    /* The pipe links car by car along the train, each car's charge link as soon as its pipe mass is
+     * final (after its link to the next car): the results of all pipe links and then all charge
+     * links, with the charges off the chain of pipe links (which carries its mass in a register). */
+    double carry = s->m_pipe[0];   /* car c's pipe mass, its link from car c - 1 done */
     for (int c = 0; c < p->n_cars; ++c) {
-        double p_pipe = s->m_pipe[c] * d->k_pipe[c], p_supply = s->m_supply[c] * d->k_supply[c];
-        if (p_pipe <= p_supply) continue;   /* check valve: only towards the supply reservoir */
-        dm = rb_plant_link_mass_fixed(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c], d->fill_charge[c]);
-        s->m_pipe[c] -= dm;
-        s->m_supply[c] += dm;
+        double m_pipe = carry;
+        if (c + 1 < p->n_cars) {
+            double m_next = s->m_pipe[c + 1];
+            dm = rb_plant_link_mass_fixed(d, m_pipe * d->k_pipe[c], m_next * d->k_pipe[c + 1], d->g_pipe[c],
+                                          d->ik_pipe[c], d->fill_pipe[c]);
+            m_pipe -= dm;
+            carry = m_next + dm;
+        }
+        double p_pipe = m_pipe * d->k_pipe[c], p_supply = s->m_supply[c] * d->k_supply[c];
+        if (p_pipe > p_supply) {   /* check valve: only towards the supply reservoir */
+            dm = rb_plant_link_mass_fixed(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c], d->fill_charge[c]);
+            m_pipe -= dm;
+            s->m_supply[c] += dm;
+        }
+        s->m_pipe[c] = m_pipe;
     }
 }
 
