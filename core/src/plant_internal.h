@@ -69,8 +69,10 @@ static inline rb_plant_link_law rb_plant_link_law_of(const rb_plant_derived *d)
 /* rb_plant_link_mass with every arm computed (rb_orifice_flow_function_law's included) and the
  * result selected: no branch, so a loop over the cars of it vectorises. Each arm is the same
  * operations on the same operands, so the result is the same bit for bit
- * (core/tests/test_plant_kernel.c compares the two). */
-static inline double rb_plant_link_mass_select(const rb_plant_link_law *k, double pi, double pj, double g, double ik)
+ * (core/tests/test_plant_kernel.c compares the two). In two parts: the exponent y, then the mass
+ * from y and the link's fill 1 - exp(-y) (rb_one_minus_exp_neg_select, or its series alone where no
+ * y of a pass exceeds the series' range: the same value there). */
+static inline double rb_plant_link_y_select(const rb_plant_link_law *k, double pi, double pj, double g, double ik)
 {
     double diff = pi - pj, abs_diff = fabs(diff);
     double up = diff > 0.0 ? pi : pj, down = diff > 0.0 ? pj : pi, r = down / up;
@@ -78,9 +80,19 @@ static inline double rb_plant_link_mass_select(const rb_plant_link_law *k, doubl
     double subsonic = sqrt(1.0 - s * s), linear = k->laminar_slope * (1.0 - r), only = (1.0 - r) * k->inv_one_minus_b;
     double phi = r <= k->b ? 1.0 : (k->laminar_only ? only : (r >= RB_ORIFICE_LAMINAR_RATIO ? linear : subsonic));
     double y_laminar = k->h_laminar * g / ik, y_general = k->h * g * up / (abs_diff * ik) * phi;
-    double y = k->laminar_only ? y_general : (down >= RB_ORIFICE_LAMINAR_RATIO * up ? y_laminar : y_general);
-    double dm = diff * ik * rb_one_minus_exp_neg_select(y);
-    return g > 0.0 ? (abs_diff < 0.01 ? 0.0 : dm) : 0.0;   /* closed, or balanced to 0.01 Pa: nothing */
+    return k->laminar_only ? y_general : (down >= RB_ORIFICE_LAMINAR_RATIO * up ? y_laminar : y_general);
+}
+
+static inline double rb_plant_link_mass_of_fill(double pi, double pj, double g, double ik, double fill)
+{
+    double diff = pi - pj, dm = diff * ik * fill;
+    return g > 0.0 ? (fabs(diff) < 0.01 ? 0.0 : dm) : 0.0;   /* closed, or balanced to 0.01 Pa: nothing */
+}
+
+static inline double rb_plant_link_mass_select(const rb_plant_link_law *k, double pi, double pj, double g, double ik)
+{
+    double y = rb_plant_link_y_select(k, pi, pj, g, ik);
+    return rb_plant_link_mass_of_fill(pi, pj, g, ik, rb_one_minus_exp_neg_select(y));
 }
 
 /* The fill 1 - exp(-y) of a link of fixed conductance g in its laminar region, y = h slope g / ik:

@@ -202,12 +202,22 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
     return vented;
 }
 
-/* The masses dm[i] of n links from node pressures pi[i] to pj[i] (rb_plant_link_mass_select): one
- * vector loop of its own (so the compiler keeps every arm a select). */
+/* The masses dm[i] of n links from node pressures pi[i] to pj[i] (rb_plant_link_mass_select), in
+ * vector loops of their own (so the compiler keeps every arm a select): the exponents, then the
+ * masses, with the exponential's arm only if some exponent needs it (the valves' links rarely do). */
 static void links_select(const rb_plant_link_law *law, int n, const double *pi, const double *pj, const double *g,
                          const double *ik, double *dm)
 {
-    for (int i = 0; i < n; ++i) dm[i] = rb_plant_link_mass_select(law, pi[i], pj[i], g[i], ik[i]);
+    double y[RB_PLANT_MAX_CARS];
+    int64_t large = 0;   /* negative if some y > 1/16 (rb_plant_sign_bits) */
+    for (int i = 0; i < n; ++i) {
+        y[i] = rb_plant_link_y_select(law, pi[i], pj[i], g[i], ik[i]);
+        large |= rb_plant_sign_bits(0.0625 - y[i]);
+    }
+    if (large < 0)
+        for (int i = 0; i < n; ++i) dm[i] = rb_plant_link_mass_of_fill(pi[i], pj[i], g[i], ik[i], rb_one_minus_exp_neg_select(y[i]));
+    else   /* every y <= 1/16 (or a NaN), where rb_one_minus_exp_neg_select is its series */
+        for (int i = 0; i < n; ++i) dm[i] = rb_plant_link_mass_of_fill(pi[i], pj[i], g[i], ik[i], rb_one_minus_exp_neg_series(y[i]));
 }
 
 /* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the

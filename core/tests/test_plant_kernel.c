@@ -188,6 +188,12 @@ static void test_link_forms(void)
                         CHECK(memcmp(&ref, &sel, sizeof ref) == 0);
                         CHECK(memcmp(&ref, &fixed, sizeof ref) == 0);
                         compared += 2;
+                        double y = rb_plant_link_y_select(&law, pi, pj, g[k], ik[m]);
+                        if (!(y > 0.0625)) {   /* the series alone, as a pass without a larger y takes it */
+                            double series = rb_plant_link_mass_of_fill(pi, pj, g[k], ik[m], rb_one_minus_exp_neg_series(y));
+                            CHECK(memcmp(&ref, &series, sizeof ref) == 0);
+                            ++compared;
+                        }
                     }
             }
     }
