@@ -461,8 +461,9 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
         inv_vr[c] = 1.0 / vr;
         ed_axle[c] = s->ed_force[c] / RB_AXLES_PER_CAR * d->radius[c];
     }
-    for (int c = 0; c < n_cars; ++c)
-        if (f->ed_lost[c]) ed_axle[c] = 0.0;
+    if (f != &no_faults)   /* (the constant record has no ED lost) */
+        for (int c = 0; c < n_cars; ++c)
+            if (f->ed_lost[c]) ed_axle[c] = 0.0;
     if (p->n_gradients > 0)
         for (int c = 0; c < n_cars; ++c) other[c] -= rb_plant_gradient_force(p, s, c);
     if (p->n_zones > 0)   /* without zones every axle keeps the condition init gave it */
