@@ -39,6 +39,7 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
     CHECK_CAR(rb_check_nonnegative, ep_area);
     CHECK_CAR(rb_check_positive, ep_tau);
     CHECK_CAR(rb_check_positive, ep_band);
+    CHECK_CAR(rb_check_nonnegative, ep_supply_margin);
     CHECK_CAR(rb_check_nonnegative, relay_supply_area);
     CHECK_CAR(rb_check_nonnegative, relay_exhaust_area);
     CHECK_CAR(rb_check_positive, relay_band);

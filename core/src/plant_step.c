@@ -129,7 +129,11 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
 }
 
 /* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
- * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The cars
+ * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The EP
+ * valve's target is the lagged demand, or the supply less ep_supply_margin where that is lower:
+ * its piston balances the nozzle chamber, which the supply feeds, against the control pressure
+ * and its preload, so a supply running down pulls the output down with it (and the valve exhausts
+ * what lies above). The cars
  * are independent: all EP valves first, then all relays (a car's relay sees its own EP valve's
  * result either way), so the cars' links overlap instead of forming one chain. */
 static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
@@ -144,9 +148,11 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
         ep_vented[c] = 0.0;
         if (f->ep_failed[c]) continue;
-        double e = (s->ep_demand_lag[c] - p_pilot[c]) * d->inv_ep_band[c];
+        double p_supply = s->m_supply[c] * d->k_supply[c], ceiling = p_supply - p->car[c].ep_supply_margin;
+        double target = s->ep_demand_lag[c] < ceiling ? s->ep_demand_lag[c] : ceiling;
+        double e = (target - p_pilot[c]) * d->inv_ep_band[c];
         if (e > 0.0) {
-            double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot[c], d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
+            double dm = rb_plant_link_mass(d, p_supply, p_pilot[c], d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
             s->m_supply[c] -= dm;
             s->m_pilot[c] += dm;
         } else if (e < 0.0) {
