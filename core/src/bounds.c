@@ -23,6 +23,7 @@ static const rb_bound bounds[] = {
     {"car.vent_area", "m2", 1e-7, 1e-3, "a valve port of 0.1 mm2 to 36 mm diameter"},
     {"car.valve_delay", "s", 0.0, 0.2, "a WSP solenoid valve switching within 200 ms (10-30 ms, EN 15595)"},
     {"car.ep_tau", "s", 1e-3, 2.0, "an EP valve lag of 1 ms to 2 s"},
+    {"car.ep_supply_margin", "Pa", 0.0, 2e5, "an EP valve output held 0 to 2 bar below its supply"},
     {"car.supply_pressure", "Pa", 1.2e5, 1.1e6, "0.2 to 11 bar absolute: the ideal-gas air of the model holds below 10 bar gauge"},
     {"compressor_flow", "kg/s", 0.0, 1.0, "up to 50 m3/min of free air"},
     {"initial_speed", "m/s", 0.0, 150.0, "up to 540 km/h"},
@@ -190,6 +191,7 @@ static rb_status car_bounds(const rb_plant_car *c, int i, rb_error *err)
     CAR_BOUND(vent_area);
     CAR_BOUND(valve_delay);
     CAR_BOUND(ep_tau);
+    CAR_BOUND(ep_supply_margin);
     return RB_OK;
 }
 

@@ -39,6 +39,7 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
     CHECK_CAR(rb_check_nonnegative, ep_area);
     CHECK_CAR(rb_check_positive, ep_tau);
     CHECK_CAR(rb_check_positive, ep_band);
+    CHECK_CAR(rb_check_nonnegative, ep_supply_margin);
     CHECK_CAR(rb_check_nonnegative, relay_supply_area);
     CHECK_CAR(rb_check_nonnegative, relay_exhaust_area);
     CHECK_CAR(rb_check_positive, relay_band);
@@ -234,6 +235,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->g_hold[c] = d->g_unit * car->hold_area;
         d->g_vent[c] = d->g_unit * car->vent_area;
         d->inv_ep_band[c] = 1.0 / car->ep_band;
+        d->ep_supply_margin[c] = car->ep_supply_margin;
         d->inv_relay_band[c] = 1.0 / car->relay_band;
         d->ep_lag[c] = d->h / (car->ep_tau + d->h);
         d->fill_pipe[c] = rb_plant_link_laminar_fill(d, d->g_pipe[c], d->ik_pipe[c]);

@@ -169,9 +169,11 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
         p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
         ep_vented[c] = 0.0;
         if (f->ep_failed[c] > 0.0) continue;
-        double e = (s->ep_demand_lag[c] - p_pilot[c]) * d->inv_ep_band[c];
+        double p_supply = s->m_supply[c] * d->k_supply[c], ceiling = p_supply - d->ep_supply_margin[c];
+        double target = s->ep_demand_lag[c] < ceiling ? s->ep_demand_lag[c] : ceiling;
+        double e = (target - p_pilot[c]) * d->inv_ep_band[c];
         if (e > 0.0) {
-            double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_pilot[c], d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
+            double dm = rb_plant_link_mass(d, p_supply, p_pilot[c], d->g_ep[c] * clamp01(e), d->ik_ep_in[c]);
             s->m_supply[c] -= dm;
             s->m_pilot[c] += dm;
         } else if (e < 0.0) {
@@ -221,8 +223,11 @@ static void links_select(const rb_plant_link_law *law, int n, const double *pi, 
 }
 
 /* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
- * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The cars
- * are independent: all EP valves first, then all relays (a car's relay sees its own EP valve's
+ * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The EP
+ * valve's target is the lagged demand, or the supply less ep_supply_margin where that is lower:
+ * its piston balances the nozzle chamber, which the supply feeds, against the control pressure
+ * and its preload, so a supply running down pulls the output down with it (and the valve exhausts
+ * what lies above). The cars are independent: all EP valves first, then all relays (a car's relay sees its own EP valve's
  * result either way), so the cars' links overlap instead of forming one chain. With `vector` (the
  * AVX2 build) each valve's one link (inlet, exhaust, or none: g = 0 moves nothing) is chosen by
  * selects and every arm of the link law computed, so each pass is three vector loops over the
@@ -242,7 +247,9 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
         double p_now = s->m_pilot[c] * d->k_pilot[c], p_supply = s->m_supply[c] * d->k_supply[c];
-        double e = (s->ep_demand_lag[c] - p_now) * d->inv_ep_band[c];
+        double ceiling = p_supply - d->ep_supply_margin[c];
+        double target = s->ep_demand_lag[c] < ceiling ? s->ep_demand_lag[c] : ceiling;
+        double e = (target - p_now) * d->inv_ep_band[c];
         double ik_in = d->ik_ep_in[c], ik_out = d->ik_ep_out[c], g_open = d->g_ep[c] * clamp01(e > 0.0 ? e : -e);
         dir[c] = f->ep_failed[c] > 0.0 ? 0.0 : e;
         pi[c] = e > 0.0 ? p_supply : p_now;

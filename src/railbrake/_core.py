@@ -266,7 +266,8 @@ class PlantCar(Structure):
     _fields_ = ([("vehicle", Car), ("length", c_double), ("axle_position", c_double * AXLES_PER_CAR),
                  ("contact", CreepContact), ("ed_tau", c_double)]
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
-                           "charge_area", "ep_area", "ep_tau", "ep_band", "relay_supply_area",
+                           "charge_area", "ep_area", "ep_tau", "ep_band", "ep_supply_margin",
+                           "relay_supply_area",
                            "relay_exhaust_area", "relay_band", "hold_area", "vent_area", "valve_delay",
                            "pipe_area", "disc_heat_capacity")
                 + [("disc_cooling", SpeedTable)])

@@ -213,6 +213,7 @@ class _EpValve(_Strict):
     port_area_mm2: float = _num("train.valve_port_area", MM2)
     response_s: float = _num("car.ep_tau")
     band_bar: float = _num("train.valve_band", BAR)
+    supply_margin_bar: float = _num("car.ep_supply_margin", BAR)   # output at most supply - this
 
 
 class _RelayValve(_Strict):

@@ -82,6 +82,9 @@ typedef struct {
     double ep_area;           /* m^2, EP valve inlet and exhaust ports */
     double ep_tau;            /* s, EP valve response (first-order lag of the demand) */
     double ep_band;           /* Pa, error at which the EP ports are fully open */
+    double ep_supply_margin;  /* Pa, >= 0: the EP output held at most this far below the supply
+                                 reservoir (the EP piston's preload over its area: the nozzle chamber
+                                 that drives it is fed from the supply) */
     double relay_supply_area, relay_exhaust_area; /* m^2 */
     double relay_band;        /* Pa */
     double hold_area, vent_area; /* m^2, WSP valves per axle */
@@ -230,6 +233,7 @@ typedef struct {
     double ik_relay_supply[RB_PLANT_MAX_CARS], ik_relay_exhaust[RB_PLANT_MAX_CARS];
     double g_hold[RB_PLANT_MAX_CARS], g_vent[RB_PLANT_MAX_CARS], ik_hold[RB_PLANT_MAX_CARS], ik_vent[RB_PLANT_MAX_CARS];
     double inv_ep_band[RB_PLANT_MAX_CARS], inv_relay_band[RB_PLANT_MAX_CARS], ep_lag[RB_PLANT_MAX_CARS];
+    double ep_supply_margin[RB_PLANT_MAX_CARS];   /* Pa: the car's, compact for the EP valves' loop */
     /* mechanics per car */
     double inv_mass[RB_PLANT_MAX_CARS];
     double mass_share[RB_PLANT_MAX_CARS];    /* car mass / train mass */

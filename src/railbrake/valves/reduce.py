@@ -5,11 +5,13 @@ The plant (rb_plant.h) models the EP valve as a first-order lag of the pressure 
 and inlet/exhaust ports of area ep_area opening in proportion to the error between the lagged
 demand and the control pressure, fully at ep_band; the relay valve the same without the lag
 (relay_band, relay_supply_area, relay_exhaust_area); the WSP valves as ports switching after a
-delay. The reduction:
+delay; the EP output is held at most ep_supply_margin below the supply. The reduction:
 
 1. static, from the design's geometry: port areas pi d^2 / 4 of the seats (the seat's curtain
    pi d x reaches the port at x = d / 4), bands = the spring force at that opening (plus the lap)
    over the pressure face (A_eff of the membrane at mid-stroke), WSP ports and delays as designed;
+   the EP supply margin = the EP piston's preload over its area (the piston balances the nozzle
+   chamber, fed from the supply, against the control pressure and the preload);
 2. fitted, for the EP valve: tau, band and area by least squares to the detailed valve's
    (valves.epv_network, chambers with the detailed train model's wall heat exchange)
    control-pressure step responses over the operating range, into the train's control volume. The
@@ -59,6 +61,7 @@ def static_reduction(epv=None, relay=None) -> dict:
     _core.rb_membrane_eval(ctypes.byref(membrane), 0.0, ctypes.byref(vol), ctypes.byref(a_eff))
     return {"ep_area": _seat_area(e["inlet_seat_diameter_mm"]),
             "ep_band": k["spring_rate"] * full / piston,
+            "ep_supply_margin": k["spring_preload"] / piston,
             "relay_supply_area": _seat_area(r["inlet_seat_diameter_mm"]),
             "relay_exhaust_area": _seat_area(r["exhaust_seat_diameter_mm"]),
             "relay_band": m["spring_rate"] * r["inlet_seat_diameter_mm"] / 4 * MM / a_eff.value,
@@ -166,13 +169,16 @@ def reduce(epv=None, relay=None) -> dict:
     and the relay check."""
     fit = fit_epv(epv)
     params = {**fit["static"], "ep_tau": fit["ep_tau"], "ep_band": fit["ep_band"], "ep_area": fit["ep_area"]}
-    params = {**params, **{k: v for k, v in static_reduction(epv, relay).items() if not k.startswith("ep_")}}
+    static = static_reduction(epv, relay)
+    params = {**params, "ep_supply_margin": static["ep_supply_margin"],
+              **{k: v for k, v in static.items() if not k.startswith("ep_")}}
     return {"params": params, "fit": fit, "relay": relay_check(relay, params)}
 
 
 # train-file fragment (the car type's keys of railbrake.train/2): plant parameter -> (key, factor from SI)
 FRAGMENT_KEYS = {"ep_tau": ("ep_valve.response_s", 1.0), "ep_band": ("ep_valve.band_bar", 1 / BAR),
                  "ep_area": ("ep_valve.port_area_mm2", 1e6),
+                 "ep_supply_margin": ("ep_valve.supply_margin_bar", 1 / BAR),
                  "relay_band": ("relay_valve.band_bar", 1 / BAR),
                  "relay_supply_area": ("relay_valve.supply_area_mm2", 1e6),
                  "relay_exhaust_area": ("relay_valve.exhaust_area_mm2", 1e6),
@@ -199,7 +205,8 @@ def fragment(result: dict) -> str:
 
 
 _COMMENTS = {"ep_tau": "s, EP valve demand lag (fitted)", "ep_band": "Pa, error at full opening (fitted)",
-             "ep_area": "m^2, EP ports (fitted)", "relay_band": "Pa, membrane spring x d/4 / A_eff(0)",
+             "ep_area": "m^2, EP ports (fitted)", "ep_supply_margin": "Pa, EP piston preload / area",
+             "relay_band": "Pa, membrane spring x d/4 / A_eff(0)",
              "relay_supply_area": "m^2, seat pi d^2/4", "relay_exhaust_area": "m^2, seat pi d^2/4",
              "hold_area": "m^2, WSP hold port", "vent_area": "m^2, WSP vent port",
              "valve_delay": "s, WSP valve response delay"}

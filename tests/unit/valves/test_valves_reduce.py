@@ -10,7 +10,7 @@ import yaml
 
 from railbrake import valves
 from railbrake.units import BAR
-from railbrake.valves import reduce as R
+from railbrake.valves import epv, reduce as R
 
 
 @pytest.fixture(scope="module")
@@ -64,3 +64,15 @@ def test_relay_reduction_settles_where_the_detailed_relay_does():
     wide = R.relay_check(params={**R.static_reduction(), "relay_supply_area": 1.35 * R.static_reduction()[
         "relay_supply_area"]})
     assert wide["rms_bar"] < check["rms_bar"]   # a wider effective port makes up for the isothermal fill
+
+
+@pytest.mark.parametrize("supply_bar", [3.0, 4.0])
+def test_supply_margin_is_where_the_detailed_ep_valve_stops_below_its_supply(supply_bar):
+    """With the supply below what the rated current asks for, the detailed EP valve (its nozzle
+    chamber closed onto the supply) holds its output at the supply less the reduced margin: the
+    piston's preload over its area, not fitted."""
+    res = epv.epv_step({"supply_bar": supply_bar}, current=1.0, t_end=3.0)
+    output = res.elements["control"].p[-1] - res.elements["supply"].p[-1]
+    margin = R.static_reduction()["ep_supply_margin"]
+    assert 0.2 * BAR < margin < 0.3 * BAR   # 8 N over a 20 mm piston
+    assert -output == pytest.approx(margin, abs=0.01 * BAR)
