@@ -227,8 +227,9 @@ static void links_select(const rb_plant_link_law *law, int n, const double *pi, 
  * valve's target is the lagged demand, or the supply less ep_supply_margin where that is lower:
  * its piston balances the nozzle chamber, which the supply feeds, against the control pressure
  * and its preload, so a supply running down pulls the output down with it (and the valve exhausts
- * what lies above). The cars are independent: all EP valves first, then all relays (a car's relay sees its own EP valve's
- * result either way), so the cars' links overlap instead of forming one chain. With `vector` (the
+ * what lies above). The cars are independent: all EP valves first, then all relays (a car's relay
+ * sees its own EP valve's result either way), so the cars' links overlap instead of forming one
+ * chain. With `vector` (the
  * AVX2 build) each valve's one link (inlet, exhaust, or none: g = 0 moves nothing) is chosen by
  * selects and every arm of the link law computed, so each pass is three vector loops over the
  * cars (operands, links, masses), the same operations per car as air_car_valves_scalar's. */
