@@ -164,6 +164,11 @@ def _assign(tree: dict, path: tuple, value, label: str, known: set) -> None:
     if isinstance(node, list):
         if not (isinstance(path[-1], int) and path[-1] < len(node)):
             raise InputError(f"{label}: index {path[-1]!r} is outside the list")
+    current = node[path[-1]] if isinstance(node, list) else node.get(path[-1])
+    if isinstance(current, dict) and not isinstance(value, dict):   # a section, not a value
+        keys = ", ".join(str(k) for k in list(current)[:4]) + (", ..." if len(current) > 4 else "")
+        raise InputError(f"{label} = {value!r}: {dotted} is a section ({keys}); set one of its keys, "
+                         f"e.g. --set {dotted}.{next(iter(current), 'KEY')}=VALUE")
     node[path[-1]] = value
 
 

@@ -47,6 +47,8 @@ def test_unknown_key_names_the_closest_ones():
     ("train.car_types.motor.tare_t=heavy", r"--set train.car_types.motor.tare_t: car_types.motor.tare_t = 'heavy'"),
     ("no-equals-sign", r"expected KEY=VALUE"),
     ("demand.5.time=1 s", r"no such key"),
+    # a section set to a value (a train file is given as train.preset, not as train)
+    ("train=my-train.yaml", r"--set train = 'my-train.yaml': train is a section \(preset.*set one of its keys"),
 ])
 def test_bad_overrides_name_the_override(setting, message):
     with pytest.raises(InputError, match=message):
