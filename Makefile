@@ -40,8 +40,10 @@ ctest-sanitize:
 # fixtures (a detailed run, a compiled FMU) are made once.
 PYTEST_PARALLEL := -n $(JOBS) --dist loadfile
 
+# One worker more than cores: the paced 8-car HIL stop (tests/unit/hil/test_loopback.py, 170 s on the
+# wall clock, a few per cent of a core) would otherwise leave its worker's core idle that long.
 pytest: install
-	$(PY) -m pytest -q $(PYTEST_PARALLEL)
+	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile
 
 # The Python tests again, with the C core built under AddressSanitizer and UBSan.
 # Python itself is not instrumented, so leak detection is left to the C tests. The FMU tests are
