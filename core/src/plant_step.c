@@ -222,6 +222,21 @@ static void links_select(const rb_plant_link_law *law, int n, const double *pi, 
         for (int i = 0; i < n; ++i) dm[i] = rb_plant_link_mass_of_fill(pi[i], pj[i], g[i], ik[i], rb_one_minus_exp_neg_series(y[i]));
 }
 
+/* Each car's valve link moved mass dm[c]: from its supply reservoir into the valve's volume where
+ * dir > 0, from that volume to the atmosphere (vented[c]) where dir < 0, nothing where dir = 0;
+ * selects, so a vector loop over the cars. */
+static void apply_valve_links(int n, const double *dir, const double *dm, double *m_supply, double *m_volume,
+                              double *vented)
+{
+    for (int c = 0; c < n; ++c) {
+        double m = m_volume[c], supply = m_supply[c];
+        double filled = m + dm[c], emptied = m - dm[c], supply_out = supply - dm[c];
+        m_supply[c] = dir[c] > 0.0 ? supply_out : supply;
+        m_volume[c] = dir[c] > 0.0 ? filled : (dir[c] < 0.0 ? emptied : m);
+        vented[c] = dir[c] < 0.0 ? dm[c] : 0.0;
+    }
+}
+
 /* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
  * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The EP
  * valve's target is the lagged demand, or the supply less ep_supply_margin where that is lower:
@@ -259,14 +274,8 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         g[c] = dir[c] > 0.0 ? g_open : (dir[c] < 0.0 ? g_open : 0.0);
     }
     links_select(&law, n, pi, pj, g, ik, dm);
-    for (int c = 0; c < n; ++c) {
-        double m_pilot = s->m_pilot[c], m_supply = s->m_supply[c];
-        double pilot_in = m_pilot + dm[c], pilot_out = m_pilot - dm[c], supply_out = m_supply - dm[c];
-        s->m_supply[c] = dir[c] > 0.0 ? supply_out : m_supply;
-        s->m_pilot[c] = m_pilot = dir[c] > 0.0 ? pilot_in : (dir[c] < 0.0 ? pilot_out : m_pilot);
-        ep_vented[c] = dir[c] < 0.0 ? dm[c] : 0.0;
-        p_pilot[c] = m_pilot * d->k_pilot[c];
-    }
+    apply_valve_links(n, dir, dm, s->m_supply, s->m_pilot, ep_vented);
+    for (int c = 0; c < n; ++c) p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
     for (int c = 0; c < n; ++c) {   /* relay valves: supply where dir > 0, exhaust where dir < 0 */
         double p_relay = s->m_relay[c] * d->k_relay[c], p_supply = s->m_supply[c] * d->k_supply[c];
         double isolated = f->isolated[c];
@@ -281,13 +290,7 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         g[c] = dir[c] > 0.0 ? g_in : (dir[c] < 0.0 ? g_out : 0.0);
     }
     links_select(&law, n, pi, pj, g, ik, dm);
-    for (int c = 0; c < n; ++c) {
-        double m_relay = s->m_relay[c], m_supply = s->m_supply[c];
-        double relay_in = m_relay + dm[c], relay_out = m_relay - dm[c], supply_out = m_supply - dm[c];
-        s->m_supply[c] = dir[c] > 0.0 ? supply_out : m_supply;
-        s->m_relay[c] = dir[c] > 0.0 ? relay_in : (dir[c] < 0.0 ? relay_out : m_relay);
-        relay_vented[c] = dir[c] < 0.0 ? dm[c] : 0.0;
-    }
+    apply_valve_links(n, dir, dm, s->m_supply, s->m_relay, relay_vented);
     double vented = 0.0;   /* booked car by car, EP before relay */
     for (int c = 0; c < p->n_cars; ++c) vented = (vented + ep_vented[c]) + relay_vented[c];
     return vented;
