@@ -329,6 +329,8 @@ typedef struct {
     /* each cylinder's air mass times its temperature (kg K): pressure R (m T) / V (isothermal:
        m times the wall's temperature) */
     double mt_cyl[RB_PLANT_MAX_AXLES];
+    double slip_start[RB_PLANT_MAX_AXLES];   /* m/s: each axle's slip velocity at the start of its last
+                                                wheelset update (plant_kernel.c: the probe's extrapolation) */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
