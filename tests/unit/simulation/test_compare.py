@@ -84,7 +84,7 @@ def test_one_ms_step_brakes_as_its_converged_self_under_wsp():
     # the slip along the adhesion curve the 1 ms rail force does not lag (probed at the step's start
     # the 1 ms plant stopped 0.13 % short of its 0.1 ms self in heavy rain, docs/detailed.md)
     coarse, fine = (run(RAIN, cars=1, dt=dt).kpis["stopping_distance_m"] for dt in (1e-3, 0.1e-3))
-    assert abs(coarse / fine - 1.0) < 0.0006
+    assert abs(coarse / fine - 1.0) < 0.0008   # (+0.03 %; the start-probed step: -0.13 %)
 
 
 def test_wsp_cycle_phase_dominates_the_raw_pressure_rms(compared):
