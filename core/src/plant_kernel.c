@@ -1,6 +1,6 @@
 /* The wheelset kernel: the wheelsets over one step: torque balance J dw/dt = -F r - T_brake - T_ed with Polach adhesion
- * F = Q f(creep), the slip velocity advanced linearly implicitly with the secant creep stiffness
- * (stable at 1 ms down to walking speed), a wheel whose speed would change sign locked (static pad
+ * F = Q f(creep), the slip velocity advanced linearly implicitly with the secant creep stiffness,
+ * probed at the slip the step ends near (stable at 1 ms down to walking speed), a wheel whose speed would change sign locked (static pad
  * friction).
  *
  * The axles go through branch-free passes (which a compiler turns into 4-lane vector code, exp and
