@@ -301,6 +301,8 @@ rb_status rb_detailed_init(const rb_plant_params *p, const rb_detailed_params *d
     if ((st = rb_detailed_check(d, err)) || (st = rb_run_check_scenario(sc, err))) return st;
     memset(s, 0, sizeof *s);
     if ((st = rb_plant_init(p, &s->mech, err))) return st;
+    s->mech.derived.slip_probe_ahead = 0.0;   /* the reference's mechanics as they were: probed at each
+                                                 fine step's start (its lag is a tenth of the 1 ms one) */
     if (p->n_faults > 0)
         return rb_fail(err, RB_EINVAL, "n_faults = %d: the detailed model does not model faults (needs 0)",
                        p->n_faults);

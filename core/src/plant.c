@@ -250,6 +250,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
 static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
 {
     double total_mass = 0.0;
+    d->slip_probe_ahead = 1.0;   /* (the detailed model sets 0 after init) */
     for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];

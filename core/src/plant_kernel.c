@@ -84,10 +84,11 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restri
        The secant through it is then the line through the point the linearly implicit update solves
        for; probed at the start's slip, the rail force lags a moving slip by a step, and on wet rail,
        where WSP keeps the slip moving, the 1 ms plant braked about 0.13 % harder than at 0.1 ms
-       (docs/detailed.md). Whatever the probe, the secant stiffness is >= 0: the update stays stable. */
+       (docs/detailed.md). Whatever the probe, the secant stiffness is >= 0: the update stays stable.
+       (slip_probe_ahead 0, the detailed model's, gives the start's slip exactly.) */
     for (int a = 0; a < n; ++a) {
         const double v = in->speed[a], wheel = s->omega[a] * d->axle_radius[a];
-        const double slip = wheel - v, probe = slip + (slip - s->slip_start[a]);
+        const double slip = wheel - v, probe = slip + d->slip_probe_ahead * (slip - s->slip_start[a]);
         s->slip_start[a] = slip;
         double creep = fabs(probe * in->inv_creep_speed[a]);
         x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;

@@ -285,6 +285,10 @@ typedef struct {
     /* each car's last disc-cooling interval (cooling_bracket), as the pad's above */
     double cooling_lo[RB_PLANT_MAX_CARS], cooling_hi[RB_PLANT_MAX_CARS];
     double cooling_value_lo[RB_PLANT_MAX_CARS], cooling_slope[RB_PLANT_MAX_CARS];
+    /* the wheelset kernel's secant probe, in steps of the last slip change ahead of the step's start:
+       1 (init) for the plant, so that its 1 ms rail force does not lag a moving slip; the detailed
+       model sets 0 for its fine mechanics step (its method unchanged, plant_kernel.c) */
+    double slip_probe_ahead;
 } rb_plant_derived;
 
 /* ---- state (fixed size; plain data, may be copied) */
