@@ -1,7 +1,7 @@
 /* The wheelset kernel: the wheelsets over one step: torque balance J dw/dt = -F r - T_brake - T_ed with Polach adhesion
  * F = Q f(creep), the slip velocity advanced linearly implicitly with the secant creep stiffness,
- * probed at the slip the step ends near (stable at 1 ms down to walking speed), a wheel whose speed would change sign locked (static pad
- * friction).
+ * probed at the slip the step ends near (stable at 1 ms down to walking speed), a wheel whose speed
+ * would change sign locked (static pad friction).
  *
  * The axles go through branch-free passes (which a compiler turns into 4-lane vector code, exp and
  * atan included: rb_exp_nonpos, rb_atan_nonneg in rb_common.h) around the scalar pad-table look-up. The same source is compiled twice: portable (the reference, C99) and, on x86
