@@ -24,6 +24,10 @@ static const rb_bound bounds[] = {
     {"car.valve_delay", "s", 0.0, 0.2, "a WSP solenoid valve switching within 200 ms (10-30 ms, EN 15595)"},
     {"car.ep_tau", "s", 1e-3, 2.0, "an EP valve lag of 1 ms to 2 s"},
     {"car.ep_supply_margin", "Pa", 0.0, 2e5, "an EP valve output held 0 to 2 bar below its supply"},
+    {"car.ep_bleed_area", "m2", 0.0, 3e-6, "an EP pilot feed orifice of 0 to 2 mm diameter (typically 0.2 to 0.5 mm)"},
+    {"car.relay_tau", "s", 0.0, 0.1, "a relay membrane responding within 100 ms"},
+    {"car.relay_sweep", "m3", 0.0, 2e-4, "a relay membrane sweeping 0 to 200 cm3 (and less than the pilot volume)"},
+    {"car.relay_travel", "1", 1.0, 10.0, "a membrane travel of 1 to 10 times its full-opening stroke"},
     {"car.supply_pressure", "Pa", 1.2e5, 1.1e6, "0.2 to 11 bar absolute: the ideal-gas air of the model holds below 10 bar gauge"},
     {"compressor_flow", "kg/s", 0.0, 1.0, "up to 50 m3/min of free air"},
     {"initial_speed", "m/s", 0.0, 150.0, "up to 540 km/h"},
@@ -192,6 +196,10 @@ static rb_status car_bounds(const rb_plant_car *c, int i, rb_error *err)
     CAR_BOUND(valve_delay);
     CAR_BOUND(ep_tau);
     CAR_BOUND(ep_supply_margin);
+    CAR_BOUND(ep_bleed_area);
+    CAR_BOUND(relay_tau);
+    CAR_BOUND(relay_sweep);
+    CAR_BOUND(relay_travel);
     return RB_OK;
 }
 

@@ -292,3 +292,58 @@ rb_status rb_detailed_valve_run(const rb_plant_params *p, const rb_detailed_para
     for (int b = 0; b < RB_DET_CAR_BODIES; ++b) positions[b] = sys.ev.x[b];
     return RB_OK;
 }
+
+/* The air one car's valves use while WSP cycles its brakes (car 0 of plant, a constant EP current):
+   from the released state, filled for `settle` s, then `cycles` WSP cycles of every axle, each
+   phase[0] s venting (hold shut, vent open), phase[1] s holding (both shut) and phase[2] s refilling
+   (hold open). air: over the cycles, the masses (kg) through [0] the EP pilot stage's feed orifice
+   (its nozzle's bleed), [1] the EP valve's exhaust, [2] the relay valve's exhaust, [3] the relay
+   valve's inlet, [4] the cylinders' vents (accumulators of the network's link flows). */
+rb_status rb_detailed_valve_air(const rb_plant_params *p, const rb_detailed_params *d, double current,
+                                double settle, const double phase[3], int cycles, double air[5], rb_error *err)
+{
+    enum { ACC = 5, N = RB_DET_CAR_STATES - 1 + ACC };
+    static const int acc_link[ACC] = {CL_PILOT_ORIFICE, CL_EPV_EXHAUST, CL_RELAY_EXHAUST, CL_RELAY_INLET, CL_VENT};
+    rb_status s;
+    rb_detailed_car k;
+    rb_membrane mb;
+    rb_det_system sys;
+    double work[N * N + 10 * N], eval_work[8 * RB_DET_CAR_NODES + RB_DET_CAR_LINKS + 2 * RB_DET_CAR_BODIES];
+    double y[N], scale[N], y_out[N], h = 0.0, t = 0.0, start[ACC] = {0.0};
+    int iwork[N], eval_iwork[RB_DET_CAR_NODES];
+    rb_ode_stats st = {0, 0, 0};
+    if (!phase || !air) return rb_fail(err, RB_EINVAL, "phase and air are required");
+    if ((s = rb_plant_check(p, err)) || (s = rb_detailed_check(d, err))) return s;
+    if ((s = rb_check_range(err, "current", current, 0.0, d->current_max))) return s;
+    if ((s = rb_check_range(err, "settle (s)", settle, 0.0, 100.0))) return s;
+    for (int i = 0; i < 3; ++i)
+        if ((s = rb_check_range(err, "phase (s)", phase[i], 1e-3, 10.0))) return s;
+    if (cycles < 1 || cycles > 10000) return rb_fail(err, RB_EINVAL, "cycles = %d: must be in [1, 10000]", cycles);
+    if ((s = rb_membrane_init(&mb, d->membrane_x, d->membrane_volume, d->membrane_points, err))) return s;
+    rb_det_build_car(p, d, 0, &k);
+    k.current = current;
+    rb_det_apply_commands(&k);
+    rb_det_car_system(&k, d, &mb, &sys);
+    sys.n_acc = ACC;
+    memset(sys.acc_of_link, -1, sizeof sys.acc_of_link);
+    for (int i = 0; i < ACC; ++i) sys.acc_of_link[acc_link[i]] = (signed char)i;
+    for (int a = 1; a < RB_AXLES_PER_CAR; ++a) sys.acc_of_link[CL_VENT + a] = ACC - 1;
+    if ((s = rb_det_system_init(&sys, eval_work, sizeof eval_work / sizeof *eval_work, eval_iwork,
+                                RB_DET_CAR_NODES, y, scale, err)))
+        return s;
+    for (int c = -1; c < cycles; ++c)
+        for (int ph = c < 0 ? 2 : 0; ph < 3; ++ph) {   /* the settling fill first: hold open */
+            double t_end = t + (c < 0 ? settle : phase[ph]);
+            for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
+                k.hold[a] = ph < 2;
+                k.vent[a] = ph == 0;
+            }
+            rb_det_apply_commands(&k);
+            if (t_end > t && (s = rb_det_solve(&sys, d, t, y, &t_end, 1, y_out, &h, scale, work, iwork, &st, err)))
+                return s;
+            t = t_end;
+            if (c < 0) memcpy(start, &y[sys.n_net], sizeof start);
+        }
+    for (int i = 0; i < ACC; ++i) air[i] = y[sys.n_net + i] - start[i];
+    return RB_OK;
+}

@@ -40,9 +40,17 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
     CHECK_CAR(rb_check_positive, ep_tau);
     CHECK_CAR(rb_check_positive, ep_band);
     CHECK_CAR(rb_check_nonnegative, ep_supply_margin);
+    CHECK_CAR(rb_check_nonnegative, ep_bleed_area);
     CHECK_CAR(rb_check_nonnegative, relay_supply_area);
     CHECK_CAR(rb_check_nonnegative, relay_exhaust_area);
     CHECK_CAR(rb_check_positive, relay_band);
+    CHECK_CAR(rb_check_nonnegative, relay_tau);
+    CHECK_CAR(rb_check_nonnegative, relay_sweep);
+    CHECK_CAR(rb_check_range, relay_travel, 1.0, 100.0);
+    if (!(c->relay_sweep * c->relay_travel < c->pilot_volume))
+        return rb_fail(err, RB_EINVAL, "car[%d].relay_sweep = %g m^3: times relay_travel = %g must stay below the "
+                       "pilot_volume = %g m^3 (the membrane's stroke would empty the chamber)", i, c->relay_sweep,
+                       c->relay_travel, c->pilot_volume);
     CHECK_CAR(rb_check_nonnegative, hold_area);
     CHECK_CAR(rb_check_nonnegative, vent_area);
     CHECK_CAR(rb_check_range, valve_delay, 0.0, 1.0);
@@ -238,6 +246,10 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->ep_supply_margin[c] = car->ep_supply_margin;
         d->inv_relay_band[c] = 1.0 / car->relay_band;
         d->ep_lag[c] = d->h / (car->ep_tau + d->h);
+        d->g_bleed[c] = d->g_unit * car->ep_bleed_area;
+        d->relay_lag[c] = car->relay_tau > 0.0 ? -expm1(-d->h / car->relay_tau) : 1.0;
+        d->sweep_ratio[c] = car->relay_sweep / car->pilot_volume;
+        d->relay_travel[c] = car->relay_travel;
         d->fill_pipe[c] = rb_plant_link_laminar_fill(d, d->g_pipe[c], d->ik_pipe[c]);
         d->fill_charge[c] = rb_plant_link_laminar_fill(d, d->g_charge[c], d->ik_charge[c]);
     }
@@ -381,7 +393,7 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
     for (int c = 0; c < p->n_cars; ++c) {
         const rb_plant_car *car = &p->car[c];
         out->supply[c] = s->m_supply[c] * rt / car->supply_volume;
-        out->pilot[c] = s->m_pilot[c] * rt / car->pilot_volume;
+        out->pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
         out->relay[c] = s->m_relay[c] * rt / car->relay_volume;
         out->ed_force[c] = s->ed_force[c];
         out->car_speed[c] = s->v[c];

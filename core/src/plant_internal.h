@@ -128,6 +128,13 @@ static inline double rb_plant_link_mass_capped(const rb_plant_derived *d, double
     return pi > pj ? (dm < cap ? dm : cap) : (dm > cap ? dm : cap);
 }
 
+/* R T / V of car c's pilot volume, which the relay membrane's stroke sweeps (relay_sweep per unit
+ * of stroke): p_pilot = m_pilot times this. */
+static inline double rb_plant_pilot_stiffness(const rb_plant_state *s, int c)
+{
+    return s->derived.k_pilot[c] / (1.0 + s->relay_stroke[c] * s->derived.sweep_ratio[c]);
+}
+
 /* The bits of x, its sign in the top one: ORed over a pass, (x - lo) | ~(x - hi) is negative when
  * some x lies outside [lo, hi) (IEEE: a difference is 0 only between equal numbers, and then +0; a
  * NaN sets one of the two), without a compare that would stop the portable build's vectoriser. */

@@ -155,6 +155,33 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
     }
 }
 
+/* The EP valves' bleed over the step, each car's into bled[c]: the pilot stage's feed orifice
+ * passes supply air into the nozzle chamber, which holds the EP output plus the piston's preload over
+ * its area (ep_supply_margin), and the flapper nozzle lets it out (the chamber has no volume of its
+ * own here: the flow is the orifice's at the step's start, taken from the supply reservoir). */
+static void ep_bleed(const rb_plant_params *p, rb_plant_state *s, const double *k_pilot, double *bled)
+{
+    const rb_plant_derived *d = &s->derived;
+    for (int c = 0; c < p->n_cars; ++c) {
+        double p_supply = s->m_supply[c] * d->k_supply[c];
+        double chamber = s->m_pilot[c] * k_pilot[c] + d->ep_supply_margin[c];
+        double q = p_supply > chamber ? rb_orifice_flow_law(p_supply, chamber, d->g_bleed[c], &d->orifice) : 0.0;
+        bled[c] = q * d->h;
+        s->m_supply[c] -= bled[c];
+    }
+}
+
+/* The relay membrane's stroke over the step: its error against the band (1: the inlet fully open,
+ * -1 the exhaust), within its stops, followed with the membrane's lag (relay_lag 1: at once). The
+ * stroke sweeps the pilot volume from the next step on (rb_plant_pilot_stiffness). */
+static double relay_stroke(rb_plant_state *s, int c, double e)
+{
+    const double travel = s->derived.relay_travel[c];
+    double target = e > travel ? travel : (e < -travel ? -travel : e);
+    s->relay_stroke[c] += (target - s->relay_stroke[c]) * s->derived.relay_lag[c];
+    return s->relay_stroke[c];
+}
+
 /* Phase 2 car by car, each valve's one link on its own (the portable build: SSE2's two lanes do not
  * pay for computing every arm of the vector version below, which gives the same results). */
 static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
@@ -163,10 +190,14 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
     const rb_plant_derived *d = &s->derived;
     const double patm = p->atmosphere;
     double ep_vented[RB_PLANT_MAX_CARS], relay_vented[RB_PLANT_MAX_CARS], p_pilot[RB_PLANT_MAX_CARS];
+    double bled[RB_PLANT_MAX_CARS];
+    double k_pilot[RB_PLANT_MAX_CARS];   /* the pilot volume's R T / V at the membrane's stroke */
+    for (int c = 0; c < p->n_cars; ++c) k_pilot[c] = rb_plant_pilot_stiffness(s, c);
+    ep_bleed(p, s, k_pilot, bled);
     for (int c = 0; c < p->n_cars; ++c) {
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
-        p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
+        p_pilot[c] = s->m_pilot[c] * k_pilot[c];
         ep_vented[c] = 0.0;
         if (f->ep_failed[c] > 0.0) continue;
         double p_supply = s->m_supply[c] * d->k_supply[c], ceiling = p_supply - d->ep_supply_margin[c];
@@ -181,26 +212,27 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
             s->m_pilot[c] -= dm;
             ep_vented[c] = dm;
         }
-        p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
+        p_pilot[c] = s->m_pilot[c] * k_pilot[c];
     }
     for (int c = 0; c < p->n_cars; ++c) {
         double p_relay = s->m_relay[c] * d->k_relay[c];
         double e = (((f->isolated[c] > 0.0) ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
+        double u = relay_stroke(s, c, e);
         relay_vented[c] = 0.0;
-        if (e > 0.0 && !(f->isolated[c] > 0.0)) {
-            double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_relay, d->g_relay_supply[c] * clamp01(e),
+        if (u > 0.0 && !(f->isolated[c] > 0.0)) {
+            double dm = rb_plant_link_mass(d, s->m_supply[c] * d->k_supply[c], p_relay, d->g_relay_supply[c] * clamp01(u),
                                   d->ik_relay_supply[c]);
             s->m_supply[c] -= dm;
             s->m_relay[c] += dm;
-        } else if (e < 0.0 || (f->isolated[c] > 0.0)) {
-            double open = (f->isolated[c] > 0.0) ? 1.0 : clamp01(-e);
+        } else if (u < 0.0 || (f->isolated[c] > 0.0)) {
+            double open = (f->isolated[c] > 0.0) ? 1.0 : clamp01(-u);
             double dm = rb_plant_link_mass(d, p_relay, patm, d->g_relay_exhaust[c] * open, d->ik_relay_exhaust[c]);
             s->m_relay[c] -= dm;
             relay_vented[c] = dm;
         }
     }
-    double vented = 0.0;   /* booked car by car, EP before relay */
-    for (int c = 0; c < p->n_cars; ++c) vented = (vented + ep_vented[c]) + relay_vented[c];
+    double vented = 0.0;   /* booked car by car: bleed, EP, relay */
+    for (int c = 0; c < p->n_cars; ++c) vented = ((vented + bled[c]) + ep_vented[c]) + relay_vented[c];
     return vented;
 }
 
@@ -258,11 +290,14 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     double ep_vented[RB_PLANT_MAX_CARS], relay_vented[RB_PLANT_MAX_CARS], p_pilot[RB_PLANT_MAX_CARS];
     const int n = p->n_cars;
     double dir[RB_PLANT_MAX_CARS], pi[RB_PLANT_MAX_CARS], pj[RB_PLANT_MAX_CARS], g[RB_PLANT_MAX_CARS];
-    double ik[RB_PLANT_MAX_CARS], dm[RB_PLANT_MAX_CARS];
+    double ik[RB_PLANT_MAX_CARS], dm[RB_PLANT_MAX_CARS], bled[RB_PLANT_MAX_CARS];
+    double k_pilot[RB_PLANT_MAX_CARS];   /* the pilot volume's R T / V at the membrane's stroke */
+    for (int c = 0; c < p->n_cars; ++c) k_pilot[c] = rb_plant_pilot_stiffness(s, c);
+    ep_bleed(p, s, k_pilot, bled);
     for (int c = 0; c < n; ++c) {   /* EP valves: inlet where dir > 0, exhaust where dir < 0 */
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
-        double p_now = s->m_pilot[c] * d->k_pilot[c], p_supply = s->m_supply[c] * d->k_supply[c];
+        double p_now = s->m_pilot[c] * k_pilot[c], p_supply = s->m_supply[c] * d->k_supply[c];
         double ceiling = p_supply - d->ep_supply_margin[c];
         double target = s->ep_demand_lag[c] < ceiling ? s->ep_demand_lag[c] : ceiling;
         double e = (target - p_now) * d->inv_ep_band[c];
@@ -275,15 +310,16 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     }
     links_select(&law, n, pi, pj, g, ik, dm);
     apply_valve_links(n, dir, dm, s->m_supply, s->m_pilot, ep_vented);
-    for (int c = 0; c < n; ++c) p_pilot[c] = s->m_pilot[c] * d->k_pilot[c];
+    for (int c = 0; c < n; ++c) p_pilot[c] = s->m_pilot[c] * k_pilot[c];
     for (int c = 0; c < n; ++c) {   /* relay valves: supply where dir > 0, exhaust where dir < 0 */
         double p_relay = s->m_relay[c] * d->k_relay[c], p_supply = s->m_supply[c] * d->k_supply[c];
         double isolated = f->isolated[c];
         double e = ((isolated > 0.0 ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
+        double u = relay_stroke(s, c, e);
         double ik_in = d->ik_relay_supply[c], ik_out = d->ik_relay_exhaust[c];
-        double g_in = d->g_relay_supply[c] * clamp01(e);
-        double g_out = d->g_relay_exhaust[c] * (isolated > 0.0 ? 1.0 : clamp01(-e));
-        dir[c] = isolated > 0.0 ? -1.0 : e;   /* an isolated car's relay: vented, fully open */
+        double g_in = d->g_relay_supply[c] * clamp01(u);
+        double g_out = d->g_relay_exhaust[c] * (isolated > 0.0 ? 1.0 : clamp01(-u));
+        dir[c] = isolated > 0.0 ? -1.0 : u;   /* an isolated car's relay: vented, fully open */
         pi[c] = dir[c] > 0.0 ? p_supply : p_relay;
         pj[c] = dir[c] > 0.0 ? p_relay : patm;
         ik[c] = dir[c] > 0.0 ? ik_in : ik_out;
@@ -291,8 +327,8 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     }
     links_select(&law, n, pi, pj, g, ik, dm);
     apply_valve_links(n, dir, dm, s->m_supply, s->m_relay, relay_vented);
-    double vented = 0.0;   /* booked car by car, EP before relay */
-    for (int c = 0; c < p->n_cars; ++c) vented = (vented + ep_vented[c]) + relay_vented[c];
+    double vented = 0.0;   /* booked car by car: bleed, EP, relay */
+    for (int c = 0; c < p->n_cars; ++c) vented = ((vented + bled[c]) + ep_vented[c]) + relay_vented[c];
     return vented;
 }
 
@@ -548,7 +584,9 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
     for (int k = 0; k < p->substeps; ++k) {
         /* air, in phases */
         air_supply(p, s, f);
-        s->m_vented += air_car_valves(p, s, in, f, vector);
+        double valves = air_car_valves(p, s, in, f, vector);
+        s->m_vented += valves;
+        s->m_valves_vented += valves;
         s->m_vented += air_cylinders(p, s, in, f, start);   /* start: each cylinder's pressure before it, Pa */
         /* mechanics, braked by the step-mean cylinder pressure */
         for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + s->mt_cyl[a] * d->axle_r_cyl[a]);

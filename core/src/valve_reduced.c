@@ -1,9 +1,11 @@
 /* The plant's reduced valve model alone, for fitting (rb_valve_reduced.h). */
 #include "railbrake/rb_valve_reduced.h"
 
+#include "railbrake/rb_plant.h"
 #include "railbrake/rb_pneumatics.h"
 
 #include <math.h>
+#include <string.h>
 
 static double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 
@@ -52,3 +54,39 @@ rb_status rb_reduced_valve_steps(const rb_reduced_valve *v, const double *start,
 }
 
 size_t rb_reduced_valve_size(void) { return sizeof(rb_reduced_valve); }
+
+/* (rb_plant.h) The car at rest, its WSP valves switching as commanded (no response delay: the
+   detailed car network's commands act at once too), in whole plant steps. */
+rb_status rb_plant_valve_air(const rb_plant_params *plant, double demand, double settle, const double phase[3],
+                             int cycles, double air[2], rb_error *err)
+{
+    static const char *names[3] = {"phase[0] (vent, s)", "phase[1] (hold, s)", "phase[2] (refill, s)"};
+    rb_plant_params p;
+    rb_plant_state s;
+    rb_plant_inputs in;
+    rb_status st;
+    if (!plant || !phase || !air) return rb_fail(err, RB_EINVAL, "plant, phase and air are required");
+    if (plant->n_cars != 1) return rb_fail(err, RB_EINVAL, "n_cars = %d: the valve air study takes one car", plant->n_cars);
+    if ((st = rb_check_positive(err, "demand (Pa)", demand))) return st;
+    if ((st = rb_check_range(err, "settle (s)", settle, 0.0, 100.0))) return st;
+    for (int i = 0; i < 3; ++i)
+        if ((st = rb_check_range(err, names[i], phase[i], 1e-3, 10.0))) return st;
+    if (cycles < 1 || cycles > 10000) return rb_fail(err, RB_EINVAL, "cycles = %d: must be in [1, 10000]", cycles);
+    p = *plant;
+    p.initial_speed = 0.0;
+    p.car[0].valve_delay = 0.0;
+    if ((st = rb_plant_init(&p, &s, err))) return st;
+    memset(&in, 0, sizeof in);
+    in.pressure_demand[0] = demand;
+    for (long i = lround(settle / p.dt); i > 0; --i) rb_plant_step(&p, &s, &in);
+    double start = s.m_vented, start_valves = s.m_valves_vented;
+    for (int c = 0; c < cycles; ++c)
+        for (int ph = 0; ph < 3; ++ph) {
+            memset(in.hold, ph < 2, RB_AXLES_PER_CAR);
+            memset(in.vent, ph == 0, RB_AXLES_PER_CAR);
+            for (long i = lround(phase[ph] / p.dt); i > 0; --i) rb_plant_step(&p, &s, &in);
+        }
+    air[0] = s.m_valves_vented - start_valves;
+    air[1] = (s.m_vented - start) - air[0];
+    return RB_OK;
+}

@@ -28,7 +28,7 @@ static inline void fill_car(rb_plant_car *c)
     c->supply_volume = 0.1; c->pilot_volume = 0.5e-3; c->relay_volume = 1.0e-3;
     c->cylinder_volume = 1.5e-3; c->pipe_volume = 0.0123;
     c->charge_area = 7e-6; c->ep_area = 3e-6; c->ep_tau = 0.1; c->ep_band = 0.1e5;
-    c->relay_supply_area = 20e-6; c->relay_exhaust_area = 20e-6; c->relay_band = 0.1e5;
+    c->relay_supply_area = 20e-6; c->relay_exhaust_area = 20e-6; c->relay_band = 0.1e5; c->relay_travel = 1.0;
     c->hold_area = 20e-6; c->vent_area = 20e-6; c->valve_delay = 0.015; c->pipe_area = 100e-6;
 }
 

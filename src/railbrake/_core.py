@@ -266,9 +266,10 @@ class PlantCar(Structure):
     _fields_ = ([("vehicle", Car), ("length", c_double), ("axle_position", c_double * AXLES_PER_CAR),
                  ("contact", CreepContact), ("ed_tau", c_double)]
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
-                           "charge_area", "ep_area", "ep_tau", "ep_band", "ep_supply_margin",
-                           "relay_supply_area",
-                           "relay_exhaust_area", "relay_band", "hold_area", "vent_area", "valve_delay",
+                           "charge_area", "ep_area", "ep_tau", "ep_band", "ep_supply_margin", "ep_bleed_area",
+                           "relay_supply_area", "relay_exhaust_area", "relay_band", "relay_tau", "relay_sweep",
+                           "relay_travel",
+                           "hold_area", "vent_area", "valve_delay",
                            "pipe_area", "disc_heat_capacity")
                 + [("disc_cooling", SpeedTable)])
 
@@ -412,6 +413,8 @@ rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_cha
                                c_size_t, _err_p)
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
                           c_double_p, c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
+rb_plant_valve_air = _declare("rb_plant_valve_air", c_int, POINTER(PlantParams), c_double, c_double, c_double_p,
+                              c_int, c_double_p, _err_p)
 
 for _struct, _size in ((BcuParams, "rb_bcu_params_size"), (Kpis, "rb_kpis_size")):
     if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
@@ -538,6 +541,8 @@ rb_detailed_epv_current = _declare("rb_detailed_epv_current", c_int, POINTER(Pla
                                    POINTER(DetailedParams), c_double, c_double, c_double_p, _err_p)
 rb_detailed_valve_run = _declare("rb_detailed_valve_run", c_int, POINTER(PlantParams), POINTER(DetailedParams),
                                  c_double, c_double, c_double_p, c_double_p, _err_p)
+rb_detailed_valve_air = _declare("rb_detailed_valve_air", c_int, POINTER(PlantParams), POINTER(DetailedParams),
+                                 c_double, c_double, c_double_p, c_int, c_double_p, _err_p)
 rb_detailed_stats = _declare("rb_detailed_stats", None, c_void_p, POINTER(OdeStats))
 
 # ---------------------------------------------------------------- hil and real time (rb_hil.h, rb_rt.h)

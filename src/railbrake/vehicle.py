@@ -34,7 +34,7 @@ LOAD_CASES = ("tare", "normal", "crush")
 P_ATM = 101325.0  # Pa, standard atmosphere
 SINTERED_LOW_SPEED = 0.42  # lambda at standstill of the default sintered pad [T]
 ZERO_CELSIUS = 273.15  # K
-MM, L, MM2, KN, BAR = 1e-3, 1e-3, 1e-6, 1e3, 1e5   # file units -> SI
+MM, L, MM2, CM3, KN, BAR = 1e-3, 1e-3, 1e-6, 1e-6, 1e3, 1e5   # file units -> SI
 
 
 # ------------------------------------------------------------------ file schema
@@ -214,6 +214,7 @@ class _EpValve(_Strict):
     response_s: float = _num("car.ep_tau")
     band_bar: float = _num("train.valve_band", BAR)
     supply_margin_bar: float = _num("car.ep_supply_margin", BAR)   # output at most supply - this
+    bleed_area_mm2: float = _num("car.ep_bleed_area", MM2)   # pilot stage's feed orifice: the nozzle's bleed
 
 
 class _RelayValve(_Strict):
@@ -222,6 +223,9 @@ class _RelayValve(_Strict):
     supply_area_mm2: float = _num("train.valve_port_area", MM2)
     exhaust_area_mm2: float = _num("train.valve_port_area", MM2)
     band_bar: float = _num("train.valve_band", BAR)
+    response_s: float = _num("car.relay_tau")   # membrane's response: lag of its stroke
+    sweep_cm3: float = _num("car.relay_sweep", CM3)   # control chamber's growth at the full-opening stroke
+    travel: float = _num("car.relay_travel")    # membrane's travel over that stroke (its stops)
 
 
 class _WspValves(_Strict):

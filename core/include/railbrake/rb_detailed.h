@@ -143,6 +143,13 @@ rb_status rb_detailed_epv_current(const rb_plant_params *plant, const rb_detaile
    control chamber, relay output and cylinder 1, and positions (m) of armature, piston, membrane. */
 rb_status rb_detailed_valve_run(const rb_plant_params *plant, const rb_detailed_params *d, double current,
                                 double t_end, double pressures[4], double positions[3], rb_error *err);
+/* The air one car's valves use while WSP cycles its brakes (car 0 of plant, a constant EP current;
+   detailed_air.c): filled for `settle` s, then `cycles` cycles of every axle's WSP valves, each
+   phase[0] s venting, phase[1] s holding, phase[2] s refilling. air (kg, over the cycles): [0] EP
+   feed orifice (the nozzle's bleed), [1] EP exhaust, [2] relay exhaust, [3] relay inlet, [4] cylinder
+   vents. The plant's counterpart: rb_plant_valve_air (rb_plant.h). */
+rb_status rb_detailed_valve_air(const rb_plant_params *plant, const rb_detailed_params *d, double current,
+                                double settle, const double phase[3], int cycles, double air[5], rb_error *err);
 /* Solver work so far: accepted and rejected steps and right-hand-side calls, summed over cars. */
 void rb_detailed_stats(const rb_detailed_state *s, rb_ode_stats *stats);
 size_t rb_detailed_state_size(void);

@@ -27,8 +27,10 @@
  *    sqrt(T_wall / T_up). A fast fill rises gamma times the isothermal rise, then relaxes to it.
  *  - Per car: supply reservoir fed from the main-reservoir pipe through a check valve and a
  *    choke; EP valve (first-order lag on the pressure demand, inlet/exhaust ports opening in
- *    proportion to the error) filling a pilot volume; relay valve (supply/exhaust ports opening
- *    in proportion to pilot minus output pressure); per axle a WSP hold valve (output -> cylinder)
+ *    proportion to the error) filling a pilot volume, its pilot stage bleeding supply air through
+ *    the feed orifice all the time; relay valve (supply/exhaust ports opening in proportion to
+ *    pilot minus output pressure, lagged by the membrane's response; the membrane's stroke sweeps
+ *    the pilot volume); per axle a WSP hold valve (output -> cylinder)
  *    and vent valve (cylinder -> atmosphere), each switching after a response delay.
  *  - Wheelsets: J dw/dt = -F r - T_brake - T_ed, F = Q f(creep) from Polach with rail
  *    conditioning by axle index and track zones; the slip velocity is advanced linearly
@@ -85,8 +87,16 @@ typedef struct {
     double ep_supply_margin;  /* Pa, >= 0: the EP output held at most this far below the supply
                                  reservoir (the EP piston's preload over its area: the nozzle chamber
                                  that drives it is fed from the supply) */
+    double ep_bleed_area;     /* m^2, >= 0: the EP pilot stage's feed orifice, through which supply air
+                                 bleeds out of the flapper nozzle all the time (0: none) */
     double relay_supply_area, relay_exhaust_area; /* m^2 */
     double relay_band;        /* Pa */
+    double relay_tau;         /* s, >= 0: the relay membrane's response, a first-order lag of its
+                                 stroke (0: none) */
+    double relay_sweep;       /* m^3, >= 0: the control chamber's growth at the stroke that opens the
+                                 inlet fully (the membrane's swept volume; the EP valve fills and
+                                 exhausts it as the membrane strokes) */
+    double relay_travel;      /* >= 1: the membrane's travel in units of that stroke (its stops) */
     double hold_area, vent_area; /* m^2, WSP valves per axle */
     double valve_delay;       /* s, WSP valve response delay */
     double pipe_area;         /* m^2, MR pipe link to the next car */
@@ -234,6 +244,10 @@ typedef struct {
     double g_hold[RB_PLANT_MAX_CARS], g_vent[RB_PLANT_MAX_CARS], ik_hold[RB_PLANT_MAX_CARS], ik_vent[RB_PLANT_MAX_CARS];
     double inv_ep_band[RB_PLANT_MAX_CARS], inv_relay_band[RB_PLANT_MAX_CARS], ep_lag[RB_PLANT_MAX_CARS];
     double ep_supply_margin[RB_PLANT_MAX_CARS];   /* Pa: the car's, compact for the EP valves' loop */
+    double g_bleed[RB_PLANT_MAX_CARS];   /* kg/(s Pa), the EP feed orifice's conductance */
+    double relay_lag[RB_PLANT_MAX_CARS]; /* 1 - exp(-h / relay_tau): the relay stroke's step (1: none) */
+    double sweep_ratio[RB_PLANT_MAX_CARS]; /* relay_sweep / pilot_volume */
+    double relay_travel[RB_PLANT_MAX_CARS];
     /* mechanics per car */
     double inv_mass[RB_PLANT_MAX_CARS];
     double mass_share[RB_PLANT_MAX_CARS];    /* car mass / train mass */
@@ -301,8 +315,11 @@ typedef struct {
     double m_pipe[RB_PLANT_MAX_CARS], m_supply[RB_PLANT_MAX_CARS], m_pilot[RB_PLANT_MAX_CARS], m_relay[RB_PLANT_MAX_CARS];
     double m_cyl[RB_PLANT_MAX_AXLES];
     double m_vented, m_compressed;
+    double m_valves_vented;   /* kg, the part of m_vented the EP and relay valves let out (bleed, exhausts) */
     int compressor_on;
     double ep_demand_lag[RB_PLANT_MAX_CARS];   /* Pa, EP valve's lagged demand */
+    double relay_stroke[RB_PLANT_MAX_CARS];    /* relay membrane's stroke: 1 opens the inlet fully, -1
+                                                  the exhaust; within +-relay_travel */
     /* WSP valves: actual state and the command waiting for the response delay */
     uint8_t hold[RB_PLANT_MAX_AXLES], vent[RB_PLANT_MAX_AXLES];
     uint8_t hold_pending[RB_PLANT_MAX_AXLES], vent_pending[RB_PLANT_MAX_AXLES];
@@ -354,6 +371,15 @@ double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s,
 const char *rb_plant_kernel_name(const rb_plant_state *s);
 size_t rb_plant_params_size(void);
 size_t rb_plant_state_size(void);
+
+/* The air one car's valves use while WSP cycles its brakes, in the plant (valve_reduced.c; the
+   detailed model's counterpart is rb_detailed_valve_air): car 0 of plant alone, at rest, with the
+   constant pressure demand `demand` (Pa abs): filled for `settle` s, then `cycles` WSP cycles of every
+   axle, each phase[0] s venting (hold shut, vent open), phase[1] s holding (both shut) and phase[2]
+   s refilling. air (kg, over the cycles): [0] what the EP and relay valves let out (bleed,
+   exhausts), [1] what the cylinders' vents did. */
+rb_status rb_plant_valve_air(const rb_plant_params *plant, double demand, double settle, const double phase[3],
+                             int cycles, double air[2], rb_error *err);
 
 #ifdef __cplusplus
 }

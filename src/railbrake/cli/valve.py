@@ -94,7 +94,7 @@ def _reduce(p: dict, plot, json: bool, write) -> None:
         plot_reduction(fit, prepare_plot(plot))
     if json:
         print_json({"params_si": result["params"], "fit_rms_bar": fit["rms_bar"], "fit_max_bar": fit["max_bar"],
-                    "relay_check": result["relay"],
+                    "relay_check": result["relay"], "air": result["air"],
                     "steps_bar": fit["steps_bar"], "static_si": fit["static"], "fragment": R.fragment(result)})
         return
     typer.echo(R.fragment(result), nl=False)

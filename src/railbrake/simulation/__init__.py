@@ -86,10 +86,11 @@ def _car(train, index: int) -> _core.PlantCar:
     car.pipe_volume = math.pi / 4 * (pipe.diameter_mm * 1e-3) ** 2 * t.length_m
     car.charge_area = t.supply_reservoir.charge_area_mm2 * MM2
     car.ep_area, car.ep_tau, car.ep_band = t.ep_valve.port_area_mm2 * MM2, t.ep_valve.response_s, t.ep_valve.band_bar * BAR
-    car.ep_supply_margin = t.ep_valve.supply_margin_bar * BAR
+    car.ep_supply_margin, car.ep_bleed_area = t.ep_valve.supply_margin_bar * BAR, t.ep_valve.bleed_area_mm2 * MM2
     r = t.relay_valve
     car.relay_supply_area, car.relay_exhaust_area, car.relay_band = (r.supply_area_mm2 * MM2, r.exhaust_area_mm2 * MM2,
                                                                      r.band_bar * BAR)
+    car.relay_tau, car.relay_sweep, car.relay_travel = r.response_s, r.sweep_cm3 * 1e-6, r.travel
     v = t.wsp_valves
     car.hold_area, car.vent_area, car.valve_delay = v.hold_area_mm2 * MM2, v.vent_area_mm2 * MM2, v.response_s
     car.pipe_area = min(pipe.coupling_area_mm2 * MM2, math.pi / 4 * (pipe.diameter_mm * 1e-3) ** 2)

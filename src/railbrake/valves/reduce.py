@@ -18,7 +18,13 @@ delay; the EP output is held at most ep_supply_margin below the supply. The redu
    reduced model runs in the C core (rb_valve_reduced.h: the plant's law at a step well below the
    plant's); its difference to the detailed responses is reported;
 3. checked, for the relay valve: the reduced relay against the detailed relay's output chamber for
-   control-pressure steps (relay_check).
+   control-pressure steps (relay_check);
+4. the valves' air: the EP pilot stage's bleed through its feed orifice (ep_bleed_area, the design's
+   orifice), and the relay membrane's stroke: its lag (relay_tau = damping / spring rate), its stops
+   (relay_travel = travel / full-opening stroke) and the volume it sweeps in the control chamber at
+   the full-opening stroke (relay_sweep, from the membrane's V(x)), which the EP valve fills and
+   exhausts as the membrane strokes; checked by the air one car lets out over WSP cycles against the
+   detailed car network's (air_check).
 """
 
 from __future__ import annotations
@@ -59,12 +65,19 @@ def static_reduction(epv=None, relay=None) -> dict:
     _core.call(_core.rb_membrane_init, ctypes.byref(membrane), _core.ptr(x), _core.ptr(v), len(x))
     vol, a_eff = ctypes.c_double(), ctypes.c_double()
     _core.rb_membrane_eval(ctypes.byref(membrane), 0.0, ctypes.byref(vol), ctypes.byref(a_eff))
+    stroke = r["inlet_seat_diameter_mm"] / 4 * MM   # the membrane's stroke that opens the inlet fully
+    swept = ctypes.c_double()
+    _core.rb_membrane_eval(ctypes.byref(membrane), stroke, ctypes.byref(swept), ctypes.byref(ctypes.c_double()))
     return {"ep_area": _seat_area(e["inlet_seat_diameter_mm"]),
             "ep_band": k["spring_rate"] * full / piston,
             "ep_supply_margin": k["spring_preload"] / piston,
+            "ep_bleed_area": _seat_area(e["pilot_orifice_diameter_mm"]),
             "relay_supply_area": _seat_area(r["inlet_seat_diameter_mm"]),
             "relay_exhaust_area": _seat_area(r["exhaust_seat_diameter_mm"]),
-            "relay_band": m["spring_rate"] * r["inlet_seat_diameter_mm"] / 4 * MM / a_eff.value,
+            "relay_band": m["spring_rate"] * stroke / a_eff.value,
+            "relay_tau": m["damping"] / m["spring_rate"],
+            "relay_sweep": swept.value - vol.value,
+            "relay_travel": m["travel_mm"] * MM / stroke,
             "hold_area": _seat_area(r["wsp"]["hold_diameter_mm"]),
             "vent_area": _seat_area(r["wsp"]["vent_diameter_mm"]),
             "valve_delay": r["wsp"]["response_delay_s"]}
@@ -164,26 +177,88 @@ def relay_check(relay=None, params: dict | None = None) -> dict:
             "final_bar": float(np.max(np.abs(diff[:, -1]))), "steps_bar": list(RELAY_TARGETS_BAR)}
 
 
+# The WSP cycles of the air check: vent 80 ms (the mean vent pulse of the detailed model's
+# emergency-300-heavy-rain stop, 82 ms), hold 70 ms, reapply 150 ms, and two others about it; every
+# axle of the car at once, at the emergency cylinder pressure of the presets.
+AIR_CYCLES_S = ((0.08, 0.07, 0.15), (0.05, 0.05, 0.10), (0.15, 0.10, 0.30))
+AIR_TARGET_BAR, AIR_SETTLE_S, AIR_CYCLES = 3.6, 3.0, 20
+AIR_SCENARIO = "emergency-250-dry"   # its train's first car
+
+
+def _air_plant(params: dict):
+    """The scenario's one-car plant with the reduced parameters `params` (SI, plant names)."""
+    from railbrake.simulation.detailed import load, plant_params
+    plant = plant_params(load(AIR_SCENARIO), 1)
+    for name, value in params.items():
+        if name in FRAGMENT_KEYS:
+            setattr(plant.car[0], name, value)
+    return plant
+
+
+def detailed_valve_air(cycle, target_bar: float = AIR_TARGET_BAR) -> dict:
+    """The detailed car network's air (kg) over AIR_CYCLES WSP cycles `cycle` (vent, hold, reapply s)
+    at the EP current of target_bar: through the EP feed orifice (its bleed), the EP and relay
+    exhausts, the relay inlet and the cylinder vents; `valves`: what the EP and relay valves let out."""
+    from railbrake.simulation.detailed import detailed_params, epv_current, load, plant_params
+    plant = plant_params(load(AIR_SCENARIO), 1)
+    current = epv_current(plant.atmosphere + target_bar * BAR, scenario=AIR_SCENARIO)
+    air, phase = (ctypes.c_double * 5)(), (ctypes.c_double * 3)(*cycle)
+    _core.call(_core.rb_detailed_valve_air, ctypes.byref(plant), ctypes.byref(detailed_params()), current,
+               AIR_SETTLE_S, phase, AIR_CYCLES, air)
+    out = dict(zip(("bleed", "ep_exhaust", "relay_exhaust", "relay_inlet", "cylinder_vents"), air))
+    out["valves"] = out["bleed"] + out["ep_exhaust"] + out["relay_exhaust"]
+    return out
+
+
+def plant_valve_air(params: dict, cycle, target_bar: float = AIR_TARGET_BAR) -> dict:
+    """The air (kg) one car of the plant with `params` lets out over the same cycles: `valves` (EP and
+    relay: bleed and exhausts) and `cylinder_vents`."""
+    plant = _air_plant(params)
+    air, phase = (ctypes.c_double * 2)(), (ctypes.c_double * 3)(*cycle)
+    _core.call(_core.rb_plant_valve_air, ctypes.byref(plant), plant.atmosphere + target_bar * BAR, AIR_SETTLE_S,
+               phase, AIR_CYCLES, air)
+    return {"valves": air[0], "cylinder_vents": air[1]}
+
+
+def air_check(params: dict, cycles=AIR_CYCLES_S) -> list[dict]:
+    """The valves' air of the plant with `params` against the detailed car network's, per WSP cycle
+    (g over AIR_CYCLES cycles): what the EP and relay valves let out, and the cylinders' vents."""
+    rows = []
+    for cycle in cycles:
+        det, rt = detailed_valve_air(cycle), plant_valve_air(params, cycle)
+        rows.append({"cycle_s": list(cycle), "detailed_g": {k: 1e3 * v for k, v in det.items()},
+                     "plant_g": {k: 1e3 * v for k, v in rt.items()}})
+    return rows
+
+
 def reduce(epv=None, relay=None) -> dict:
-    """All the plant's valve parameters: EP fitted, relay and WSP static (SI), with the fit's figures
-    and the relay check."""
+    """All the plant's valve parameters: EP fitted, relay and WSP static (SI), with the fit's figures,
+    the relay check and the air check."""
     fit = fit_epv(epv)
     params = {**fit["static"], "ep_tau": fit["ep_tau"], "ep_band": fit["ep_band"], "ep_area": fit["ep_area"]}
     static = static_reduction(epv, relay)
-    params = {**params, "ep_supply_margin": static["ep_supply_margin"],
+    params = {**params, "ep_supply_margin": static["ep_supply_margin"], "ep_bleed_area": static["ep_bleed_area"],
               **{k: v for k, v in static.items() if not k.startswith("ep_")}}
-    return {"params": params, "fit": fit, "relay": relay_check(relay, params)}
+    return {"params": params, "fit": fit, "relay": relay_check(relay, params), "air": air_check(params)}
 
 
 # train-file fragment (the car type's keys of railbrake.train/2): plant parameter -> (key, factor from SI)
 FRAGMENT_KEYS = {"ep_tau": ("ep_valve.response_s", 1.0), "ep_band": ("ep_valve.band_bar", 1 / BAR),
                  "ep_area": ("ep_valve.port_area_mm2", 1e6),
                  "ep_supply_margin": ("ep_valve.supply_margin_bar", 1 / BAR),
+                 "ep_bleed_area": ("ep_valve.bleed_area_mm2", 1e6),
                  "relay_band": ("relay_valve.band_bar", 1 / BAR),
+                 "relay_tau": ("relay_valve.response_s", 1.0),
+                 "relay_sweep": ("relay_valve.sweep_cm3", 1e6), "relay_travel": ("relay_valve.travel", 1.0),
                  "relay_supply_area": ("relay_valve.supply_area_mm2", 1e6),
                  "relay_exhaust_area": ("relay_valve.exhaust_area_mm2", 1e6),
                  "hold_area": ("wsp_valves.hold_area_mm2", 1e6), "vent_area": ("wsp_valves.vent_area_mm2", 1e6),
                  "valve_delay": ("wsp_valves.response_s", 1.0)}
+
+
+def _cycle_ms(air: dict) -> str:
+    vent, hold, reapply = (1e3 * t for t in air["cycle_s"])
+    return f"vent {vent:.0f} / hold {hold:.0f} / reapply {reapply:.0f} ms"
 
 
 def fragment(result: dict) -> str:
@@ -198,7 +273,10 @@ def fragment(result: dict) -> str:
              f"# EP valve fitted to {len(f['steps_bar'])} detailed step responses (RMS {f['rms_bar']:.3f} bar, "
              f"largest {f['max_bar']:.3f} bar); relay and WSP from the design's geometry"
              + (f" (relay check: RMS {result['relay']['rms_bar']:.3f} bar, largest {result['relay']['max_bar']:.3f} "
-                "bar, output chamber alone)." if "relay" in result else ".")]
+                "bar, output chamber alone)" if "relay" in result else "")
+             + (f"; valves' air over WSP cycles of {_cycle_ms(result['air'][0])}: plant "
+                f"{result['air'][0]['plant_g']['valves']:.2f} g, detailed {result['air'][0]['detailed_g']['valves']:.2f} g."
+                if "air" in result else ".")]
     for group, rows in groups.items():
         lines += [f"  {group}:", *rows]
     return "\n".join(lines) + "\n"
@@ -206,7 +284,10 @@ def fragment(result: dict) -> str:
 
 _COMMENTS = {"ep_tau": "s, EP valve demand lag (fitted)", "ep_band": "Pa, error at full opening (fitted)",
              "ep_area": "m^2, EP ports (fitted)", "ep_supply_margin": "Pa, EP piston preload / area",
+             "ep_bleed_area": "m^2, EP pilot feed orifice pi d^2/4",
              "relay_band": "Pa, membrane spring x d/4 / A_eff(0)",
+             "relay_tau": "s, relay membrane damping / spring rate",
+             "relay_sweep": "m^3, membrane V(d/4) - V(0)", "relay_travel": "membrane travel / (d/4)",
              "relay_supply_area": "m^2, seat pi d^2/4", "relay_exhaust_area": "m^2, seat pi d^2/4",
              "hold_area": "m^2, WSP hold port", "vent_area": "m^2, WSP vent port",
              "valve_delay": "s, WSP valve response delay"}

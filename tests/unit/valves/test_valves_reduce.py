@@ -27,6 +27,13 @@ def test_static_reduction_from_the_geometry():
     band = m["spring_rate"] * r["inlet_seat_diameter_mm"] * 1e-3 / 4 / a_eff
     assert s["relay_band"] == pytest.approx(band, rel=0.02)
     assert s["valve_delay"] == r["wsp"]["response_delay_s"]
+    # the valves' air: the EP feed orifice, the membrane's lag c / k, its swept volume at the stroke
+    # d / 4 (between the table's points at 0 and 1.5 mm: about 7.3 cm^3 per mm) and its stops
+    assert s["ep_bleed_area"] == pytest.approx(math.pi * (e["pilot_orifice_diameter_mm"] * 1e-3) ** 2 / 4)
+    assert s["relay_tau"] == pytest.approx(m["damping"] / m["spring_rate"])
+    stroke = r["inlet_seat_diameter_mm"] * 1e-3 / 4
+    assert s["relay_sweep"] == pytest.approx(np.interp(stroke, x, v), rel=0.05)
+    assert s["relay_travel"] == pytest.approx(m["travel_mm"] * 1e-3 / stroke)
 
 
 def test_fitted_ep_model_follows_the_detailed_valve(fit):
@@ -76,3 +83,17 @@ def test_supply_margin_is_where_the_detailed_ep_valve_stops_below_its_supply(sup
     margin = R.static_reduction()["ep_supply_margin"]
     assert 0.2 * BAR < margin < 0.3 * BAR   # 8 N over a 20 mm piston
     assert -output == pytest.approx(margin, abs=0.01 * BAR)
+
+
+def test_valves_air_over_wsp_cycles_approaches_the_detailed_cars():
+    """Over WSP cycles one car of the plant lets out most of the air the detailed car's EP and relay
+    valves do (feed-orifice bleed, refilling and exhausting the control chamber the relay membrane
+    sweeps), where without those terms it let out almost none; the cylinders vent alike."""
+    params = {**yaml.safe_load((valves.params.DATA / "reduced.yaml").read_text())["plant"], **R.static_reduction()}
+    bare = {**params, "ep_bleed_area": 0.0, "relay_tau": 0.0, "relay_sweep": 0.0}
+    for row in R.air_check(params):
+        det, rt = row["detailed_g"], row["plant_g"]
+        assert det["bleed"] > 0 and det["ep_exhaust"] > 0 and det["relay_exhaust"] > 0
+        assert 0.5 * det["valves"] < rt["valves"] < det["valves"]
+        assert rt["cylinder_vents"] == pytest.approx(det["cylinder_vents"], rel=0.03)
+        assert R.plant_valve_air(bare, row["cycle_s"])["valves"] < 0.01 * det["valves"]
