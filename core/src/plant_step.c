@@ -155,14 +155,16 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
     }
 }
 
-/* The EP valves' bleed over the step, each car's into bled[c]: the pilot stage's feed orifice
- * passes supply air into the nozzle chamber, which holds the EP output plus the piston's preload over
- * its area (ep_supply_margin), and the flapper nozzle lets it out (the chamber has no volume of its
- * own here: the flow is the orifice's at the step's start, taken from the supply reservoir). */
-static void ep_bleed(const rb_plant_params *p, rb_plant_state *s, const double *k_pilot, double *bled)
+/* The start of the valves' phase, per car: the pilot volume's R T / V at the membrane's stroke into
+ * k_pilot[c], and the EP valve's bleed over the step into bled[c] (taken from the supply): the pilot
+ * stage's feed orifice passes supply air into the nozzle chamber, which holds the EP output plus the
+ * piston's preload over its area (ep_supply_margin), and the flapper nozzle lets it out (the chamber
+ * has no volume of its own here: the orifice's flow at the step's start). */
+static void valves_start(const rb_plant_params *p, rb_plant_state *s, double *k_pilot, double *bled)
 {
     const rb_plant_derived *d = &s->derived;
     for (int c = 0; c < p->n_cars; ++c) {
+        k_pilot[c] = rb_plant_pilot_stiffness(s, c);
         double p_supply = s->m_supply[c] * d->k_supply[c];
         double chamber = s->m_pilot[c] * k_pilot[c] + d->ep_supply_margin[c];
         double q = p_supply > chamber ? rb_orifice_flow_law(p_supply, chamber, d->g_bleed[c], &d->orifice) : 0.0;
@@ -191,9 +193,8 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
     const double patm = p->atmosphere;
     double ep_vented[RB_PLANT_MAX_CARS], relay_vented[RB_PLANT_MAX_CARS], p_pilot[RB_PLANT_MAX_CARS];
     double bled[RB_PLANT_MAX_CARS];
-    double k_pilot[RB_PLANT_MAX_CARS];   /* the pilot volume's R T / V at the membrane's stroke */
-    for (int c = 0; c < p->n_cars; ++c) k_pilot[c] = rb_plant_pilot_stiffness(s, c);
-    ep_bleed(p, s, k_pilot, bled);
+    double k_pilot[RB_PLANT_MAX_CARS];
+    valves_start(p, s, k_pilot, bled);
     for (int c = 0; c < p->n_cars; ++c) {
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
@@ -270,7 +271,8 @@ static void apply_valve_links(int n, const double *dir, const double *dm, double
 }
 
 /* Phase 2, per car: EP valve (lagged demand, ports open in proportion to the error) filling the
- * pilot volume, relay valve following it; an isolated car's relay is cut off and vented. The EP
+ * pilot volume, its pilot stage bleeding (valves_start); relay valve following it, its membrane's
+ * stroke lagged and sweeping the pilot volume; an isolated car's relay is cut off and vented. The EP
  * valve's target is the lagged demand, or the supply less ep_supply_margin where that is lower:
  * its piston balances the nozzle chamber, which the supply feeds, against the control pressure
  * and its preload, so a supply running down pulls the output down with it (and the valve exhausts
@@ -291,9 +293,8 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     const int n = p->n_cars;
     double dir[RB_PLANT_MAX_CARS], pi[RB_PLANT_MAX_CARS], pj[RB_PLANT_MAX_CARS], g[RB_PLANT_MAX_CARS];
     double ik[RB_PLANT_MAX_CARS], dm[RB_PLANT_MAX_CARS], bled[RB_PLANT_MAX_CARS];
-    double k_pilot[RB_PLANT_MAX_CARS];   /* the pilot volume's R T / V at the membrane's stroke */
-    for (int c = 0; c < p->n_cars; ++c) k_pilot[c] = rb_plant_pilot_stiffness(s, c);
-    ep_bleed(p, s, k_pilot, bled);
+    double k_pilot[RB_PLANT_MAX_CARS];
+    valves_start(p, s, k_pilot, bled);
     for (int c = 0; c < n; ++c) {   /* EP valves: inlet where dir > 0, exhaust where dir < 0 */
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];

@@ -85,11 +85,22 @@ def valve_activity(result: Result, axle: str) -> dict:
     return out
 
 
-def stable(result: Result) -> tuple[bool, str]:
+def _ripple(t: np.ndarray, x: np.ndarray, start: float) -> float:
+    """Peak-to-peak (Pa) of x about its linear trend over [start, start + RIPPLE_WINDOW) (the demand
+    follows the brake profile over speed, slowly against 1 s); 0 for too few samples."""
+    w = (t >= start) & (t < start + RIPPLE_WINDOW)
+    if np.count_nonzero(w) <= 2:
+        return 0.0
+    return float(np.ptp(x[w] - np.polyval(np.polyfit(t[w], x[w], 1), t[w])))
+
+
+def stable(result: Result, reference: Result | None = None) -> tuple[bool, str]:
     """Stable: every output finite, the train stopped, and no sustained oscillation of the EP valve
-    output: after SETTLE s its peak-to-peak about the linear trend of every RIPPLE_WINDOW stays below
-    RIPPLE_LIMIT (the demand follows the brake profile over speed, slowly against 1 s; any ripple
-    about that trend is the integrator's own)."""
+    output: after SETTLE s its peak-to-peak about the linear trend of every RIPPLE_WINDOW stays within
+    RIPPLE_LIMIT of the reference's in the same window (without one: of none). Under WSP the output
+    swings for a physical reason, which the reference shows too: each relay stroke sweeps the control
+    chamber the EP valve feeds (the detailed model's swings by 0.11 bar in heavy rain); an
+    integrator's oscillation comes on top of that."""
     for name, values in result.outputs.items():
         if not np.all(np.isfinite(values)):
             return False, f"{name} not finite"
@@ -99,12 +110,13 @@ def stable(result: Result) -> tuple[bool, str]:
     for name in result.car_channels("pilot"):
         x = result.outputs[name]
         for start in np.arange(SETTLE, t[-1] - RIPPLE_WINDOW, RIPPLE_WINDOW):
-            w = (t >= start) & (t < start + RIPPLE_WINDOW)
-            if np.count_nonzero(w) > 2:
-                # about the window's linear trend: the demand follows the profile over speed
-                residual = x[w] - np.polyval(np.polyfit(t[w], x[w], 1), t[w])
-                if np.ptp(residual) > RIPPLE_LIMIT:
-                    return False, f"{name}: {np.ptp(residual) / BAR:.3f} bar peak-to-peak at {start:.1f} s"
+            allowed = RIPPLE_LIMIT
+            if reference is not None and start + RIPPLE_WINDOW <= reference.time[-1]:
+                allowed += _ripple(reference.time, reference.outputs[name], start)
+            ripple = _ripple(t, x, start)
+            if ripple > allowed:
+                return False, (f"{name}: {ripple / BAR:.3f} bar peak-to-peak at {start:.1f} s "
+                               f"(allowed {allowed / BAR:.3f})")
     return True, ""
 
 
@@ -132,7 +144,7 @@ def step_study(scenario, detailed: Result, steps_ms=STEPS_MS, progress=None) -> 
         if progress is not None:
             progress(f"real-time plant at {dt:g} ms", i / len(cases))
         r = run(scenario, dt=dt * 1e-3, substeps=substeps)
-        ok, why = stable(r)
+        ok, why = stable(r, detailed)
         rms = [pressure_difference(r, detailed, c) for c in detailed.axle_channels("cylinder")]
         rows.append({"dt_ms": dt, "substeps": substeps or substeps_for(dt * 1e-3),
                      "stopping_distance_m": r.kpis["stopping_distance_m"],

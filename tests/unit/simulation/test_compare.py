@@ -121,3 +121,15 @@ def test_stability_check_flags_non_finite_and_ripple(compared):
     assert not ok and "peak-to-peak" in why
     bad.outputs["speed"] = np.full_like(r.time, np.nan)
     assert stable(bad) == (False, "speed not finite")
+
+
+def test_stability_check_allows_the_references_own_ripple(compared):
+    # under WSP the EP output swings for a physical reason (each relay stroke sweeps the control
+    # chamber), in the detailed model as in the plant; an oscillation on top of it still counts
+    c = compared(RAIN, 1)
+    assert stable(c.rt, c.detailed) == (True, "")
+    bad = type(c.rt)(c.rt.scenario, c.rt.cars, c.rt.wsp, c.rt.time, dict(c.rt.outputs), c.rt.units, c.rt.kpis)
+    pilot = bad.car_channels("pilot")[0]
+    bad.outputs[pilot] = c.rt.outputs[pilot] + 0.2e5 * np.where(np.arange(c.rt.time.size) % 2, 1.0, -1.0)
+    ok, why = stable(bad, c.detailed)
+    assert not ok and "allowed" in why
