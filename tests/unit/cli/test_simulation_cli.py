@@ -31,10 +31,12 @@ def test_no_wsp_flag_turns_the_wsp_off():
     result = CliRunner().invoke(app, ["run", "emergency-300-leaves-patch", "--cars", "1", "--no-wsp", "--json"])
     assert result.exit_code == 0, result.output
     kpis = json.loads(result.stdout)
-    # no WSP: the wheels lock on the leaves; only the relay valve exhausts, as the demand steps
-    # down with speed (the emergency profile): far less than the WSP's venting (0.025 kg)
+    with_wsp = json.loads(CliRunner().invoke(app, ["run", "emergency-300-leaves-patch", "--cars", "1", "--json"]).stdout)
+    # no WSP: the wheels lock on the leaves; only the valves let air out (the EP pilot stage's bleed,
+    # the relay exhausting as the demand steps down with speed): far less than with the WSP venting
     assert kpis["wheel_lock_events"] >= 1 and kpis["worst_axle"].startswith("c1a")
-    assert kpis["air_vented_kg"] < 0.01
+    assert with_wsp["wheel_lock_events"] == 0
+    assert kpis["air_vented_kg"] < 0.6 * with_wsp["air_vented_kg"]
 
 
 def test_bench_json():
