@@ -221,8 +221,9 @@ def plant_valve_air(params: dict, cycle, target_bar: float = AIR_TARGET_BAR) -> 
 
 
 def air_check(params: dict, cycles=AIR_CYCLES_S) -> list[dict]:
-    """The valves' air of the plant with `params` against the detailed car network's, per WSP cycle
-    (g over AIR_CYCLES cycles): what the EP and relay valves let out, and the cylinders' vents."""
+    """The valves' air of the plant with `params` against the detailed car network's (the detailed
+    train model's, with its packaged designs), per WSP cycle (g over AIR_CYCLES cycles): what the EP
+    and relay valves let out, and the cylinders' vents."""
     rows = []
     for cycle in cycles:
         det, rt = detailed_valve_air(cycle), plant_valve_air(params, cycle)
