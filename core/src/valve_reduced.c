@@ -1,4 +1,5 @@
-/* The plant's reduced valve model alone, for fitting (rb_valve_reduced.h). */
+/* The plant's reduced valve model alone, for fitting (rb_valve_reduced.h), and the plant's one-car
+ * valve air over WSP cycles, for the reduction's air check (rb_plant_valve_air, rb_plant.h). */
 #include "railbrake/rb_valve_reduced.h"
 
 #include "railbrake/rb_plant.h"
