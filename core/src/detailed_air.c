@@ -315,10 +315,7 @@ rb_status rb_detailed_valve_air(const rb_plant_params *p, const rb_detailed_para
     if (!phase || !air) return rb_fail(err, RB_EINVAL, "phase and air are required");
     if ((s = rb_plant_check(p, err)) || (s = rb_detailed_check(d, err))) return s;
     if ((s = rb_check_range(err, "current", current, 0.0, d->current_max))) return s;
-    if ((s = rb_check_range(err, "settle (s)", settle, 0.0, 100.0))) return s;
-    for (int i = 0; i < 3; ++i)
-        if ((s = rb_check_range(err, "phase (s)", phase[i], 1e-3, 10.0))) return s;
-    if (cycles < 1 || cycles > 10000) return rb_fail(err, RB_EINVAL, "cycles = %d: must be in [1, 10000]", cycles);
+    if ((s = rb_valve_air_cycle_check(settle, phase, cycles, err))) return s;
     if ((s = rb_membrane_init(&mb, d->membrane_x, d->membrane_volume, d->membrane_points, err))) return s;
     rb_det_build_car(p, d, 0, &k);
     k.current = current;

@@ -56,23 +56,31 @@ rb_status rb_reduced_valve_steps(const rb_reduced_valve *v, const double *start,
 
 size_t rb_reduced_valve_size(void) { return sizeof(rb_reduced_valve); }
 
+rb_status rb_valve_air_cycle_check(double settle, const double phase[3], int cycles, rb_error *err)
+{
+    static const char *names[3] = {"phase[0] (vent, s)", "phase[1] (hold, s)", "phase[2] (refill, s)"};
+    rb_status st;
+    if (!phase) return rb_fail(err, RB_EINVAL, "phase = NULL: the cycle's three phases are required");
+    if ((st = rb_check_range(err, "settle (s)", settle, 0.0, 100.0))) return st;
+    for (int i = 0; i < 3; ++i)
+        if ((st = rb_check_range(err, names[i], phase[i], 1e-3, 10.0))) return st;
+    if (cycles < 1 || cycles > 10000) return rb_fail(err, RB_EINVAL, "cycles = %d: must be in [1, 10000]", cycles);
+    return RB_OK;
+}
+
 /* (rb_plant.h) The car at rest, its WSP valves switching as commanded (no response delay: the
    detailed car network's commands act at once too), in whole plant steps. */
 rb_status rb_plant_valve_air(const rb_plant_params *plant, double demand, double settle, const double phase[3],
                              int cycles, double air[2], rb_error *err)
 {
-    static const char *names[3] = {"phase[0] (vent, s)", "phase[1] (hold, s)", "phase[2] (refill, s)"};
     rb_plant_params p;
     rb_plant_state s;
     rb_plant_inputs in;
     rb_status st;
     if (!plant || !phase || !air) return rb_fail(err, RB_EINVAL, "plant, phase and air are required");
     if (plant->n_cars != 1) return rb_fail(err, RB_EINVAL, "n_cars = %d: the valve air study takes one car", plant->n_cars);
-    if ((st = rb_check_positive(err, "demand (Pa)", demand))) return st;
-    if ((st = rb_check_range(err, "settle (s)", settle, 0.0, 100.0))) return st;
-    for (int i = 0; i < 3; ++i)
-        if ((st = rb_check_range(err, names[i], phase[i], 1e-3, 10.0))) return st;
-    if (cycles < 1 || cycles > 10000) return rb_fail(err, RB_EINVAL, "cycles = %d: must be in [1, 10000]", cycles);
+    if ((st = rb_check_positive(err, "demand (Pa)", demand)) || (st = rb_valve_air_cycle_check(settle, phase, cycles, err)))
+        return st;
     p = *plant;
     p.initial_speed = 0.0;
     p.car[0].valve_delay = 0.0;

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #define BAR 1e5
+#define ATM 1.01325e5   /* the fixture's atmosphere */
 
 static void valve_car(rb_plant_params *p)
 {
@@ -20,6 +21,16 @@ static void valve_car(rb_plant_params *p)
     c->relay_tau = 0.004;
     c->relay_sweep = 9e-6;
     c->relay_travel = 2.4;
+    c->valve_delay = 0.0;   /* WSP valves as commanded */
+}
+
+/* The valve car initialised, no WSP command, the pressure demand `demand` (Pa abs). */
+static void start(rb_plant_params *p, rb_plant_state *s, rb_plant_inputs *in, double demand)
+{
+    valve_car(p);
+    CHECK(rb_plant_init(p, s, NULL) == RB_OK);
+    memset(in, 0, sizeof *in);
+    in->pressure_demand[0] = demand;
 }
 
 /* Released (no demand), the nozzle chamber near the atmosphere: the feed orifice is choked, so the
@@ -30,9 +41,7 @@ static void bleed_is_the_choked_orifice(void)
     rb_plant_params p;
     rb_plant_state s;
     rb_plant_inputs in;
-    valve_car(&p);
-    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
-    memset(&in, 0, sizeof in);
+    start(&p, &s, &in, 0.0);
     for (int i = 0; i < 1000; ++i) rb_plant_step(&p, &s, &in);
     const double gamma = 1.4, R = 287.05, T = p.temperature;
     double q = p.discharge_coefficient * p.car[0].ep_bleed_area * p.initial_pressure * sqrt(gamma / (R * T)) *
@@ -51,10 +60,7 @@ static void stroke_follows_the_membrane_lag(void)
     rb_plant_state s;
     rb_plant_inputs in;
     rb_plant_outputs out;
-    valve_car(&p);
-    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
-    memset(&in, 0, sizeof in);
-    in.pressure_demand[0] = p.atmosphere + 4.0 * BAR;
+    start(&p, &s, &in, ATM + 4.0 * BAR);
     s.m_pilot[0] = in.pressure_demand[0] * p.car[0].pilot_volume / (287.05 * p.temperature);
     s.ep_demand_lag[0] = in.pressure_demand[0];
     const double tau = p.car[0].relay_tau, travel = p.car[0].relay_travel;
@@ -80,11 +86,7 @@ static void air_is_conserved_under_cycling(void)
     rb_plant_params p;
     rb_plant_state s;
     rb_plant_inputs in;
-    valve_car(&p);
-    p.car[0].valve_delay = 0.0;
-    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
-    memset(&in, 0, sizeof in);
-    in.pressure_demand[0] = p.atmosphere + 3.6 * BAR;
+    start(&p, &s, &in, ATM + 3.6 * BAR);
     for (int i = 0; i < 3000; ++i) rb_plant_step(&p, &s, &in);
     double worst = 0.0;
     for (int cycle = 0; cycle < 10; ++cycle)

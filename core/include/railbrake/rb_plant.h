@@ -380,6 +380,9 @@ size_t rb_plant_state_size(void);
    exhausts), [1] what the cylinders' vents did. */
 rb_status rb_plant_valve_air(const rb_plant_params *plant, double demand, double settle, const double phase[3],
                              int cycles, double air[2], rb_error *err);
+/* The WSP cycle's arguments of the valve air studies (this one's and rb_detailed_valve_air's):
+   settle in [0, 100] s, each phase in [1 ms, 10 s], cycles in [1, 10000]. */
+rb_status rb_valve_air_cycle_check(double settle, const double phase[3], int cycles, rb_error *err);
 
 #ifdef __cplusplus
 }
