@@ -107,13 +107,32 @@ def test_leaf_patch_triggers_the_wsp_only_there():
 
 
 def test_bench_reports_timing():
-    figures = simulation.bench(cars=2, steps=2000)
+    figures = simulation.bench(cars=2, steps=2000, runs=1)
     assert set(figures) == {"cars", "realtime_factor", "step_us_mean", "step_us_p99", "step_us_max",
-                            "step_us_wall_mean", "substeps", "kernel", "load_average"}
+                            "step_us_wall_mean", "substeps", "kernel", "runs", "realtime_factor_median",
+                            "realtime_factor_slowest", "load_average"}
     assert figures["realtime_factor"] == pytest.approx(1e3 / figures["step_us_mean"])
     assert 0.0 < figures["step_us_mean"] and figures["step_us_wall_mean"] <= figures["step_us_max"]
     assert figures["substeps"] == 1 and figures["kernel"] in ("portable", "avx2")
-    assert simulation.bench(cars=2, steps=100, kernel="portable")["kernel"] == "portable"
+    assert figures["runs"] == 1 and figures["realtime_factor_slowest"] == figures["realtime_factor"]
+    assert simulation.bench(cars=2, steps=100, kernel="portable", runs=1)["kernel"] == "portable"
+
+
+def test_bench_keeps_the_fastest_run():
+    """Without a count, runs until the span has passed (at least three); the figures are the fastest
+    run's, the slowest and median beside them."""
+    figures = simulation.bench(cars=1, steps=200, seconds=0.05)
+    assert figures["runs"] >= simulation.BENCH_MIN_RUNS
+    assert figures["realtime_factor"] >= figures["realtime_factor_median"] >= figures["realtime_factor_slowest"]
+    assert simulation.bench(cars=1, steps=100, runs=4)["runs"] == 4
+
+
+@pytest.mark.parametrize("bad", [{"runs": 0}, {"runs": 2.5}, {"runs": True}, {"seconds": 0.0},
+                                 {"seconds": float("nan")}, {"seconds": -1}])
+def test_bench_refuses_bad_counts(bad):
+    name = next(iter(bad))
+    with pytest.raises(InputError, match=f"{name} = "):
+        simulation.bench(cars=1, steps=100, **bad)
 
 
 def test_substeps_only_above_two_ms():
@@ -136,10 +155,10 @@ def test_kernels_give_the_same_kpis(preset):
 
 def test_kernel_from_the_environment(monkeypatch):
     monkeypatch.setenv(simulation.KERNEL_ENV, "portable")
-    assert simulation.bench(cars=1, steps=100)["kernel"] == "portable"
+    assert simulation.bench(cars=1, steps=100, runs=1)["kernel"] == "portable"
     monkeypatch.setenv(simulation.KERNEL_ENV, "sse9")
     with pytest.raises(InputError, match="RAILBRAKE_KERNEL = 'sse9'"):
-        simulation.bench(cars=1, steps=100)
+        simulation.bench(cars=1, steps=100, runs=1)
 
 
 def test_channel_layout_names_every_axle():
