@@ -377,7 +377,7 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float) -> dict:
     }
 
 
-BENCH_SECONDS = 5.0   # the default span of a bench's runs (s of wall-clock time)
+BENCH_SECONDS = 10.0  # the default span of a bench's runs (s of wall-clock time)
 BENCH_MIN_RUNS = 3
 
 
