@@ -6,6 +6,9 @@
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
+#ifndef M_LN10
+#define M_LN10 2.30258509299404568402
+#endif
 
 rb_status rb_polach_check(const rb_polach_params *p, rb_error *err)
 {
@@ -66,24 +69,23 @@ rb_status rb_polach_coefficient(const double *creep, const double *speed, size_t
     return RB_OK;
 }
 
-rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_contact *c,
-                         const rb_polach_params *p, double *peak_coefficient,
-                         double *peak_creep, rb_error *err)
-{
-    rb_status s;
-    if ((s = rb_check_nonnegative(err, "speed", speed))) return s;
-    if ((s = rb_check_positive(err, "normal_force", normal_force))) return s;
-    if ((s = rb_creep_contact_check(c, err))) return s;
-    if ((s = rb_polach_check(p, err))) return s;
+/* The maximum of F over log10(creep) in [-7, 0]: a scan of N_SCAN points, then the best bracket
+ * refined by golden section; *maxima counts the scan's inner local maxima (a point above its
+ * lower neighbour and not below its upper one; a rise up to creep 1 is not counted). */
+enum { N_SCAN = 141 };
 
-    /* Scan log10(creep) over [-7, 0], then refine the best bracket by golden section. */
-    enum { N_SCAN = 141 };
+static void peak_search(double speed, double normal_force, const rb_creep_contact *c, const rb_polach_params *p,
+                        double *peak_coefficient, double *log_creep, int *maxima)
+{
     const double lo = -7.0, hi = 0.0, step = (hi - lo) / (N_SCAN - 1);
-    int best = 0;
-    double best_f = -1.0;
+    int best = 0, count = 0;
+    double best_f = -1.0, before = -1.0, last = -1.0;
     for (int i = 0; i < N_SCAN; ++i) {
         double f = rb_polach_coefficient_fast(pow(10.0, lo + i * step), speed, normal_force, c, p);
+        if (i > 1 && last > before && last >= f) ++count;
         if (f > best_f) { best_f = f; best = i; }
+        before = last;
+        last = f;
     }
     double x_lo = lo + (best > 0 ? best - 1 : 0) * step;
     double x_hi = lo + (best < N_SCAN - 1 ? best + 1 : N_SCAN - 1) * step;
@@ -105,9 +107,85 @@ rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_conta
     double x_best = 0.5 * (x_lo + x_hi);
     double f_best = rb_polach_coefficient_fast(pow(10.0, x_best), speed, normal_force, c, p);
     if (best_f > f_best) { f_best = best_f; x_best = lo + best * step; }
-    if (peak_coefficient) *peak_coefficient = f_best;
-    if (peak_creep) *peak_creep = pow(10.0, x_best);
+    *peak_coefficient = f_best;
+    *log_creep = x_best;
+    *maxima = count;
+}
+
+rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_contact *c,
+                         const rb_polach_params *p, double *peak_coefficient,
+                         double *peak_creep, rb_error *err)
+{
+    rb_status s;
+    if ((s = rb_check_nonnegative(err, "speed", speed))) return s;
+    if ((s = rb_check_positive(err, "normal_force", normal_force))) return s;
+    if ((s = rb_creep_contact_check(c, err))) return s;
+    if ((s = rb_polach_check(p, err))) return s;
+    double peak, log_creep;
+    int maxima;
+    peak_search(speed, normal_force, c, p, &peak, &log_creep, &maxima);
+    if (peak_coefficient) *peak_coefficient = peak;
+    if (peak_creep) *peak_creep = pow(10.0, log_creep);
     return RB_OK;
+}
+
+/* The peak followed from a nearby creep: Newton's method on dF/d(log10 creep) with central
+ * differences, from *log_creep. Polach's F can have a second maximum at large creep, where the
+ * friction levels off towards mu0 A (with kS / kA outside [0.132, 1] the creep term itself has
+ * two humps), so Newton finds the maximum of its own branch only; the full creep 1 is compared
+ * too, unless the bound F <= mu (1 + 1/pi) (the creep term is below 1/2 + pi/2) rules it out.
+ * A caller that follows the peak over a run re-scans now and then, and always where the scan saw
+ * more than one maximum (run.c). A Newton step that leaves the neighbourhood or a convex point:
+ * the full scan. */
+#define TRACK_H 1e-4          /* decades: the differences' step */
+#define TRACK_TOLERANCE 1e-5  /* decades: Newton stops below this move (F then exact to ~1e-9) */
+#define TRACK_MAX_MOVE 0.1    /* decades: a longer Newton step is no longer local */
+
+static double coefficient_at(double log_creep, double speed, double normal_force, const rb_creep_contact *c,
+                             const rb_polach_params *p)
+{
+    return rb_polach_coefficient_fast(exp(log_creep * M_LN10), speed, normal_force, c, p);
+}
+
+double rb_polach_peak_scan(double speed, double normal_force, const rb_creep_contact *c,
+                           const rb_polach_params *p, double *log_creep, int *maxima)
+{
+    double peak;
+    peak_search(speed, normal_force, c, p, &peak, log_creep, maxima);
+    return peak;
+}
+
+/* Could full slip (creep 1) beat `peak`? F <= mu (1/2 + pi/2) 2 / pi everywhere. */
+static int full_slip_may_beat(double peak, double speed, const rb_polach_params *p)
+{
+    double mu_full_slip = p->mu0 * ((1.0 - p->A) * exp(-p->B * speed) + p->A);
+    return mu_full_slip * (1.0 + 1.0 / M_PI) > peak;
+}
+
+double rb_polach_peak_track(double speed, double normal_force, const rb_creep_contact *c,
+                            const rb_polach_params *p, double *log_creep)
+{
+    double x = *log_creep;
+    int maxima;
+    if (!(x > -7.0 + TRACK_MAX_MOVE && x < -TRACK_MAX_MOVE))   /* NaN, or near an end of the scan's range */
+        return rb_polach_peak_scan(speed, normal_force, c, p, log_creep, &maxima);
+    double f = coefficient_at(x, speed, normal_force, c, p), move = HUGE_VAL;
+    for (int it = 0; it < 8 && fabs(move) >= TRACK_TOLERANCE; ++it) {
+        double fl = coefficient_at(x - TRACK_H, speed, normal_force, c, p);
+        double fr = coefficient_at(x + TRACK_H, speed, normal_force, c, p);
+        double curvature = fl - 2.0 * f + fr;
+        move = curvature < 0.0 ? -0.5 * TRACK_H * (fr - fl) / curvature : HUGE_VAL;
+        if (!(fabs(move) <= TRACK_MAX_MOVE && x + move > -7.0 && x + move < 0.0))
+            return rb_polach_peak_scan(speed, normal_force, c, p, log_creep, &maxima);
+        double f_new = coefficient_at(x + move, speed, normal_force, c, p);
+        if (f_new < f) break;   /* converged to rounding: keep the better point */
+        x += move;
+        f = f_new;
+    }
+    if (full_slip_may_beat(f, speed, p) && coefficient_at(0.0, speed, normal_force, c, p) > f)
+        return rb_polach_peak_scan(speed, normal_force, c, p, log_creep, &maxima);
+    *log_creep = x;
+    return f;
 }
 
 double rb_conditioning_factor(double axle, double leading_factor, double recovery_axles)

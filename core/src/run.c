@@ -90,6 +90,14 @@ void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
         if (run->out.supply[c] < run->min_supply) run->min_supply = run->out.supply[c];
     run->min_supply_margin = HUGE_VAL;
     run->max_disc_temperature = plant->ambient_temperature;
+    run->total_mass = 0.0;
+    for (int c = 0; c < plant->n_cars; ++c) run->total_mass += plant->car[c].vehicle.mass;
+    for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a) {
+        run->adhesion_axle[a] = !rb_run_car_isolated(plant, a / RB_AXLES_PER_CAR);
+        run->peak_log_creep[a] = NAN;
+        run->peak_zone[a] = -1;
+        run->peak_maxima[a] = 0;
+    }
 }
 
 void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, const rb_bcu_params *bcu,
@@ -150,14 +158,40 @@ static void accumulate_air(const rb_plant_params *p, rb_run_state *r)
     }
 }
 
+/* The available peak adhesion, mean over the axles of the cars not isolated (< 0: none). Each
+ * axle's peak is followed from its last sample (about 5 evaluations of Polach's law, against some
+ * 200 for a search of the whole curve). The whole curve is searched at the first sample and after
+ * a change of adhesion condition; at every sample where the last search saw more than one maximum
+ * (another branch could rise above the followed one); and, to see such a branch appear, for one
+ * axle every RESCAN_EVERY / n_axles samples (at least every sample). */
+#define RESCAN_EVERY 8
+
+static double mean_peak_adhesion(const rb_plant_params *p, rb_run_state *r)
+{
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR, n = 0;
+    int stride = n_axles < RESCAN_EVERY ? (RESCAN_EVERY + n_axles - 1) / n_axles : 1;
+    int rescan_axle = r->peak_samples % stride == 0 ? (int)(r->peak_rescans++ % n_axles) : -1;
+    double sum = 0.0;
+    for (int a = 0; a < n_axles; ++a) {
+        if (!r->adhesion_axle[a]) continue;
+        if (r->plant.zone_of[a] != r->peak_zone[a]) {   /* another condition */
+            r->peak_zone[a] = r->plant.zone_of[a];
+            r->peak_log_creep[a] = NAN;
+        }
+        int search = a == rescan_axle || r->peak_maxima[a] != 1 || isnan(r->peak_log_creep[a]);
+        sum += rb_plant_peak_adhesion_track(p, &r->plant, a, &r->peak_log_creep[a], search ? &r->peak_maxima[a] : NULL);
+        ++n;
+    }
+    return n > 0 ? sum / n : -1.0;
+}
+
 /* KPI accumulation after one step. */
 static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
 {
     const rb_plant_outputs *o = &r->out;
-    double dt = p->dt, total_mass = 0.0, rail = 0.0;
+    double dt = p->dt, rail = 0.0;
     accumulate_air(p, r);
     if (!r->braking) return;
-    for (int c = 0; c < p->n_cars; ++c) total_mass += p->car[c].vehicle.mass;
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
         int c = a / RB_AXLES_PER_CAR;
         double v = o->car_speed[c];
@@ -174,14 +208,11 @@ static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_s
             }
         }
     }
-    r->rail_decel_sum += rail / total_mass * dt;
+    r->rail_decel_sum += rail / r->total_mass * dt;
     r->rail_decel_time += dt;
     if (o->time >= r->next_adhesion - 1e-9 && o->speed > LOCK_SPEED) {
-        double sum = 0.0;
-        int n = 0;
-        for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
-            if (!rb_run_car_isolated(p, a / RB_AXLES_PER_CAR)) { sum += rb_plant_peak_adhesion(p, &r->plant, a); ++n; }
-        if (n > 0) { r->peak_sum += sum / n; r->peak_samples++; }
+        double peak = mean_peak_adhesion(p, r);
+        if (peak >= 0.0) { r->peak_sum += peak; r->peak_samples++; }
         r->next_adhesion += sc->adhesion_interval;
     }
 }

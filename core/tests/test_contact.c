@@ -122,6 +122,48 @@ static void test_polach_vanishing_friction(void)
     CHECK(f == 0.0);
 }
 
+/* The followed peak (rb_polach_peak_track), down in speed as a run samples it, over the checked
+ * parameter ranges: always a maximum of the curve (a value of the law, no higher than the full
+ * scan's, with lower values at creep 1e-3 decades either side), and the scan's own wherever the
+ * scan's maximum lies on the followed branch (within 0.1 decades of it). Parameters drawn
+ * log-uniformly (B, kA, kS) or uniformly (mu0, A) by a fixed linear congruential generator; half
+ * of them with kS / kA in [0.14, 1], the law's usual range. */
+static double uniform(unsigned long *state)
+{
+    *state = *state * 6364136223846793005UL + 1442695040888963407UL;
+    return (double)((*state >> 11) & ((1UL << 53) - 1)) / (double)(1UL << 53);
+}
+
+static void test_polach_peak_track(void)
+{
+    rb_creep_contact c = {0.0062, 0.0049, 4.12, 8.1e10};
+    unsigned long seed = 12345;
+    double worst = 0.0;
+    int same_branch = 0, other_branch = 0;
+    for (int set = 0; set < 200; ++set) {
+        rb_polach_params p = {0.01 + 0.99 * uniform(&seed), uniform(&seed), pow(10.0, -2.0 + 4.0 * uniform(&seed)),
+                              pow(10.0, -3.0 + 3.0 * uniform(&seed)), pow(10.0, -3.0 + 3.0 * uniform(&seed))};
+        if (set % 2 == 0) p.kS = p.kA * (0.14 + 0.86 * uniform(&seed));
+        double Q = 50e3 + 60e3 * uniform(&seed), log_creep = NAN;
+        for (double v = 100.0; v > 2.0; v -= 0.7) {
+            double scan = 0.0, scan_creep = 0.0, peak = rb_polach_peak_track(v, Q, &c, &p, &log_creep);
+            CHECK(rb_polach_peak(v, Q, &c, &p, &scan, &scan_creep, NULL) == RB_OK);
+            double creep = pow(10.0, log_creep);
+            CHECK(peak <= scan * (1.0 + 1e-12));
+            CHECK(rb_polach_coefficient_fast(creep * pow(10.0, -1e-3), v, Q, &c, &p) <= peak);
+            if (log_creep < -1e-3) CHECK(rb_polach_coefficient_fast(creep * pow(10.0, 1e-3), v, Q, &c, &p) <= peak);
+            if (fabs(log10(scan_creep) - log_creep) > 0.1) { other_branch++; continue; }
+            same_branch++;
+            double error = fabs(peak - scan) / scan;
+            if (error > worst) worst = error;
+            CHECK(error <= 1e-10);
+        }
+    }
+    CHECK(same_branch > 20 * other_branch);
+    printf("peak track: %d samples on the scan's branch (largest relative difference %.2e), %d on another\n",
+           same_branch, worst, other_branch);
+}
+
 int main(void)
 {
     test_polach_vanishing_friction();
@@ -131,5 +173,6 @@ int main(void)
     test_hertz_bad_input();
     test_kalker();
     test_polach();
+    test_polach_peak_track();
     return rb_test_summary("test_contact");
 }

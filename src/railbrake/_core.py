@@ -413,6 +413,12 @@ rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_cha
                                c_size_t, _err_p)
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
                           c_double_p, c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
+class RunBenchResult(Structure):
+    _fields_ = _doubles("steps", "run_us", "plant_us")
+
+
+rb_run_bench = _declare("rb_run_bench", c_int, POINTER(PlantParams), POINTER(BcuParams), POINTER(WspParams),
+                        POINTER(Scenario), c_int, c_void_p, c_void_p, c_size_t, POINTER(RunBenchResult), _err_p)
 rb_plant_valve_air = _declare("rb_plant_valve_air", c_int, POINTER(PlantParams), c_double, c_double, c_double_p,
                               c_int, c_double_p, _err_p)
 

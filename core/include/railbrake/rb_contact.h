@@ -73,6 +73,17 @@ rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_conta
                          const rb_polach_params *p, double *peak_coefficient,
                          double *peak_creep, rb_error *err);
 
+/* The same peak for loops that sample it over a run, with *log_creep the log10 of its creep
+ * (in: from the last sample, NaN: none; out: this one's). _scan searches the whole range as
+ * rb_polach_peak and counts the curve's inner maxima it passed (*maxima: more than 1, the curve
+ * has another branch; a rise towards full slip is not one); _track follows the maximum of
+ * the last sample's branch by Newton's method (about 5 evaluations of the law against some 200),
+ * which misses another branch rising above it. No argument checks. */
+double rb_polach_peak_scan(double speed, double normal_force, const rb_creep_contact *c,
+                           const rb_polach_params *p, double *log_creep, int *maxima);
+double rb_polach_peak_track(double speed, double normal_force, const rb_creep_contact *c,
+                            const rb_polach_params *p, double *log_creep);
+
 /* Rail conditioning by the axles ahead (heavy rain): factor on mu0 for the axle with
  * index axle (0 = leading): 1 - (1 - leading_factor) * exp(-axle / recovery_axles). */
 double rb_conditioning_factor(double axle, double leading_factor, double recovery_axles);

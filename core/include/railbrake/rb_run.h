@@ -71,6 +71,15 @@ typedef struct {
     double shortfall_time[RB_PLANT_MAX_AXLES];
     double axle_max_slip[RB_PLANT_MAX_AXLES];
     double axle_locks[RB_PLANT_MAX_AXLES];
+    /* constant over the run (rb_run_start_kpis): the train's mass, which axles count for adhesion */
+    double total_mass;
+    uint8_t adhesion_axle[RB_PLANT_MAX_AXLES];   /* 1: its car is not isolated */
+    /* the available peak adhesion, followed per axle (rb_plant_peak_adhesion_track): log10 of its
+     * creep, for the adhesion condition peak_zone; the maxima its last search saw; searches made */
+    double peak_log_creep[RB_PLANT_MAX_AXLES];
+    int peak_zone[RB_PLANT_MAX_AXLES];
+    int peak_maxima[RB_PLANT_MAX_AXLES];
+    long peak_rescans;
 } rb_run_state;
 
 /* The scenario's brake demand at time t (a step function; a step applies from its own time on). */
@@ -110,6 +119,21 @@ rb_status rb_run_channel_info(int index, int n_cars, char *name, size_t name_siz
 rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, long steps,
                          double *step_us_mean, double *step_us_p99, double *step_us_max,
                          double *step_us_wall_mean, char *kernel, size_t kernel_size, rb_error *err);
+
+/* What a whole run costs against its plant alone on the same scenario, in CPU microseconds of the
+ * calling thread per step (bench_run.c): run_us for the run as rb_run_advance makes it without
+ * recording (BCU, WSP, KPIs), plant_us for a fresh plant stepped through the inputs the BCU gave it
+ * in that run; each the fastest of `repeats` alternating passes. trace holds max_steps inputs
+ * (the run's steps); run is a caller-provided rb_run_state. */
+typedef struct {
+    double steps;      /* plant steps of the run */
+    double run_us;     /* whole run, per step */
+    double plant_us;   /* the plant alone, per step */
+} rb_run_bench_result;
+
+rb_status rb_run_bench(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
+                       const rb_scenario *scenario, int repeats, rb_run_state *run, rb_plant_inputs *trace,
+                       size_t max_steps, rb_run_bench_result *result, rb_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,84 @@
+/* What a whole run costs against its plant alone, on the same scenario (railbrake bench).
+ *
+ * One pass runs the scenario as `railbrake run` does (BCU, WSP, KPIs, no recording) and keeps the
+ * plant's inputs of every step; a second pass steps a fresh plant through those inputs and nothing
+ * else. Both are timed on the thread's CPU clock; the passes alternate so a slower stretch of a
+ * shared machine hits both alike. Not part of the FMU (it reads the OS's clocks). */
+#define _POSIX_C_SOURCE 199309L
+#include "railbrake/rb_run.h"
+
+#include <string.h>
+#include <time.h>
+
+static double thread_cpu_us(void)
+{
+    struct timespec t;
+#ifdef CLOCK_THREAD_CPUTIME_ID
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+#else
+    clock_gettime(CLOCK_MONOTONIC, &t);
+#endif
+    return t.tv_sec * 1e6 + t.tv_nsec * 1e-3;
+}
+
+/* The whole run, step by step so the plant's inputs of each step can be kept (trace != NULL). */
+static rb_status whole_run(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
+                           const rb_scenario *sc, rb_run_state *run, rb_plant_inputs *trace, size_t max_steps,
+                           size_t *steps, rb_kpis *kpis, rb_error *err)
+{
+    rb_status s;
+    int finished = 0;
+    if ((s = rb_run_init(plant, bcu, wsp, sc, run, err))) return s;
+    if (!trace) {
+        if ((s = rb_run_advance(plant, bcu, sc, run, sc->max_time, NULL, 0, &finished, err))) return s;
+    } else {
+        size_t n = 0;
+        while (!finished) {
+            if (n >= max_steps)
+                return rb_fail(err, RB_ESIZE, "max_steps = %zu: the run needs more steps", max_steps);
+            if ((s = rb_run_advance(plant, bcu, sc, run, run->out.time + 0.5 * plant->dt, NULL, 0, &finished, err)))
+                return s;
+            trace[n++] = run->in;
+        }
+        *steps = n;
+    }
+    rb_run_kpis(plant, run, kpis);
+    return RB_OK;
+}
+
+static rb_status plant_alone(const rb_plant_params *plant, rb_plant_state *state, const rb_plant_inputs *trace,
+                             size_t steps, rb_error *err)
+{
+    rb_status s;
+    if ((s = rb_plant_init(plant, state, err))) return s;
+    for (size_t i = 0; i < steps; ++i) rb_plant_step(plant, state, &trace[i]);
+    return RB_OK;
+}
+
+rb_status rb_run_bench(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
+                       const rb_scenario *sc, int repeats, rb_run_state *run, rb_plant_inputs *trace,
+                       size_t max_steps, rb_run_bench_result *result, rb_error *err)
+{
+    rb_status s;
+    rb_kpis kpis;
+    if (!run || !trace || !result) return rb_fail(err, RB_EINVAL, "run, trace and result must not be NULL");
+    if (repeats < 1 || repeats > 1000) return rb_fail(err, RB_EINVAL, "repeats = %d: must be in [1, 1000]", repeats);
+    memset(result, 0, sizeof *result);
+    size_t steps = 0;
+    if ((s = whole_run(plant, bcu, wsp, sc, run, trace, max_steps, &steps, &kpis, err))) return s;
+    if (steps == 0) return rb_fail(err, RB_EINVAL, "the scenario ends before its first step");
+    result->steps = (double)steps;
+    result->run_us = result->plant_us = HUGE_VAL;
+    for (int i = 0; i < repeats; ++i) {
+        double t0 = thread_cpu_us();
+        if ((s = whole_run(plant, bcu, wsp, sc, run, NULL, 0, NULL, &kpis, err))) return s;
+        double t1 = thread_cpu_us();
+        if ((s = plant_alone(plant, &run->plant, trace, steps, err))) return s;
+        double t2 = thread_cpu_us();
+        if (t1 - t0 < result->run_us) result->run_us = t1 - t0;
+        if (t2 - t1 < result->plant_us) result->plant_us = t2 - t1;
+    }
+    result->run_us /= (double)steps;
+    result->plant_us /= (double)steps;
+    return RB_OK;
+}
