@@ -138,7 +138,7 @@ rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_conta
  * more than one maximum (run.c). A Newton step that leaves the neighbourhood or a convex point:
  * the full scan. */
 #define TRACK_H 1e-4          /* decades: the differences' step */
-#define TRACK_TOLERANCE 1e-5  /* decades: Newton stops below this move (F then exact to ~1e-9) */
+#define TRACK_TOLERANCE 2e-3  /* decades: Newton stops after a move below this (the next would be ~1e-5, F exact to ~1e-9) */
 #define TRACK_MAX_MOVE 0.1    /* decades: a longer Newton step is no longer local */
 
 static double coefficient_at(double log_creep, double speed, double normal_force, const rb_creep_contact *c,

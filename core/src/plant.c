@@ -392,8 +392,13 @@ double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_sta
 
 void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
 {
-    double rt = 287.05 * p->temperature;
     memset(out, 0, sizeof *out);
+    rb_plant_update_outputs(p, s, out);
+}
+
+void rb_plant_update_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
+{
+    double rt = 287.05 * p->temperature;
     out->time = s->time;
     out->speed = s->v[0];
     out->position = s->x[0];

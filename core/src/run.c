@@ -137,40 +137,18 @@ int rb_run_car_isolated(const rb_plant_params *p, int car)
     return 0;
 }
 
-/* Air supply, cylinders and discs after one step: minima, shortfalls, hottest disc. */
-static void accumulate_air(const rb_plant_params *p, rb_run_state *r)
-{
-    const rb_plant_outputs *o = &r->out;
-    if (o->main_reservoir < r->min_main_reservoir) r->min_main_reservoir = o->main_reservoir;
-    for (int c = 0; c < p->n_cars; ++c) {
-        if (o->supply[c] < r->min_supply) r->min_supply = o->supply[c];
-        double demand = r->in.pressure_demand[c];
-        if (r->braking && demand > p->atmosphere && o->supply[c] - demand < r->min_supply_margin)
-            r->min_supply_margin = o->supply[c] - demand;
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-            int a = c * RB_AXLES_PER_CAR + k;
-            /* short of demand with the WSP valves at rest: the air did not get there */
-            int short_of = r->braking && !o->hold[a] && !o->vent[a] && demand - o->cylinder[a] > RB_SHORTFALL_PA;
-            r->shortfall_time[a] = short_of ? r->shortfall_time[a] + p->dt : 0.0;
-            if (r->shortfall_time[a] > r->max_shortfall) r->max_shortfall = r->shortfall_time[a];
-            if (o->disc_temperature[a] > r->max_disc_temperature) r->max_disc_temperature = o->disc_temperature[a];
-        }
-    }
-}
-
 /* The available peak adhesion, mean over the axles of the cars not isolated (< 0: none). Each
  * axle's peak is followed from its last sample (about 5 evaluations of Polach's law, against some
  * 200 for a search of the whole curve). The whole curve is searched at the first sample and after
  * a change of adhesion condition; at every sample where the last search saw more than one maximum
- * (another branch could rise above the followed one); and, to see such a branch appear, for one
- * axle every RESCAN_EVERY / n_axles samples (at least every sample). */
-#define RESCAN_EVERY 8
+ * (another branch could rise above the followed one); and, to see such a branch appear, every
+ * RESCAN_EVERY samples for one axle in turn. */
+#define RESCAN_EVERY 4
 
 static double mean_peak_adhesion(const rb_plant_params *p, rb_run_state *r)
 {
     int n_axles = p->n_cars * RB_AXLES_PER_CAR, n = 0;
-    int stride = n_axles < RESCAN_EVERY ? (RESCAN_EVERY + n_axles - 1) / n_axles : 1;
-    int rescan_axle = r->peak_samples % stride == 0 ? (int)(r->peak_rescans++ % n_axles) : -1;
+    int rescan_axle = r->peak_samples % RESCAN_EVERY == 0 ? (int)(r->peak_rescans++ % n_axles) : -1;
     double sum = 0.0;
     for (int a = 0; a < n_axles; ++a) {
         if (!r->adhesion_axle[a]) continue;
@@ -185,31 +163,52 @@ static double mean_peak_adhesion(const rb_plant_params *p, rb_run_state *r)
     return n > 0 ? sum / n : -1.0;
 }
 
-/* KPI accumulation after one step. */
+/* One car's axles after a braking step: rail force, slips above 10 km/h, locks, cylinder
+ * shortfalls (a cylinder short of its car's demand with the WSP valves at rest: the air did not
+ * get there). The rail force is summed into *rail axle by axle, in the train's order. */
+static void accumulate_axles(const rb_plant_params *p, rb_run_state *r, int c, double *rail)
+{
+    const rb_plant_outputs *o = &r->out;
+    double v = o->car_speed[c], demand = r->in.pressure_demand[c], dt = p->dt;
+    int counts = v > LOCK_SPEED;
+    for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+        *rail -= r->plant.force[a];
+        int short_of = (o->hold[a] | o->vent[a]) == 0 && demand - o->cylinder[a] > RB_SHORTFALL_PA;
+        r->shortfall_time[a] = short_of ? r->shortfall_time[a] + dt : 0.0;
+        if (r->shortfall_time[a] > r->max_shortfall) r->max_shortfall = r->shortfall_time[a];
+        if (!counts) continue;
+        double slip = fabs(o->slip[a]);
+        if (slip > r->axle_max_slip[a]) r->axle_max_slip[a] = slip;
+        if (o->wheel_speed[a] < 0.1 * v) {
+            if (r->lock_time[a] == 0.0) { r->lock_events++; r->axle_locks[a]++; }
+            r->lock_time[a] += dt;
+            if (r->lock_time[a] > r->max_lock) r->max_lock = r->lock_time[a];
+        } else {
+            r->lock_time[a] = 0.0;
+        }
+    }
+}
+
+/* KPI accumulation after one step: air supply minima and the hottest disc always; while
+ * braking, the supply margin, the axles and the sampled available adhesion. */
 static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
 {
     const rb_plant_outputs *o = &r->out;
-    double dt = p->dt, rail = 0.0;
-    accumulate_air(p, r);
-    if (!r->braking) return;
-    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
-        int c = a / RB_AXLES_PER_CAR;
-        double v = o->car_speed[c];
-        rail -= r->plant.force[a];
-        if (v > LOCK_SPEED) {
-            if (fabs(o->slip[a]) > r->max_slip) r->max_slip = fabs(o->slip[a]);
-            if (fabs(o->slip[a]) > r->axle_max_slip[a]) r->axle_max_slip[a] = fabs(o->slip[a]);
-            if (o->wheel_speed[a] < 0.1 * v) {
-                if (r->lock_time[a] == 0.0) { r->lock_events++; r->axle_locks[a]++; }
-                r->lock_time[a] += dt;
-                if (r->lock_time[a] > r->max_lock) r->max_lock = r->lock_time[a];
-            } else {
-                r->lock_time[a] = 0.0;
-            }
-        }
+    double rail = 0.0;
+    if (o->main_reservoir < r->min_main_reservoir) r->min_main_reservoir = o->main_reservoir;
+    for (int c = 0; c < p->n_cars; ++c)
+        if (o->supply[c] < r->min_supply) r->min_supply = o->supply[c];
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
+        if (o->disc_temperature[a] > r->max_disc_temperature) r->max_disc_temperature = o->disc_temperature[a];
+    if (!r->braking) return;   /* before braking every shortfall, slip and lock is 0 */
+    for (int c = 0; c < p->n_cars; ++c) {
+        double demand = r->in.pressure_demand[c];
+        if (demand > p->atmosphere && o->supply[c] - demand < r->min_supply_margin)
+            r->min_supply_margin = o->supply[c] - demand;
+        accumulate_axles(p, r, c, &rail);
     }
-    r->rail_decel_sum += rail / r->total_mass * dt;
-    r->rail_decel_time += dt;
+    r->rail_decel_sum += rail / r->total_mass * p->dt;
+    r->rail_decel_time += p->dt;
     if (o->time >= r->next_adhesion - 1e-9 && o->speed > LOCK_SPEED) {
         double peak = mean_peak_adhesion(p, r);
         if (peak >= 0.0) { r->peak_sum += peak; r->peak_samples++; }
@@ -240,7 +239,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         }
         rb_bcu_step(bcu, &r->bcu, &d, &r->out, &r->in);
         rb_plant_step(plant, &r->plant, &r->in);
-        rb_plant_get_outputs(plant, &r->plant, &r->out);
+        rb_plant_update_outputs(plant, &r->plant, &r->out);
         accumulate(plant, sc, r);
         r->stopped = r->braking && r->out.speed <= sc->stop_speed;
         if (r->stopped || r->out.time >= sc->max_time - 1e-9) {
@@ -270,7 +269,9 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
         k->stopping_time_s = o->time - r->brake_time;
         k->mean_deceleration = k->stopping_time_s > 0.0 ? (r->brake_speed - o->speed) / k->stopping_time_s : 0.0;
     }
-    k->max_slip = r->max_slip;
+    k->max_slip = 0.0;   /* the largest of the axles' */
+    for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a)
+        if (r->axle_max_slip[a] > k->max_slip) k->max_slip = r->axle_max_slip[a];
     k->wheel_lock_events = r->lock_events;
     k->max_lock_duration_s = r->max_lock;
     k->air_consumed_kg = o->air_vented;

@@ -361,6 +361,9 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
 /* Advances one step of p->dt. No checks, no allocation. */
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in);
 void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
+/* The same into outputs that rb_plant_get_outputs filled for this plant before (a loop's own
+ * copy): the cars' and axles' entries, without clearing the unused rest each step. */
+void rb_plant_update_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
 /* Air mass in every volume of the plant, kg. */
 double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
 /* Brake torque of one axle at cylinder pressure p_cyl and wheel peripheral speed (N m). */

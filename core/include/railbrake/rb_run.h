@@ -63,7 +63,7 @@ typedef struct {
     double next_record, next_adhesion;
     double rail_decel_sum, rail_decel_time;      /* time integral of the rail deceleration */
     double peak_sum; long peak_samples;
-    double max_slip, max_lock;
+    double max_lock;
     double lock_time[RB_PLANT_MAX_AXLES];
     int lock_events;
     size_t rows;
