@@ -143,7 +143,7 @@ int rb_run_car_isolated(const rb_plant_params *p, int car)
  * a change of adhesion condition; at every sample where the last search saw more than one maximum
  * (another branch could rise above the followed one); and, to see such a branch appear, every
  * RESCAN_EVERY samples for one axle in turn. */
-#define RESCAN_EVERY 4
+#define RESCAN_EVERY 10
 
 static double mean_peak_adhesion(const rb_plant_params *p, rb_run_state *r)
 {
