@@ -139,11 +139,12 @@ int rb_run_car_isolated(const rb_plant_params *p, int car)
 
 /* The available peak adhesion, mean over the axles of the cars not isolated (< 0: none). Each
  * axle's peak is followed from its last sample (about 5 evaluations of Polach's law, against some
- * 200 for a search of the whole curve). The whole curve is searched at the first sample and after
- * a change of adhesion condition; at every sample where the last search saw more than one maximum
- * (another branch could rise above the followed one); and, to see such a branch appear, every
- * RESCAN_EVERY samples for one axle in turn. */
-#define RESCAN_EVERY 10
+ * 200 for a search of the whole curve). The whole curve is searched at the first sample, after a
+ * change of adhesion condition, and at every sample while it has more than one inner maximum
+ * (another branch could rise above the followed one). Such a branch can form as the train slows,
+ * as a shallow hump a few tenths of a decade of creep beside the other: one axle in turn is
+ * searched every RESCAN_EVERY samples to see it form. */
+#define RESCAN_EVERY 4
 
 static double mean_peak_adhesion(const rb_plant_params *p, rb_run_state *r)
 {

@@ -52,10 +52,11 @@ static void test_conditioned_rail_with_a_zone(void)
     CHECK(difference <= 1e-10);
 }
 
-/* A curve with a second inner maximum at larger creep that overtakes the first as the train
- * slows (kS / kA = 0.24, A = 0.17: found by test_contact's sweep). Followed alone, the first
- * branch would stay 2 % low at 11 m/s; the searches see both maxima, so the run searches this
- * curve at every sample and agrees to 1e-10 (the followed peaks stop Newton ~1e-5 decades short). */
+/* A curve on which a second inner maximum forms as the train slows (at about 20 m/s, 0.35
+ * decades of creep beside the first, as a shallow hump) and overtakes the first (kS / kA = 0.24,
+ * A = 0.17: found by test_contact's sweep). Followed alone, the first branch would stay 2 % low at
+ * 11 m/s; the search of one axle in turn sees the hump form, from then on the run searches that
+ * curve at every sample, and the means agree to 1e-10. */
 static void test_second_branch(void)
 {
     static rb_plant_params p;

@@ -75,7 +75,8 @@ typedef struct {
     double total_mass;
     uint8_t adhesion_axle[RB_PLANT_MAX_AXLES];   /* 1: its car is not isolated */
     /* the available peak adhesion, followed per axle (rb_plant_peak_adhesion_track): log10 of its
-     * creep, for the adhesion condition peak_zone; the maxima its last search saw; searches made */
+     * creep, for the adhesion condition peak_zone; the inner maxima its last search saw; searches
+     * made in turn */
     double peak_log_creep[RB_PLANT_MAX_AXLES];
     int peak_zone[RB_PLANT_MAX_AXLES];
     int peak_maxima[RB_PLANT_MAX_AXLES];
