@@ -13,6 +13,7 @@ Boolean is not read as a number (`load_t: "1_000"`, `wheelset_inertia_kgm2: true
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
 from pathlib import Path
@@ -180,6 +181,14 @@ def _yaml_text_number(text: str) -> bool:
 
 def load_mapping(text: str, origin: str) -> dict:
     """The YAML text as a mapping, checked as above; InputError names the line of a problem."""
+    return copy.deepcopy(_checked_mapping(text, origin)[0])
+
+
+@functools.lru_cache(maxsize=128)
+def _checked_mapping(text: str, origin: str) -> tuple[dict, dict]:
+    """(mapping, line index) of the YAML text, kept for the next read of the same text: a study
+    or a script reads the same train and scenario files run after run. Callers copy the mapping
+    before they change it."""
     try:
         _check_events(text, origin)
         node = compose(text)
@@ -193,14 +202,15 @@ def load_mapping(text: str, origin: str) -> dict:
         raise InputError(f"{origin}: nested too deeply") from None
     if not isinstance(data, dict):
         raise InputError(f"{origin}: expected a mapping of keys at the top level")
-    _check_finite(data, origin, _line_index(node))
-    return data
+    lines = _line_index(node)
+    _check_finite(data, origin, lines)
+    return data, lines
 
 
 def parse_yaml(text: str, model: type[Model], origin: str) -> Model:
     """Validate YAML text against a pydantic model; InputError names key, value and line."""
-    data = load_mapping(text, origin)
-    return validate_data(data, model, locator(origin, _line_index(compose(text))))
+    data, lines = _checked_mapping(text, origin)
+    return validate_data(data, model, locator(origin, lines))   # validation reads, never writes
 
 
 def locator(origin: str, lines: dict, overrides: dict | None = None):
