@@ -7,6 +7,8 @@
 #define _POSIX_C_SOURCE 199309L
 #include "railbrake/rb_run.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include <time.h>
 
@@ -80,5 +82,6 @@ rb_status rb_run_bench(const rb_plant_params *plant, const rb_bcu_params *bcu, c
     }
     result->run_us /= (double)steps;
     result->plant_us /= (double)steps;
+    snprintf(result->kernel, sizeof result->kernel, "%s", rb_plant_kernel_name(&run->plant));
     return RB_OK;
 }

@@ -414,7 +414,7 @@ rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_cha
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
                           c_double_p, c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
 class RunBenchResult(Structure):
-    _fields_ = _doubles("steps", "run_us", "plant_us")
+    _fields_ = _doubles("steps", "run_us", "plant_us") + [("kernel", ctypes.c_char * 16)]
 
 
 rb_run_bench = _declare("rb_run_bench", c_int, POINTER(PlantParams), POINTER(BcuParams), POINTER(WspParams),

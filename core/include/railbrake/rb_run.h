@@ -130,6 +130,7 @@ typedef struct {
     double steps;      /* plant steps of the run */
     double run_us;     /* whole run, per step */
     double plant_us;   /* the plant alone, per step */
+    char kernel[16];   /* the wheelset kernel used (rb_plant_kernel_name) */
 } rb_run_bench_result;
 
 rb_status rb_run_bench(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,

@@ -14,6 +14,7 @@ from rich.table import Table
 from railbrake import simulation
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_folder, print_json, reports_errors
 from railbrake.resolve import resolve
+from railbrake.simulation.timing import DEFAULT_SCENARIO as BENCH_SCENARIO, SECONDS as BENCH_SECONDS
 from railbrake.units import cars_text
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
@@ -108,24 +109,41 @@ def register(app: typer.Typer) -> None:
     @app.command("bench")
     @reports_errors
     def bench(
+        scenario: str = typer.Argument(BENCH_SCENARIO, help="Preset name or scenario file."),
         cars: int = typer.Option(16, help="Number of cars."),
-        steps: int = typer.Option(20000, help="Plant steps to time (1 ms each)."),
         kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
-        runs: Optional[int] = typer.Option(None, min=1, help="Timed runs of STEPS steps each "
-                                           "(default: as many as fit in --seconds, at least 3)."),
-        seconds: float = typer.Option(simulation.BENCH_SECONDS, min=0.001, help="Wall-clock time (s) "
-                                      "the runs span when --runs is not given."),
+        runs: Optional[int] = typer.Option(None, help="Timed runs (default: as many as fit in --seconds, "
+                                           "at least 3)."),
+        seconds: float = typer.Option(BENCH_SECONDS, help="Wall-clock time (s) the runs span when --runs "
+                                      "is not given."),
+        plant: bool = typer.Option(False, "--plant", help="The plant alone at 1 ms with constant inputs "
+                                   "(the HIL step budget: p99 and max step times) instead of a whole run."),
+        steps: int = typer.Option(20000, help="With --plant: plant steps per timed run (1 ms each)."),
         json: bool = typer.Option(False, "--json", help="Print as JSON."),
     ):
-        """The plant alone at 1 ms (timing loop in C): real-time factor (CPU time per step) and step
-        times of the fastest of several runs, with the spread over the runs."""
-        figures = simulation.bench(cars, steps, kernel=kernel, runs=runs, seconds=seconds)
+        """What a run costs: a whole run of SCENARIO (BCU, WSP, KPIs, no recording) in CPU us per
+        simulated ms against its plant alone on the same inputs, and its real-time factor (wall
+        clock). --plant: the plant's step times alone."""
+        if plant:
+            figures = simulation.bench_plant(cars, steps, kernel=kernel, runs=runs, seconds=seconds)
+        else:
+            figures = simulation.bench(scenario, cars, kernel=kernel, runs=runs, seconds=seconds)
         if json:
             print_json(figures)
-            return
-        typer.echo(f"{cars_text(figures['cars'])}, {figures['kernel']} kernel, {figures['substeps']} sub-step(s), "
-                   f"fastest of {figures['runs']} runs: "
-                   f"{figures['realtime_factor']:.0f}x real time, step {figures['step_us_mean']:.2f} us mean CPU "
-                   f"({figures['step_us_wall_mean']:.2f} us wall), {figures['step_us_p99']:.2f} us p99, "
-                   f"{figures['step_us_max']:.2f} us max; over the runs {figures['realtime_factor_median']:.0f}x "
-                   f"median, {figures['realtime_factor_slowest']:.0f}x slowest")
+        elif plant:
+            typer.echo(f"{cars_text(figures['cars'])}, plant alone, {figures['kernel']} kernel, "
+                       f"{figures['substeps']} sub-step(s), fastest of {figures['runs']} runs: step "
+                       f"{figures['step_us_cpu_mean']:.2f} us CPU, {figures['step_us_wall_mean']:.2f} us wall "
+                       f"({figures['realtime_factor']:.0f}x real time), {figures['step_us_p99']:.2f} us p99, "
+                       f"{figures['step_us_max']:.2f} us max; over the runs {figures['realtime_factor_median']:.0f}x "
+                       f"median, {figures['realtime_factor_slowest']:.0f}x slowest")
+        else:
+            typer.echo(f"{figures['scenario']}, {cars_text(figures['cars'])}, {figures['kernel']} kernel, "
+                       f"{figures['simulated_s']:.1f} s simulated, fastest of {figures['runs']} runs:\n"
+                       f"  whole run   {figures['run_cpu_us_per_ms']:.3f} us CPU per simulated ms "
+                       f"(median {figures['run_cpu_us_per_ms_median']:.3f}), {figures['run_wall_s']:.2f} s wall, "
+                       f"{figures['realtime_factor']:.0f}x real time\n"
+                       f"  inside C    {figures['core_run_cpu_us_per_ms']:.3f} us CPU per simulated ms\n"
+                       f"  plant alone {figures['plant_cpu_us_per_ms']:.3f} us CPU per simulated ms\n"
+                       f"  ratio       {figures['ratio']:.2f} (whole run / plant alone; "
+                       f"{figures['core_ratio']:.2f} inside C)")

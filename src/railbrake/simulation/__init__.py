@@ -377,59 +377,7 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float) -> dict:
     }
 
 
-BENCH_SECONDS = 10.0  # the default span of a bench's runs (s of wall-clock time)
-BENCH_MIN_RUNS = 3
-
-
-def bench(cars: int = 16, steps: int = 20000, kernel: str | None = None, runs: int | None = None,
-          seconds: float = BENCH_SECONDS) -> dict:
-    """The plant alone at 1 ms with the brakes applied on dry rail: timing measured in C.
-
-    The plant is timed in `runs` runs of `steps` steps each, or, with runs None, in as many runs as
-    fit in `seconds` of wall-clock time (at least BENCH_MIN_RUNS). The figures are those of the run
-    with the lowest mean (the one least disturbed by the rest of the machine: on a shared virtual
-    machine the same steps run up to 1.6x slower for a second or more at a time, docs/simulation.md);
-    realtime_factor_median and realtime_factor_slowest give the spread over the runs. In each run the
-    mean (and the real-time factor) is the CPU time of the timing thread per step, so other processes
-    do not count; step_us_wall_mean is the wall-clock mean, p99 and max are wall-clock times of single
-    steps; load_average is the machine's 1-minute load when the runs ended."""
-    if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int) or runs < 1):
-        raise InputError(f"runs = {runs!r}: must be a whole number >= 1")
-    if not (isinstance(seconds, (int, float)) and math.isfinite(seconds) and seconds > 0.0):
-        raise InputError(f"seconds = {seconds!r}: must be a finite number of seconds > 0")
-    sc = load("emergency-250-dry")
-    plant = plant_params(sc, cars, kernel=kernel)
-    end = time.monotonic() + seconds
-
-    def done(n: int) -> bool:
-        return n >= runs if runs is not None else n >= BENCH_MIN_RUNS and time.monotonic() >= end
-
-    timed = []
-    while not done(len(timed)):
-        timed.append(_bench_run(plant, steps))
-    best = min(timed, key=lambda f: f["step_us_mean"])
-    factors = sorted(DT * 1e6 / f["step_us_mean"] for f in timed)
-    return {"cars": cars, "realtime_factor": DT * 1e6 / best["step_us_mean"], **best,
-            "substeps": plant.substeps, "runs": len(timed), "realtime_factor_median": float(np.median(factors)),
-            "realtime_factor_slowest": factors[0], "load_average": _load_average()}
-
-
-def _bench_run(plant: _core.PlantParams, steps: int) -> dict:
-    """One run of rb_plant_bench (its own initial state): the step times in us and the kernel used."""
-    mean, p99, largest, wall = ctypes.c_double(), ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
-    used = ctypes.create_string_buffer(32)
-    supply = plant.car[0].vehicle.supply_pressure
-    _core.call(_core.rb_plant_bench, ctypes.byref(plant), supply, steps, ctypes.byref(mean),
-               ctypes.byref(p99), ctypes.byref(largest), ctypes.byref(wall), used, ctypes.sizeof(used))
-    return {"step_us_mean": mean.value, "step_us_p99": p99.value, "step_us_max": largest.value,
-            "step_us_wall_mean": wall.value, "kernel": used.value.decode()}
-
-
-def _load_average() -> float | None:
-    try:
-        return os.getloadavg()[0]
-    except (AttributeError, OSError):   # not on every system
-        return None
+from railbrake.simulation.timing import bench, bench_plant  # noqa: E402  (they use run, above)
 
 
 # ------------------------------------------------------------------ response of the simulated chain

@@ -40,7 +40,16 @@ def test_no_wsp_flag_turns_the_wsp_off():
 
 
 def test_bench_json():
-    result = CliRunner().invoke(app, ["bench", "--cars", "2", "--steps", "1000", "--seconds", "0.05", "--json"])
+    result = CliRunner().invoke(app, ["bench", "emergency-250-dry", "--cars", "1", "--runs", "1", "--json"])
+    assert result.exit_code == 0, result.output
+    figures = json.loads(result.stdout)
+    assert figures["cars"] == 1 and figures["scenario"] == "emergency-250-dry" and figures["runs"] == 1
+    assert figures["realtime_factor"] > 1.0 and figures["ratio"] > 0.0
+
+
+def test_bench_plant_json():
+    result = CliRunner().invoke(app, ["bench", "--plant", "--cars", "2", "--steps", "1000", "--seconds", "0.05",
+                                      "--json"])
     assert result.exit_code == 0, result.output
     figures = json.loads(result.stdout)
     assert figures["cars"] == 2 and figures["realtime_factor"] > 1.0 and figures["runs"] >= 3
@@ -48,16 +57,20 @@ def test_bench_json():
 
 
 def test_bench_text_and_bad_counts():
-    result = CliRunner().invoke(app, ["bench", "--cars", "1", "--steps", "100", "--runs", "2"])
+    result = CliRunner().invoke(app, ["bench", "emergency-250-dry", "--cars", "1", "--runs", "1"])
+    assert result.exit_code == 0, result.output
+    assert "plant alone" in result.output and "ratio" in result.output and "real time" in result.output
+    result = CliRunner().invoke(app, ["bench", "--plant", "--cars", "1", "--steps", "100", "--runs", "2"])
     assert result.exit_code == 0, result.output
     assert "fastest of 2 runs" in result.output and "slowest" in result.output
-    for bad in (["--runs", "0"], ["--seconds", "0"]):
+    for bad in (["--runs", "0"], ["--seconds", "0"], ["--plant", "--steps", "0"]):
         result = CliRunner().invoke(app, ["bench", *bad])
-        assert result.exit_code == 2 and bad[0] in result.output
+        assert result.exit_code == 2 and bad[-2].lstrip("-") in result.output
 
 
 def test_bench_portable_kernel_and_a_wrong_one():
-    result = CliRunner().invoke(app, ["bench", "--cars", "1", "--steps", "100", "--runs", "1", "--kernel", "portable", "--json"])
+    result = CliRunner().invoke(app, ["bench", "--plant", "--cars", "1", "--steps", "100", "--runs", "1",
+                                      "--kernel", "portable", "--json"])
     assert result.exit_code == 0, result.output
     assert json.loads(result.stdout)["kernel"] == "portable"
     result = CliRunner().invoke(app, ["bench", "--kernel", "fast"])

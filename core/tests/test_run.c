@@ -1,5 +1,6 @@
-/* The run's available-adhesion KPI: its peaks are followed from sample to sample (run.c); the
- * mean must equal the one of full searches of Polach's curve (rb_polach_peak) at the same samples. */
+/* The scenario runner (run.c): its available-adhesion KPI, whose peaks are followed from sample to
+ * sample, must equal the mean of full searches of Polach's curve (rb_polach_peak) at the same
+ * samples; its bench (bench_run.c) replays the run's own plant inputs. */
 #include "plant_fixture.h"
 #include "rb_test.h"
 #include "railbrake/rb_run.h"
@@ -67,9 +68,42 @@ static void test_second_branch(void)
     CHECK(difference <= 1e-10);
 }
 
+/* rb_run_bench: the plant alone stepped through the run's inputs ends where the run's plant
+ * ended (the same state, bit for bit); bad counts and a trace too short are refused. */
+static void test_bench_replays_the_run(void)
+{
+    static rb_plant_params p;
+    static rb_run_state r, replayed;
+    static rb_plant_inputs trace[40000];
+    rb_bcu_params b;
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 30.0, 0.05, 1e9, 0.1};
+    rb_run_bench_result result;
+    rb_error err;
+    fill_plant(&p, 2, 120 / 3.6);
+    memset(&b, 0, sizeof b);
+    b.n_cars = 2; b.cycle = 0.01; b.atmosphere = p.atmosphere;
+    b.service_decel = 1.0; b.emergency_decel = 1.2; b.wsp_enabled = 1;
+    rb_bcu_pressure_map(&p, p.atmosphere + 3.8e5, &b);
+    CHECK(rb_run_bench(&p, &b, NULL, &sc, 1, &r, trace, 40000, &result, &err) == RB_OK);
+    CHECK(result.run_us > 0.0 && result.plant_us > 0.0);
+    CHECK(strcmp(result.kernel, rb_plant_kernel_name(&r.plant)) == 0);
+    /* r.plant: the replay's end state; the run's own, again */
+    int finished = 0;
+    CHECK(rb_run_init(&p, &b, NULL, &sc, &replayed, NULL) == RB_OK);
+    CHECK(rb_run_advance(&p, &b, &sc, &replayed, 1e9, NULL, 0, &finished, NULL) == RB_OK);
+    CHECK(memcmp(replayed.plant.v, r.plant.v, sizeof r.plant.v) == 0);
+    CHECK(memcmp(replayed.plant.m_cyl, r.plant.m_cyl, sizeof r.plant.m_cyl) == 0);
+    CHECK(replayed.stopped && result.steps == floor(replayed.out.time / p.dt + 0.5));   /* every step of the stop */
+    CHECK(rb_run_bench(&p, &b, NULL, &sc, 0, &r, trace, 40000, &result, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "repeats = 0") != NULL);
+    CHECK(rb_run_bench(&p, &b, NULL, &sc, 1, &r, trace, 1000, &result, &err) == RB_ESIZE);
+    CHECK(strstr(err.message, "max_steps = 1000") != NULL);
+}
+
 int main(void)
 {
     test_conditioned_rail_with_a_zone();
     test_second_branch();
-    return rb_test_summary("test_run_adhesion");
+    test_bench_replays_the_run();
+    return rb_test_summary("test_run");
 }

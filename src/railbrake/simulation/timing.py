@@ -1,0 +1,148 @@
+"""What runs cost: a whole run of a real scenario against its plant alone, and the plant's steps.
+
+``bench`` times what users run (BCU, WSP, KPIs, no recording) and the plant alone on the same
+scenario, all in this process; ``bench_plant`` times the plant's steps with constant inputs (the
+1 ms real-time budget of an HIL target). CPU time and wall-clock time keep their own names; a
+real-time factor is simulated time over wall-clock time.
+
+A shared virtual machine runs the same steps up to 1.6x slower for seconds at a time
+(docs/simulation.md), so each figure is the fastest of several runs over a span of wall-clock time,
+with the spread over the runs beside it.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import os
+import time
+
+import numpy as np
+
+from railbrake import _core
+from railbrake.errors import InputError
+from railbrake.resolve import resolve
+from railbrake.scenario import load
+
+DEFAULT_SCENARIO = "emergency-300-heavy-rain"
+SECONDS = 10.0   # the default span of a bench's runs (s of wall-clock time)
+MIN_RUNS = 3
+MAX_RUNS = 10_000   # a count beyond this is a typo, not a benchmark
+
+
+def _check_counts(runs, seconds) -> None:
+    if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int) or not 1 <= runs <= MAX_RUNS):
+        raise InputError(f"runs = {runs!r}: must be a whole number in [1, {MAX_RUNS}]")
+    if not (isinstance(seconds, (int, float)) and not isinstance(seconds, bool) and math.isfinite(seconds)
+            and 0.0 < seconds <= 3600.0):
+        raise InputError(f"seconds = {seconds!r}: must be a number of seconds in (0, 3600]")
+
+
+def _repeat(measure, runs, seconds) -> list:
+    """measure() `runs` times, or (runs None) until `seconds` of wall-clock time have passed and
+    at least MIN_RUNS were made."""
+    end = time.monotonic() + seconds
+    made = []
+    while len(made) < (runs or MIN_RUNS) or (runs is None and time.monotonic() < end):
+        made.append(measure())
+    return made
+
+
+def bench(scenario=DEFAULT_SCENARIO, cars: int | None = 16, kernel: str | None = None, runs: int | None = None,
+          seconds: float = SECONDS) -> dict:
+    """A whole run of `scenario` (preset or file, as `railbrake run` makes it without recording)
+    against its plant alone, in CPU microseconds per simulated millisecond.
+
+    run_cpu_us_per_ms: simulation.run from the resolved configuration (setting the C structs up,
+    BCU, WSP, KPIs; CPU time of this process); core_run_cpu_us_per_ms: the same run inside C alone;
+    plant_cpu_us_per_ms: a fresh plant stepped through the inputs the BCU gave it in that run
+    (rb_run_bench: the fastest of `runs` alternating passes, default 3); ratio = run / plant.
+    realtime_factor: simulated time over the run's wall-clock time. resolve_cpu_s: reading and
+    checking the files once (kept for the next runs). The whole runs: `runs` of them, or as many as
+    fit in `seconds` (at least 3); the fastest counts, with the median beside it."""
+    from railbrake import simulation
+    _check_counts(runs, seconds)
+    t0 = time.process_time()
+    resolved = resolve(scenario, cars)
+    resolve_cpu = time.process_time() - t0
+    n_cars = resolved.cars
+    plant = simulation.plant_params(resolved.scenario, n_cars, kernel=kernel, train=resolved.train)
+    core = _core_bench(resolved, plant, runs or MIN_RUNS)
+
+    def whole_run() -> tuple[float, float]:
+        c0, w0 = time.process_time(), time.perf_counter()
+        simulation.run(resolved, kernel=kernel, record=False)
+        return time.process_time() - c0, time.perf_counter() - w0
+
+    made = _repeat(whole_run, runs, seconds)
+    simulated_ms = core["steps"] * plant.dt * 1e3
+    cpu, wall = min(made)
+    per_ms = [c * 1e6 / simulated_ms for c, _ in made]
+    return {"scenario": resolved.scenario.name, "cars": n_cars, "kernel": core["kernel"],
+            "simulated_s": simulated_ms / 1e3, "runs": len(made),
+            "run_cpu_us_per_ms": cpu * 1e6 / simulated_ms,
+            "run_cpu_us_per_ms_median": float(np.median(per_ms)),
+            "core_run_cpu_us_per_ms": core["run_us"] / (plant.dt * 1e3),
+            "plant_cpu_us_per_ms": core["plant_us"] / (plant.dt * 1e3),
+            "ratio": cpu * 1e6 / simulated_ms / (core["plant_us"] / (plant.dt * 1e3)),
+            "core_ratio": core["run_us"] / core["plant_us"],
+            "run_wall_s": wall, "realtime_factor": simulated_ms / 1e3 / wall,
+            "resolve_cpu_s": resolve_cpu, "load_average": _load_average()}
+
+
+def _core_bench(resolved, plant, passes: int) -> dict:
+    """rb_run_bench: the whole run inside C against the plant alone on its recorded inputs, the
+    fastest of `passes` alternating passes."""
+    from railbrake import simulation
+    sc = resolved.scenario
+    bcu = simulation.bcu_params(plant, sc, True, resolved.train)
+    wsp, spec = simulation.wsp_params(sc), simulation._scenario_struct(sc)
+    state = ctypes.create_string_buffer(_core.rb_run_state_size())
+    max_steps = int(math.ceil(sc.spec.stop.max_time / plant.dt)) + 2
+    trace = (_core.PlantInputs * max_steps)()   # 384 B a step: at most 0.5 GB (a 3600 s run)
+    result = _core.RunBenchResult()
+    _core.call(_core.rb_run_bench, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec),
+               passes, state, trace, max_steps, ctypes.byref(result))
+    return {"steps": result.steps, "run_us": result.run_us, "plant_us": result.plant_us,
+            "kernel": result.kernel.decode()}
+
+
+def bench_plant(cars: int = 16, steps: int = 20000, kernel: str | None = None, runs: int | None = None,
+                seconds: float = SECONDS) -> dict:
+    """The plant alone at 1 ms with the brakes applied on dry rail, timed in C (rb_plant_bench).
+
+    The plant is timed in runs of `steps` steps (the figures: the fastest run's, by CPU time;
+    realtime_factor_median and _slowest the spread). step_us_cpu_mean: the timing thread's CPU time
+    per step (other processes do not count); step_us_wall_mean: wall-clock; realtime_factor: 1 ms
+    over the wall-clock step; p99 and max: wall-clock times of single steps; load_average: the
+    machine's 1-minute load when the runs ended."""
+    from railbrake import simulation
+    _check_counts(runs, seconds)
+    if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= 10_000_000:
+        raise InputError(f"steps = {steps!r}: must be a whole number in [1, 10000000]")
+    sc = load("emergency-250-dry")
+    plant = simulation.plant_params(sc, cars, kernel=kernel)
+    timed = _repeat(lambda: _plant_run(plant, steps), runs, seconds)
+    best = min(timed, key=lambda f: f["step_us_cpu_mean"])
+    factors = sorted(plant.dt * 1e6 / f["step_us_wall_mean"] for f in timed)
+    return {"cars": cars, "realtime_factor": plant.dt * 1e6 / best["step_us_wall_mean"], **best,
+            "substeps": plant.substeps, "runs": len(timed), "realtime_factor_median": float(np.median(factors)),
+            "realtime_factor_slowest": factors[0], "load_average": _load_average()}
+
+
+def _plant_run(plant: _core.PlantParams, steps: int) -> dict:
+    """One run of rb_plant_bench (its own initial state): the step times in us and the kernel used."""
+    mean, p99, largest, wall = ctypes.c_double(), ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
+    used = ctypes.create_string_buffer(32)
+    supply = plant.car[0].vehicle.supply_pressure
+    _core.call(_core.rb_plant_bench, ctypes.byref(plant), supply, steps, ctypes.byref(mean),
+               ctypes.byref(p99), ctypes.byref(largest), ctypes.byref(wall), used, ctypes.sizeof(used))
+    return {"step_us_cpu_mean": mean.value, "step_us_p99": p99.value, "step_us_max": largest.value,
+            "step_us_wall_mean": wall.value, "kernel": used.value.decode()}
+
+
+def _load_average() -> float | None:
+    try:
+        return os.getloadavg()[0]
+    except (AttributeError, OSError):   # not on every system
+        return None
