@@ -63,9 +63,14 @@ def _reasons(row: dict, criteria, utilisation_applies: bool) -> list[str]:
     return reasons
 
 
+def reference_values(assessment) -> dict:
+    """The factor values of the reference runs ({factor: value or case name})."""
+    return {k: _ref_value(v) for k, v in assessment.reference.items()}
+
+
 def assess(rows: list[dict], factors: list[str], assessment, initial_speed) -> list[dict]:
     """rows: the dataset as dicts (SI); initial_speed(row) -> v0 in m/s. One dict per run."""
-    reference = {k: _ref_value(v) for k, v in assessment.reference.items()}
+    reference = reference_values(assessment)
     refs = {_case_key(r, factors, reference): r for r in rows
             if r["status"] == STATUS_OK and _is_reference(r, reference)}
     out = []

@@ -74,8 +74,11 @@ def scheduler_address(option: str | None) -> str | None:
     return option or os.environ.get("DASK_SCHEDULER_ADDRESS") or None
 
 
-def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT_TIMEOUT):
-    """(client, cluster or None). A scheduler that does not answer is an InputError."""
+def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT_TIMEOUT,
+            dashboard: str | None = None):
+    """(client, cluster or None). A scheduler that does not answer is an InputError. dashboard:
+    the local cluster's dashboard address (e.g. "127.0.0.1:8787", ":0" for any free port; None:
+    none): client.dashboard_link then names it."""
     from dask.distributed import Client, LocalCluster
     if scheduler:
         try:
@@ -91,9 +94,11 @@ def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT
     warnings.filterwarnings("ignore", message="Port .* is already in use")
     if n < 1:
         raise InputError(f"--workers {n}: must be at least 1")
-    # no dashboards (they need free ports and bokeh), only errors in the log
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                           worker_dashboard_address=None, silence_logs=logging.ERROR)
+    # one thread per worker process, numpy's BLAS included: the workers share the cores already
+    single = {name: "1" for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")}
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=dashboard,
+                           worker_dashboard_address=None, silence_logs=logging.ERROR,
+                           env=single)
     return Client(cluster), cluster
 
 
@@ -119,7 +124,9 @@ def _manifest(study: Study, out: Path, kpis: list[str] | None, n_runs: int) -> d
 def _options(study: Study, out: Path, timeseries: bool) -> dict:
     options = {"out": str(out), "timeseries": timeseries or study.spec.timeseries}
     if study.spec.assessment is not None:
+        from railbrake.campaign.assess import reference_values
         options["build_up"] = dict(study.spec.assessment.build_up)
+        options["build_up_reference"] = reference_values(study.spec.assessment)
     return options
 
 
@@ -165,8 +172,11 @@ class _Writer:
 
 def run_study(study: Study, out: Path, workers: int | None = None, scheduler: str | None = None,
               batch_size: int | None = None, timeseries: bool = False, progress=None,
-              connect_timeout: float = CONNECT_TIMEOUT) -> Summary:
-    """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch."""
+              connect_timeout: float = CONNECT_TIMEOUT, dashboard: str | None = None,
+              on_connect=None) -> Summary:
+    """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch;
+    dashboard: the local cluster's dashboard address (connect); on_connect(client) once connected
+    (e.g. to show client.dashboard_link)."""
     out = Path(out)
     runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
     done = dataset.existing_keys(out)
@@ -174,7 +184,9 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
     summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out))
     if not pending and dataset.read_manifest(out):
         return summary
-    client, cluster = connect(scheduler_address(scheduler), workers, connect_timeout)
+    client, cluster = connect(scheduler_address(scheduler), workers, connect_timeout, dashboard)
+    if on_connect is not None:
+        on_connect(client)
     try:
         out.mkdir(parents=True, exist_ok=True)
         dataset.clean(out)
@@ -217,6 +229,7 @@ def _execute(client, study, out, manifest, groups, options, summary, progress, t
     try:
         for future in as_completed(futures):
             result = future.result()
+            _pass_on_warnings(result["rows"], summary)
             writer.add(result["rows"])
             summary.compute_s += result["compute_s"]
             spans.append((result["worker"], result["began"], result["ended"]))
@@ -232,6 +245,17 @@ def _execute(client, study, out, manifest, groups, options, summary, progress, t
         summary.failed = writer.failed
         summary.elapsed_s = time.perf_counter() - start
         summary.scheduler_share, summary.tail_share = scheduling_figures(submitted, time.time(), spans)
+
+
+def _pass_on_warnings(rows: list[dict], summary: Summary) -> None:
+    """The warnings the runs raised on their workers, each once to the user (with its count in
+    summary.extra["warnings"]); they are not dataset columns."""
+    seen = summary.extra.setdefault("warnings", {})
+    for row in rows:
+        for message in row.pop("warnings", ()):
+            if message not in seen:
+                warnings.warn(f"on a worker, run {row['key']}: {message}", RuntimeWarning, stacklevel=2)
+            seen[message] = seen.get(message, 0) + 1
 
 
 def _batch_task(base, runs, options):

@@ -2,6 +2,9 @@
 
 A run that raises is returned with status "failed" and its error, so one bad configuration does
 not stop a study. Only a lost worker makes the batch fail, and Dask then runs it again elsewhere.
+A run records no time series unless the study asks for them (or it is an assessment's reference,
+whose build-up time is measured on its deceleration): its KPIs come from the C core alone. The
+warnings a run raises travel back with its row.
 """
 
 from __future__ import annotations
@@ -9,6 +12,7 @@ from __future__ import annotations
 import os
 import socket
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -33,18 +37,30 @@ def equivalent_response_time(result, delay: float, complete: float) -> float | N
     return t_a + (t_c - t_a) / 2
 
 
+def _needs_build_up(run: dict, options: dict) -> bool:
+    """The build-up time is measured on the assessment's reference runs (the others use their
+    reference's, campaign.assess): only they record a time series for it."""
+    reference = options.get("build_up_reference")
+    return bool(options.get("build_up")) and (reference is None or
+                                              all(run["factors"].get(k) == v for k, v in reference.items()))
+
+
 def _one(base: str, run: dict, options: dict) -> dict:
     start = time.perf_counter()
     row = {"key": run["key"], "run": run["index"], "point": run["point"], "replicate": run["replicate"],
            "seed": run["seed"], "block": run["block"], "sample": run["sample"], "factors": run["factors"],
-           "kpis": {}, "status": STATUS_OK, "error": None}
+           "kpis": {}, "status": STATUS_OK, "error": None, "warnings": []}
     try:
-        resolved = configuration.resolve(base, run["sets"])
-        record = bool(options.get("timeseries") or options.get("build_up"))
-        result = configuration.run(resolved, record=record)
+        with warnings.catch_warnings(record=True) as caught:   # they go back to the client with the row
+            warnings.simplefilter("always")
+            resolved = configuration.resolve(base, run["sets"])
+            build_up = _needs_build_up(run, options)
+            result = configuration.run(resolved, record=bool(options.get("timeseries") or build_up))
+        row["warnings"] = [f"{w.category.__name__}: {w.message}" for w in caught]
         row["kpis"] = dict(result.kpis)
         if options.get("build_up"):
-            row["kpis"]["equivalent_response_time_s"] = equivalent_response_time(result, **options["build_up"])
+            row["kpis"]["equivalent_response_time_s"] = (equivalent_response_time(result, **options["build_up"])
+                                                         if build_up else None)
         if options.get("timeseries"):
             from railbrake.simulation.io import write_parquet
             folder = Path(options["out"]) / "timeseries"

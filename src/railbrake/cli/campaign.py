@@ -16,6 +16,12 @@ app = typer.Typer(help="Campaigns: studies of many configurations on a laptop or
                   no_args_is_help=True)
 
 
+def _show_dashboard(client) -> None:
+    link = client.dashboard_link if client.scheduler_info().get("services", {}).get("dashboard") else None
+    if link:
+        typer.echo(f"Dask dashboard: {link}", err=True)
+
+
 def _default_out(study) -> Path:
     return Path("out") / "campaigns" / study.name
 
@@ -30,6 +36,9 @@ def run(
                                             "(default: $DASK_SCHEDULER_ADDRESS, else a local cluster)."),
     batch_size: Optional[int] = typer.Option(None, help="Runs per Dask task (default: automatic)."),
     timeseries: bool = typer.Option(False, "--timeseries", help="Also write each run's time series."),
+    dashboard: Optional[str] = typer.Option(None, help="Serve the local cluster's Dask dashboard at "
+                                            "[HOST]:PORT (e.g. 127.0.0.1:8787; :0 for a free port). An "
+                                            "external scheduler (--scheduler) serves its own."),
     json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ):
     """Run a study; a rerun into the same folder skips the runs already done (resume)."""
@@ -48,7 +57,8 @@ def run(
 
     try:
         summary = execute.run_study(spec, folder, workers=workers, scheduler=scheduler,
-                                    batch_size=batch_size, timeseries=timeseries, progress=progress)
+                                    batch_size=batch_size, timeseries=timeseries, progress=progress,
+                                    dashboard=dashboard, on_connect=_show_dashboard)
     finally:
         bar.stop()
     if json:

@@ -159,3 +159,41 @@ def test_scheduling_share_counts_the_gaps_between_a_workers_batches():
     share, tail = execute.scheduling_figures(9.0, 13.0, spans)
     assert share == pytest.approx(0.1 / (2.0 + 2.0))
     assert tail == pytest.approx((1.0 + 0.5) / (4.0 + 1.5))
+
+
+WARNS = """schema: railbrake.study/1
+name: warns
+base: emergency-250-dry
+set: {train.cars: 1, stop.max_time: "5 s"}
+factors:
+  adhesion.condition: [dry-medium, leaves]
+design: {kind: grid}
+"""
+
+
+@pytest.mark.slow
+def test_local_dashboard_answers_and_worker_warnings_reach_the_user(tmp_path):
+    """The default install serves the Dask dashboard (bokeh); a warning raised in a run on a
+    worker (leaves from 250 km/h: outside the condition's speed range) reaches the client once."""
+    import urllib.request
+    links = []
+
+    def on_connect(client):
+        links.append(client.dashboard_link)
+        with urllib.request.urlopen(client.dashboard_link, timeout=30) as page:
+            links.append(page.status)
+
+    with pytest.warns(RuntimeWarning, match="on a worker, run .*AdhesionRangeWarning: adhesion condition 'leaves'"):
+        summary = execute.run_study(study.parse(WARNS, "warns"), tmp_path / "out", workers=1,
+                                    dashboard="127.0.0.1:0", on_connect=on_connect)
+    assert links[0].startswith("http://127.0.0.1:") and links[1] == 200
+    assert summary.done == 2 and summary.failed == 0
+    assert sum(summary.extra["warnings"].values()) == 1
+    assert "warnings" not in dataset.read(tmp_path / "out").column_names
+
+
+def test_only_the_reference_runs_record_for_the_build_up_time():
+    options = {"build_up": {"delay": 0.1, "complete": 0.9}, "build_up_reference": {"adhesion_case": "dry"}}
+    assert worker._needs_build_up({"factors": {"adhesion_case": "dry", "load": "tare"}}, options)
+    assert not worker._needs_build_up({"factors": {"adhesion_case": "low", "load": "tare"}}, options)
+    assert not worker._needs_build_up({"factors": {"adhesion_case": "dry"}}, {})
