@@ -8,6 +8,7 @@ issue asks to finish (then killed and resumed in tests/unit/campaign/test_execut
 scale). On a shared machine the figures are noisy: run it twice and take the best.
 
     python bench/bench_campaign.py [--runs 40] [--workers 2] [--cars 4,8,16] [--big]
+    python bench/bench_campaign.py --stops 1000     # issue 25: 1000 16-car stops from 300 km/h
 """
 
 import argparse
@@ -16,7 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from railbrake.campaign import execute, study
+from railbrake.campaign import dataset, execute, study
 
 STUDY = """schema: railbrake.study/1
 name: bench-{cars}
@@ -75,6 +76,42 @@ def kill_and_resume(runs: int = 200, workers: int = 2, at: float = 0.4) -> dict:
                 "identical": a.equals(b)}
 
 
+STOPS = """schema: railbrake.study/1
+name: stops-{runs}
+base: emergency-300-heavy-rain
+set: {{train.cars: 16, stop.max_time: "900 s"}}
+factors:
+  adhesion.condition: [dry-medium, hs-wet, heavy-rain, oil-film]
+  train.load_case: [normal, crush]
+design: {{kind: grid}}
+seeds: {seeds}
+seed: 25
+"""
+
+
+def stops(runs: int, workers: int) -> dict:
+    """Issue 25: `runs` 16-car emergency stops from 300 km/h (4 adhesion conditions x 2 loads x
+    seeds) on `workers` workers: wall time, runs per minute per core, scheduling and I/O share
+    (the workers' time not spent in batches, from the first batch to the last written), and the
+    workers' CPU per simulated ms against the plant alone (railbrake bench on the heavy-rain stop)."""
+    from railbrake import simulation
+    seeds = max(1, runs // 8)
+    s = study.parse(STOPS.format(runs=8 * seeds, seeds=seeds), "stops")
+    with tempfile.TemporaryDirectory() as folder:
+        start = time.perf_counter()
+        summary = execute.run_study(s, Path(folder), workers=workers)
+        total = time.perf_counter() - start
+        simulated = sum(r or 0.0 for r in dataset.read(Path(folder)).column("stopping_time_s").to_pylist())
+    assert summary.done == 8 * seeds and summary.failed == 0, summary.json()
+    plant = simulation.bench("emergency-300-heavy-rain", 16, runs=1)["plant_cpu_us_per_ms"]
+    busy = summary.workers * summary.elapsed_s
+    return {"runs": summary.done, "workers": summary.workers, "elapsed_s": summary.elapsed_s, "total_s": total,
+            "runs_per_min_per_core": summary.done / (summary.elapsed_s / 60) / summary.workers,
+            "cpu_us_per_simulated_ms": summary.compute_cpu_s * 1e6 / (simulated * 1e3),
+            "plant_cpu_us_per_ms": plant, "overhead_share": max(0.0, 1.0 - summary.compute_s / busy),
+            "scheduler_share": summary.scheduler_share, "tail_share": summary.tail_share}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--runs", type=int, default=40)
@@ -82,7 +119,18 @@ def main() -> None:
     parser.add_argument("--cars", default="4,8,16")
     parser.add_argument("--big", action="store_true", help="also the 200-run 4-car study")
     parser.add_argument("--kill-resume", action="store_true", help="only the 200-run SIGKILL-and-resume check")
+    parser.add_argument("--stops", type=int, default=0, help="only the issue-25 study of this many 16-car "
+                        "stops from 300 km/h (1000: the issue's)")
     args = parser.parse_args()
+    if args.stops:
+        f = stops(args.stops, args.workers)
+        print(f"{f['runs']} 16-car stops from 300 km/h on {f['workers']} workers: {f['elapsed_s']:.1f} s "
+              f"({f['total_s']:.1f} s with planning and cluster start), {f['runs_per_min_per_core']:.1f} runs/min/core; "
+              f"{f['cpu_us_per_simulated_ms']:.3f} us CPU per simulated ms on the workers against "
+              f"{f['plant_cpu_us_per_ms']:.3f} for the plant alone; workers' time not simulating "
+              f"{100 * f['overhead_share']:.1f} % (scheduling {100 * (f['scheduler_share'] or 0):.2f} %, "
+              f"idle at the end {100 * (f['tail_share'] or 0):.1f} %)", flush=True)
+        return
     if args.kill_resume:
         print(kill_and_resume(workers=args.workers), flush=True)
         return

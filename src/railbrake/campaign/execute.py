@@ -41,7 +41,8 @@ class Summary:
     workers: int = 0
     batches: int = 0
     elapsed_s: float = 0.0          # from the first batch submitted to the last written
-    compute_s: float = 0.0          # sum of the batches' time on the workers
+    compute_s: float = 0.0          # sum of the batches' time on the workers (wall clock)
+    compute_cpu_s: float = 0.0      # and their CPU time
     scheduler_share: float | None = None   # of the workers' time until their last batch: waiting
     #                                        for a batch (dispatch, transfer), not running one
     tail_share: float | None = None        # of workers x elapsed: idle after their last batch
@@ -232,6 +233,7 @@ def _execute(client, study, out, manifest, groups, options, summary, progress, t
             _pass_on_warnings(result["rows"], summary)
             writer.add(result["rows"])
             summary.compute_s += result["compute_s"]
+            summary.compute_cpu_s += result.get("cpu_s", 0.0)
             spans.append((result["worker"], result["began"], result["ended"]))
             summary.done += len(result["rows"])
             if progress:
