@@ -97,6 +97,27 @@ def crh380al_published_curves():
           "TB/T 1407.2 CRH380AL running resistance, open track", "code-to-code")
 
 
+def kdry_equal_units():
+    """Kdry_rst of 8 equal brake units, each lost with p = 1e-4 per demand, friction factor normal
+    (mean 1, sd 0.05): the ratio given k lost is normal with mean (8 - k) / 8 and sd
+    sqrt(8 - k) 0.05 / 8; k is binomial (8, p). Kdry at confidence c solves
+    sum_k P(k) Phi((x - mu_k) / sd_k) = 1 - c (scipy.stats, brentq)."""
+    from scipy.optimize import brentq
+    from scipy.stats import binom, norm
+    n, p, sd = 8, 1e-4, 0.05
+    levels = [0.5, 0.9, 0.99, 0.999, 0.9999, 0.99999, 0.999999, 0.9999999, 0.99999999, 0.999999999]
+
+    def cdf(x):
+        total = binom.pmf(n, n, p) * (x >= 0.0)   # all lost: the ratio is 0
+        for k in range(n):
+            total += binom.pmf(k, n, p) * norm.cdf((x - (n - k) / n) / (math.sqrt(n - k) * sd / n))
+        return total
+
+    rows = [(i, brentq(lambda x: cdf(x) - (1.0 - c), 0.01, 2.0, xtol=1e-14)) for i, c in enumerate(levels)]
+    write("kdry-equal-units", "ebcl_index,kdry", rows,
+          "binomial mixture of normals, 8 units, p = 1e-4, friction N(1, 0.05); scipy.stats + brentq")
+
+
 if __name__ == "__main__":
     crh380al_published_curves()
     hertz_sphere()
@@ -104,3 +125,4 @@ if __name__ == "__main__":
     tank_fill()
     tank_discharge()
     stops()
+    kdry_equal_units()

@@ -19,7 +19,7 @@ import yaml
 from railbrake.errors import InputError
 
 KINDS = ("verification", "code-to-code", "validation")
-AREAS = ("contact", "adhesion", "pneumatics", "valves", "vehicle", "real-time plant")
+AREAS = ("contact", "adhesion", "pneumatics", "valves", "vehicle", "real-time plant", "etcs")
 COMPARISONS = ("value", "band")
 ENV_VAR = "RAILBRAKE_VALIDATION_DIR"
 

@@ -291,7 +291,30 @@ def stop_ramp(inputs, x, case):
     return ModelOutput(values)
 
 
-REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, 
+# ------------------------------------------------------------------ ETCS braking model
+
+def kdry_equal_units(inputs, x, case):
+    """Kdry_rst before rounding at the confidence levels M_NVEBCL = x of equal brake units, each
+    lost with a probability per demand, with a friction factor drawn per unit: the failure states
+    by symmetry (railbrake.etcs.equal_units), within each a Latin-hypercube sample of the units'
+    factors, the ratio the mean over the units of factor x (unit not lost)."""
+    from scipy.stats import norm, qmc
+    from railbrake import etcs
+    n, p = int(_need(inputs, "units")), float(_need(inputs, "loss_probability"))
+    mean, sd = float(_need(inputs, "friction_mean")), float(_need(inputs, "friction_sd"))
+    samples = int(inputs.get("samples", 20000))
+    rng = np.random.default_rng(int(inputs.get("seed", 0)))
+    states = []
+    for s in etcs.equal_units(n, p, floor=1e-3 * (1.0 - etcs.EBCL[-1])):
+        friction = mean + sd * norm.ppf(qmc.LatinHypercube(n - s.lost, seed=rng).random(samples)) if s.lost < n \
+            else np.zeros((samples, 0))
+        states.append(etcs.State.of(s.probability, friction.sum(axis=1) / n, f"{s.lost} lost"))
+    levels = _x(x, "M_NVEBCL").astype(int)
+    return ModelOutput([etcs.k_dry(states, etcs.ebcl(int(i))) for i in levels],
+                       {"states": len(states), "samples per state": samples})
+
+
+REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, kdry_equal_units,
     hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
     tank_pressure, stop_constant, caliper_force, train_stopping_distance, solenoid_c_core, pad_friction, pad_friction_drop, ed_brake_force,
     running_resistance, plant_order)}
