@@ -100,8 +100,43 @@ static void test_bench_replays_the_run(void)
     CHECK(strstr(err.message, "max_steps = 1000") != NULL);
 }
 
+/* rb_run_batch: each variant's KPIs equal a run of its own; a bad variant gets its error and the
+ * others still run. */
+static void test_batch_runs_each_variant(void)
+{
+    static rb_plant_params p[3];
+    static rb_run_state r;
+    rb_bcu_params b[3];
+    rb_scenario sc[3];
+    rb_kpis k[3], single;
+    rb_error errors[3], err;
+    int status[3];
+    for (int i = 0; i < 3; ++i) {
+        fill_plant(&p[i], 1, (60.0 + 20.0 * i) / 3.6);
+        memset(&b[i], 0, sizeof b[i]);
+        b[i].n_cars = 1; b[i].cycle = 0.01; b[i].atmosphere = p[i].atmosphere;
+        b[i].service_decel = 1.0; b[i].emergency_decel = 1.2; b[i].wsp_enabled = 1;
+        rb_bcu_pressure_map(&p[i], p[i].atmosphere + 3.8e5, &b[i]);
+        sc[i] = (rb_scenario){1, {0.0}, {0.0}, {1.0}, 120.0, 0.05, 1e9, 0.1};
+    }
+    sc[1].max_time = -1.0;   /* refused */
+    CHECK(rb_run_batch(3, p, b, NULL, sc, &r, k, status, errors, &err) == RB_OK);
+    CHECK(status[0] == RB_OK && status[1] == RB_EINVAL && status[2] == RB_OK);
+    CHECK(strstr(errors[1].message, "max_time") != NULL);
+    for (int i = 0; i < 3; i += 2) {
+        int finished = 0;
+        CHECK(rb_run_init(&p[i], &b[i], NULL, &sc[i], &r, NULL) == RB_OK);
+        CHECK(rb_run_advance(&p[i], &b[i], &sc[i], &r, 1e9, NULL, 0, &finished, NULL) == RB_OK);
+        rb_run_kpis(&p[i], &r, &single);
+        CHECK(memcmp(&single, &k[i], sizeof single) == 0);
+    }
+    CHECK(k[2].stopping_distance_m > k[0].stopping_distance_m);   /* 100 km/h stops longer than 60 */
+    CHECK(rb_run_batch(RB_MAX_BATCH + 1, p, b, NULL, sc, &r, k, status, errors, &err) == RB_EINVAL);
+}
+
 int main(void)
 {
+    test_batch_runs_each_variant();
     test_conditioned_rail_with_a_zone();
     test_second_branch();
     test_bench_replays_the_run();

@@ -413,6 +413,11 @@ rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_cha
                                c_size_t, _err_p)
 rb_plant_bench = _declare("rb_plant_bench", c_int, POINTER(PlantParams), c_double, c_long, c_double_p,
                           c_double_p, c_double_p, c_double_p, c_char_p, c_size_t, _err_p)
+MAX_BATCH = 4096   # RB_MAX_BATCH
+rb_run_batch = _declare("rb_run_batch", c_int, c_int, POINTER(PlantParams), POINTER(BcuParams), POINTER(WspParams),
+                        POINTER(Scenario), c_void_p, POINTER(Kpis), POINTER(c_int), POINTER(RbError), _err_p)
+
+
 class RunBenchResult(Structure):
     _fields_ = _doubles("steps", "run_us", "plant_us") + [("kernel", ctypes.c_char * 16)]
 

@@ -121,6 +121,14 @@ rb_status rb_plant_bench(const rb_plant_params *plant, double pressure_demand, l
                          double *step_us_mean, double *step_us_p99, double *step_us_max,
                          double *step_us_wall_mean, char *kernel, size_t kernel_size, rb_error *err);
 
+/* n runs in one call, variant i from plants[i], bcus[i], wsps[i] (wsps NULL: the defaults) and
+ * scenarios[i], each to its end without recording, in the caller's run state: kpis[i] and
+ * status[i] (RB_OK, or the run's error, its message in errors[i] when errors is not NULL). */
+#define RB_MAX_BATCH 4096
+rb_status rb_run_batch(int n, const rb_plant_params *plants, const rb_bcu_params *bcus, const rb_wsp_params *wsps,
+                       const rb_scenario *scenarios, rb_run_state *run, rb_kpis *kpis, int *status,
+                       rb_error *errors, rb_error *err);
+
 /* What a whole run costs against its plant alone on the same scenario, in CPU microseconds of the
  * calling thread per step (bench_run.c): run_us for the run as rb_run_advance makes it without
  * recording (BCU, WSP, KPIs), plant_us for a fresh plant stepped through the inputs the BCU gave it

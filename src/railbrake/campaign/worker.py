@@ -3,8 +3,9 @@
 A run that raises is returned with status "failed" and its error, so one bad configuration does
 not stop a study. Only a lost worker makes the batch fail, and Dask then runs it again elsewhere.
 A run records no time series unless the study asks for them (or it is an assessment's reference,
-whose build-up time is measured on its deceleration): its KPIs come from the C core alone. The
-warnings a run raises travel back with its row.
+whose build-up time is measured on its deceleration): those runs are set up one by one and run
+together in one call of the C core (simulation.run_structs), their KPIs only. The warnings a run
+raises travel back with its row.
 """
 
 from __future__ import annotations
@@ -45,20 +46,26 @@ def _needs_build_up(run: dict, options: dict) -> bool:
                                               all(run["factors"].get(k) == v for k, v in reference.items()))
 
 
-def _one(base: str, run: dict, options: dict) -> dict:
-    start = time.perf_counter()
-    row = {"key": run["key"], "run": run["index"], "point": run["point"], "replicate": run["replicate"],
-           "seed": run["seed"], "block": run["block"], "sample": run["sample"], "factors": run["factors"],
-           "kpis": {}, "status": STATUS_OK, "error": None, "warnings": []}
+def _row(run: dict) -> dict:
+    return {"key": run["key"], "run": run["index"], "point": run["point"], "replicate": run["replicate"],
+            "seed": run["seed"], "block": run["block"], "sample": run["sample"], "factors": run["factors"],
+            "kpis": {}, "status": STATUS_OK, "error": None, "warnings": []}
+
+
+def _failed(row: dict, exc: Exception) -> None:
+    row["status"], row["error"] = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
+
+
+def _recorded(base: str, run: dict, options: dict, row: dict) -> None:
+    """A run that keeps its time series (asked for, or its build-up time measured on it)."""
     try:
         with warnings.catch_warnings(record=True) as caught:   # they go back to the client with the row
             warnings.simplefilter("always")
-            resolved = configuration.resolve(base, run["sets"])
-            build_up = _needs_build_up(run, options)
-            result = configuration.run(resolved, record=bool(options.get("timeseries") or build_up))
+            result = configuration.run(configuration.resolve(base, run["sets"]), record=True)
         row["warnings"] = [f"{w.category.__name__}: {w.message}" for w in caught]
         row["kpis"] = dict(result.kpis)
         if options.get("build_up"):
+            build_up = _needs_build_up(run, options)
             row["kpis"]["equivalent_response_time_s"] = (equivalent_response_time(result, **options["build_up"])
                                                          if build_up else None)
         if options.get("timeseries"):
@@ -67,15 +74,44 @@ def _one(base: str, run: dict, options: dict) -> dict:
             folder.mkdir(parents=True, exist_ok=True)
             write_parquet(result, folder / f"{run['key']}.parquet")
     except Exception as exc:   # noqa: BLE001 - a failed run is data, recorded with its error
-        row["status"], row["error"] = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
-    row["wall_time_s"] = time.perf_counter() - start
-    return row
+        _failed(row, exc)
+
+
+def _kpis_only(base: str, runs: list[dict], rows: list[dict], options: dict) -> None:
+    """Runs without time series: each resolved and set up here, then all run in one C call."""
+    from railbrake import simulation
+    prepared, ready = [], []
+    for run, row in zip(runs, rows):
+        try:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                prepared.append(simulation.structs(configuration.resolve(base, run["sets"])))
+            row["warnings"] = [f"{w.category.__name__}: {w.message}" for w in caught]
+            ready.append(row)
+        except Exception as exc:   # noqa: BLE001
+            _failed(row, exc)
+    for row, outcome in zip(ready, simulation.run_structs(prepared) if prepared else []):
+        if isinstance(outcome, Exception):
+            _failed(row, outcome)
+        else:
+            row["kpis"] = dict(outcome)
+            if options.get("build_up"):
+                row["kpis"]["equivalent_response_time_s"] = None
 
 
 def execute_batch(base: str, runs: list[dict], options: dict) -> dict:
     """The rows, and when and where the batch ran (wall clock) and the CPU time it took, for the
-    scheduling and cost figures."""
+    scheduling and cost figures. Each row's wall_time_s: its share of the batch."""
     began, start, cpu = time.time(), time.perf_counter(), time.process_time()
-    rows = [_one(base, run, options) for run in runs]
-    return {"rows": rows, "compute_s": time.perf_counter() - start, "cpu_s": time.process_time() - cpu,
+    rows = [_row(run) for run in runs]
+    recorded = [options.get("timeseries") or _needs_build_up(run, options) for run in runs]
+    for run, row, keep in zip(runs, rows, recorded):
+        if keep:
+            _recorded(base, run, options, row)
+    _kpis_only(base, [r for r, k in zip(runs, recorded) if not k], [r for r, k in zip(rows, recorded) if not k],
+               options)
+    compute = time.perf_counter() - start
+    for row in rows:
+        row["wall_time_s"] = compute / len(rows)
+    return {"rows": rows, "compute_s": compute, "cpu_s": time.process_time() - cpu,
             "began": began, "ended": time.time(), "worker": f"{socket.gethostname()}:{os.getpid()}"}

@@ -293,6 +293,38 @@ def channels(n_cars: int) -> list[tuple[str, str]]:
 WspCallback = Callable[[_core.WspInputs, _core.WspCommands], None]
 
 
+def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = None, kernel: str | None = None,
+            train=None) -> tuple:
+    """The C structs of a resolved configuration: (plant, BCU, WSP, scenario)."""
+    sc, n_cars = resolved.scenario, resolved.cars
+    train = with_cars(resolved.train if train is None else train, n_cars)
+    plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
+    return plant, bcu_params(plant, sc, wsp, train), wsp_params(sc), _scenario_struct(sc)
+
+
+def run_batch(configurations: list, kernel: str | None = None) -> list:
+    """The KPIs of many runs, made in one call of the C core without recording (a study's batch):
+    configurations are resolved (railbrake.resolve.Resolved) or anything `run` takes; per run its
+    KPI dict as `run` gives it, or the InputError that stopped it in the core."""
+    return run_structs([structs(resolve(c), kernel=kernel) for c in configurations])
+
+
+def run_structs(prepared: list) -> list:
+    """run_batch on configurations already turned into C structs (`structs`)."""
+    n = len(prepared)
+    if n > _core.MAX_BATCH:
+        raise InputError(f"configurations: {n} runs; a batch takes at most {_core.MAX_BATCH}")
+    arrays = [(kind * n)() for kind in (_core.PlantParams, _core.BcuParams, _core.WspParams, _core.Scenario)]
+    for i, four in enumerate(prepared):
+        for array, struct in zip(arrays, four):
+            array[i] = struct
+    kpis, status, errors = (_core.Kpis * n)(), (ctypes.c_int * n)(), (_core.RbError * n)()
+    state = ctypes.create_string_buffer(_core.rb_run_state_size())
+    _core.call(_core.rb_run_batch, n, *arrays, state, kpis, status, errors)
+    return [kpi_dict(kpis[i], arrays[0][i].atmosphere) if status[i] == 0
+            else InputError(errors[i].message.decode("utf-8", "replace")) for i in range(n)]
+
+
 def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
         wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
         record: bool = True, dt: float = DT, substeps: int | None = None, kernel: str | None = None,
@@ -309,17 +341,13 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     """
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
-    train = with_cars(resolved.train if train is None else train, n_cars)
-    plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
-    bcu = bcu_params(plant, sc, wsp, train)
+    plant, bcu, wspp, spec = structs(resolved, wsp, dt, substeps, kernel, train)
     callback = None
     if wsp_function is not None:
         def _adapter(_context, inputs, commands):
             wsp_function(inputs.contents, commands.contents)
         callback = _core.WSP_FUNCTION(_adapter)
         bcu.wsp = callback
-    wspp = wsp_params(sc)
-    spec = _scenario_struct(sc)
     state = ctypes.create_string_buffer(_core.rb_run_state_size())
     _core.call(_core.rb_run_init, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(wspp),
                ctypes.byref(spec), state)

@@ -95,8 +95,7 @@ def _core_bench(resolved, plant, passes: int) -> dict:
     fastest of `passes` alternating passes."""
     from railbrake import simulation
     sc = resolved.scenario
-    bcu = simulation.bcu_params(plant, sc, True, resolved.train)
-    wsp, spec = simulation.wsp_params(sc), simulation._scenario_struct(sc)
+    _, bcu, wsp, spec = simulation.structs(resolved)
     state = ctypes.create_string_buffer(_core.rb_run_state_size())
     max_steps = int(math.ceil(sc.spec.stop.max_time / plant.dt)) + 2
     trace = (_core.PlantInputs * max_steps)()   # 384 B a step: at most 0.5 GB (a 3600 s run)

@@ -136,15 +136,16 @@ def test_a_scheduler_that_does_not_answer_fails_before_any_run(tmp_path):
 
 def test_a_run_that_raises_is_recorded_and_the_batch_goes_on(monkeypatch):
     s = study.parse(ONE_RUN, "one.yaml")
+    from railbrake import simulation
     runs = [execute._payload(r) for r in plan(s)]
-    real = worker.configuration.run
+    real = simulation.structs
 
-    def flaky(resolved, record):
+    def flaky(resolved, *args, **kwargs):
         if resolved.scenario.spec.adhesion.condition == "oil-film":
             raise RuntimeError("valve model diverged")
-        return real(resolved, record=record)
+        return real(resolved, *args, **kwargs)
 
-    monkeypatch.setattr(worker.configuration, "run", flaky)
+    monkeypatch.setattr(simulation, "structs", flaky)
     rows = worker.execute_batch(s.base, runs, {})["rows"]
     assert [r["status"] for r in rows] == ["ok", "ok", "failed"]
     assert rows[2]["error"] == "RuntimeError: valve model diverged"
@@ -197,3 +198,15 @@ def test_only_the_reference_runs_record_for_the_build_up_time():
     assert worker._needs_build_up({"factors": {"adhesion_case": "dry", "load": "tare"}}, options)
     assert not worker._needs_build_up({"factors": {"adhesion_case": "low", "load": "tare"}}, options)
     assert not worker._needs_build_up({"factors": {"adhesion_case": "dry"}}, {})
+
+
+def test_a_batch_in_one_call_gives_the_kpis_of_single_runs():
+    """The runs without time series go to the C core in one call (simulation.run_structs): each
+    row's KPIs are those `railbrake run` gives the same configuration."""
+    from railbrake import simulation
+    s = study.parse(ONE_RUN, "one.yaml")
+    runs = plan(s)
+    rows = worker.execute_batch(s.base, [execute._payload(r) for r in runs], {})["rows"]
+    for run, row in zip(runs, rows):
+        single = simulation.run(worker.configuration.resolve(s.base, run.sets), record=False).kpis
+        assert row["status"] == "ok" and row["kpis"] == single
