@@ -66,6 +66,12 @@ class Resolved:
     def keys(self) -> list[str]:
         return valid_keys(self._tree)
 
+    def with_(self, changes=None, /, **kwargs) -> "Resolved":
+        """This configuration with more overrides, e.g. ``with_(initial_speed="300 km/h")`` or
+        ``with_({"train.car_types.motor.wheelset_inertia_kgm2": 140})``: as ``--set``."""
+        from railbrake import _changes
+        return resolve(self, sets=_changes.merge(changes, kwargs, "Resolved.with_"))
+
 
 # ------------------------------------------------------------------ reading the files
 
@@ -96,8 +102,9 @@ def _from_spec(scenario: scenarios.Scenario, cars: int | None, sets: SetsLike) -
 
 
 def _read_scenario(name) -> _Source:
-    if isinstance(name, scenarios.Scenario):
-        return _Source(copy.deepcopy(name.data), name.origin, name._lines, None)
+    if isinstance(name, scenarios.Scenario):   # relative file names in it: against its file's folder
+        folder = Path(name.origin).resolve().parent if Path(name.origin).is_file() else None
+        return _Source(name.data, name.origin, name._lines, folder)
     name = str(name)
     if name in scenarios.preset_names():
         text = (resources.files("railbrake") / "data" / "scenarios" / f"{name}.yaml").read_text()
@@ -147,12 +154,13 @@ def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
             for key, value, label in items]
 
 
-def _assign(tree: dict, path: tuple, value, label: str, known: set) -> None:
+def _assign(tree: dict, path: tuple, value, label: str, known: set,
+            listed: str = " (`railbrake config show` lists them)") -> None:
     dotted = ".".join(str(p) for p in path)
     if dotted not in known:
         close = difflib.get_close_matches(dotted, sorted(known), n=3, cutoff=0.5)
         hint = f"; closest valid keys: {', '.join(close)}" if close else ""
-        raise InputError(f"{label}: no such key{hint} (`railbrake config show` lists them)")
+        raise InputError(f"{label}: no such key{hint}{listed}")
     node = tree
     for part in path[:-1]:
         if isinstance(node, list) and isinstance(part, int) and part < len(node):
@@ -170,6 +178,22 @@ def _assign(tree: dict, path: tuple, value, label: str, known: set) -> None:
         raise InputError(f"{label} = {value!r}: {dotted} is a section ({keys}); set one of its keys, "
                          f"e.g. --set {dotted}.{next(iter(current), 'KEY')}=VALUE")
     node[path[-1]] = value
+
+
+def apply_changes(tree: dict, changes: Mapping, model: type[BaseModel], open_sections: tuple = ()) -> dict:
+    """Each dotted key of `changes` set in `tree` (file data of `model`), as --set does: a key the
+    schema does not know is refused, except under `open_sections` (free mappings, e.g. a study's
+    factors), where the schema's own validation judges. Returns key path -> label for errors."""
+    labels = {}
+    for path, value, label in _parse_sets(changes):
+        known: set = set()
+        _keys_of(model, tree, "", known)
+        dotted = ".".join(str(p) for p in path)
+        if any(dotted.startswith(f"{section}.") for section in open_sections):
+            known.add(dotted)
+        _assign(tree, path, value, label, known, listed="")
+        labels[path] = label
+    return labels
 
 
 # ------------------------------------------------------------------ the keys the schemas know
@@ -282,7 +306,8 @@ def _resolve(scenario, overrides: list) -> Resolved:
 
 def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) -> Resolved:
     scenario_data = {k: v for k, v in tree.items() if k != "train"}
-    scenario_data["train"] = {k: tree["train"][k] for k in _TRAIN_KEYS if tree["train"].get(k) is not None}
+    scenario_data["train"] = {k: tree["train"][k] for k in _TRAIN_KEYS + ("load_case",)
+                              if tree["train"].get(k) is not None}   # load_case: the one in effect
     spec = scenarios.from_data(scenario_data, source.origin, source.lines, labels)
     train_data = {k: v for k, v in tree["train"].items() if k not in _TRAIN_KEYS}
     train_labels = {k[1:]: v for k, v in labels.items() if k[:1] == ("train",)}

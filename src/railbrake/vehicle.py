@@ -14,7 +14,7 @@ from __future__ import annotations
 import ctypes
 import math
 import numbers
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from importlib import resources
 import types
 from pathlib import Path
@@ -23,7 +23,7 @@ from typing import ClassVar, Literal, Optional, Union, get_args, get_origin
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from railbrake import _core, config
+from railbrake import _changes, _core, config
 from railbrake._args import real, reals
 from railbrake.errors import InputError
 from railbrake.units import KMH, TONNE, bar_to_pa, kn_to_n, tonne_to_kg
@@ -41,8 +41,9 @@ MM, L, MM2, CM3, KN, BAR = 1e-3, 1e-3, 1e-6, 1e-6, 1e3, 1e5   # file units -> SI
 # Numbers are strict (a bool or a string is never read as a number); every field carries its unit
 # in its name and a plausibility range in that unit, so a tare given in kg where t is asked fails.
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=True)
+class _Strict(_changes.ReadOnlyModel, BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)   # frozen: changes go through Train.with_
+    OWNER: ClassVar[str] = "train"
 
 
 def _num(bound: str, per: float = 1.0, offset: float = 0.0, *, default=...):
@@ -348,6 +349,20 @@ class Train:
     c: _core.TrainC  # rb_train struct, checked
     spec: _TrainFile  # the whole file as validated (file units): brake equipment, air supply
     load_case: str = "normal"
+    origin: str = ""   # the file (or preset) it was read from, and the lines of its keys (for errors)
+    lines: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def with_(self, changes=None, /, **kwargs) -> "Train":
+        """A copy with keys of the train file changed, e.g. ``with_(max_speed_kmh=300)`` or
+        ``with_({'car_types.motor.tare_t': 50, 'load_case': 'crush'})``: keys and values in file
+        units, as ``--set train.KEY=VALUE`` takes them, validated as a whole as a train file is."""
+        from railbrake import resolve
+        merged = _changes.merge(changes, kwargs, "Train.with_")
+        data = self.spec.model_dump(mode="json", by_alias=True)
+        labels = resolve.apply_changes(data, merged, _TrainFile)
+        loaded = data.get("load_case") if "load_case" in merged else self.load_case
+        train = parse_train_data(data, self.origin, self.lines, loaded, overrides=labels)
+        return train if len(self.cars) == len(self.spec.formation) else with_cars(train, len(self.cars))
 
     def brake_step(self, kind: str) -> _BrakeStep:
         """The train's "emergency" or "service" brake step: profile name and ED blending."""
@@ -390,6 +405,15 @@ class Train:
         copy = _core.TrainC()
         ctypes.pointer(copy)[0] = self.c
         return copy
+
+
+def _refuse_assignment(self, name, value=None):
+    _changes.refuse_assignment("train", name)
+
+
+# immutable, with a message naming the way to change them (dataclass's own says only "cannot assign")
+Train.__setattr__ = Train.__delattr__ = _refuse_assignment
+Car.__setattr__ = Car.__delattr__ = _refuse_assignment
 
 
 def _ed_curve(ed: _EdBrake | None, motor_count: int) -> _core.EdCurve:
@@ -524,6 +548,7 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
         train = _build(model, _load_case(loaded, model, origin))
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
+    train = replace(train, origin=origin, lines=lines)
     _check_ed_force(train, locate)
     return train
 

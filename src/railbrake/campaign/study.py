@@ -11,12 +11,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import yaml
 from pydantic import BaseModel, ConfigDict, Field
 
-from railbrake import config
+from railbrake import _changes, config
 from railbrake.campaign import configuration
 from railbrake.campaign.factors import COMPOSITES, Factor, make_factor
 from railbrake.errors import InputError
@@ -25,8 +25,9 @@ SCHEMA = "railbrake.study/1"
 DESIGNS = ("grid", "zip", "latin-hypercube", "sobol", "list")
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+class _Strict(_changes.ReadOnlyModel, BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)   # frozen: changes go through Study.with_
+    OWNER: ClassVar[str] = "study"
 
 
 class Design(_Strict):
@@ -89,14 +90,38 @@ class Study:
     fixed_parts: dict[str, Any] = field(default_factory=dict)   # set: fault.* / zone.* parts
     keys: list[str] = field(default_factory=list)
     lines: dict = field(default_factory=dict)
+    overrides: dict = field(default_factory=dict)   # key path -> label of a with_ change (for errors)
+
+    def __setattr__(self, name, value):
+        if self.__dict__.get("_frozen"):   # set at the end of parse: a loaded study is immutable
+            _changes.refuse_assignment("study", name)
+        object.__setattr__(self, name, value)
+
+    def _freeze(self) -> "Study":
+        self.factors = tuple(self.factors)
+        object.__setattr__(self, "_frozen", True)
+        return self
 
     @property
     def name(self) -> str:
         return self.spec.name
 
     def where(self, *key) -> str:
-        line = config._line_of(self.lines, key)
-        return f"{self.origin}{f', line {line}' if line else ''}: {'.'.join(str(k) for k in key)}"
+        return f"{config.locator(self.origin, self.lines, self.overrides)(key)}: {'.'.join(str(k) for k in key)}"
+
+    def with_(self, changes=None, /, **kwargs) -> "Study":
+        """A copy with keys of the study file changed, e.g. ``with_(seeds=4)`` or
+        ``with_({"design.samples": 64, "factors.initial_speed": ["250 km/h", "300 km/h"]})``:
+        keys and values as in the file, and the whole study checked again as `campaign plan` does."""
+        from railbrake import resolve
+        merged = _changes.merge(changes, kwargs, "Study.with_")
+        data = config.load_mapping(self.text, self.origin)
+        if "base" not in merged:
+            data["base"] = self.base   # a file named relative to the study's folder, made absolute
+        labels = resolve.apply_changes(data, merged, StudyFile,
+                                       ("set", "factors", "design.points", "assessment.reference", "tuning.params"))
+        text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
+        return parse(text, self.origin, lines=self.lines, overrides=labels)
 
     def factor(self, name: str) -> Factor:
         return next(f for f in self.factors if f.name == name)
@@ -162,9 +187,13 @@ def _check_design(study: Study) -> None:
                                  f"({', '.join(f'{k}: {n}' for k, n in lengths.items())})")
 
 
-def parse(text: str, origin: str, folder: Path | None = None) -> Study:
-    spec = config.parse_yaml(text, StudyFile, origin)
-    study = Study(spec, origin, text, spec.base, lines=config._line_index(yaml.compose(text)))
+def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None = None,
+          overrides: dict | None = None) -> Study:
+    """The study of a file's text; lines and overrides (of Study.with_) say where keys came from."""
+    lines = config.line_index(text) if lines is None else lines
+    spec = config.validate_data(config.load_mapping(text, origin), StudyFile,
+                                config.locator(origin, lines, overrides))
+    study = Study(spec, origin, text, spec.base, lines=lines, overrides=dict(overrides or {}))
     if spec.schema_ != SCHEMA:
         raise InputError(f"{study.where('schema')} = {spec.schema_!r}: expected {SCHEMA!r}")
     base_path = (folder or Path.cwd()) / spec.base
@@ -190,7 +219,7 @@ def parse(text: str, origin: str, folder: Path | None = None) -> Study:
             _check_path(study, name, ("factors", name))
         study.factors.append(factor)
     _check_design(study)
-    return study
+    return study._freeze()
 
 
 def load(study: str | Path) -> Study:

@@ -12,7 +12,7 @@ from the trials it stored. The first trial is the default WSP, so "tuned" is nev
 
 from __future__ import annotations
 
-import copy
+import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -84,9 +84,7 @@ def start_values(fragment: Path, params: list[Parameter]) -> dict:
 
 
 def _with_sets(study: Study, sets: dict) -> Study:
-    variant = copy.copy(study)
-    variant.fixed = dict(study.fixed, **sets)
-    return variant
+    return dataclasses.replace(study, fixed=dict(study.fixed, **sets))._freeze()
 
 
 def select(study: Study, only: list[str]) -> callable:
