@@ -72,6 +72,16 @@ def _reals(name, values, low, high, low_open) -> np.ndarray:
     return array
 
 
+def whole(name: str, value, low: int | None = None, high: int | None = None) -> int:
+    """value as an int: a whole number (not a Boolean, not a float), inside [low, high]."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} = {value!r}: must be a whole number, not {type(value).__name__}")
+    n = int(value)
+    if (low is not None and n < low) or (high is not None and n > high):
+        raise InputError(f"{name} = {n}: must be {_bound_text(low, high, False, False)}")
+    return n
+
+
 def text(name: str, value) -> str:
     if not isinstance(value, str):
         raise TypeError(f"{name} = {value!r}: must be a string")

@@ -213,7 +213,10 @@ def locator(origin: str, lines: dict, overrides: dict | None = None):
             if loc[:end] in overrides:
                 return overrides[loc[:end]]
         line = _line_of(lines, loc) if lines else None
-        return f"{origin}{f', line {line}' if line else ''}"
+        where = f"{origin}{f', line {line}' if line else ''}"
+        inside = [label for key, label in overrides.items() if loc and key[:len(loc)] == loc]
+        # an error of a whole block (e.g. axle positions against axles) after an override inside it
+        return f"{', '.join(inside)} ({where})" if inside else where
 
     return locate
 

@@ -300,8 +300,19 @@ def _resolve(scenario, overrides: list) -> Resolved:
         labels[path] = label
     if train_block["cars"] is None:
         train_block["cars"] = len(train_block.get("formation") or []) or None
+        _check_formation(train_block["cars"], train_source, labels)
     resolved = _validate(tree, source, train_source, labels)
     return dataclasses.replace(resolved, _base=scenario, _overrides=tuple(overrides))
+
+
+def _check_formation(n_cars, train_source: _Source, labels: dict) -> None:
+    """A formation longer than the plant runs, taken whole: the train file's line, not the scenario's."""
+    from railbrake import _core
+    if isinstance(n_cars, int) and n_cars > _core.PLANT_MAX_CARS:
+        where = labels.get(("train", "formation")) or \
+            config.locator(train_source.origin, train_source.lines)(("formation",))
+        raise InputError(f"{where}: formation has {n_cars} cars: a run simulates 1 to {_core.PLANT_MAX_CARS} "
+                         "cars; set train.cars in the scenario (or --cars) to run part of it")
 
 
 def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) -> Resolved:

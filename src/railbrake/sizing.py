@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import csv
 import ctypes
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Optional, Union
@@ -185,6 +185,7 @@ class SizingResult:
     supply_pressure: float  # Pa absolute
     adhesion_limit: float
     ed_blending: bool = True
+    ed_reason: str = ""   # why the ED brake blends or not (the brake step, or as asked)
     warnings: list = field(default_factory=list)
 
     @property
@@ -248,20 +249,37 @@ def brake_step(train, kind: str = "emergency") -> tuple:
 
 
 def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
-    """The profile asked for (default: the train's emergency step) and whether the ED brake
-    blends: as given, else as the train's brake step of that profile says, else on."""
+    """(profile, ED blending, why): the profile asked for (default: the train's emergency step) and
+    whether the ED brake blends: as given, else as the train's brake step of that profile says,
+    else not (pneumatic only: the ED brake is not counted on where no brake step says so)."""
+    if ed is not None:
+        ed = _flag("ed", ed)
     if deceleration is None:
         profile, step_ed = brake_step(train, "emergency")
-        return profile, step_ed if ed is None else bool(ed)
+        if ed is not None:
+            return profile, ed, "as asked"
+        return profile, step_ed, "as the train's brake_steps.emergency.ed_blending says"
     profile = load_profile(deceleration)
-    if ed is None:
-        ed = True
-        for kind in ("emergency", "service"):
-            step = train.brake_step(kind)
-            if step.profile == profile.name:
-                ed = step.ed_blending
-                break
-    return profile, bool(ed)
+    if ed is not None:
+        return profile, ed, "as asked"
+    for kind in ("emergency", "service"):
+        step = train.brake_step(kind)
+        if step.profile == profile.name:
+            return profile, step.ed_blending, f"as the train's brake_steps.{kind}.ed_blending says"
+    return profile, False, "the profile is none of the train's brake steps"
+
+
+def _flag(name: str, value) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} = {value!r}: must be True, False or None")
+    return bool(value)
+
+
+def blending_text(result: "SizingResult") -> str:
+    """Which brakes a sizing counts, and why: for the size command's title and JSON."""
+    brakes = "ED brake blended first on the motor cars, pneumatic the rest" if result.ed_blending \
+        else "pneumatic brake only (ED brake not counted)"
+    return f"{brakes}: {result.ed_reason}"
 
 
 def target_pressure(train, deceleration: Optional[ProfileLike] = None, speeds=None, gradient: float = 0.0,
@@ -271,10 +289,10 @@ def target_pressure(train, deceleration: Optional[ProfileLike] = None, speeds=No
     train: a Train or preset name; deceleration: a profile (name, file, Profile or constant m/s^2;
     default: the train's emergency brake step); speeds: m/s (default: 0 to the top speed every
     5 km/h); gradient: rise/run, uphill positive; ed: ED brake first on the motor cars (default:
-    as the train's brake step with this profile says, else on).
+    as the train's brake step with this profile says, else off: pneumatic only).
     """
     train = load_train(train)
-    profile, ed = _profile_and_ed(train, deceleration, ed)
+    profile, ed, why = _profile_and_ed(train, deceleration, ed)
     if not adhesion_limit > 0.0:
         raise InputError(f"adhesion_limit = {adhesion_limit}: must be > 0")
     speed = _core.as_double_array(default_speeds(train, profile) if speeds is None else speeds).ravel()
@@ -289,12 +307,38 @@ def target_pressure(train, deceleration: Optional[ProfileLike] = None, speeds=No
     types = train.car_types()
     result = SizingResult(speed, decel, p_motor if "motor" in types else None,
                           p_trailer if "trailer" in types else None, ed_force, adhesion.reshape(n, cars),
-                          train.atmospheric_pressure, train.supply_pressure, adhesion_limit, ed)
+                          train.atmospheric_pressure, train.supply_pressure, adhesion_limit, ed, why)
     coast = forward_deceleration(train, speed, np.full(n, train.atmospheric_pressure),
                                  np.full(n, train.atmospheric_pressure), ed_mode=_core.ED_OFF,
                                  gradient=gradient)
     result.warnings.extend(_warnings(train, result, coast))
     return result
+
+
+class SupplyWarning(UserWarning):
+    """A brake demand that needs more cylinder pressure than the brake supply gives."""
+
+
+def supply_warnings(train, steps: dict, v0: float) -> list[str]:
+    """Where the brake steps a run demands ({"emergency" or "service": fraction}) need more
+    cylinder pressure than the supply gives from 0 to v0 (m/s), as `size` warns: there the
+    train decelerates less than the step's profile."""
+    train = load_train(train)
+    found = []
+    speeds = np.linspace(0.0, real("v0", v0, 0.0), _core.MAX_TABLE)
+    for kind, fraction in steps.items():
+        profile, ed = brake_step(train, kind)
+        if fraction != 1.0:
+            profile = replace(profile, deceleration=profile.deceleration * real(f"{kind} fraction", fraction, 0.0, 1.0))
+        sized = target_pressure(train, profile, speeds, ed=ed)
+        for car_kind, p in (("motor", sized.p_motor), ("trailer", sized.p_trailer)):
+            if p is not None and (p > sized.supply_pressure).any():
+                found.append(f"{kind} brake{'' if fraction == 1.0 else f' at {fraction:g}'}: {car_kind} cylinder "
+                             f"pressure up to {sized.gauge_bar(p.max()):.2f} bar exceeds the supply "
+                             f"{sized.gauge_bar(sized.supply_pressure):.2f} bar at "
+                             f"{_ranges(speeds, p > sized.supply_pressure)}: the train decelerates less than "
+                             f"{profile.name} there")
+    return found
 
 
 @dataclass(frozen=True)
@@ -434,7 +478,7 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     if deceleration is not None:
         prof, ed = load_profile(float(deceleration)), bool(ed)
     elif trained is not None:
-        prof, ed = _profile_and_ed(trained, profile, ed)
+        prof, ed, _ = _profile_and_ed(trained, profile, ed)
     else:
         prof = load_profile("emergency" if profile is None else profile)
     ta = prof.delay if delay is None else delay

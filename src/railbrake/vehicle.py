@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import ClassVar, Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator, model_validator
 
 from railbrake import _changes, _core, config
 from railbrake._args import real, reals
@@ -240,12 +240,22 @@ class _Payload(_Strict):
     normal: float = _num("train.car_payload", TONNE)
     crush: float = _num("train.car_payload", TONNE)
 
+    @field_validator("crush")
+    @classmethod
+    def _heaviest(cls, crush: float, info: ValidationInfo) -> float:
+        normal = info.data.get("normal")
+        high = config.bound_in("train.car_payload", TONNE)[1]
+        if normal is not None and crush < normal:
+            raise ValueError(f"must lie in [{normal:g}, {high:g}] t: at least normal = {normal:g} t, "
+                             "crush being the heaviest load case")
+        return crush
+
 
 class _CarType(_Strict):
     kind: Literal["motor", "trailer"]
     tare_t: float = _num("train.car_tare", TONNE)
     payload_t: _Payload
-    axles: int = Field(ge=1, le=8)
+    axles: int
     length_m: float = _num("train.car_length")
     axle_positions_m: list[float] = Field(min_length=1, max_length=8)
     wheel_radius_m: float = _num("train.wheel_radius")
@@ -258,6 +268,14 @@ class _CarType(_Strict):
     ep_valve: _EpValve
     relay_valve: _RelayValve
     wsp_valves: _WspValves
+
+    @field_validator("axles")
+    @classmethod
+    def _four_axles(cls, axles: int) -> int:
+        if axles != _core.AXLES_PER_CAR:   # rb_plant: one axle brake, sensor and WSP valve pair per slot
+            raise ValueError(f"must be {_core.AXLES_PER_CAR}: the whole-train plant models "
+                             f"{_core.AXLES_PER_CAR} axles per car (allowed: {_core.AXLES_PER_CAR})")
+        return axles
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -544,6 +562,7 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
     locate = config.locator(origin, lines, overrides)
     _check_supply(model, locate)
     _check_references(model, locate)
+    _check_ed_use(model, locate)
     try:
         train = _build(model, _load_case(loaded, model, origin))
     except InputError as exc:
@@ -574,14 +593,34 @@ def _check_references(model: _TrainFile, locate) -> None:
                                  f".design = {design!r}: not a valve design ({', '.join(designs)}) nor a file")
 
 
+def _check_ed_use(model: _TrainFile, locate) -> None:
+    """An ED brake the train cannot use (no motor car), or ED blending without an ED brake, would
+    change nothing: refused."""
+    if model.ed_brake is not None and all(model.car_types[n].kind != "motor" for n in model.formation):
+        raise InputError(f"{locate(('ed_brake',))}: ed_brake: the formation has no motor car, so no ED brake "
+                         "acts: remove ed_brake or put a motor car (kind: motor) in the formation")
+    for step in ("emergency", "service"):
+        if model.ed_brake is None and getattr(model.brake_steps, step).ed_blending:
+            raise InputError(f"{locate(('brake_steps', step, 'ed_blending'))}: brake_steps.{step}.ed_blending = "
+                             "true: the train has no ed_brake to blend (allowed: false, or add ed_brake)")
+
+
 def _check_ed_force(train: Train, locate) -> None:
-    """The ED curve (any branches and table) inside the bound train.ed_force from 1 km/h to the top speed."""
-    if train.spec.ed_brake is None:
+    """The ED curve (any branches and table) inside the bound train.ed_force and above zero from 1 km/h
+    to the top speed: the C law takes a negative force as none, which would remove the ED brake unseen."""
+    if train.spec.ed_brake is None or not any(car.motor for car in train.cars):
         return
-    speeds = np.linspace(1.0, train.max_speed / KMH, 100) * KMH
+    speeds = np.linspace(1.0, train.max_speed / KMH, 400) * KMH
     force = np.atleast_1d(train.ed_brake_force(speeds))
     low, high, why = config.bound_in("train.ed_force", KN)
-    bad = np.flatnonzero(~((force >= low * KN) & (force <= high * KN)))
+    low = max(low, 0.0)
+    bad = np.flatnonzero(~((force > low * KN) & (force <= high * KN)))
+    if bad.size and force[bad[0]] <= 0.0:
+        v = speeds[bad[0]] / KMH
+        raise InputError(f"{locate(('ed_brake',))}: ed_brake (branches_kN c0, c1, c2, table_kN, scale): the whole-train "
+                         f"ED force at {v:.0f} km/h is zero or negative (taken as no ED brake at all): it must lie in "
+                         f"(0, {high:g}] kN from 1 km/h to max_speed_kmh ({why}); a train without an ED brake "
+                         "omits ed_brake")
     if bad.size:
         i = bad[0]
         raise InputError(f"{locate(('ed_brake',))}: ed_brake (branches_kN c0, c1, c2, table_kN, scale): the whole-train "

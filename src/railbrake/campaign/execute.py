@@ -19,6 +19,7 @@ import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from railbrake._args import whole
 from railbrake.campaign import dataset, identity
 from railbrake.campaign.plan import Run, plan
 from railbrake.campaign.study import Study
@@ -163,10 +164,18 @@ class _Writer:
             self.add([])
 
 
+def _check_counts(**counts) -> None:
+    """Worker and batch counts are None (automatic) or at least 1 (0 would silently mean automatic)."""
+    for name, value in counts.items():
+        if value is not None:
+            whole(name, value, 1)
+
+
 def run_study(study: Study, out: Path, workers: int | None = None, scheduler: str | None = None,
               batch_size: int | None = None, timeseries: bool = False, progress=None,
               connect_timeout: float = CONNECT_TIMEOUT) -> Summary:
     """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch."""
+    _check_counts(workers=workers, batch_size=batch_size)
     out = Path(out)
     runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
     done = dataset.existing_keys(out)

@@ -17,7 +17,8 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import _changes, config
-from railbrake.campaign import configuration
+from railbrake._args import whole
+from railbrake.campaign import budget, configuration
 from railbrake.campaign.factors import COMPOSITES, Factor, make_factor
 from railbrake.errors import InputError
 
@@ -91,6 +92,7 @@ class Study:
     keys: list[str] = field(default_factory=list)
     lines: dict = field(default_factory=dict)
     overrides: dict = field(default_factory=dict)   # key path -> label of a with_ change (for errors)
+    max_runs: int = budget.MAX_RUNS                 # the limit it was checked against
 
     def __setattr__(self, name, value):
         if self.__dict__.get("_frozen"):   # set at the end of parse: a loaded study is immutable
@@ -121,7 +123,8 @@ class Study:
         labels = resolve.apply_changes(data, merged, StudyFile,
                                        ("set", "factors", "design.points", "assessment.reference", "tuning.params"))
         text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
-        return parse(text, self.origin, lines=self.lines, overrides=labels)
+        return parse(text, self.origin, lines=self.lines, overrides=labels,
+                     max_runs=self.max_runs)
 
     def factor(self, name: str) -> Factor:
         return next(f for f in self.factors if f.name == name)
@@ -187,9 +190,31 @@ def _check_design(study: Study) -> None:
                                  f"({', '.join(f'{k}: {n}' for k, n in lengths.items())})")
 
 
+def _check_size(study: Study, max_runs: int) -> None:
+    """The design's run count, from the design alone, within max_runs (budget.MAX_RUNS by default)."""
+    d = study.spec.design
+    levels = [len(f.levels) for f in study.factors if f.levels is not None]
+    points = budget.design_runs(d.kind, d.samples, levels, len(d.points or []))
+    runs = points * study.spec.seeds
+    if runs > max_runs:
+        key = ("seeds",) if points <= max_runs else \
+            ("design", "samples") if d.kind in ("latin-hypercube", "sobol") else ("design",)
+        first = {f.name: f.at(0.0) for f in study.factors}
+
+        def measure():
+            from railbrake.campaign.plan import point_sets
+            base_tree = configuration.tree(configuration.resolve(study.base))
+            return budget.measure_one(study.base, point_sets(study, first, base_tree))
+
+        budget.refuse(study.where(*key), runs, budget.describe(d.kind, d.samples, levels, study.spec.seeds),
+                      max_runs, measure)
+
+
 def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None = None,
-          overrides: dict | None = None) -> Study:
-    """The study of a file's text; lines and overrides (of Study.with_) say where keys came from."""
+          overrides: dict | None = None, max_runs: int = budget.MAX_RUNS) -> Study:
+    """The study of a file's text; lines and overrides (of Study.with_) say where keys came from;
+    a design of more than max_runs runs is refused before it is drawn."""
+    max_runs = whole("max_runs", max_runs, 1)
     lines = config.line_index(text) if lines is None else lines
     spec = config.validate_data(config.load_mapping(text, origin), StudyFile,
                                 config.locator(origin, lines, overrides))
@@ -209,7 +234,7 @@ def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None
         target = study.fixed_parts if key.partition(".")[0] in COMPOSITES else study.fixed
         target[key] = value
     for name, value in spec.factors.items():
-        factor = make_factor(name, value, study.where("factors", name))
+        factor = make_factor(name, value, study.where("factors", name), max_levels=max_runs)
         if factor.bundle:   # a named case: its name is free, the keys it sets are paths
             for i, level in enumerate(factor.levels):
                 for key in level:
@@ -219,15 +244,21 @@ def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None
             _check_path(study, name, ("factors", name))
         study.factors.append(factor)
     _check_design(study)
+    _check_size(study, max_runs)
+    study.max_runs = max_runs   # kept for with_
     return study._freeze()
 
 
-def load(study: str | Path) -> Study:
-    """A preset study name (railbrake/data/studies) or a study YAML file."""
+def load(study: str | Path, max_runs: int = budget.MAX_RUNS) -> Study:
+    """A preset study name (railbrake/data/studies) or a study YAML file (read as every
+    configuration file is: a regular file under config.MAX_BYTES); a design of more than max_runs
+    runs is refused before it is drawn."""
+    if not isinstance(study, (str, Path)):
+        raise TypeError(f"study = {study!r}: must be a preset study name or a file path")
     name = str(study)
     if name in preset_names():
-        return parse((_preset_dir() / f"{name}.yaml").read_text(), f"study {name}")
+        return parse((_preset_dir() / f"{name}.yaml").read_text(), f"study {name}", max_runs=max_runs)
     path = Path(name)
-    if not path.is_file():
+    if not path.exists():
         raise InputError(f"study = {name!r}: not a preset study ({', '.join(preset_names())}) nor a file")
-    return parse(path.read_text(), str(path), path.resolve().parent)
+    return parse(config.read_text(path), str(path), path.resolve().parent, max_runs=max_runs)

@@ -25,6 +25,7 @@ from railbrake.campaign.assess import assess, worst
 from railbrake.campaign.factors import Factor, make_factor
 from railbrake.campaign.plan import plan
 from railbrake.campaign.study import Study
+from railbrake._args import whole
 from railbrake.errors import InputError
 
 OBJECTIVES = ("worst-delta-s", "pareto")
@@ -184,8 +185,8 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
     import optuna
     if objective not in OBJECTIVES:
         raise InputError(f"--objective {objective}: one of {', '.join(OBJECTIVES)}")
-    if budget < 1:
-        raise InputError(f"--budget {budget}: at least 1 evaluation")
+    whole("budget", budget, 1)
+    execute._check_counts(workers=workers)
     params = parameters(study, names)
     keep = select(study, list(only))
     defaults = default_values(params)

@@ -11,6 +11,7 @@ import ctypes
 import math
 import os
 import time
+import warnings
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
@@ -312,6 +313,8 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     train = with_cars(resolved.train if train is None else train, n_cars)
     plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
     bcu = bcu_params(plant, sc, wsp, train)
+    for text in sizing.supply_warnings(train, demanded_steps(sc), sc.spec.initial_speed):
+        warnings.warn(f"scenario {sc.name}: {text}", sizing.SupplyWarning, stacklevel=2)
     callback = None
     if wsp_function is not None:
         def _adapter(_context, inputs, commands):
@@ -342,6 +345,17 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
                   dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere)
+
+
+def demanded_steps(scenario: Scenario) -> dict:
+    """The brake steps a scenario demands: {"emergency": 1.0, "service": largest fraction}."""
+    steps = {}
+    for step in scenario.spec.demand:
+        if step.emergency:
+            steps["emergency"] = 1.0
+        elif step.service > 0.0:
+            steps["service"] = max(steps.get("service", 0.0), step.service)
+    return steps
 
 
 def axle_name(index: int) -> str:
