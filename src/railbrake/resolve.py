@@ -269,7 +269,8 @@ def _resolve(scenario, overrides: list) -> Resolved:
     tree = copy.deepcopy(source.data)
     train_block = tree.setdefault("train", {})
     if not isinstance(train_block, dict):
-        raise InputError(f"{source.origin}: train must be a mapping (preset, cars)")
+        raise InputError(f"{source.origin}: train must be a mapping (preset, cars, load_case)")
+    _check_train_keys(train_block, source)
     adhesion = tree.get("adhesion")
     if isinstance(adhesion, dict):   # relative adhesion files: against the scenario's folder
         from railbrake.adhesion import preset_names as adhesion_presets
@@ -303,6 +304,20 @@ def _resolve(scenario, overrides: list) -> Resolved:
         _check_formation(train_block["cars"], train_source, labels)
     resolved = _validate(tree, source, train_source, labels)
     return dataclasses.replace(resolved, _base=scenario, _overrides=tuple(overrides))
+
+
+def _check_train_keys(block: dict, source: _Source) -> None:
+    """A scenario's train: takes preset, cars and load_case; any other key would be dropped (the
+    train file gives the rest): refused with its line."""
+    allowed = tuple(scenarios.Train.model_fields)
+    for key in block:
+        if key not in allowed:
+            line = source.lines.get(("train", key, "<key>")) or source.lines.get(("train", key))
+            close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.6)
+            hint = f"did you mean {close[0]}? " if close else ""
+            raise InputError(f"{source.origin}{f', line {line}' if line else ''}: train.{key}: unknown key: {hint}"
+                             f"a scenario's train: takes {', '.join(allowed)}; a key of the train file itself "
+                             f"goes in the train file, or --set train.{key}=VALUE")
 
 
 def _check_formation(n_cars, train_source: _Source, labels: dict) -> None:

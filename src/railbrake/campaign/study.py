@@ -11,12 +11,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field
 
-from railbrake import _changes, config
+from railbrake import _changes, _core, config
 from railbrake._args import whole
 from railbrake.campaign import budget, configuration
 from railbrake.campaign.factors import COMPOSITES, Factor, make_factor
@@ -38,21 +38,51 @@ class Design(_Strict):
     points: list[dict[str, Any]] | None = None   # list
 
 
+def _bounded(bound: str, unit: str, per: float = 1.0, positive: bool = False):
+    """A number in the file's unit (SI = value * per) inside the C bound `bound` (core/src/bounds.c)."""
+    def check(value: float) -> float:
+        if not config.within(bound, value * per) or (positive and not value > 0.0):
+            low, high, why = config.bound_in(bound, per)
+            raise ValueError(f"must lie in {'(' if positive else '['}{low:g}, {high:g}] {unit} ({why})")
+        return value
+
+    return Annotated[float, AfterValidator(check)]
+
+
+def _fraction(value: float) -> float:
+    if not 0.0 <= value <= 1.0:
+        raise ValueError("must lie in [0, 1] (a fraction)")
+    return value
+
+
 class Criteria(_Strict):
     """Pass/fail of an assessed case (EN 15595 style)."""
-    max_lock_events: int = 0
-    min_utilisation: float = 0.85
+    max_lock_events: int = Field(default=0, ge=0)
+    min_utilisation: Annotated[float, AfterValidator(_fraction)] = 0.85
     utilisation_cases: list[str] | None = None   # levels of the reference factor it applies to (None: all
     #                                            but the reference)
-    max_safety_timer_trips: int = 0
-    max_delta_s_pct: float | None = None
-    max_air_drawn_kg: float | None = None
+    max_safety_timer_trips: int = Field(default=0, ge=0)
+    max_delta_s_pct: _bounded("study.delta_s", "%", 0.01) | None = None
+    max_air_drawn_kg: _bounded("study.air_drawn", "kg", positive=True) | None = None
+
+
+def _build_up(value: dict) -> dict:
+    """Exactly the two fractions of the final deceleration, delay < complete, inside (0, 1)."""
+    unknown = sorted(set(value) - {"delay", "complete"})
+    if unknown or set(value) != {"delay", "complete"}:
+        raise ValueError(f"needs exactly delay and complete (fractions of the final deceleration)"
+                         f"{'; unknown: ' + ', '.join(map(str, unknown)) if unknown else ''}")
+    if not 0.0 < value["delay"] < value["complete"] < 1.0:
+        raise ValueError(f"delay = {value['delay']:g}, complete = {value['complete']:g}: must satisfy "
+                         "0 < delay < complete < 1")
+    return value
 
 
 class Assessment(_Strict):
     kind: Literal["en15595"] = "en15595"
-    reference: dict[str, Any]           # factor values of the reference case (dry rail)
-    build_up: dict[str, float] = Field(default_factory=lambda: {"delay": 0.10, "complete": 0.90})
+    reference: dict[str, Any] = Field(min_length=1)   # factor values of the reference case (dry rail)
+    build_up: Annotated[dict[str, float], AfterValidator(_build_up)] = Field(
+        default_factory=lambda: {"delay": 0.10, "complete": 0.90})
     criteria: Criteria = Field(default_factory=Criteria)
     source: str = ""
 
@@ -60,7 +90,7 @@ class Assessment(_Strict):
 class Tuning(_Strict):
     """Ranges of the WSP parameters `wsp tune` may choose from, and the air limit."""
     params: dict[str, dict[str, Any]] = Field(default_factory=dict)
-    air_limit_kg: float | None = Field(default=None, gt=0)
+    air_limit_kg: _bounded("study.air_drawn", "kg", positive=True) | None = None
     source: str = ""
 
 
@@ -190,6 +220,62 @@ def _check_design(study: Study) -> None:
                                  f"({', '.join(f'{k}: {n}' for k, n in lengths.items())})")
 
 
+def tuning_range(study: Study, key: str) -> Factor:
+    """The range `wsp tune` may choose wsp.<name> from: a tuning.params range {low, high} of a WSP
+    key of the resolved configuration, inside the C bound of that parameter."""
+    where = study.where("tuning", "params", key)
+    if not key.startswith("wsp.") or key not in study.keys:
+        wsp = [k for k in study.keys if k.startswith("wsp.") and k not in ("wsp.enabled", "wsp.per_bogie")]
+        raise InputError(f"{where}: not a WSP parameter (tunable: {', '.join(wsp)})")
+    factor = make_factor(key, study.spec.tuning.params[key], where, max_levels=study.max_runs)
+    if factor.low is None or factor.levels is not None:
+        raise InputError(f"{where}: a tuning range is {{low: .., high: ..}} (no levels)")
+    if key in _core.BOUNDS:
+        low, high, _, why = _core.BOUNDS[key]
+        if not (low <= factor.low and factor.high <= high):
+            unit = factor.file_unit or ""
+            per = factor.si(f"1 {unit}") if unit else 1.0
+            raise InputError(f"{where}: low {factor.file_value(factor.low)!r} to high "
+                             f"{factor.file_value(factor.high)!r}: must lie in [{low / per:g}, {high / per:g}]"
+                             f"{' ' + unit if unit else ''} ({why})")
+    return factor
+
+
+def _check_assessment(study: Study) -> None:
+    """The reference names factors and their levels; utilisation_cases name levels of those factors."""
+    assessment = study.spec.assessment
+    if assessment is None:
+        return
+    factors = {f.name: f for f in study.factors}
+    reference_levels = []
+    for key, value in assessment.reference.items():
+        where = study.where("assessment", "reference", key)
+        if key not in factors:
+            raise InputError(f"{where}: not a factor of the study ({', '.join(factors) or 'none'})")
+        factor = factors[key]
+        levels = [factor.si(level) for level in factor.levels or []]
+        wanted = value["name"] if isinstance(value, dict) and "name" in value else value
+        try:
+            found = factor.si(wanted) in levels if factor.kind != "case" else wanted in levels
+        except (TypeError, ValueError, KeyError):
+            found = False
+        if not found:
+            shown = [level["name"] if isinstance(level, dict) else level for level in factor.levels or []]
+            raise InputError(f"{where} = {value!r}: not a level of factor {key} "
+                             f"({', '.join(map(str, shown)) or 'a range without levels'})")
+        reference_levels += levels
+    for i, case in enumerate(assessment.criteria.utilisation_cases or []):
+        if case not in reference_levels:
+            raise InputError(f"{study.where('assessment', 'criteria', 'utilisation_cases', i)} = {case!r}: not a "
+                             f"level of the reference's factors ({', '.join(map(str, reference_levels))})")
+
+
+def _check_tuning(study: Study) -> None:
+    if study.spec.tuning is not None:
+        for key in study.spec.tuning.params:
+            tuning_range(study, key)
+
+
 def _check_size(study: Study, max_runs: int) -> None:
     """The design's run count, from the design alone, within max_runs (budget.MAX_RUNS by default)."""
     d = study.spec.design
@@ -244,8 +330,10 @@ def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None
             _check_path(study, name, ("factors", name))
         study.factors.append(factor)
     _check_design(study)
+    study.max_runs = max_runs   # kept for with_ and tuning ranges
     _check_size(study, max_runs)
-    study.max_runs = max_runs   # kept for with_
+    _check_assessment(study)
+    _check_tuning(study)
     return study._freeze()
 
 
