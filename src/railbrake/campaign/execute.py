@@ -178,7 +178,7 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
     _check_counts(workers=workers, batch_size=batch_size)
     out = Path(out)
     runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
-    done = dataset.existing_keys(out)
+    done = dataset.existing_keys(out, [r.key for r in runs])   # verified; the study's keys recorded
     pending = [r for r in runs if r.key not in done]
     summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out))
     if not pending and dataset.read_manifest(out):
@@ -186,6 +186,7 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
     client, cluster = connect(scheduler_address(scheduler), workers, connect_timeout)
     try:
         out.mkdir(parents=True, exist_ok=True)
+        dataset.record_study_keys(out, [r.key for r in runs])
         dataset.clean(out)
         manifest = _manifest(study, out, None, len(runs))
         dataset.write_manifest(out, manifest)
