@@ -19,10 +19,11 @@ def merge(changes, kwargs: dict, call: str) -> dict:
     merged = {}
     for key, value in list(changes.items()) + list(kwargs.items()):
         if not isinstance(key, str) or not key.strip():
-            raise TypeError(f"{call}: key {key!r}: must be a dotted key such as 'initial_speed'")
+            raise TypeError(f"{call}: changes key {key!r}: must be a dotted key such as 'initial_speed'")
         merged[key] = value
     if not merged:
-        raise InputError(f"{call}: no change given (e.g. {call}(initial_speed='300 km/h'))")
+        example = _EXAMPLES.get(call.split(".")[0].lower(), _EXAMPLES["scenario"])
+        raise InputError(f"{call}: changes = {{}}: no change given (e.g. {call}({example}))")
     return merged
 
 

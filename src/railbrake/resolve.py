@@ -26,7 +26,8 @@ from typing import Mapping, Sequence, Union
 import yaml
 from pydantic import BaseModel
 
-from railbrake import __version__, config, vehicle
+from railbrake import __version__, _core, config, vehicle
+from railbrake._args import name_or_path, whole
 from railbrake import scenario as scenarios
 from railbrake.errors import InputError
 
@@ -137,12 +138,19 @@ def _read_train(preset: str) -> _Source:
 
 def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
     """(key path, value, label) per override; a mapping's values are taken as they are."""
+    if isinstance(sets, (str, bytes)) or not isinstance(sets, (Mapping, Sequence, tuple, list)):
+        raise TypeError(f"sets = {sets!r}: must be a list of 'KEY=VALUE' strings or a mapping of keys to values")
     if isinstance(sets, Mapping):
-        items = [(str(k), v, f"set {k}") for k, v in sets.items()]
+        for k in sets:
+            if not isinstance(k, str) or not k.strip():
+                raise TypeError(f"sets: key {k!r}: must be a dotted key such as 'initial_speed'")
+        items = [(k, v, f"set {k}") for k, v in sets.items()]
     else:
         items = []
-        for text in sets:
-            key, sep, raw = str(text).partition("=")
+        for i, text in enumerate(sets):
+            if not isinstance(text, str):
+                raise TypeError(f"sets[{i}] = {text!r}: must be a 'KEY=VALUE' string")
+            key, sep, raw = text.partition("=")
             if not sep or not key.strip():
                 raise InputError(f"--set {text!r}: expected KEY=VALUE, e.g. --set initial_speed='300 km/h'")
             try:
@@ -252,7 +260,9 @@ def resolve(scenario="emergency-300-heavy-rain", cars: int | None = None, sets: 
     cars: the number of cars (as ``--set train.cars=N``); sets: ``KEY=VALUE`` strings or a mapping."""
     overrides = _parse_sets(sets)
     if cars is not None:
-        overrides.append((("train", "cars"), cars, "--cars"))
+        overrides.append((("train", "cars"), whole("cars", cars, 1, _core.PLANT_MAX_CARS), "--cars"))
+    if not isinstance(scenario, (Resolved, scenarios.Scenario)):
+        name_or_path("scenario", scenario)
     if isinstance(scenario, Resolved):   # more overrides on top of those it has
         if not overrides:
             return scenario

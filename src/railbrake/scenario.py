@@ -17,6 +17,7 @@ from typing import Annotated, ClassVar, Literal
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
 from railbrake import _changes, config
+from railbrake._args import name_or_path, text as _text
 from railbrake.errors import InputError
 
 SCHEMA = "railbrake.scenario/1"
@@ -400,7 +401,7 @@ def preset_names() -> list[str]:
 
 
 def parse(text: str, origin: str) -> Scenario:
-    data = config.load_mapping(text, origin)
+    data = config.load_mapping(_text("text", text), _text("origin", origin))
     lines = config.line_index(text)
     return from_data(data, origin, lines)
 
@@ -435,7 +436,7 @@ def load(scenario: str | Path | Scenario) -> Scenario:
     """A preset name, a YAML file, or a Scenario."""
     if isinstance(scenario, Scenario):
         return scenario
-    name = str(scenario)
+    name = name_or_path("scenario", scenario)
     if name in preset_names():
         return parse((_preset_dir() / f"{name}.yaml").read_text(), f"preset {name}")
     path = Path(name)

@@ -24,7 +24,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator, model_validator
 
 from railbrake import _changes, _core, config
-from railbrake._args import real, reals
+from railbrake._args import instance, name_or_path as _name_or_path, real, reals, whole
 from railbrake.errors import InputError
 from railbrake.units import KMH, TONNE, bar_to_pa, kn_to_n, tonne_to_kg
 
@@ -505,11 +505,13 @@ def with_cars(train: Train, n_cars: int) -> Train:
     """The train lengthened or shortened to n_cars by repeating its formation. Running
     resistance: A and B scale with the mass, C (air) with 0.2 + 0.8 n/N (head and tail
     unchanged) [T]."""
+    instance("train", train, Train)
     n = len(train.cars)
+    n_cars = whole("n_cars", n_cars)
     if n_cars == n:
         return train
     if not 1 <= n_cars <= _core.MAX_CARS:
-        raise InputError(f"cars = {n_cars}: must be in [1, {_core.MAX_CARS}]")
+        raise InputError(f"n_cars = {n_cars}: must be in [1, {_core.MAX_CARS}]")
     c = _core.TrainC()
     c.n_cars = n_cars
     for i in range(n_cars):
@@ -536,8 +538,9 @@ def _load_case(loaded: Union[bool, str, None], model: _TrainFile, origin: str) -
         return model.load_case
     if loaded is False:
         return "tare"
-    if loaded not in LOAD_CASES:
-        raise InputError(f"{origin}: load case = {loaded!r}: must be one of {', '.join(LOAD_CASES)}")
+    if not isinstance(loaded, str) or loaded not in LOAD_CASES:
+        raise InputError(f"loaded = {loaded!r}: must be a load case ({', '.join(LOAD_CASES)}), True (the train "
+                         "file's) or False (tare)")
     return loaded
 
 
@@ -563,8 +566,9 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
     _check_supply(model, locate)
     _check_references(model, locate)
     _check_ed_use(model, locate)
+    load_case = _load_case(loaded, model, origin)
     try:
-        train = _build(model, _load_case(loaded, model, origin))
+        train = _build(model, load_case)
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
     train = replace(train, origin=origin, lines=lines)
@@ -730,7 +734,7 @@ def parse_train(text: str, origin: str, loaded: Union[bool, str] = True) -> Trai
 
 def train_file_text(name_or_path: Union[str, Path]) -> tuple[str, str]:
     """(text, origin) of a preset name or a train YAML file."""
-    name = str(name_or_path)
+    name = _name_or_path("train", name_or_path)
     if name in preset_names():
         return (_preset_dir() / f"{name}.yaml").read_text(), f"train {name}"
     path = Path(name)
@@ -802,6 +806,7 @@ def coupler_force(dx: float, dv: float, slack: float, stiffness: float, stiffnes
 def with_constant_pad_friction(train: Train, speed: float | None = None) -> Train:
     """The same train with each pad's lambda frozen at its value at `speed` (m/s; default: top
     speed); comparing the two shows what lambda(v) does to the target pressure."""
+    instance("train", train, Train)
     v = train.max_speed if speed is None else real("speed", speed, 0.0)
     copy = train.to_c()
     for k in range(copy.n_cars):
@@ -815,7 +820,7 @@ def with_constant_pad_friction(train: Train, speed: float | None = None) -> Trai
 
 def pad_friction_of(car: Car, speed):
     """lambda(v) of a car's pads at speed (m/s)."""
-    pad = ctypes.byref(car.c.brake.pad)
+    pad = ctypes.byref(instance("car", car, Car).c.brake.pad)
     return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), _speeds(speed))
 
 

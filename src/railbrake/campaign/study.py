@@ -347,6 +347,8 @@ def load(study: str | Path, max_runs: int = budget.MAX_RUNS) -> Study:
     if name in preset_names():
         return parse((_preset_dir() / f"{name}.yaml").read_text(), f"study {name}", max_runs=max_runs)
     path = Path(name)
-    if not path.exists():
+    if not name.strip() or not path.exists():
         raise InputError(f"study = {name!r}: not a preset study ({', '.join(preset_names())}) nor a file")
+    if not path.is_file():   # a directory, a FIFO, a device: never read
+        raise InputError(f"study = {name!r}: not a regular file")
     return parse(config.read_text(path), str(path), path.resolve().parent, max_runs=max_runs)

@@ -23,11 +23,12 @@ import yaml
 from railbrake import _core, sizing
 from railbrake.adhesion import load_condition, warn_outside_range
 from railbrake.contact import wheel_rail_contact
+from railbrake._args import choice, flag, function, instance, name_or_path, real, whole
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario, load
 from railbrake.units import KMH, ms_to_kmh
-from railbrake.vehicle import load_train, with_cars
+from railbrake.vehicle import LOAD_CASES, Train, load_train, with_cars
 
 DT = 1e-3
 # One plant step per dt up to this; a longer dt is split into equal sub-steps no longer than it. With
@@ -127,16 +128,17 @@ _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
 
 def substeps_for(dt: float) -> int:
     """Sub-steps of the plant at step dt (s): 1 up to MAX_SUBSTEP, then as many as keep each within it."""
+    dt = real("dt", dt, 0.0, 1.0, low_open=True)   # its range: rb_plant_check
     return max(1, math.ceil(dt / MAX_SUBSTEP - 1e-9))
 
 
 def kernel_code(kernel: str | None = None) -> int:
     """rb_plant_params.kernel for a kernel name; None: the RAILBRAKE_KERNEL environment variable,
     else "auto"."""
-    where = "--kernel"
+    where = "kernel"
     if kernel is None:
         kernel, where = os.environ.get(KERNEL_ENV, "auto"), f"environment variable {KERNEL_ENV}"
-    if kernel not in _core.KERNELS:
+    if not isinstance(kernel, str) or kernel not in _core.KERNELS:
         raise InputError(f"{where} = {kernel!r}: must be one of {', '.join(_core.KERNELS)}")
     return _core.KERNELS[kernel]
 
@@ -161,6 +163,10 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
                  kernel: str | None = None, train=None) -> _core.PlantParams:
     """The plant's parameters; substeps None: substeps_for(dt); kernel: see kernel_code; train: the
     resolved train (default: the scenario's preset)."""
+    instance("scenario", scenario, Scenario)
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
+    substeps = None if substeps is None else whole("substeps", substeps, 1)   # its range: rb_plant_check
+    dt = real("dt", dt, 0.0, 1.0, low_open=True)
     spec = scenario.spec
     train = scenario_train(scenario, n_cars) if train is None else with_cars(train, n_cars)
     scenario.check_speed(train)
@@ -236,6 +242,7 @@ def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     w = _core.WspParams()
     _core.rb_wsp_default_params(ctypes.byref(w))
     if scenario is not None:
+        instance("scenario", scenario, Scenario)
         for key in ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold",
                     "ref_decel_max", "safety_time"):
             value = getattr(scenario.spec.wsp, key)
@@ -286,6 +293,7 @@ def _scenario_struct(scenario: Scenario) -> _core.Scenario:
 
 
 def channels(n_cars: int) -> list[tuple[str, str]]:
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     return _core.channel_list(_core.rb_run_channel_count, _core.rb_run_channel_info, n_cars)
 
 
@@ -308,6 +316,11 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     train: a vehicle.Train to use instead of the scenario's (e.g. with overrides), lengthened to
     the cars asked for.
     """
+    wsp, record = flag("wsp", wsp), flag("record", record)
+    function("wsp_function", wsp_function)
+    function("progress", progress)
+    if train is not None:
+        instance("train", train, Train)
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     train = with_cars(resolved.train if train is None else train, n_cars)
@@ -360,6 +373,7 @@ def demanded_steps(scenario: Scenario) -> dict:
 
 def axle_name(index: int) -> str:
     """'c3a2' (car 3, axle 2, 1-based) for the 0-based global axle index, as in channel names."""
+    index = whole("index", index, 0)
     return f"c{index // _core.AXLES_PER_CAR + 1}a{index % _core.AXLES_PER_CAR + 1}"
 
 
@@ -393,6 +407,9 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float) -> dict:
 
 BENCH_SECONDS = 10.0  # the default span of a bench's runs (s of wall-clock time)
 BENCH_MIN_RUNS = 3
+BENCH_MAX_STEPS = 10**7     # steps of one timed run (about 10 to 100 s of it)
+BENCH_MAX_RUNS = 10**4      # timed runs of one bench
+BENCH_MAX_SECONDS = 3600.0  # wall-clock span of a bench's runs
 
 
 def bench(cars: int = 16, steps: int = 20000, kernel: str | None = None, runs: int | None = None,
@@ -407,10 +424,11 @@ def bench(cars: int = 16, steps: int = 20000, kernel: str | None = None, runs: i
     mean (and the real-time factor) is the CPU time of the timing thread per step, so other processes
     do not count; step_us_wall_mean is the wall-clock mean, p99 and max are wall-clock times of single
     steps; load_average is the machine's 1-minute load when the runs ended."""
-    if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int) or runs < 1):
-        raise InputError(f"runs = {runs!r}: must be a whole number >= 1")
-    if not (isinstance(seconds, (int, float)) and math.isfinite(seconds) and seconds > 0.0):
-        raise InputError(f"seconds = {seconds!r}: must be a finite number of seconds > 0")
+    # bounded before anything runs: bench(runs=2**70) would never end
+    cars = whole("cars", cars, 1, _core.PLANT_MAX_CARS)
+    steps = whole("steps", steps, 1, BENCH_MAX_STEPS)
+    runs = None if runs is None else whole("runs", runs, 1, BENCH_MAX_RUNS)
+    seconds = real("seconds", seconds, 0.0, BENCH_MAX_SECONDS, low_open=True)
     sc = load("emergency-250-dry")
     plant = plant_params(sc, cars, kernel=kernel)
     end = time.monotonic() + seconds
@@ -455,6 +473,10 @@ def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-m
                        max_time: float = 3600.0, load: str | None = None) -> Scenario:
     """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`."""
     from railbrake.scenario import SCHEMA, from_data
+    train, condition = name_or_path("train", train), name_or_path("condition", condition)
+    initial_speed, max_time = real("initial_speed", initial_speed, 0.0), real("max_time", max_time, 0.0)
+    if load is not None:
+        choice("load", load, LOAD_CASES)
     data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
             "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
             "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
@@ -469,6 +491,8 @@ def response_times(result: Result, window: float = RESPONSE_WINDOW) -> tuple[flo
     """EN 14531-1 delay ta and build-up tb of a run's brake (mean cylinder gauge pressure of all
     axles): ta from the demand to 10 % of its value at the end of the build-up (the highest over
     the first `window` s), tb from 10 % to 90 %."""
+    instance("result", result, Result)
+    window = real("window", window, 0.0, low_open=True)
     atmosphere = result.atmosphere
     cylinder = np.mean([result.outputs[n] for n in result.axle_channels("cylinder")], axis=0) - atmosphere
     t = result.time
