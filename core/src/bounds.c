@@ -108,6 +108,9 @@ static const rb_bound bounds[] = {
     {"adhesion.recovery_axles", "1", 0.1, 100.0, "the rail recovers behind 0.1 to 100 axles (a train has at most 64)"},
     {"profile.response_time", "s", 0.0, 30.0, "a brake delay or build-up of up to 30 s (EMUs: ta + tb/2 of 1 to 4 s, EN 14531-1)"},
     {"profile.deceleration", "m/s2", 0.01, 5.0, "a demanded deceleration of 0.01 to 5 m/s2 (beyond, no wheel-rail adhesion)"},
+    /* Study files' assessment and tuning limits (railbrake.campaign.study). */
+    {"study.delta_s", "1", 0.0, 10.0, "a stopping distance up to 11 times the dry reference's (dS up to 1000 %)"},
+    {"study.air_drawn", "kg", 0.0, 1e3, "air drawn in one stop up to 1 t (an EMU's main reservoirs hold a few kg)"},
     {"valve.supply_gauge", "Pa", 1e5, 1e6, "1 to 10 bar gauge: the ideal-gas air of the model holds below 10 bar (docs/pneumatics.md)"},
     /* The valve design files (src/railbrake/data/valves: EP valve, relay valve, solenoid), checked
      * by railbrake.valves.params key by key in the file's unit; wide margins around the small

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 
 import numpy as np
 
@@ -70,6 +71,46 @@ def _reals(name, values, low, high, low_open) -> np.ndarray:
         limits = _bound_text(low, high, low_open, False)
         raise InputError(f"{label} = {x:g}: must be finite{' and ' + limits if limits else ''}")
     return array
+
+
+def whole(name: str, value, low: int | None = None, high: int | None = None) -> int:
+    """value as an int: a whole number (not a Boolean, not a float), inside [low, high]."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} = {value!r}: must be a whole number, not {type(value).__name__}")
+    n = int(value)
+    if (low is not None and n < low) or (high is not None and n > high):
+        raise InputError(f"{name} = {n}: must be {_bound_text(low, high, False, False)}")
+    return n
+
+
+def flag(name: str, value) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} = {value!r}: must be True or False")
+    return bool(value)
+
+
+def name_or_path(name: str, value) -> str:
+    """A preset name or a file path (str or os.PathLike) as text."""
+    if isinstance(value, os.PathLike):
+        value = os.fspath(value)
+    if not isinstance(value, str):
+        raise TypeError(f"{name} = {value!r}: must be a name or a file path, not {type(value).__name__}")
+    if "\0" in value:
+        raise InputError(f"{name} = {value!r}: a name or path holds no NUL character")
+    return value
+
+
+def choice(name: str, value, options) -> str:
+    if not isinstance(value, str) or value not in options:
+        raise InputError(f"{name} = {value!r}: must be one of {', '.join(map(str, options))}")
+    return value
+
+
+def function(name: str, value):
+    """A callable or None."""
+    if value is not None and not callable(value):
+        raise TypeError(f"{name} = {value!r}: must be a function or None")
+    return value
 
 
 def text(name: str, value) -> str:

@@ -16,6 +16,8 @@ from __future__ import annotations
 import copy
 import functools
 import math
+import os
+import stat
 from pathlib import Path
 from typing import TypeVar
 
@@ -32,19 +34,43 @@ MAX_BYTES = 1 << 20     # 1 MiB: no configuration file comes near it
 _LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
-def read_text(path: str | Path) -> str:
-    """A configuration file's text; InputError (naming the file) if it cannot be read or is not UTF-8."""
+_NOT_REGULAR = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def read_bytes(path: str | Path, limit: int = MAX_BYTES) -> bytes:
+    """The bytes of a regular file of at most `limit` bytes; InputError (naming the file) for any
+    other: a missing or unreadable file, a directory, a FIFO or a device (also behind a symlink,
+    e.g. to /dev/zero) is refused at once, without reading (opened non-blocking, so a FIFO with no
+    writer cannot hang), and a file is never read beyond the limit."""
     path = Path(path)
     try:
-        data = path.read_bytes()
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
     except IsADirectoryError:
         raise InputError(f"{path}: a directory, not a file") from None
     except OSError as exc:
         raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
-    if len(data) > MAX_BYTES:
-        raise InputError(f"{path}: {len(data)} bytes: a configuration file must be under {MAX_BYTES} bytes")
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        kind = next((text for test, text in _NOT_REGULAR if test(mode)), "not a regular file")
+        raise InputError(f"{path}: {kind}: a configuration is read from a regular file only")
+    with os.fdopen(fd, "rb") as handle:
+        try:
+            data = handle.read(limit + 1)
+        except OSError as exc:
+            raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    if len(data) > limit:
+        raise InputError(f"{path}: over {limit} bytes: a configuration file must be under {limit} bytes")
+    return data
+
+
+def read_text(path: str | Path) -> str:
+    """A configuration file's text (read_bytes: a regular file under MAX_BYTES); InputError (naming
+    the file) if it cannot be read or is not UTF-8."""
+    data = read_bytes(path)
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -223,7 +249,10 @@ def locator(origin: str, lines: dict, overrides: dict | None = None):
             if loc[:end] in overrides:
                 return overrides[loc[:end]]
         line = _line_of(lines, loc) if lines else None
-        return f"{origin}{f', line {line}' if line else ''}"
+        where = f"{origin}{f', line {line}' if line else ''}"
+        inside = [label for key, label in overrides.items() if loc and key[:len(loc)] == loc]
+        # an error of a whole block (e.g. axle positions against axles) after an override inside it
+        return f"{', '.join(inside)} ({where})" if inside else where
 
     return locate
 

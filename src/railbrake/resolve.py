@@ -26,7 +26,8 @@ from typing import Mapping, Sequence, Union
 import yaml
 from pydantic import BaseModel
 
-from railbrake import __version__, config, vehicle
+from railbrake import __version__, _core, config, vehicle
+from railbrake._args import name_or_path, whole
 from railbrake import scenario as scenarios
 from railbrake.errors import InputError
 
@@ -66,6 +67,12 @@ class Resolved:
     def keys(self) -> list[str]:
         return valid_keys(self._tree)
 
+    def with_(self, changes=None, /, **kwargs) -> "Resolved":
+        """This configuration with more overrides, e.g. ``with_(initial_speed="300 km/h")`` or
+        ``with_({"train.car_types.motor.wheelset_inertia_kgm2": 140})``: as ``--set``."""
+        from railbrake import _changes
+        return resolve(self, sets=_changes.merge(changes, kwargs, "Resolved.with_"))
+
 
 # ------------------------------------------------------------------ reading the files
 
@@ -96,8 +103,9 @@ def _from_spec(scenario: scenarios.Scenario, cars: int | None, sets: SetsLike) -
 
 
 def _read_scenario(name) -> _Source:
-    if isinstance(name, scenarios.Scenario):
-        return _Source(copy.deepcopy(name.data), name.origin, name._lines, None)
+    if isinstance(name, scenarios.Scenario):   # relative file names in it: against its file's folder
+        folder = Path(name.origin).resolve().parent if Path(name.origin).is_file() else None
+        return _Source(name.data, name.origin, name._lines, folder)
     name = str(name)
     if name in scenarios.preset_names():
         text = (resources.files("railbrake") / "data" / "scenarios" / f"{name}.yaml").read_text()
@@ -130,12 +138,19 @@ def _read_train(preset: str) -> _Source:
 
 def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
     """(key path, value, label) per override; a mapping's values are taken as they are."""
+    if isinstance(sets, (str, bytes)) or not isinstance(sets, (Mapping, Sequence, tuple, list)):
+        raise TypeError(f"sets = {sets!r}: must be a list of 'KEY=VALUE' strings or a mapping of keys to values")
     if isinstance(sets, Mapping):
-        items = [(str(k), v, f"set {k}") for k, v in sets.items()]
+        for k in sets:
+            if not isinstance(k, str) or not k.strip():
+                raise TypeError(f"sets: key {k!r}: must be a dotted key such as 'initial_speed'")
+        items = [(k, v, f"set {k}") for k, v in sets.items()]
     else:
         items = []
-        for text in sets:
-            key, sep, raw = str(text).partition("=")
+        for i, text in enumerate(sets):
+            if not isinstance(text, str):
+                raise TypeError(f"sets[{i}] = {text!r}: must be a 'KEY=VALUE' string")
+            key, sep, raw = text.partition("=")
             if not sep or not key.strip():
                 raise InputError(f"--set {text!r}: expected KEY=VALUE, e.g. --set initial_speed='300 km/h'")
             try:
@@ -147,12 +162,13 @@ def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
             for key, value, label in items]
 
 
-def _assign(tree: dict, path: tuple, value, label: str, known: set) -> None:
+def _assign(tree: dict, path: tuple, value, label: str, known: set,
+            listed: str = " (`railbrake config show` lists them)") -> None:
     dotted = ".".join(str(p) for p in path)
     if dotted not in known:
         close = difflib.get_close_matches(dotted, sorted(known), n=3, cutoff=0.5)
         hint = f"; closest valid keys: {', '.join(close)}" if close else ""
-        raise InputError(f"{label}: no such key{hint} (`railbrake config show` lists them)")
+        raise InputError(f"{label}: no such key{hint}{listed}")
     node = tree
     for part in path[:-1]:
         if isinstance(node, list) and isinstance(part, int) and part < len(node):
@@ -170,6 +186,22 @@ def _assign(tree: dict, path: tuple, value, label: str, known: set) -> None:
         raise InputError(f"{label} = {value!r}: {dotted} is a section ({keys}); set one of its keys, "
                          f"e.g. --set {dotted}.{next(iter(current), 'KEY')}=VALUE")
     node[path[-1]] = value
+
+
+def apply_changes(tree: dict, changes: Mapping, model: type[BaseModel], open_sections: tuple = ()) -> dict:
+    """Each dotted key of `changes` set in `tree` (file data of `model`), as --set does: a key the
+    schema does not know is refused, except under `open_sections` (free mappings, e.g. a study's
+    factors), where the schema's own validation judges. Returns key path -> label for errors."""
+    labels = {}
+    for path, value, label in _parse_sets(changes):
+        known: set = set()
+        _keys_of(model, tree, "", known)
+        dotted = ".".join(str(p) for p in path)
+        if any(dotted.startswith(f"{section}.") for section in open_sections):
+            known.add(dotted)
+        _assign(tree, path, value, label, known, listed="")
+        labels[path] = label
+    return labels
 
 
 # ------------------------------------------------------------------ the keys the schemas know
@@ -228,7 +260,9 @@ def resolve(scenario="emergency-300-heavy-rain", cars: int | None = None, sets: 
     cars: the number of cars (as ``--set train.cars=N``); sets: ``KEY=VALUE`` strings or a mapping."""
     overrides = _parse_sets(sets)
     if cars is not None:
-        overrides.append((("train", "cars"), cars, "--cars"))
+        overrides.append((("train", "cars"), whole("cars", cars, 1, _core.PLANT_MAX_CARS), "--cars"))
+    if not isinstance(scenario, (Resolved, scenarios.Scenario)):
+        name_or_path("scenario", scenario)
     if isinstance(scenario, Resolved):   # more overrides on top of those it has
         if not overrides:
             return scenario
@@ -245,7 +279,8 @@ def _resolve(scenario, overrides: list) -> Resolved:
     tree = copy.deepcopy(source.data)
     train_block = tree.setdefault("train", {})
     if not isinstance(train_block, dict):
-        raise InputError(f"{source.origin}: train must be a mapping (preset, cars)")
+        raise InputError(f"{source.origin}: train must be a mapping (preset, cars, load_case)")
+    _check_train_keys(train_block, source)
     adhesion = tree.get("adhesion")
     if isinstance(adhesion, dict):   # relative adhesion files: against the scenario's folder
         from railbrake.adhesion import preset_names as adhesion_presets
@@ -276,13 +311,39 @@ def _resolve(scenario, overrides: list) -> Resolved:
         labels[path] = label
     if train_block["cars"] is None:
         train_block["cars"] = len(train_block.get("formation") or []) or None
+        _check_formation(train_block["cars"], train_source, labels)
     resolved = _validate(tree, source, train_source, labels)
     return dataclasses.replace(resolved, _base=scenario, _overrides=tuple(overrides))
 
 
+def _check_train_keys(block: dict, source: _Source) -> None:
+    """A scenario's train: takes preset, cars and load_case; any other key would be dropped (the
+    train file gives the rest): refused with its line."""
+    allowed = tuple(scenarios.Train.model_fields)
+    for key in block:
+        if key not in allowed:
+            line = source.lines.get(("train", key, "<key>")) or source.lines.get(("train", key))
+            close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.6)
+            hint = f"did you mean {close[0]}? " if close else ""
+            raise InputError(f"{source.origin}{f', line {line}' if line else ''}: train.{key}: unknown key: {hint}"
+                             f"a scenario's train: takes {', '.join(allowed)}; a key of the train file itself "
+                             f"goes in the train file, or --set train.{key}=VALUE")
+
+
+def _check_formation(n_cars, train_source: _Source, labels: dict) -> None:
+    """A formation longer than the plant runs, taken whole: the train file's line, not the scenario's."""
+    from railbrake import _core
+    if isinstance(n_cars, int) and n_cars > _core.PLANT_MAX_CARS:
+        where = labels.get(("train", "formation")) or \
+            config.locator(train_source.origin, train_source.lines)(("formation",))
+        raise InputError(f"{where}: formation has {n_cars} cars: a run simulates 1 to {_core.PLANT_MAX_CARS} "
+                         "cars; set train.cars in the scenario (or --cars) to run part of it")
+
+
 def _validate(tree: dict, source: _Source, train_source: _Source, labels: dict) -> Resolved:
     scenario_data = {k: v for k, v in tree.items() if k != "train"}
-    scenario_data["train"] = {k: tree["train"][k] for k in _TRAIN_KEYS if tree["train"].get(k) is not None}
+    scenario_data["train"] = {k: tree["train"][k] for k in _TRAIN_KEYS + ("load_case",)
+                              if tree["train"].get(k) is not None}   # load_case: the one in effect
     spec = scenarios.from_data(scenario_data, source.origin, source.lines, labels)
     train_data = {k: v for k, v in tree["train"].items() if k not in _TRAIN_KEYS}
     train_labels = {k[1:]: v for k, v in labels.items() if k[:1] == ("train",)}

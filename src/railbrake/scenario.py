@@ -8,14 +8,16 @@ docs/simulation.md.
 
 from __future__ import annotations
 
+import copy
 import re
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from railbrake import config
+from railbrake import _changes, config
+from railbrake._args import name_or_path, text as _text
 from railbrake.errors import InputError
 
 SCHEMA = "railbrake.scenario/1"
@@ -108,8 +110,9 @@ Position = Q_SCENARIO_TRACK_POSITION   # along the track, the front at 0 m at t 
 EventTime = Q_SCENARIO_EVENT_TIME
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+class _Strict(_changes.ReadOnlyModel, BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)   # frozen: a change goes through Scenario.with_
+    OWNER: ClassVar[str] = "scenario"
 
 
 class Train(_Strict):
@@ -218,15 +221,42 @@ class Scenario:
     """A validated scenario plus where each key sits in its file (for later error messages).
 
     ``data`` is the scenario as read (file units), ``overrides`` the key paths set on the command
-    line (``--set``): their errors name the override instead of a line of the file."""
+    line (``--set``): their errors name the override instead of a line of the file. A Scenario is
+    immutable: ``with_(...)`` returns a changed copy, validated as ``--set`` validates."""
 
     def __init__(self, spec: ScenarioFile, origin: str, lines: dict, data: dict | None = None,
                  overrides: dict | None = None):
-        self.spec = spec
-        self.origin = origin
-        self._lines = lines
-        self.data = data if data is not None else {}
-        self.overrides = overrides or {}
+        for key, value in (("spec", spec), ("origin", origin), ("_lines", lines),
+                           ("_data", copy.deepcopy(data) if data is not None else {}),
+                           ("overrides", dict(overrides or {}))):
+            object.__setattr__(self, key, value)
+
+    def __setattr__(self, name, value):
+        _changes.refuse_assignment("scenario", name)
+
+    def __delattr__(self, name):
+        _changes.refuse_assignment("scenario", name)
+
+    @property
+    def data(self) -> dict:
+        """The scenario as read, in file units (a copy: changing it changes nothing)."""
+        return copy.deepcopy(self._data)
+
+    def with_(self, changes=None, /, **kwargs) -> "Scenario":
+        """A copy with keys changed, e.g. ``with_(initial_speed="300 km/h")`` or
+        ``with_({'wsp.enabled': False, 'train.cars': 4})``: dotted keys and values as ``--set``
+        takes them (quantities with their unit), validated as a whole as ``--set`` is."""
+        merged = _changes.merge(changes, kwargs, "Scenario.with_")
+        for key in merged:
+            head, _, rest = key.partition(".")
+            if head == "train" and rest and rest not in ("preset", "cars", "load_case"):
+                raise InputError(f"Scenario.with_: {key}: a key of the train file, not of the scenario; change "
+                                 "it with railbrake.resolve.resolve(scenario, sets={...}) or Train.with_")
+        if not self._data:
+            raise InputError(f"scenario {self.name}: built in code (no file data behind it), so it cannot be "
+                             "changed with with_; load it from a file or preset")
+        from railbrake import resolve
+        return resolve.resolve(self, sets=merged).scenario
 
     @property
     def name(self) -> str:
@@ -285,7 +315,7 @@ class Scenario:
 
     def _as_written(self, *key) -> str:
         """The value of `key` as the file (or the override) gave it, e.g. '250 km/h'."""
-        node = self.data
+        node = self._data
         for part in key:
             try:
                 node = node[part]
@@ -371,7 +401,7 @@ def preset_names() -> list[str]:
 
 
 def parse(text: str, origin: str) -> Scenario:
-    data = config.load_mapping(text, origin)
+    data = config.load_mapping(_text("text", text), _text("origin", origin))
     lines = config.line_index(text)
     return from_data(data, origin, lines)
 
@@ -406,7 +436,7 @@ def load(scenario: str | Path | Scenario) -> Scenario:
     """A preset name, a YAML file, or a Scenario."""
     if isinstance(scenario, Scenario):
         return scenario
-    name = str(scenario)
+    name = name_or_path("scenario", scenario)
     if name in preset_names():
         return parse((_preset_dir() / f"{name}.yaml").read_text(), f"preset {name}")
     path = Path(name)

@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import csv
 import ctypes
-from dataclasses import dataclass, field
+import io
+import numbers
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Optional, Union
@@ -23,13 +25,15 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import _core, config
-from railbrake._args import real, reals, text
+from railbrake._args import flag, instance, name_or_path, real, reals, text, whole
 from railbrake.config import parse_yaml, read_text
 from railbrake.errors import InputError
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import Train, load_train
 
 PROFILE_SCHEMA = "railbrake.profile/1"
+MAX_STOP_STEPS = 10**8      # integration steps of one stop (a few s of C time), and
+MAX_CURVE_POINTS = 10**6    # points of its curve (24 MB): checked before either is spent
 ADHESION_LIMIT = 0.15  # design limit on the adhesion an axle may demand [T]
 
 
@@ -136,7 +140,7 @@ def _parse_profile(text: str, origin: str) -> Profile:
 def read_profile_csv(path: Path, delay=0.0, build_up=0.0) -> Profile:
     """CSV with columns speed_kmh, deceleration_ms2."""
     path = Path(path)
-    with path.open(newline="") as handle:
+    with io.StringIO(read_text(path), newline="") as handle:   # a regular file under the size limit
         reader = csv.DictReader(handle)
         needed = {"speed_kmh", "deceleration_ms2"}
         if not reader.fieldnames or not needed <= set(reader.fieldnames):
@@ -154,13 +158,18 @@ def read_profile_csv(path: Path, delay=0.0, build_up=0.0) -> Profile:
 ProfileLike = Union[str, Path, Profile, float]
 
 
-def load_profile(profile: ProfileLike) -> Profile:
-    """A preset name (profile_names()), a YAML or CSV file, a Profile, or a constant (m/s^2)."""
+def load_profile(profile: ProfileLike, argument: str = "profile") -> Profile:
+    """A preset name (profile_names()), a YAML or CSV file, a Profile, or a constant (m/s^2);
+    errors name `argument` (the caller's name for it)."""
     if isinstance(profile, Profile):
         return profile
-    if isinstance(profile, (int, float)):
-        return make_profile([0.0], [float(profile)], "constant", f"constant {profile} m/s^2")
-    name = str(profile)
+    if isinstance(profile, numbers.Real) and not isinstance(profile, bool):
+        value = real(argument, profile)
+        try:
+            return make_profile([0.0], [value], "constant", f"constant {value} m/s^2")
+        except InputError as exc:
+            raise InputError(f"{argument} = {value!r}: {str(exc).split(': ', 1)[-1]}") from None
+    name = name_or_path(argument, profile)
     if name in profile_names():
         return _parse_profile((_profile_dir() / f"{name}.yaml").read_text(), f"profile {name}")
     path = Path(name)
@@ -168,7 +177,7 @@ def load_profile(profile: ProfileLike) -> Profile:
         return read_profile_csv(path)
     if path.suffix in (".yaml", ".yml") and path.is_file():
         return _parse_profile(read_text(path), str(path))
-    raise InputError(f"profile = {name!r}: not a preset ({', '.join(profile_names())}) nor a file")
+    raise InputError(f"{argument} = {name!r}: not a preset ({', '.join(profile_names())}) nor a file")
 
 
 # ------------------------------------------------------------------ target pressure
@@ -185,6 +194,7 @@ class SizingResult:
     supply_pressure: float  # Pa absolute
     adhesion_limit: float
     ed_blending: bool = True
+    ed_reason: str = ""   # why the ED brake blends or not (the brake step, or as asked)
     warnings: list = field(default_factory=list)
 
     @property
@@ -239,7 +249,7 @@ def brake_step(train, kind: str = "emergency") -> tuple:
     """(Profile, ed_blending) of the train's "emergency" or "service" brake step (train file)."""
     train = load_train(train)
     if kind not in ("emergency", "service"):
-        raise InputError(f"brake step = {kind!r}: must be emergency or service")
+        raise InputError(f"kind = {kind!r}: must be emergency or service")
     step = train.brake_step(kind)
     try:
         return load_profile(step.profile), step.ed_blending
@@ -248,20 +258,37 @@ def brake_step(train, kind: str = "emergency") -> tuple:
 
 
 def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
-    """The profile asked for (default: the train's emergency step) and whether the ED brake
-    blends: as given, else as the train's brake step of that profile says, else on."""
+    """(profile, ED blending, why): the profile asked for (default: the train's emergency step) and
+    whether the ED brake blends: as given, else as the train's brake step of that profile says,
+    else not (pneumatic only: the ED brake is not counted on where no brake step says so)."""
+    if ed is not None:
+        ed = _flag("ed", ed)
     if deceleration is None:
         profile, step_ed = brake_step(train, "emergency")
-        return profile, step_ed if ed is None else bool(ed)
-    profile = load_profile(deceleration)
-    if ed is None:
-        ed = True
-        for kind in ("emergency", "service"):
-            step = train.brake_step(kind)
-            if step.profile == profile.name:
-                ed = step.ed_blending
-                break
-    return profile, bool(ed)
+        if ed is not None:
+            return profile, ed, "as asked"
+        return profile, step_ed, "as the train's brake_steps.emergency.ed_blending says"
+    profile = load_profile(deceleration, "deceleration")
+    if ed is not None:
+        return profile, ed, "as asked"
+    for kind in ("emergency", "service"):
+        step = train.brake_step(kind)
+        if step.profile == profile.name:
+            return profile, step.ed_blending, f"as the train's brake_steps.{kind}.ed_blending says"
+    return profile, False, "the profile is none of the train's brake steps"
+
+
+def _flag(name: str, value) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} = {value!r}: must be True, False or None")
+    return bool(value)
+
+
+def blending_text(result: "SizingResult") -> str:
+    """Which brakes a sizing counts, and why: for the size command's title and JSON."""
+    brakes = "ED brake blended first on the motor cars, pneumatic the rest" if result.ed_blending \
+        else "pneumatic brake only (ED brake not counted)"
+    return f"{brakes}: {result.ed_reason}"
 
 
 def target_pressure(train, deceleration: Optional[ProfileLike] = None, speeds=None, gradient: float = 0.0,
@@ -271,13 +298,14 @@ def target_pressure(train, deceleration: Optional[ProfileLike] = None, speeds=No
     train: a Train or preset name; deceleration: a profile (name, file, Profile or constant m/s^2;
     default: the train's emergency brake step); speeds: m/s (default: 0 to the top speed every
     5 km/h); gradient: rise/run, uphill positive; ed: ED brake first on the motor cars (default:
-    as the train's brake step with this profile says, else on).
+    as the train's brake step with this profile says, else off: pneumatic only).
     """
     train = load_train(train)
-    profile, ed = _profile_and_ed(train, deceleration, ed)
-    if not adhesion_limit > 0.0:
-        raise InputError(f"adhesion_limit = {adhesion_limit}: must be > 0")
-    speed = _core.as_double_array(default_speeds(train, profile) if speeds is None else speeds).ravel()
+    profile, ed, why = _profile_and_ed(train, deceleration, ed)
+    adhesion_limit = real("adhesion_limit", adhesion_limit, 0.0, 1.0, low_open=True)
+    gradient = real("gradient", gradient)
+    speed = _core.as_double_array(default_speeds(train, profile) if speeds is None
+                                  else reals("speeds", speeds, 0.0)).ravel()
     decel = _core.as_double_array(profile.at(speed))
     n, cars = speed.size, len(train.cars)
     p_motor, p_trailer = np.empty(n), np.empty(n)
@@ -289,12 +317,42 @@ def target_pressure(train, deceleration: Optional[ProfileLike] = None, speeds=No
     types = train.car_types()
     result = SizingResult(speed, decel, p_motor if "motor" in types else None,
                           p_trailer if "trailer" in types else None, ed_force, adhesion.reshape(n, cars),
-                          train.atmospheric_pressure, train.supply_pressure, adhesion_limit, ed)
+                          train.atmospheric_pressure, train.supply_pressure, adhesion_limit, ed, why)
     coast = forward_deceleration(train, speed, np.full(n, train.atmospheric_pressure),
                                  np.full(n, train.atmospheric_pressure), ed_mode=_core.ED_OFF,
                                  gradient=gradient)
     result.warnings.extend(_warnings(train, result, coast))
     return result
+
+
+class SupplyWarning(UserWarning):
+    """A brake demand that needs more cylinder pressure than the brake supply gives."""
+
+
+def supply_warnings(train, steps: dict, v0: float) -> list[str]:
+    """Where the brake steps a run demands ({"emergency" or "service": fraction}) need more
+    cylinder pressure than the supply gives from 0 to v0 (m/s), as `size` warns: there the
+    train decelerates less than the step's profile."""
+    train = load_train(train)
+    found = []
+    speeds = np.linspace(0.0, real("v0", v0, 0.0), _core.MAX_TABLE)
+    instance("steps", steps, dict)
+    for kind in steps:
+        if kind not in ("emergency", "service"):
+            raise InputError(f"steps: {kind!r}: not a brake step (emergency, service)")
+    for kind, fraction in steps.items():
+        profile, ed = brake_step(train, kind)
+        if fraction != 1.0:
+            profile = replace(profile, deceleration=profile.deceleration * real(f"{kind} fraction", fraction, 0.0, 1.0))
+        sized = target_pressure(train, profile, speeds, ed=ed)
+        for car_kind, p in (("motor", sized.p_motor), ("trailer", sized.p_trailer)):
+            if p is not None and (p > sized.supply_pressure).any():
+                found.append(f"{kind} brake{'' if fraction == 1.0 else f' at {fraction:g}'}: {car_kind} cylinder "
+                             f"pressure up to {sized.gauge_bar(p.max()):.2f} bar exceeds the supply "
+                             f"{sized.gauge_bar(sized.supply_pressure):.2f} bar at "
+                             f"{_ranges(speeds, p > sized.supply_pressure)}: the train decelerates less than "
+                             f"{profile.name} there")
+    return found
 
 
 @dataclass(frozen=True)
@@ -341,17 +399,29 @@ def forward_deceleration(train, speed, p_motor, p_trailer, ed_demand=None, ed_mo
     overrides (_core.ED_OFF, ED_MAX, ED_BLENDED). Pressures beyond the supply are refused.
     """
     train = load_train(train)
-    speed = _core.as_double_array(speed).ravel()
+    speed = _core.as_double_array(reals("speed", speed, 0.0)).ravel()
     n = speed.size
-    arrays = [_core.as_double_array(np.broadcast_to(x, (n,))) for x in (p_motor, p_trailer)]
+    arrays = [_core.as_double_array(_broadcast(name, reals(name, x, 0.0), n))
+              for name, x in (("p_motor", p_motor), ("p_trailer", p_trailer))]
     if ed_mode is None:
         ed_mode = _core.ED_OFF if ed_demand is None else _core.ED_BLENDED
-    demand = _core.as_double_array(np.broadcast_to(0.0 if ed_demand is None else ed_demand, (n,)))
+    ed_mode = whole("ed_mode", ed_mode, min(_core.ED_OFF, _core.ED_MAX, _core.ED_BLENDED),
+                    max(_core.ED_OFF, _core.ED_MAX, _core.ED_BLENDED))
+    demand = _core.as_double_array(_broadcast("ed_demand", reals("ed_demand", 0.0 if ed_demand is None else ed_demand,
+                                                                 0.0), n))
+    gradient = real("gradient", gradient)
     out = np.empty(n)
     _core.call(_core.rb_train_deceleration_curve, ctypes.byref(train.c), _core.ptr(speed),
                _core.ptr(arrays[0]), _core.ptr(arrays[1]), int(ed_mode), _core.ptr(demand), n,
                float(gradient), _core.ptr(out))
     return out
+
+
+def _broadcast(name: str, values: np.ndarray, n: int) -> np.ndarray:
+    try:
+        return np.broadcast_to(values, (n,))
+    except ValueError:
+        raise InputError(f"{name}: {values.size} values for {n} speeds (give one, or one per speed)") from None
 
 
 # ------------------------------------------------------------------ stopping distance
@@ -367,8 +437,17 @@ class StoppingResult:
 
 
 def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max, gradients=()):
-    o = _core.StopOptions(float(v0), float(v_end), float(gradient), float(delay), float(build_up),
-                          int(bool(equivalent)), float(dt), float(dt_out), float(t_max))
+    """The C stop options; each argument a finite number (its range: rb_stop_options_check)."""
+    o = _core.StopOptions(real("v0", v0), real("v_end", v_end), real("gradient", gradient), real("delay", delay),
+                          real("build_up", build_up), int(flag("equivalent_response", equivalent)),
+                          real("dt", dt, 0.0, low_open=True), real("dt_out", dt_out, 0.0, low_open=True),
+                          real("t_max", t_max, 0.0, low_open=True))
+    if isinstance(gradients, (str, bytes)) or not hasattr(gradients, "__len__"):
+        raise TypeError(f"gradients = {gradients!r}: must be a list of (start m, rise/run) pairs")
+    if o.t_max / o.dt > MAX_STOP_STEPS or o.t_max / o.dt_out > MAX_CURVE_POINTS:   # before the loop and the arrays
+        raise InputError(f"t_max = {o.t_max:g} s: at dt = {o.dt:g} s and dt_out = {o.dt_out:g} s more than "
+                         f"{MAX_STOP_STEPS:.0e} steps or {MAX_CURVE_POINTS:.0e} curve points: shorten t_max or "
+                         "lengthen dt, dt_out")
     if len(gradients) > _core.MAX_STOP_GRADIENTS:
         raise InputError(f"gradients: {len(gradients)} pieces, at most {_core.MAX_STOP_GRADIENTS}")
     o.n_gradients = len(gradients)
@@ -430,11 +509,12 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     track from the train's front at the brake's start (as a scenario's track.gradients), applied
     at the middle of the train (so each start moves back by half the train's length).
     """
+    v0 = real("v0", v0)
     trained = None if train is None else load_train(train)
     if deceleration is not None:
-        prof, ed = load_profile(float(deceleration)), bool(ed)
+        prof, ed = load_profile(real("deceleration", deceleration), "deceleration"), bool(ed)
     elif trained is not None:
-        prof, ed = _profile_and_ed(trained, profile, ed)
+        prof, ed, _ = _profile_and_ed(trained, profile, ed)
     else:
         prof = load_profile("emergency" if profile is None else profile)
     ta = prof.delay if delay is None else delay
@@ -442,7 +522,8 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     if response_time is not None:
         ta, tb = response_time, 0.0
     half = 0.5 * train_length(trained) if trained is not None else 0.0
-    pieces = [(start + half, value) for start, value in gradients]
+    pieces = [(real(f"gradients[{i}] start", piece[0]) + half, real(f"gradients[{i}] gradient", piece[1]))
+              for i, piece in enumerate(_pairs("gradients", gradients))]
     options = _options(v0, v_end, gradient, ta, tb, equivalent_response, dt, dt_out, t_max, pieces)
     if train is None:
         table = prof.table()
@@ -451,6 +532,16 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     cmd, warnings = _pressure_command(trained, prof, v0, ed)
     result = _run(_core.rb_stop_train, (ctypes.byref(trained.c), ctypes.byref(cmd)), options, t_max, dt_out)
     return StoppingResult(*result, warnings=warnings)
+
+
+def _pairs(name: str, pairs) -> list:
+    if isinstance(pairs, (str, bytes)) or not hasattr(pairs, "__iter__"):
+        raise TypeError(f"{name} = {pairs!r}: must be a list of (start m, rise/run) pairs")
+    pairs = list(pairs)
+    for i, pair in enumerate(pairs):
+        if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
+            raise TypeError(f"{name}[{i}] = {pair!r}: must be a (start m, rise/run) pair")
+    return pairs
 
 
 def coast_down(train, v0: float, v_end: float, gradient: float = 0.0, dt: float = 0.05,
@@ -466,6 +557,7 @@ def coast_down(train, v0: float, v_end: float, gradient: float = 0.0, dt: float 
 def stopping_distance_constant(v0: float, deceleration: float, response_time: float) -> tuple:
     """Hand check (C): v0 te + v0^2 / (2 a) and te + v0 / a."""
     s, t = ctypes.c_double(), ctypes.c_double()
-    _core.call(_core.rb_stop_constant, float(v0), float(deceleration), float(response_time),
+    _core.call(_core.rb_stop_constant, real("v0", v0), real("deceleration", deceleration),
+               real("response_time", response_time),
                ctypes.byref(s), ctypes.byref(t))
     return s.value, t.value

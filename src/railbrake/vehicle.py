@@ -14,17 +14,17 @@ from __future__ import annotations
 import ctypes
 import math
 import numbers
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from importlib import resources
 import types
 from pathlib import Path
 from typing import ClassVar, Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator, model_validator
 
-from railbrake import _core, config
-from railbrake._args import real, reals
+from railbrake import _changes, _core, config
+from railbrake._args import instance, name_or_path as _name_or_path, real, reals, whole
 from railbrake.errors import InputError
 from railbrake.units import KMH, TONNE, bar_to_pa, kn_to_n, tonne_to_kg
 
@@ -41,8 +41,9 @@ MM, L, MM2, CM3, KN, BAR = 1e-3, 1e-3, 1e-6, 1e-6, 1e3, 1e5   # file units -> SI
 # Numbers are strict (a bool or a string is never read as a number); every field carries its unit
 # in its name and a plausibility range in that unit, so a tare given in kg where t is asked fails.
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=True)
+class _Strict(_changes.ReadOnlyModel, BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)   # frozen: changes go through Train.with_
+    OWNER: ClassVar[str] = "train"
 
 
 def _num(bound: str, per: float = 1.0, offset: float = 0.0, *, default=...):
@@ -239,12 +240,22 @@ class _Payload(_Strict):
     normal: float = _num("train.car_payload", TONNE)
     crush: float = _num("train.car_payload", TONNE)
 
+    @field_validator("crush")
+    @classmethod
+    def _heaviest(cls, crush: float, info: ValidationInfo) -> float:
+        normal = info.data.get("normal")
+        high = config.bound_in("train.car_payload", TONNE)[1]
+        if normal is not None and crush < normal:
+            raise ValueError(f"must lie in [{normal:g}, {high:g}] t: at least normal = {normal:g} t, "
+                             "crush being the heaviest load case")
+        return crush
+
 
 class _CarType(_Strict):
     kind: Literal["motor", "trailer"]
     tare_t: float = _num("train.car_tare", TONNE)
     payload_t: _Payload
-    axles: int = Field(ge=1, le=8)
+    axles: int
     length_m: float = _num("train.car_length")
     axle_positions_m: list[float] = Field(min_length=1, max_length=8)
     wheel_radius_m: float = _num("train.wheel_radius")
@@ -257,6 +268,14 @@ class _CarType(_Strict):
     ep_valve: _EpValve
     relay_valve: _RelayValve
     wsp_valves: _WspValves
+
+    @field_validator("axles")
+    @classmethod
+    def _four_axles(cls, axles: int) -> int:
+        if axles != _core.AXLES_PER_CAR:   # rb_plant: one axle brake, sensor and WSP valve pair per slot
+            raise ValueError(f"must be {_core.AXLES_PER_CAR}: the whole-train plant models "
+                             f"{_core.AXLES_PER_CAR} axles per car (allowed: {_core.AXLES_PER_CAR})")
+        return axles
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -348,6 +367,20 @@ class Train:
     c: _core.TrainC  # rb_train struct, checked
     spec: _TrainFile  # the whole file as validated (file units): brake equipment, air supply
     load_case: str = "normal"
+    origin: str = ""   # the file (or preset) it was read from, and the lines of its keys (for errors)
+    lines: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def with_(self, changes=None, /, **kwargs) -> "Train":
+        """A copy with keys of the train file changed, e.g. ``with_(max_speed_kmh=300)`` or
+        ``with_({'car_types.motor.tare_t': 50, 'load_case': 'crush'})``: keys and values in file
+        units, as ``--set train.KEY=VALUE`` takes them, validated as a whole as a train file is."""
+        from railbrake import resolve
+        merged = _changes.merge(changes, kwargs, "Train.with_")
+        data = self.spec.model_dump(mode="json", by_alias=True)
+        labels = resolve.apply_changes(data, merged, _TrainFile)
+        loaded = data.get("load_case") if "load_case" in merged else self.load_case
+        train = parse_train_data(data, self.origin, self.lines, loaded, overrides=labels)
+        return train if len(self.cars) == len(self.spec.formation) else with_cars(train, len(self.cars))
 
     def brake_step(self, kind: str) -> _BrakeStep:
         """The train's "emergency" or "service" brake step: profile name and ED blending."""
@@ -390,6 +423,15 @@ class Train:
         copy = _core.TrainC()
         ctypes.pointer(copy)[0] = self.c
         return copy
+
+
+def _refuse_assignment(self, name, value=None):
+    _changes.refuse_assignment("train", name)
+
+
+# immutable, with a message naming the way to change them (dataclass's own says only "cannot assign")
+Train.__setattr__ = Train.__delattr__ = _refuse_assignment
+Car.__setattr__ = Car.__delattr__ = _refuse_assignment
 
 
 def _ed_curve(ed: _EdBrake | None, motor_count: int) -> _core.EdCurve:
@@ -463,11 +505,13 @@ def with_cars(train: Train, n_cars: int) -> Train:
     """The train lengthened or shortened to n_cars by repeating its formation. Running
     resistance: A and B scale with the mass, C (air) with 0.2 + 0.8 n/N (head and tail
     unchanged) [T]."""
+    instance("train", train, Train)
     n = len(train.cars)
+    n_cars = whole("n_cars", n_cars)
     if n_cars == n:
         return train
     if not 1 <= n_cars <= _core.MAX_CARS:
-        raise InputError(f"cars = {n_cars}: must be in [1, {_core.MAX_CARS}]")
+        raise InputError(f"n_cars = {n_cars}: must be in [1, {_core.MAX_CARS}]")
     c = _core.TrainC()
     c.n_cars = n_cars
     for i in range(n_cars):
@@ -494,8 +538,9 @@ def _load_case(loaded: Union[bool, str, None], model: _TrainFile, origin: str) -
         return model.load_case
     if loaded is False:
         return "tare"
-    if loaded not in LOAD_CASES:
-        raise InputError(f"{origin}: load case = {loaded!r}: must be one of {', '.join(LOAD_CASES)}")
+    if not isinstance(loaded, str) or loaded not in LOAD_CASES:
+        raise InputError(f"loaded = {loaded!r}: must be a load case ({', '.join(LOAD_CASES)}), True (the train "
+                         "file's) or False (tare)")
     return loaded
 
 
@@ -520,10 +565,13 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
     locate = config.locator(origin, lines, overrides)
     _check_supply(model, locate)
     _check_references(model, locate)
+    _check_ed_use(model, locate)
+    load_case = _load_case(loaded, model, origin)
     try:
-        train = _build(model, _load_case(loaded, model, origin))
+        train = _build(model, load_case)
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") from None
+    train = replace(train, origin=origin, lines=lines)
     _check_ed_force(train, locate)
     return train
 
@@ -549,14 +597,34 @@ def _check_references(model: _TrainFile, locate) -> None:
                                  f".design = {design!r}: not a valve design ({', '.join(designs)}) nor a file")
 
 
+def _check_ed_use(model: _TrainFile, locate) -> None:
+    """An ED brake the train cannot use (no motor car), or ED blending without an ED brake, would
+    change nothing: refused."""
+    if model.ed_brake is not None and all(model.car_types[n].kind != "motor" for n in model.formation):
+        raise InputError(f"{locate(('ed_brake',))}: ed_brake: the formation has no motor car, so no ED brake "
+                         "acts: remove ed_brake or put a motor car (kind: motor) in the formation")
+    for step in ("emergency", "service"):
+        if model.ed_brake is None and getattr(model.brake_steps, step).ed_blending:
+            raise InputError(f"{locate(('brake_steps', step, 'ed_blending'))}: brake_steps.{step}.ed_blending = "
+                             "true: the train has no ed_brake to blend (allowed: false, or add ed_brake)")
+
+
 def _check_ed_force(train: Train, locate) -> None:
-    """The ED curve (any branches and table) inside the bound train.ed_force from 1 km/h to the top speed."""
-    if train.spec.ed_brake is None:
+    """The ED curve (any branches and table) inside the bound train.ed_force and above zero from 1 km/h
+    to the top speed: the C law takes a negative force as none, which would remove the ED brake unseen."""
+    if train.spec.ed_brake is None or not any(car.motor for car in train.cars):
         return
-    speeds = np.linspace(1.0, train.max_speed / KMH, 100) * KMH
+    speeds = np.linspace(1.0, train.max_speed / KMH, 400) * KMH
     force = np.atleast_1d(train.ed_brake_force(speeds))
     low, high, why = config.bound_in("train.ed_force", KN)
-    bad = np.flatnonzero(~((force >= low * KN) & (force <= high * KN)))
+    low = max(low, 0.0)
+    bad = np.flatnonzero(~((force > low * KN) & (force <= high * KN)))
+    if bad.size and force[bad[0]] <= 0.0:
+        v = speeds[bad[0]] / KMH
+        raise InputError(f"{locate(('ed_brake',))}: ed_brake (branches_kN c0, c1, c2, table_kN, scale): the whole-train "
+                         f"ED force at {v:.0f} km/h is zero or negative (taken as no ED brake at all): it must lie in "
+                         f"(0, {high:g}] kN from 1 km/h to max_speed_kmh ({why}); a train without an ED brake "
+                         "omits ed_brake")
     if bad.size:
         i = bad[0]
         raise InputError(f"{locate(('ed_brake',))}: ed_brake (branches_kN c0, c1, c2, table_kN, scale): the whole-train "
@@ -666,7 +734,7 @@ def parse_train(text: str, origin: str, loaded: Union[bool, str] = True) -> Trai
 
 def train_file_text(name_or_path: Union[str, Path]) -> tuple[str, str]:
     """(text, origin) of a preset name or a train YAML file."""
-    name = str(name_or_path)
+    name = _name_or_path("train", name_or_path)
     if name in preset_names():
         return (_preset_dir() / f"{name}.yaml").read_text(), f"train {name}"
     path = Path(name)
@@ -738,6 +806,7 @@ def coupler_force(dx: float, dv: float, slack: float, stiffness: float, stiffnes
 def with_constant_pad_friction(train: Train, speed: float | None = None) -> Train:
     """The same train with each pad's lambda frozen at its value at `speed` (m/s; default: top
     speed); comparing the two shows what lambda(v) does to the target pressure."""
+    instance("train", train, Train)
     v = train.max_speed if speed is None else real("speed", speed, 0.0)
     copy = train.to_c()
     for k in range(copy.n_cars):
@@ -751,7 +820,7 @@ def with_constant_pad_friction(train: Train, speed: float | None = None) -> Trai
 
 def pad_friction_of(car: Car, speed):
     """lambda(v) of a car's pads at speed (m/s)."""
-    pad = ctypes.byref(car.c.brake.pad)
+    pad = ctypes.byref(instance("car", car, Car).c.brake.pad)
     return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), _speeds(speed))
 
 

@@ -17,7 +17,17 @@ from railbrake.adhesion.conditions import (
     preset_names,
     warn_outside_range,
 )
-from railbrake.adhesion.fit import PolachFit, check_points, identify_polach
+
+_FIT = ("PolachFit", "check_points", "identify_polach")
+
+
+def __getattr__(name):
+    """The fit (and scipy.optimize, most of a second to import) loads when first used, not with
+    every scenario that names an adhesion condition."""
+    if name in _FIT:
+        from railbrake.adhesion import fit
+        return getattr(fit, name)
+    raise AttributeError(f"module 'railbrake.adhesion' has no attribute {name!r}")
 
 __all__ = [
     "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",

@@ -19,6 +19,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import _core, config
+from railbrake._args import instance, name_or_path, real, reals, whole
 from railbrake.config import parse_yaml, read_text
 from railbrake.contact import (
     HertzContact,
@@ -104,6 +105,7 @@ class AdhesionCondition:
 
     def params_at_axle(self, axle: int = 0) -> PolachParams:
         """Polach parameters seen by the given axle (counted from the front of the train)."""
+        axle = whole("axle", axle)
         if axle < 0:
             raise InputError(f"axle = {axle}: must be >= 0 (0 is the leading axle)")
         if self.conditioning is None:
@@ -219,13 +221,17 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
         if missing:
             raise InputError(f"condition = {dict(condition)}: missing {sorted(missing)}")
         return load_condition(PolachParams(**{k: float(condition[k]) for k in ("mu0", "A", "B", "kA", "kS")}))
-    name = str(condition)
+    name = name_or_path("condition", condition)
     if name in preset_names():
         text = (_preset_dir() / f"{name}.yaml").read_text()
         return _parse_condition_file(text, f"preset {name}")
     path = Path(name)
     if path.suffix in (".yaml", ".yml"):   # read_text names a missing or unreadable file
-        return _parse_condition_file(read_text(path), str(path))
+        try:
+            text = read_text(path)
+        except InputError as exc:
+            raise InputError(f"condition = {name!r}: {exc}") from None
+        return _parse_condition_file(text, str(path))
     raise InputError(f"condition = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
 
@@ -243,6 +249,8 @@ def warn_outside_range(condition: AdhesionCondition, speed_kmh: float, what: str
 
     Returns True if the speed is outside. Conditions without a declared range never warn.
     """
+    instance("condition", condition, AdhesionCondition)
+    speed_kmh = real("speed_kmh", speed_kmh)
     valid = condition.validity
     if valid is None or valid.contains(speed_kmh):
         return False
@@ -275,6 +283,7 @@ def peak_adhesion(condition: ConditionLike, speed: float, axle: int = 0,
     """
     contact = _contact(contact)
     cond = load_condition(condition)
+    speed = real("speed", speed, *_core.BOUNDS["initial_speed"][:2])
     warn_outside_range(cond, ms_to_kmh(speed))
     params = cond.params_at_axle(axle)
     coefficient, creep = polach_peak(speed, contact.normal_force, contact, params)
@@ -294,10 +303,11 @@ def creep_curves(condition: ConditionLike, speeds, axle: int = 0,
     """Creep-force curves F/Q(creep) at each speed (m/s); creep defaults to 0..40 %."""
     contact = _contact(contact)
     cond = load_condition(condition)
+    speeds = reals("speeds", speeds, *_core.BOUNDS["initial_speed"][:2]).ravel()
     for v in speeds:
         warn_outside_range(cond, ms_to_kmh(float(v)))
     params = cond.params_at_axle(axle)
-    creep = np.linspace(0.0, 0.4, 401) if creep is None else np.asarray(creep, dtype=float)
+    creep = np.linspace(0.0, 0.4, 401) if creep is None else reals("creep", creep)
     curves = []
     for v in speeds:
         coefficient = polach_coefficient(creep, v, contact.normal_force, contact, params)
@@ -307,8 +317,9 @@ def creep_curves(condition: ConditionLike, speeds, axle: int = 0,
 
 
 def car_of_axle(axle: int, axles_per_car: int = AXLES_PER_CAR) -> int:
-    return axle // axles_per_car + 1
+    return whole("axle", axle, 0) // whole("axles_per_car", axles_per_car, 1) + 1
 
 
 def car_axles(car: int, axles_per_car: int = AXLES_PER_CAR) -> range:
+    car, axles_per_car = whole("car", car, 1), whole("axles_per_car", axles_per_car, 1)
     return range((car - 1) * axles_per_car, car * axles_per_car)

@@ -5,6 +5,14 @@ metadata), one per KPI (float64: booleans and counts as numbers, None as null), 
 "failed"), error, wall_time_s. A batch file is written to a temporary name and renamed, so a
 study killed at any moment leaves only whole batches: the dataset is always consistent and a
 rerun skips the keys it holds. DIR/study.json records the schema and the study's identity.
+
+The dataset vouches for itself: DIR/runs/parts.jsonl lists every part written, one line each
+with its SHA-256 and its run keys, appended (and flushed to disk) before the part is renamed into
+place; DIR/runs/keys.json holds the run keys of the study as last planned. Resume and report verify
+every part against that list before trusting it: a part altered or damaged after it was written
+(checksum), copied or brought from another dataset (not listed, or its keys not its own), or
+listed but missing is refused by name, and the report counts only the study's keys. A study killed
+between the line and the rename is completed on resume (the temporary part matches its line).
 """
 
 from __future__ import annotations
@@ -84,11 +92,124 @@ def batch_name(keys: list[str]) -> str:
 def write_batch(out: Path, rows: list[dict], sch: pa.Schema) -> Path:
     folder = out / RUNS
     folder.mkdir(parents=True, exist_ok=True)
-    final = folder / batch_name([r["key"] for r in rows])
+    keys = [r["key"] for r in rows]
+    final = folder / batch_name(keys)
     temporary = folder / f".{final.name}.{os.getpid()}.tmp"
     pq.write_table(table(rows, sch), temporary)
+    _append_part(out, final.name, _sha256(temporary), keys)   # listed first: a part never unlisted
     os.replace(temporary, final)   # atomic: a reader sees the whole batch or none of it
     return final
+
+
+# ------------------------------------------------------------------ the parts' manifest
+
+PARTS = "parts.jsonl"    # in DIR/runs: one line per part, {"part", "sha256", "keys"}
+KEYS = "keys.json"       # in DIR/runs: {"keys": the study's run keys}
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with path.open("rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _append_part(out: Path, name: str, sha: str, keys: list[str]) -> None:
+    line = json.dumps({"part": name, "sha256": sha, "keys": keys}, separators=(",", ":")) + "\n"
+    with (out / RUNS / PARTS).open("a") as handle:
+        handle.write(line)
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
+def _where(out: Path, name: str) -> str:
+    return str(Path(out) / RUNS / name)
+
+
+def _listed(out: Path, repair: bool) -> dict[str, dict]:
+    """part name -> its line of parts.jsonl; a torn last line (a study killed while appending it:
+    its part was never renamed into place) is dropped when repairing, refused otherwise."""
+    path = out / RUNS / PARTS
+    if not path.is_file():
+        return {}
+    raw = path.read_bytes()
+    lines = raw.split(b"\n")
+    listed = {}
+    for number, line in enumerate(lines, start=1):
+        if not line.strip():
+            continue
+        try:
+            entry = json.loads(line)
+            if not (isinstance(entry, dict) and isinstance(entry.get("part"), str)
+                    and isinstance(entry.get("sha256"), str) and isinstance(entry.get("keys"), list)):
+                raise ValueError
+        except ValueError:
+            last = number == len(lines) and not raw.endswith(b"\n")
+            if last and repair:
+                with path.open("r+b") as handle:   # the line being written when the study was killed
+                    handle.truncate(len(raw) - len(line))
+                break
+            raise InputError(f"{path}, line {number}: damaged (not a part's record): the dataset cannot be "
+                             "verified; run the study into a new folder") from None
+        listed[entry["part"]] = entry
+    return listed
+
+
+def _recover(out: Path, name: str, entry: dict) -> bool:
+    """A listed part killed before its rename: rename its temporary file if it matches its line."""
+    for temporary in (out / RUNS).glob(f".{name}.*.tmp"):
+        if _sha256(temporary) == entry["sha256"]:
+            os.replace(temporary, out / RUNS / name)
+            return True
+    return False
+
+
+def verify(out: Path, repair: bool = False) -> dict[str, dict]:
+    """Every part of DIR/runs checked against parts.jsonl (name -> its line): InputError naming the
+    first part that is not listed (copied, foreign), whose checksum differs (altered, damaged),
+    whose name is not that of its keys, or that is listed but missing. repair (resume): complete a
+    study killed between a part's line and its rename."""
+    out = Path(out)
+    listed = _listed(out, repair)
+    present = {p.name for p in _parts(out)}
+    if present and not (out / RUNS / PARTS).is_file():
+        raise InputError(f"{_where(out, PARTS)}: missing, so the parts cannot be verified (a dataset of a railbrake "
+                         "before dataset manifests, or the file removed): run the study into a new folder")
+    for name in sorted(present - set(listed)):
+        raise InputError(f"{_where(out, name)}: not in {_where(out, PARTS)}: a copy, or a part of another "
+                         "dataset: remove it (this dataset's parts are listed there when written)")
+    for name, entry in listed.items():
+        if name not in present and not (repair and _recover(out, name, entry)):
+            raise InputError(f"{_where(out, name)}: listed in {_where(out, PARTS)} but missing: restore it, or run "
+                             "the study into a new folder")
+        if batch_name(entry["keys"]) != name:
+            raise InputError(f"{_where(out, name)}: its name is not that of its runs' keys in {_where(out, PARTS)}")
+        if _sha256(out / RUNS / name) != entry["sha256"]:
+            raise InputError(f"{_where(out, name)}: its SHA-256 differs from {_where(out, PARTS)}: altered or "
+                             "damaged after it was written; remove it (and its line) to run its runs again, "
+                             "or run the study into a new folder")
+    return listed
+
+
+def record_study_keys(out: Path, keys: list[str]) -> None:
+    """The study's run keys (as planned now), for the report to count only them."""
+    folder = Path(out) / RUNS
+    folder.mkdir(parents=True, exist_ok=True)
+    temporary = folder / f".{KEYS}.tmp"
+    temporary.write_text(json.dumps({"keys": sorted(keys)}))
+    os.replace(temporary, folder / KEYS)
+
+
+def study_keys(out: Path) -> set[str] | None:
+    path = Path(out) / RUNS / KEYS
+    if not path.is_file():
+        return None
+    try:
+        keys = json.loads(path.read_text())["keys"]
+    except (ValueError, KeyError, TypeError):
+        raise InputError(f"{path}: damaged (not the study's run keys); run the study again to rewrite it") from None
+    return set(keys)
 
 
 def _parts(out: Path) -> list[Path]:
@@ -101,20 +222,42 @@ def clean(out: Path) -> None:
         path.unlink(missing_ok=True)
 
 
-def existing_keys(out: Path) -> set[str]:
+def existing_keys(out: Path, study_keys: list[str] | None = None) -> set[str]:
+    """The keys the dataset holds, from its verified parts (a resume completes a part killed before
+    its rename); study_keys, when given, are recorded as the study's (record_study_keys) in a
+    dataset already there (a new one records them when its folder is made)."""
+    out = Path(out)
     keys: set[str] = set()
-    for part in _parts(out):
-        keys.update(pq.read_table(part, columns=["key"]).column("key").to_pylist())
+    for entry in verify(out, repair=True).values():
+        keys.update(entry["keys"])
+    if study_keys is not None and (out / RUNS).is_dir():
+        record_study_keys(out, study_keys)
     return keys
 
 
+def _read_part(out: Path, name: str, keys: list[str]) -> pa.Table:
+    try:
+        part = pq.read_table(out / RUNS / name)
+    except (OSError, pa.ArrowException) as exc:
+        raise InputError(f"{_where(out, name)}: not a readable Parquet part ({exc})") from None
+    if sorted(part.column("key").to_pylist()) != sorted(keys):
+        raise InputError(f"{_where(out, name)}: holds other runs than {_where(out, PARTS)} lists for it")
+    return part
+
+
 def read(out: Path) -> pa.Table:
-    """The whole dataset, sorted by key."""
-    parts = _parts(Path(out))
-    if not parts:
+    """The whole dataset, verified (verify), of the study's keys only, each once, sorted by key."""
+    out = Path(out)
+    listed = verify(out)
+    if not listed:
         raise InputError(f"{out}: no campaign dataset here ({RUNS}/part-*.parquet)")
-    data = pa.concat_tables([pq.read_table(p) for p in parts])
-    return data.sort_by("key")
+    data = pa.concat_tables([_read_part(out, name, entry["keys"]) for name, entry in listed.items()])
+    wanted = study_keys(out)
+    keep, seen = [], set()
+    for key in data.column("key").to_pylist():   # each of the study's keys once
+        keep.append(key not in seen and (wanted is None or key in wanted))
+        seen.add(key)
+    return data.filter(pa.array(keep, type=pa.bool_())).sort_by("key")
 
 
 def read_manifest(out: Path) -> dict | None:

@@ -13,7 +13,6 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.stats import qmc
 
 from railbrake.campaign.study import Study
 
@@ -34,6 +33,7 @@ def _unit_cube(study: Study, points: np.ndarray, block: str = "") -> list[Point]
 
 
 def _sobol(study: Study, generator: np.random.Generator) -> list[Point]:
+    from scipy.stats import qmc   # scipy.stats takes about a second to import: only for these designs
     d, n = len(study.factors), study.spec.design.samples
     base = qmc.Sobol(2 * d, scramble=study.spec.design.scramble, seed=generator).random(n)
     a, b = base[:, :d], base[:, d:]
@@ -53,6 +53,7 @@ def points(study: Study, generator: np.random.Generator) -> list[Point]:
     if design.kind == "zip":
         return [Point(dict(zip(names, combo))) for combo in zip(*(f.levels for f in study.factors))]
     if design.kind == "latin-hypercube":
+        from scipy.stats import qmc
         sample = qmc.LatinHypercube(len(names), seed=generator).random(design.samples)
         return _unit_cube(study, sample)
     if design.kind == "sobol":

@@ -19,6 +19,7 @@ import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from railbrake._args import whole
 from railbrake.campaign import dataset, identity
 from railbrake.campaign.plan import Run, plan
 from railbrake.campaign.study import Study
@@ -171,6 +172,13 @@ class _Writer:
             self.add([])
 
 
+def _check_counts(**counts) -> None:
+    """Worker and batch counts are None (automatic) or at least 1 (0 would silently mean automatic)."""
+    for name, value in counts.items():
+        if value is not None:
+            whole(name, value, 1)
+
+
 def run_study(study: Study, out: Path, workers: int | None = None, scheduler: str | None = None,
               batch_size: int | None = None, timeseries: bool = False, progress=None,
               connect_timeout: float = CONNECT_TIMEOUT, dashboard: str | None = None,
@@ -178,9 +186,10 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
     """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch;
     dashboard: the local cluster's dashboard address (connect); on_connect(client) once connected
     (e.g. to show client.dashboard_link)."""
+    _check_counts(workers=workers, batch_size=batch_size)
     out = Path(out)
     runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
-    done = dataset.existing_keys(out)
+    done = dataset.existing_keys(out, [r.key for r in runs])   # verified; the study's keys recorded
     pending = [r for r in runs if r.key not in done]
     summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out))
     if not pending and dataset.read_manifest(out):
@@ -190,6 +199,7 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
         on_connect(client)
     try:
         out.mkdir(parents=True, exist_ok=True)
+        dataset.record_study_keys(out, [r.key for r in runs])
         dataset.clean(out)
         manifest = _manifest(study, out, None, len(runs))
         dataset.write_manifest(out, manifest)

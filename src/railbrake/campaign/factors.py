@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from railbrake.campaign.budget import MAX_RUNS
 from railbrake.errors import InputError
 from railbrake.scenario import _QUANTITY, _UNITS
 
@@ -108,7 +109,7 @@ def _level_kind(levels: list, where: str) -> tuple[str, str]:
     return "category", ""
 
 
-def _range(name: str, value: dict, where: str) -> Factor:
+def _range(name: str, value: dict, where: str, max_levels: int) -> Factor:
     extra = set(value) - {"low", "high", "levels"}
     if extra or not {"low", "high"} <= set(value):
         raise InputError(f"{where}: a range is {{low: .., high: .., levels: N (grid, zip)}}, got keys "
@@ -128,16 +129,19 @@ def _range(name: str, value: dict, where: str) -> Factor:
         raise InputError(f"{where}: low {low!r} >= high {high!r}; a range needs low < high")
     if "levels" in value:
         n = value["levels"]
-        if not isinstance(n, int) or n < 1:
+        if not isinstance(n, int) or isinstance(n, bool) or n < 1:
             raise InputError(f"{where}.levels = {n!r}: a design with no runs (levels >= 1)")
+        if n > max_levels:   # before the levels are made
+            raise InputError(f"{where}.levels = {n}: more levels than the limit of {max_levels:,} runs "
+                             "(raise it with --max-runs N)")
         points = [f.low] if n == 1 else np.linspace(f.low, f.high, n)
         f.levels = [f.file_value(float(x)) for x in points]
     return f
 
 
-def make_factor(name: str, value: Any, where: str) -> Factor:
+def make_factor(name: str, value: Any, where: str, max_levels: int = MAX_RUNS) -> Factor:
     if isinstance(value, dict):
-        return _range(name, value, where)
+        return _range(name, value, where, max_levels)
     if not isinstance(value, list):
         raise InputError(f"{where} = {value!r}: a factor is a list of levels or a range {{low, high}}")
     if not value:

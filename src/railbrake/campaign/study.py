@@ -11,13 +11,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field
 
-from railbrake import config
-from railbrake.campaign import configuration
+from railbrake import _changes, _core, config
+from railbrake._args import whole
+from railbrake.campaign import budget, configuration
 from railbrake.campaign.factors import COMPOSITES, Factor, make_factor
 from railbrake.errors import InputError
 
@@ -25,8 +26,9 @@ SCHEMA = "railbrake.study/1"
 DESIGNS = ("grid", "zip", "latin-hypercube", "sobol", "list")
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+class _Strict(_changes.ReadOnlyModel, BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)   # frozen: changes go through Study.with_
+    OWNER: ClassVar[str] = "study"
 
 
 class Design(_Strict):
@@ -36,21 +38,51 @@ class Design(_Strict):
     points: list[dict[str, Any]] | None = None   # list
 
 
+def _bounded(bound: str, unit: str, per: float = 1.0, positive: bool = False):
+    """A number in the file's unit (SI = value * per) inside the C bound `bound` (core/src/bounds.c)."""
+    def check(value: float) -> float:
+        if not config.within(bound, value * per) or (positive and not value > 0.0):
+            low, high, why = config.bound_in(bound, per)
+            raise ValueError(f"must lie in {'(' if positive else '['}{low:g}, {high:g}] {unit} ({why})")
+        return value
+
+    return Annotated[float, AfterValidator(check)]
+
+
+def _fraction(value: float) -> float:
+    if not 0.0 <= value <= 1.0:
+        raise ValueError("must lie in [0, 1] (a fraction)")
+    return value
+
+
 class Criteria(_Strict):
     """Pass/fail of an assessed case (EN 15595 style)."""
-    max_lock_events: int = 0
-    min_utilisation: float = 0.85
+    max_lock_events: int = Field(default=0, ge=0)
+    min_utilisation: Annotated[float, AfterValidator(_fraction)] = 0.85
     utilisation_cases: list[str] | None = None   # levels of the reference factor it applies to (None: all
     #                                            but the reference)
-    max_safety_timer_trips: int = 0
-    max_delta_s_pct: float | None = None
-    max_air_drawn_kg: float | None = None
+    max_safety_timer_trips: int = Field(default=0, ge=0)
+    max_delta_s_pct: _bounded("study.delta_s", "%", 0.01) | None = None
+    max_air_drawn_kg: _bounded("study.air_drawn", "kg", positive=True) | None = None
+
+
+def _build_up(value: dict) -> dict:
+    """Exactly the two fractions of the final deceleration, delay < complete, inside (0, 1)."""
+    unknown = sorted(set(value) - {"delay", "complete"})
+    if unknown or set(value) != {"delay", "complete"}:
+        raise ValueError(f"needs exactly delay and complete (fractions of the final deceleration)"
+                         f"{'; unknown: ' + ', '.join(map(str, unknown)) if unknown else ''}")
+    if not 0.0 < value["delay"] < value["complete"] < 1.0:
+        raise ValueError(f"delay = {value['delay']:g}, complete = {value['complete']:g}: must satisfy "
+                         "0 < delay < complete < 1")
+    return value
 
 
 class Assessment(_Strict):
     kind: Literal["en15595"] = "en15595"
-    reference: dict[str, Any]           # factor values of the reference case (dry rail)
-    build_up: dict[str, float] = Field(default_factory=lambda: {"delay": 0.10, "complete": 0.90})
+    reference: dict[str, Any] = Field(min_length=1)   # factor values of the reference case (dry rail)
+    build_up: Annotated[dict[str, float], AfterValidator(_build_up)] = Field(
+        default_factory=lambda: {"delay": 0.10, "complete": 0.90})
     criteria: Criteria = Field(default_factory=Criteria)
     source: str = ""
 
@@ -58,7 +90,7 @@ class Assessment(_Strict):
 class Tuning(_Strict):
     """Ranges of the WSP parameters `wsp tune` may choose from, and the air limit."""
     params: dict[str, dict[str, Any]] = Field(default_factory=dict)
-    air_limit_kg: float | None = Field(default=None, gt=0)
+    air_limit_kg: _bounded("study.air_drawn", "kg", positive=True) | None = None
     source: str = ""
 
 
@@ -89,14 +121,40 @@ class Study:
     fixed_parts: dict[str, Any] = field(default_factory=dict)   # set: fault.* / zone.* parts
     keys: list[str] = field(default_factory=list)
     lines: dict = field(default_factory=dict)
+    overrides: dict = field(default_factory=dict)   # key path -> label of a with_ change (for errors)
+    max_runs: int = budget.MAX_RUNS                 # the limit it was checked against
+
+    def __setattr__(self, name, value):
+        if self.__dict__.get("_frozen"):   # set at the end of parse: a loaded study is immutable
+            _changes.refuse_assignment("study", name)
+        object.__setattr__(self, name, value)
+
+    def _freeze(self) -> "Study":
+        self.factors = tuple(self.factors)
+        object.__setattr__(self, "_frozen", True)
+        return self
 
     @property
     def name(self) -> str:
         return self.spec.name
 
     def where(self, *key) -> str:
-        line = config._line_of(self.lines, key)
-        return f"{self.origin}{f', line {line}' if line else ''}: {'.'.join(str(k) for k in key)}"
+        return f"{config.locator(self.origin, self.lines, self.overrides)(key)}: {'.'.join(str(k) for k in key)}"
+
+    def with_(self, changes=None, /, **kwargs) -> "Study":
+        """A copy with keys of the study file changed, e.g. ``with_(seeds=4)`` or
+        ``with_({"design.samples": 64, "factors.initial_speed": ["250 km/h", "300 km/h"]})``:
+        keys and values as in the file, and the whole study checked again as `campaign plan` does."""
+        from railbrake import resolve
+        merged = _changes.merge(changes, kwargs, "Study.with_")
+        data = config.load_mapping(self.text, self.origin)
+        if "base" not in merged:
+            data["base"] = self.base   # a file named relative to the study's folder, made absolute
+        labels = resolve.apply_changes(data, merged, StudyFile,
+                                       ("set", "factors", "design.points", "assessment.reference", "tuning.params"))
+        text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
+        return parse(text, self.origin, lines=self.lines, overrides=labels,
+                     max_runs=self.max_runs)
 
     def factor(self, name: str) -> Factor:
         return next(f for f in self.factors if f.name == name)
@@ -162,9 +220,91 @@ def _check_design(study: Study) -> None:
                                  f"({', '.join(f'{k}: {n}' for k, n in lengths.items())})")
 
 
-def parse(text: str, origin: str, folder: Path | None = None) -> Study:
-    spec = config.parse_yaml(text, StudyFile, origin)
-    study = Study(spec, origin, text, spec.base, lines=config._line_index(yaml.compose(text)))
+def tuning_range(study: Study, key: str) -> Factor:
+    """The range `wsp tune` may choose wsp.<name> from: a tuning.params range {low, high} of a WSP
+    key of the resolved configuration, inside the C bound of that parameter."""
+    where = study.where("tuning", "params", key)
+    if not key.startswith("wsp.") or key not in study.keys:
+        wsp = [k for k in study.keys if k.startswith("wsp.") and k not in ("wsp.enabled", "wsp.per_bogie")]
+        raise InputError(f"{where}: not a WSP parameter (tunable: {', '.join(wsp)})")
+    factor = make_factor(key, study.spec.tuning.params[key], where, max_levels=study.max_runs)
+    if factor.low is None or factor.levels is not None:
+        raise InputError(f"{where}: a tuning range is {{low: .., high: ..}} (no levels)")
+    if key in _core.BOUNDS:
+        low, high, _, why = _core.BOUNDS[key]
+        if not (low <= factor.low and factor.high <= high):
+            unit = factor.file_unit or ""
+            per = factor.si(f"1 {unit}") if unit else 1.0
+            raise InputError(f"{where}: low {factor.file_value(factor.low)!r} to high "
+                             f"{factor.file_value(factor.high)!r}: must lie in [{low / per:g}, {high / per:g}]"
+                             f"{' ' + unit if unit else ''} ({why})")
+    return factor
+
+
+def _check_assessment(study: Study) -> None:
+    """The reference names factors and their levels; utilisation_cases name levels of those factors."""
+    assessment = study.spec.assessment
+    if assessment is None:
+        return
+    factors = {f.name: f for f in study.factors}
+    reference_levels = []
+    for key, value in assessment.reference.items():
+        where = study.where("assessment", "reference", key)
+        if key not in factors:
+            raise InputError(f"{where}: not a factor of the study ({', '.join(factors) or 'none'})")
+        factor = factors[key]
+        levels = [factor.si(level) for level in factor.levels or []]
+        wanted = value["name"] if isinstance(value, dict) and "name" in value else value
+        try:
+            found = factor.si(wanted) in levels if factor.kind != "case" else wanted in levels
+        except (TypeError, ValueError, KeyError):
+            found = False
+        if not found:
+            shown = [level["name"] if isinstance(level, dict) else level for level in factor.levels or []]
+            raise InputError(f"{where} = {value!r}: not a level of factor {key} "
+                             f"({', '.join(map(str, shown)) or 'a range without levels'})")
+        reference_levels += levels
+    for i, case in enumerate(assessment.criteria.utilisation_cases or []):
+        if case not in reference_levels:
+            raise InputError(f"{study.where('assessment', 'criteria', 'utilisation_cases', i)} = {case!r}: not a "
+                             f"level of the reference's factors ({', '.join(map(str, reference_levels))})")
+
+
+def _check_tuning(study: Study) -> None:
+    if study.spec.tuning is not None:
+        for key in study.spec.tuning.params:
+            tuning_range(study, key)
+
+
+def _check_size(study: Study, max_runs: int) -> None:
+    """The design's run count, from the design alone, within max_runs (budget.MAX_RUNS by default)."""
+    d = study.spec.design
+    levels = [len(f.levels) for f in study.factors if f.levels is not None]
+    points = budget.design_runs(d.kind, d.samples, levels, len(d.points or []))
+    runs = points * study.spec.seeds
+    if runs > max_runs:
+        key = ("seeds",) if points <= max_runs else \
+            ("design", "samples") if d.kind in ("latin-hypercube", "sobol") else ("design",)
+        first = {f.name: f.at(0.0) for f in study.factors}
+
+        def measure():
+            from railbrake.campaign.plan import point_sets
+            base_tree = configuration.tree(configuration.resolve(study.base))
+            return budget.measure_one(study.base, point_sets(study, first, base_tree))
+
+        budget.refuse(study.where(*key), runs, budget.describe(d.kind, d.samples, levels, study.spec.seeds),
+                      max_runs, measure)
+
+
+def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None = None,
+          overrides: dict | None = None, max_runs: int = budget.MAX_RUNS) -> Study:
+    """The study of a file's text; lines and overrides (of Study.with_) say where keys came from;
+    a design of more than max_runs runs is refused before it is drawn."""
+    max_runs = whole("max_runs", max_runs, 1)
+    lines = config.line_index(text) if lines is None else lines
+    spec = config.validate_data(config.load_mapping(text, origin), StudyFile,
+                                config.locator(origin, lines, overrides))
+    study = Study(spec, origin, text, spec.base, lines=lines, overrides=dict(overrides or {}))
     if spec.schema_ != SCHEMA:
         raise InputError(f"{study.where('schema')} = {spec.schema_!r}: expected {SCHEMA!r}")
     base_path = (folder or Path.cwd()) / spec.base
@@ -180,7 +320,7 @@ def parse(text: str, origin: str, folder: Path | None = None) -> Study:
         target = study.fixed_parts if key.partition(".")[0] in COMPOSITES else study.fixed
         target[key] = value
     for name, value in spec.factors.items():
-        factor = make_factor(name, value, study.where("factors", name))
+        factor = make_factor(name, value, study.where("factors", name), max_levels=max_runs)
         if factor.bundle:   # a named case: its name is free, the keys it sets are paths
             for i, level in enumerate(factor.levels):
                 for key in level:
@@ -190,15 +330,25 @@ def parse(text: str, origin: str, folder: Path | None = None) -> Study:
             _check_path(study, name, ("factors", name))
         study.factors.append(factor)
     _check_design(study)
-    return study
+    study.max_runs = max_runs   # kept for with_ and tuning ranges
+    _check_size(study, max_runs)
+    _check_assessment(study)
+    _check_tuning(study)
+    return study._freeze()
 
 
-def load(study: str | Path) -> Study:
-    """A preset study name (railbrake/data/studies) or a study YAML file."""
+def load(study: str | Path, max_runs: int = budget.MAX_RUNS) -> Study:
+    """A preset study name (railbrake/data/studies) or a study YAML file (read as every
+    configuration file is: a regular file under config.MAX_BYTES); a design of more than max_runs
+    runs is refused before it is drawn."""
+    if not isinstance(study, (str, Path)):
+        raise TypeError(f"study = {study!r}: must be a preset study name or a file path")
     name = str(study)
     if name in preset_names():
-        return parse((_preset_dir() / f"{name}.yaml").read_text(), f"study {name}")
+        return parse((_preset_dir() / f"{name}.yaml").read_text(), f"study {name}", max_runs=max_runs)
     path = Path(name)
-    if not path.is_file():
+    if not name.strip() or not path.exists():
         raise InputError(f"study = {name!r}: not a preset study ({', '.join(preset_names())}) nor a file")
-    return parse(path.read_text(), str(path), path.resolve().parent)
+    if not path.is_file():   # a directory, a FIFO, a device: never read
+        raise InputError(f"study = {name!r}: not a regular file")
+    return parse(config.read_text(path), str(path), path.resolve().parent, max_runs=max_runs)

@@ -12,7 +12,7 @@ from the trials it stored. The first trial is the default WSP, so "tuned" is nev
 
 from __future__ import annotations
 
-import copy
+import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -22,9 +22,10 @@ import numpy as np
 
 from railbrake.campaign import execute
 from railbrake.campaign.assess import assess, worst
-from railbrake.campaign.factors import Factor, make_factor
+from railbrake.campaign.factors import Factor
 from railbrake.campaign.plan import plan
-from railbrake.campaign.study import Study
+from railbrake.campaign.study import Study, tuning_range
+from railbrake._args import whole
 from railbrake.errors import InputError
 
 OBJECTIVES = ("worst-delta-s", "pareto")
@@ -46,10 +47,7 @@ def parameters(study: Study, names: list[str]) -> list[Parameter]:
         if key not in ranges:
             raise InputError(f"--params {name}: {study.origin} has no tuning range for {key} "
                              f"(tuning.params: {', '.join(ranges) or 'none'})")
-        factor = make_factor(key, ranges[key], study.where("tuning", "params", key))
-        if factor.low is None:
-            raise InputError(f"{study.where('tuning', 'params', key)}: a tuning range is {{low, high}}")
-        out.append(Parameter(key, factor))
+        out.append(Parameter(key, tuning_range(study, key)))
     return out
 
 
@@ -64,7 +62,7 @@ def start_values(fragment: Path, params: list[Parameter]) -> dict:
     """The parameters of a WSP fragment (`wsp:` block, file units; e.g. from a tuning on some of
     the cases) in SI, for a first trial. Each tuned parameter must be in it and in its range."""
     from railbrake import config
-    data = config.load_mapping(Path(fragment).read_text(), str(fragment))
+    data = config.load_mapping(config.read_text(fragment), str(fragment))
     wsp = data.get("wsp")
     if not isinstance(wsp, dict):
         raise InputError(f"--start {fragment}: needs a 'wsp:' block (wsp-fragment.yaml of a tuning)")
@@ -80,13 +78,16 @@ def start_values(fragment: Path, params: list[Parameter]) -> dict:
                              f"its tuning range [{p.factor.file_value(p.factor.low)}, "
                              f"{p.factor.file_value(p.factor.high)}]")
         values[p.key] = value
+    tuned = {p.key.split(".", 1)[1] for p in params}
+    unknown = sorted(set(data) - {"wsp"}) + [f"wsp.{k}" for k in wsp if k not in tuned]
+    if unknown:   # a value that would not be tried is refused, not dropped
+        raise InputError(f"--start {fragment}: {', '.join(map(str, unknown))}: not tuned here (a fragment gives "
+                         f"wsp.{', wsp.'.join(sorted(tuned))})")
     return values
 
 
 def _with_sets(study: Study, sets: dict) -> Study:
-    variant = copy.copy(study)
-    variant.fixed = dict(study.fixed, **sets)
-    return variant
+    return dataclasses.replace(study, fixed=dict(study.fixed, **sets))._freeze()
 
 
 def select(study: Study, only: list[str]) -> callable:
@@ -186,8 +187,8 @@ def tune(study: Study, names: list[str], objective: str, budget: int, out: Path,
     import optuna
     if objective not in OBJECTIVES:
         raise InputError(f"--objective {objective}: one of {', '.join(OBJECTIVES)}")
-    if budget < 1:
-        raise InputError(f"--budget {budget}: at least 1 evaluation")
+    whole("budget", budget, 1)
+    execute._check_counts(workers=workers)
     params = parameters(study, names)
     keep = select(study, list(only))
     defaults = default_values(params)

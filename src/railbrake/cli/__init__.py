@@ -10,7 +10,7 @@ import typer.core
 
 import railbrake
 from railbrake.cli import (_common, adhesion, campaign, compare, compare_runs, config, demo, fmu, hil, plot,
-                           simulation, sizing, validate, valve, wsp)
+                           simulation, sizing, train, validate, valve, wsp)
 
 app = typer.Typer(
     name="railbrake",
@@ -66,6 +66,7 @@ hil.register(app)
 plot.register(app)
 simulation.register(app)
 sizing.register(app)
+train.register(app)
 validate.register(app)
 wsp.register(app)
 
@@ -77,4 +78,10 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 def main() -> None:
     warnings.showwarning = _show_warning
-    app()
+    try:
+        app()
+    except BrokenPipeError:   # outside a command (help, version): as quiet as inside one
+        try:
+            _common.quiet_broken_pipe()
+        except typer.Exit as stop:
+            raise SystemExit(stop.exit_code) from None

@@ -1,12 +1,14 @@
 """Helpers shared by the CLI commands: list parsing, JSON output, output paths, and the one error
 path: every error exits with status 2 and one line on stderr (`error: ...`), never a traceback,
 whatever the input (library errors such as OSError or ValueError included); `railbrake --debug`
-shows the traceback instead."""
+shows the traceback instead. A closed stdout (`railbrake ... | head`) ends quietly."""
 
 from __future__ import annotations
 
 import functools
 import math
+import os
+import signal
 import sys
 from pathlib import Path
 
@@ -52,8 +54,8 @@ def _one_line(exc: BaseException) -> str:
         return str(exc)
     if isinstance(exc, OSError) and exc.filename is not None:
         return f"{exc.filename}: {exc.strerror or exc}"
-    text = str(exc) or type(exc).__name__
-    return f"{text} ({type(exc).__name__}; railbrake --debug shows where)"
+    text = str(exc) or "an unexpected error"
+    return f"{text} (unexpected: railbrake --debug shows where)"
 
 
 def reports_errors(command):
@@ -65,6 +67,8 @@ def reports_errors(command):
             return command(*args, **kwargs)
         except (typer.Exit, typer.Abort, click.exceptions.ClickException):
             raise
+        except BrokenPipeError:
+            quiet_broken_pipe()
         except KeyboardInterrupt:
             if DEBUG:
                 raise
@@ -77,6 +81,14 @@ def reports_errors(command):
             raise typer.Exit(code=2) from None
 
     return wrapper
+
+
+def quiet_broken_pipe():
+    """The reader of stdout went away (`railbrake ... | head`): stop quietly, as a tool killed by
+    SIGPIPE does (status 141), without 'Broken pipe' when Python flushes stdout at exit."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    raise typer.Exit(code=128 + signal.SIGPIPE)
 
 
 def _check_parent(path: Path, option: str) -> None:

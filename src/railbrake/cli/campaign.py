@@ -10,7 +10,10 @@ from rich.console import Console
 from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
                            TimeRemainingColumn)
 
+from railbrake.campaign.budget import MAX_RUNS
 from railbrake.cli._common import print_json, reports_errors
+
+MAX_RUNS_HELP = "Refuse a design of more runs than this (before drawing it), with an estimate of its cost."
 
 app = typer.Typer(help="Campaigns: studies of many configurations on a laptop or a Dask cluster.",
                   no_args_is_help=True)
@@ -31,19 +34,20 @@ def _default_out(study) -> Path:
 def run(
     study: str = typer.Argument(..., help="Study YAML file or preset study (railbrake.study/1)."),
     out: Optional[Path] = typer.Option(None, help="Dataset folder (default: out/campaigns/<study name>)."),
-    workers: Optional[int] = typer.Option(None, help="Local worker processes (default: one per core)."),
+    workers: Optional[int] = typer.Option(None, min=1, help="Local worker processes (default: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT "
                                             "(default: $DASK_SCHEDULER_ADDRESS, else a local cluster)."),
-    batch_size: Optional[int] = typer.Option(None, help="Runs per Dask task (default: automatic)."),
+    batch_size: Optional[int] = typer.Option(None, min=1, help="Runs per Dask task (default: automatic)."),
     timeseries: bool = typer.Option(False, "--timeseries", help="Also write each run's time series."),
     dashboard: Optional[str] = typer.Option(None, help="Serve the local cluster's Dask dashboard at "
                                             "[HOST]:PORT (e.g. 127.0.0.1:8787; :0 for a free port). An "
                                             "external scheduler (--scheduler) serves its own."),
     json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+    max_runs: int = typer.Option(MAX_RUNS, min=1, help=MAX_RUNS_HELP),
 ):
     """Run a study; a rerun into the same folder skips the runs already done (resume)."""
     from railbrake.campaign import execute, study as studies
-    spec = studies.load(study)
+    spec = studies.load(study, max_runs=max_runs)
     folder = out or _default_out(spec)
     bar = Progress(TextColumn(f"[bold]{spec.name}"), BarColumn(), MofNCompleteColumn(),
                    TextColumn("{task.fields[failed]} failed"), TimeElapsedColumn(), TextColumn("ETA"),
@@ -76,10 +80,12 @@ def run(
 def plan_command(
     study: str = typer.Argument(..., help="Study YAML file or preset study."),
     json: bool = typer.Option(False, "--json", help="Print the runs as JSON."),
+    max_runs: int = typer.Option(MAX_RUNS, min=1, help=MAX_RUNS_HELP),
 ):
     """Check a study and list its runs without running them."""
-    from railbrake.campaign import plan, study as studies
-    spec = studies.load(study)
+    from railbrake.campaign import study as studies
+    spec = studies.load(study, max_runs=max_runs)   # a design too large is refused here, before plan's imports
+    from railbrake.campaign import plan
     runs = plan.plan(spec)
     if json:
         print_json([{"key": r.key, "point": r.point, "replicate": r.replicate, "seed": r.seed,

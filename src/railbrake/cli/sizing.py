@@ -15,15 +15,17 @@ from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
 
 
-def _size(train: str, profile: str, profile_csv: Optional[Path], adhesion_limit: float,
-          plot: Optional[Path], json: bool) -> None:
+def _size(train: str, profile: Optional[str], profile_csv: Optional[Path], adhesion_limit: float,
+          plot: Optional[Path], json: bool, ed: Optional[bool] = None) -> None:
     t = vehicle.load_train(train)
-    prof = sizing.read_profile_csv(profile_csv) if profile_csv else sizing.load_profile(profile)
-    result = sizing.target_pressure(t, prof, adhesion_limit=adhesion_limit)
+    prof = sizing.read_profile_csv(profile_csv) if profile_csv else \
+        sizing.brake_step(t, "emergency")[0] if profile is None else sizing.load_profile(profile)
+    result = sizing.target_pressure(t, prof, adhesion_limit=adhesion_limit, ed=ed)
+    brakes = sizing.blending_text(result)
     if plot:
         from railbrake.plots.sizing import plot_target_pressure
-        frozen = sizing.target_pressure(vehicle.with_constant_pad_friction(t), prof,
-                                        speeds=result.speed, adhesion_limit=adhesion_limit)
+        frozen = sizing.target_pressure(vehicle.with_constant_pad_friction(t), prof, speeds=result.speed,
+                                        adhesion_limit=adhesion_limit, ed=result.ed_blending)
         friction = {}
         for car in t.cars:
             kind = "motor" if car.motor else "trailer"
@@ -32,7 +34,8 @@ def _size(train: str, profile: str, profile_csv: Optional[Path], adhesion_limit:
     bar = {k: result.gauge_bar(getattr(result, f"p_{k}")) for k in ("motor", "trailer")}
     if json:
         print_json({"speed_kmh": ms_to_kmh(result.speed), "target_pressure_bar": bar,
-                    "adhesion_demand": result.adhesion_demand, "warnings": result.warnings})
+                    "adhesion_demand": result.adhesion_demand, "ed_blending": result.ed_blending,
+                    "brakes": brakes, "warnings": result.warnings})
         return
     table = Table(title=f"{t.title}: {prof.title} (cylinder pressure, bar gauge)")
     for column in ("speed (km/h)", "decel (m/s2)", "motor (bar)", "trailer (bar)", "ED (kN)", "adhesion"):
@@ -43,6 +46,7 @@ def _size(train: str, profile: str, profile_csv: Optional[Path], adhesion_limit:
                       fmt(bar["motor"], i), fmt(bar["trailer"], i), f"{result.ed_force[i] / 1e3:.0f}",
                       f"{result.adhesion_demand[i]:.3f}")
     Console(width=120).print(table)
+    typer.echo(f"brakes: {brakes}")
     for warning in result.warnings:
         typer.echo(f"warning: {warning}")
     if plot:
@@ -70,14 +74,19 @@ def register(app: typer.Typer) -> None:
     @reports_errors
     def size(
         train: str = typer.Option("crh380a-8", help=f"Preset ({', '.join(vehicle.preset_names())}) or YAML."),
-        profile: str = typer.Option("emergency", help=f"Preset ({', '.join(sizing.profile_names())}) or file."),
+        profile: Optional[str] = typer.Option(None, help=f"Preset ({', '.join(sizing.profile_names())}) or file "
+                                              "(default: the train's emergency brake step)."),
         profile_csv: Optional[Path] = typer.Option(None, help="CSV with speed_kmh, deceleration_ms2."),
         adhesion_limit: float = typer.Option(sizing.ADHESION_LIMIT, help="Design limit of the adhesion demand."),
         plot: Optional[Path] = typer.Option(None, help="Write a PNG of pressure and lambda(v) here."),
         json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
+        ed: Optional[bool] = typer.Option(None, "--ed/--no-ed", help="Blend the ED brake first on the motor "
+                                          "cars, or not (default: as the train's brake step with this profile "
+                                          "says, else not: pneumatic only)."),
     ):
-        """Target brake-cylinder pressure per car type for a deceleration profile (inverse)."""
-        _size(train, profile, profile_csv, adhesion_limit, plot, json)
+        """Target brake-cylinder pressure per car type for a deceleration profile (inverse); the
+        output says which brakes it counts."""
+        _size(train, profile, profile_csv, adhesion_limit, plot, json, ed)
 
     @app.command("stopping-distance")
     @reports_errors

@@ -10,6 +10,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from railbrake.cli._common import print_json, reports_errors
+from railbrake.cli.campaign import MAX_RUNS, MAX_RUNS_HELP
 
 app = typer.Typer(help="Wheel-slide protection: tuning over a study's cases.", no_args_is_help=True)
 
@@ -20,21 +21,22 @@ def tune(
     study: str = typer.Argument(..., help="Study YAML file or preset study with 'assessment' and 'tuning'."),
     params: str = typer.Option(..., help="WSP parameters to tune, e.g. speed_threshold,decel_threshold."),
     objective: str = typer.Option("worst-delta-s", help="worst-delta-s (TPE) or pareto (NSGA-II: dS vs air)."),
-    budget: int = typer.Option(24, help="Evaluations in all (a rerun continues up to this many)."),
+    budget: int = typer.Option(24, min=1, help="Evaluations in all (a rerun continues up to this many)."),
     only: List[str] = typer.Option([], "--only", help="Keep the cases at FACTOR=VALUE (repeatable)."),
     out: Optional[Path] = typer.Option(None, help="Folder for trials, fragment and plots "
                                        "(default: out/campaigns/<study>/tuning)."),
-    workers: Optional[int] = typer.Option(None, help="Local worker processes (default: one per core)."),
+    workers: Optional[int] = typer.Option(None, min=1, help="Local worker processes (default: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT."),
     start: List[Path] = typer.Option([], help="A WSP fragment (wsp-fragment.yaml, e.g. from a tuning on some "
                                      "of the cases) to try right after the default WSP (repeatable)."),
     front: bool = typer.Option(False, "--front", help="Print the Pareto front too (objective pareto)."),
     json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+    max_runs: int = typer.Option(MAX_RUNS, min=1, help=MAX_RUNS_HELP),
 ):
     """Optimise WSP parameters: the worst dS % with no lock and the air limit, or a Pareto front."""
     from railbrake.campaign import study as studies
     from railbrake.campaign import tune as tuning
-    spec = studies.load(study)
+    spec = studies.load(study, max_runs=max_runs)
     folder = out or Path("out") / "campaigns" / spec.name / "tuning"
     air = spec.spec.tuning.air_limit_kg if spec.spec.tuning else None
     bar = Progress(TextColumn(f"[bold]tuning {spec.name}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),

@@ -11,6 +11,7 @@ import ctypes
 import math
 import os
 import time
+import warnings
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
@@ -22,11 +23,12 @@ import yaml
 from railbrake import _core, sizing
 from railbrake.adhesion import load_condition, warn_outside_range
 from railbrake.contact import wheel_rail_contact
+from railbrake._args import choice, flag, function, instance, name_or_path, real, whole
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario, load
 from railbrake.units import KMH, ms_to_kmh
-from railbrake.vehicle import load_train, with_cars
+from railbrake.vehicle import LOAD_CASES, Train, load_train, with_cars
 
 DT = 1e-3
 # One plant step per dt up to this; a longer dt is split into equal sub-steps no longer than it. With
@@ -126,16 +128,17 @@ _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
 
 def substeps_for(dt: float) -> int:
     """Sub-steps of the plant at step dt (s): 1 up to MAX_SUBSTEP, then as many as keep each within it."""
+    dt = real("dt", dt, 0.0, 1.0, low_open=True)   # its range: rb_plant_check
     return max(1, math.ceil(dt / MAX_SUBSTEP - 1e-9))
 
 
 def kernel_code(kernel: str | None = None) -> int:
     """rb_plant_params.kernel for a kernel name; None: the RAILBRAKE_KERNEL environment variable,
     else "auto"."""
-    where = "--kernel"
+    where = "kernel"
     if kernel is None:
         kernel, where = os.environ.get(KERNEL_ENV, "auto"), f"environment variable {KERNEL_ENV}"
-    if kernel not in _core.KERNELS:
+    if not isinstance(kernel, str) or kernel not in _core.KERNELS:
         raise InputError(f"{where} = {kernel!r}: must be one of {', '.join(_core.KERNELS)}")
     return _core.KERNELS[kernel]
 
@@ -160,6 +163,10 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
                  kernel: str | None = None, train=None) -> _core.PlantParams:
     """The plant's parameters; substeps None: substeps_for(dt); kernel: see kernel_code; train: the
     resolved train (default: the scenario's preset)."""
+    instance("scenario", scenario, Scenario)
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
+    substeps = None if substeps is None else whole("substeps", substeps, 1)   # its range: rb_plant_check
+    dt = real("dt", dt, 0.0, 1.0, low_open=True)
     spec = scenario.spec
     train = scenario_train(scenario, n_cars) if train is None else with_cars(train, n_cars)
     scenario.check_speed(train)
@@ -235,6 +242,7 @@ def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     w = _core.WspParams()
     _core.rb_wsp_default_params(ctypes.byref(w))
     if scenario is not None:
+        instance("scenario", scenario, Scenario)
         for key in ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold",
                     "ref_decel_max", "safety_time"):
             value = getattr(scenario.spec.wsp, key)
@@ -285,6 +293,7 @@ def _scenario_struct(scenario: Scenario) -> _core.Scenario:
 
 
 def channels(n_cars: int) -> list[tuple[str, str]]:
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     return _core.channel_list(_core.rb_run_channel_count, _core.rb_run_channel_info, n_cars)
 
 
@@ -299,6 +308,8 @@ def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = N
     sc, n_cars = resolved.scenario, resolved.cars
     train = with_cars(resolved.train if train is None else train, n_cars)
     plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
+    for text in sizing.supply_warnings(train, demanded_steps(sc), sc.spec.initial_speed):
+        warnings.warn(f"scenario {sc.name}: {text}", sizing.SupplyWarning, stacklevel=3)
     return plant, bcu_params(plant, sc, wsp, train), wsp_params(sc), _scenario_struct(sc)
 
 
@@ -339,6 +350,11 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     train: a vehicle.Train to use instead of the scenario's (e.g. with overrides), lengthened to
     the cars asked for.
     """
+    wsp, record = flag("wsp", wsp), flag("record", record)
+    function("wsp_function", wsp_function)
+    function("progress", progress)
+    if train is not None:
+        instance("train", train, Train)
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     plant, bcu, wspp, spec = structs(resolved, wsp, dt, substeps, kernel, train)
@@ -372,8 +388,20 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
                   dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere)
 
 
+def demanded_steps(scenario: Scenario) -> dict:
+    """The brake steps a scenario demands: {"emergency": 1.0, "service": largest fraction}."""
+    steps = {}
+    for step in scenario.spec.demand:
+        if step.emergency:
+            steps["emergency"] = 1.0
+        elif step.service > 0.0:
+            steps["service"] = max(steps.get("service", 0.0), step.service)
+    return steps
+
+
 def axle_name(index: int) -> str:
     """'c3a2' (car 3, axle 2, 1-based) for the 0-based global axle index, as in channel names."""
+    index = whole("index", index, 0)
     return f"c{index // _core.AXLES_PER_CAR + 1}a{index % _core.AXLES_PER_CAR + 1}"
 
 
@@ -417,6 +445,10 @@ def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-m
                        max_time: float = 3600.0, load: str | None = None) -> Scenario:
     """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`."""
     from railbrake.scenario import SCHEMA, from_data
+    train, condition = name_or_path("train", train), name_or_path("condition", condition)
+    initial_speed, max_time = real("initial_speed", initial_speed, 0.0), real("max_time", max_time, 0.0)
+    if load is not None:
+        choice("load", load, LOAD_CASES)
     data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
             "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
             "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
@@ -431,6 +463,8 @@ def response_times(result: Result, window: float = RESPONSE_WINDOW) -> tuple[flo
     """EN 14531-1 delay ta and build-up tb of a run's brake (mean cylinder gauge pressure of all
     axles): ta from the demand to 10 % of its value at the end of the build-up (the highest over
     the first `window` s), tb from 10 % to 90 %."""
+    instance("result", result, Result)
+    window = real("window", window, 0.0, low_open=True)
     atmosphere = result.atmosphere
     cylinder = np.mean([result.outputs[n] for n in result.axle_channels("cylinder")], axis=0) - atmosphere
     t = result.time

@@ -20,22 +20,22 @@ import time
 import numpy as np
 
 from railbrake import _core
-from railbrake.errors import InputError
+from railbrake._args import real, whole
 from railbrake.resolve import resolve
 from railbrake.scenario import load
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 SECONDS = 10.0   # the default span of a bench's runs (s of wall-clock time)
 MIN_RUNS = 3
-MAX_RUNS = 10_000   # a count beyond this is a typo, not a benchmark
+MAX_RUNS = 10_000        # timed runs of one bench: a count beyond this is a typo, not a benchmark
+MAX_STEPS = 10_000_000   # steps of one timed run of the plant (10 000 s of it)
+MAX_SECONDS = 3600.0     # wall-clock span of a bench's runs
 
 
-def _check_counts(runs, seconds) -> None:
-    if runs is not None and (isinstance(runs, bool) or not isinstance(runs, int) or not 1 <= runs <= MAX_RUNS):
-        raise InputError(f"runs = {runs!r}: must be a whole number in [1, {MAX_RUNS}]")
-    if not (isinstance(seconds, (int, float)) and not isinstance(seconds, bool) and math.isfinite(seconds)
-            and 0.0 < seconds <= 3600.0):
-        raise InputError(f"seconds = {seconds!r}: must be a number of seconds in (0, 3600]")
+def _check_counts(runs, seconds):
+    """(runs, seconds) checked before anything runs: bench(runs=2**70) would never end."""
+    return (None if runs is None else whole("runs", runs, 1, MAX_RUNS),
+            real("seconds", seconds, 0.0, MAX_SECONDS, low_open=True))
 
 
 def _repeat(measure, runs, seconds) -> list:
@@ -61,7 +61,8 @@ def bench(scenario=DEFAULT_SCENARIO, cars: int | None = 16, kernel: str | None =
     checking the files once (kept for the next runs). The whole runs: `runs` of them, or as many as
     fit in `seconds` (at least 3); the fastest counts, with the median beside it."""
     from railbrake import simulation
-    _check_counts(runs, seconds)
+    runs, seconds = _check_counts(runs, seconds)
+    cars = None if cars is None else whole("cars", cars, 1, _core.PLANT_MAX_CARS)
     t0 = time.process_time()
     resolved = resolve(scenario, cars)
     resolve_cpu = time.process_time() - t0
@@ -116,9 +117,9 @@ def bench_plant(cars: int = 16, steps: int = 20000, kernel: str | None = None, r
     over the wall-clock step; p99 and max: wall-clock times of single steps; load_average: the
     machine's 1-minute load when the runs ended."""
     from railbrake import simulation
-    _check_counts(runs, seconds)
-    if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= 10_000_000:
-        raise InputError(f"steps = {steps!r}: must be a whole number in [1, 10000000]")
+    runs, seconds = _check_counts(runs, seconds)
+    cars = whole("cars", cars, 1, _core.PLANT_MAX_CARS)
+    steps = whole("steps", steps, 1, MAX_STEPS)
     sc = load("emergency-250-dry")
     plant = simulation.plant_params(sc, cars, kernel=kernel)
     timed = _repeat(lambda: _plant_run(plant, steps), runs, seconds)

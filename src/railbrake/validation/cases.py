@@ -8,6 +8,7 @@ installed with the package (``railbrake/validation/cases``, put there by CMake's
 from __future__ import annotations
 
 import csv
+import io
 import os
 from dataclasses import dataclass, field
 from importlib import resources
@@ -16,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from railbrake import config
 from railbrake.errors import InputError
 
 KINDS = ("verification", "code-to-code", "validation")
@@ -119,7 +121,7 @@ def read_reference(path: Path) -> dict:
     """Columns of a CSV with a header row; '#' lines are comments. Every cell must be a number."""
     if not path.is_file():
         raise InputError(f"{path}: reference file missing")
-    with path.open(newline="") as f:
+    with io.StringIO(config.read_text(path), newline="") as f:   # a regular file under the size limit
         rows = [r for r in csv.reader(f) if r and not r[0].lstrip().startswith("#")]
     if len(rows) < 2:
         raise InputError(f"{path}: needs a header row and at least one row of numbers")
@@ -158,7 +160,7 @@ def parse_case(folder: Path) -> Case:
     if not (folder / "case.yaml").is_file():
         _fail(str(folder), "case.yaml missing")
     try:
-        raw = yaml.safe_load((folder / "case.yaml").read_text())
+        raw = yaml.safe_load(config.read_text(folder / "case.yaml"))
     except yaml.YAMLError as exc:
         _fail(where, f"not valid YAML ({exc})")
     if not isinstance(raw, dict):

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railbrake import _core
+from railbrake import _core, config
 from railbrake.errors import InputError
 from railbrake.pneumatics import Network
 from railbrake.units import BAR
@@ -34,7 +34,7 @@ def read_force_table(path, rated_current: float | None = None):
     '#' lines are comments. Returns (airgap m, current A, force N [airgap, current]). Refused: axes
     not strictly increasing, a force falling with current, a table not reaching rated_current (A)."""
     path = Path(path)
-    text = path.read_text() if path.is_file() else (DATA / str(path)).read_text()
+    text = config.read_text(path) if path.exists() else (DATA / str(path)).read_text()
     lines = [line for line in text.splitlines() if line.strip() and not line.startswith("#")]
     rows = list(csv.reader(lines))
     try:

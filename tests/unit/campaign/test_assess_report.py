@@ -135,6 +135,9 @@ def test_a_start_fragment_is_read_in_si_and_checked_against_the_tuning_range(tmp
     fragment.write_text("wsp:\n  speed_threshold: 0.5 m/s\n")
     with pytest.raises(InputError, match="wsp.decel_threshold missing"):
         tune.start_values(fragment, params)
+    fragment.write_text("wsp:\n  decel_threshold: 3 m/s^2\n  speed_threshold: 0.5 m/s\n")
+    with pytest.raises(InputError, match=r"wsp.speed_threshold: not tuned here \(a fragment gives wsp.decel_threshold\)"):
+        tune.start_values(fragment, params)   # read or refused: never dropped
 
 
 def test_a_tuning_interrupted_during_the_default_trial_queues_the_default_again(tmp_path):

@@ -83,7 +83,7 @@ def test_latin_hypercube_fills_each_stratum_once_and_seeds_repeat():
                 "design: {kind: latin-hypercube, samples: 2}\nseed: 7\n")
     keys = [r.key for r in plan.plan(two)]
     assert keys == [r.key for r in plan.plan(two)] and len(set(keys)) == 2
-    two.spec.seed = 8
+    two = two.with_(seed=8)
     assert not set(keys) & {r.key for r in plan.plan(two)}
 
 

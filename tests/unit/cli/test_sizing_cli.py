@@ -16,11 +16,30 @@ def test_size_json_and_plot(tmp_path):
                               "--plot", str(plot)])
     assert out.exit_code == 0, out.output
     data = json.loads(out.stdout)
-    assert set(data) == {"speed_kmh", "target_pressure_bar", "adhesion_demand", "warnings"}
+    assert set(data) == {"speed_kmh", "target_pressure_bar", "adhesion_demand", "ed_blending", "brakes", "warnings"}
     assert set(data["target_pressure_bar"]) == {"motor", "trailer"}
     assert len(data["target_pressure_bar"]["trailer"]) == len(data["speed_kmh"])
     assert 0.0 < max(data["target_pressure_bar"]["trailer"]) < 4.5
     assert plot.stat().st_size > 10_000
+
+
+def test_readme_size_command_is_pneumatic_only_and_says_so():
+    """README: `size --train crh380a-8 --profile emergency`: the profile is none of the train's brake
+    steps, so no ED brake is counted (docs/vehicle.md's pneumatic-only pressures); --ed blends it."""
+    from railbrake import sizing, vehicle
+    command = ["size", "--train", "crh380a-8", "--profile", "emergency"]
+    data = json.loads(runner.invoke(app, command + ["--json"]).stdout)
+    assert data["ed_blending"] is False and data["brakes"].startswith("pneumatic brake only")
+    train = vehicle.load_train("crh380a-8")
+    alone = sizing.target_pressure(train, "emergency", ed=False)
+    assert data["target_pressure_bar"]["motor"] == pytest.approx(list(alone.gauge_bar(alone.p_motor)), rel=1e-12)
+    blended = json.loads(runner.invoke(app, command + ["--ed", "--json"]).stdout)
+    assert blended["ed_blending"] is True
+    # the ED brake takes load off the motor cars' cylinders wherever it acts; trailers unchanged
+    assert max(blended["target_pressure_bar"]["motor"]) < max(data["target_pressure_bar"]["motor"])
+    assert blended["target_pressure_bar"]["trailer"] == pytest.approx(data["target_pressure_bar"]["trailer"])
+    text = runner.invoke(app, command).stdout
+    assert "brakes: pneumatic brake only (ED brake not counted)" in text
 
 
 def test_size_with_a_bad_profile_csv(tmp_path):

@@ -146,9 +146,9 @@ def test_bench_times_a_whole_run_against_its_plant():
                                  {"seconds": float("nan")}, {"seconds": -1}, {"seconds": 1e9}])
 def test_bench_refuses_bad_counts(bad):
     name = next(iter(bad))
-    with pytest.raises(InputError, match=f"{name} = "):
+    with pytest.raises((ValueError, TypeError), match=f"{name} = "):
         simulation.bench_plant(cars=1, steps=100, **bad)
-    with pytest.raises(InputError, match=f"{name} = "):
+    with pytest.raises((ValueError, TypeError), match=f"{name} = "):
         simulation.bench("emergency-250-dry", cars=1, **bad)
 
 

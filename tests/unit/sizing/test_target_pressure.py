@@ -59,7 +59,7 @@ def test_ed_first_on_motor_cars():
     train = vehicle.load_train("crh380al-16")
     r = sizing.target_pressure(train, "emergency", speeds=[50 / 3.6, 300 / 3.6], ed=True)
     assert r.ed_force == pytest.approx(train.ed_brake_force(r.speed), rel=1e-12)  # ED saturated
-    r = sizing.target_pressure(train, 0.2, speeds=[150 / 3.6])  # ED alone suffices on motor cars
+    r = sizing.target_pressure(train, 0.2, speeds=[150 / 3.6], ed=True)  # ED alone suffices on motor cars
     assert r.gauge_bar(r.p_motor[0]) == 0.0 and r.p_trailer[0] > r.atmospheric_pressure
 
 
