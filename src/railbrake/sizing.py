@@ -262,7 +262,7 @@ def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
     whether the ED brake blends: as given, else as the train's brake step of that profile says,
     else not (pneumatic only: the ED brake is not counted on where no brake step says so)."""
     if ed is not None:
-        ed = _flag("ed", ed)
+        ed = flag("ed", ed)
     if deceleration is None:
         profile, step_ed = brake_step(train, "emergency")
         if ed is not None:
@@ -276,12 +276,6 @@ def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
         if step.profile == profile.name:
             return profile, step.ed_blending, f"as the train's brake_steps.{kind}.ed_blending says"
     return profile, False, "the profile is none of the train's brake steps"
-
-
-def _flag(name: str, value) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} = {value!r}: must be True, False or None")
-    return bool(value)
 
 
 def blending_text(result: "SizingResult") -> str:

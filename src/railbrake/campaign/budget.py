@@ -71,7 +71,7 @@ def measure_one(base: str, sets: dict) -> tuple[float, float, float]:
     finally:
         tracemalloc.stop()
     steps = resolved.scenario.spec.stop.max_time / simulation.DT
-    step_s = simulation.bench(cars=resolved.cars, steps=1000, runs=1)["step_us_mean"] * 1e-6
+    step_s = simulation.bench_plant(cars=resolved.cars, steps=1000, runs=1)["step_us_cpu_mean"] * 1e-6
     return plan_s, plan_bytes, steps * step_s
 
 

@@ -2,8 +2,10 @@
 core) or an existing scheduler (``--scheduler tcp://HOST:PORT`` or DASK_SCHEDULER_ADDRESS).
 
 Runs go in batches, several per worker, so that scheduling stays a small share of the run time
-(bench/bench_campaign.py measures it) while a kill loses only the batches in flight. Each batch
-is written to the dataset as soon as it returns; a rerun skips the keys already there.
+(bench/bench_campaign.py measures it) while a kill loses only the batches in flight. The batches
+are planned and handed out as the workers need them, so the client holds the study's keys and
+the batches in flight, never the whole study. Each batch is written to the dataset as soon as it
+returns; a rerun skips the keys already there.
 """
 
 from __future__ import annotations
@@ -21,11 +23,12 @@ from pathlib import Path
 
 from railbrake._args import whole
 from railbrake.campaign import dataset, identity
-from railbrake.campaign.plan import Run, plan
+from railbrake.campaign.plan import Run, iter_plan
 from railbrake.campaign.study import Study
 from railbrake.errors import InputError
 
 BATCHES_PER_WORKER = 8      # enough for the load to balance at the end of a study
+IN_FLIGHT_PER_WORKER = 3    # batches handed out ahead per worker: none waits for the next one
 MAX_BATCH = 32              # runs; bounds what a kill loses
 CONNECT_TIMEOUT = 10.0      # s for a scheduler to answer
 RETRIES = 2                 # a batch whose worker died is rerun by Dask; these are for other errors
@@ -104,9 +107,20 @@ def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT
     return Client(cluster), cluster
 
 
-def batches(runs: list[Run], workers: int, size: int | None = None) -> list[list[Run]]:
-    size = size or max(1, min(MAX_BATCH, math.ceil(len(runs) / (workers * BATCHES_PER_WORKER))))
-    return [runs[i:i + size] for i in range(0, len(runs), size)]
+def batch_size_for(pending: int, workers: int, size: int | None = None) -> int:
+    return size or max(1, min(MAX_BATCH, math.ceil(pending / (workers * BATCHES_PER_WORKER))))
+
+
+def batches(runs, size: int):
+    """The runs (any iterable) in lists of `size`, one list at a time."""
+    group = []
+    for run in runs:
+        group.append(run)
+        if len(group) == size:
+            yield group
+            group = []
+    if group:
+        yield group
 
 
 def _manifest(study: Study, out: Path, kpis: list[str] | None, n_runs: int) -> dict:
@@ -188,27 +202,31 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
     (e.g. to show client.dashboard_link)."""
     _check_counts(workers=workers, batch_size=batch_size)
     out = Path(out)
-    runs = list({r.key: r for r in plan(study)}.values())     # identical configurations run once
-    done = dataset.existing_keys(out, [r.key for r in runs])   # verified; the study's keys recorded
-    pending = [r for r in runs if r.key not in done]
-    summary = Summary(len(runs), 0, len(runs) - len(pending), 0, str(out))
-    if not pending and dataset.read_manifest(out):
+    # the study's keys are the one list held whole (identical configurations run once); the runs
+    # are planned again one at a time as they are handed out
+    keys = list(dict.fromkeys(r.key for r in iter_plan(study)))
+    done = dataset.existing_keys(out, keys)   # verified; the study's keys recorded
+    n_pending = sum(k not in done for k in keys)
+    summary = Summary(len(keys), 0, len(keys) - n_pending, 0, str(out))
+    if not n_pending and dataset.read_manifest(out):
         return summary
     client, cluster = connect(scheduler_address(scheduler), workers, connect_timeout, dashboard)
     if on_connect is not None:
         on_connect(client)
     try:
         out.mkdir(parents=True, exist_ok=True)
-        dataset.record_study_keys(out, [r.key for r in runs])
+        dataset.record_study_keys(out, keys)
+        del keys
         dataset.clean(out)
-        manifest = _manifest(study, out, None, len(runs))
+        manifest = _manifest(study, out, None, summary.runs)
         dataset.write_manifest(out, manifest)
         (out / "study.yaml").write_text(study.text)
         summary.workers = len(client.scheduler_info()["workers"])
         if progress:
-            progress(0, len(pending), 0)
-        _execute(client, study, out, manifest, batches(pending, summary.workers, batch_size),
-                 _options(study, out, timeseries), summary, progress, len(pending))
+            progress(0, n_pending, 0)
+        size = batch_size_for(n_pending, summary.workers, batch_size)
+        _execute(client, study, out, manifest, batches(_pending(study, done), size),
+                 _options(study, out, timeseries), summary, progress, n_pending)
         return summary
     finally:
         with _no_interrupt():   # a second Ctrl-C must not break the cluster's shutdown
@@ -229,17 +247,42 @@ def _no_interrupt():
         signal.signal(signal.SIGINT, previous)
 
 
+def _pending(study: Study, done: set):
+    """The study's runs not in the dataset, each key once, planned one at a time."""
+    seen = set(done)
+    for run in iter_plan(study):
+        if run.key not in seen:
+            seen.add(run.key)
+            yield run
+
+
 def _execute(client, study, out, manifest, groups, options, summary, progress, total) -> None:
+    """Hands the batches out as the workers finish them, IN_FLIGHT_PER_WORKER per worker at a time:
+    the client holds those and the dataset's index, not the study."""
     from dask.distributed import as_completed
     writer = _Writer(study, out, manifest)
     start, submitted, spans = time.perf_counter(), time.time(), []
-    futures = [client.submit(_batch_task, study.base, [_payload(r) for r in group], options,
-                             key=f"railbrake-{dataset.batch_name([r.key for r in group])[5:25]}",
-                             pure=False, retries=RETRIES) for group in groups]
-    summary.batches = len(futures)
+    futures = as_completed()
+    in_flight: set = set()
+
+    def submit_next() -> None:
+        group = next(groups, None)
+        if group is None:
+            return
+        future = client.submit(_batch_task, study.base, [_payload(r) for r in group], options,
+                               key=f"railbrake-{dataset.batch_name([r.key for r in group])[5:25]}",
+                               pure=False, retries=RETRIES)
+        futures.add(future)
+        in_flight.add(future)
+        summary.batches += 1
+
+    for _ in range(max(1, summary.workers) * IN_FLIGHT_PER_WORKER):
+        submit_next()
     try:
-        for future in as_completed(futures):
+        for future in futures:
+            in_flight.discard(future)
             result = future.result()
+            submit_next()
             _pass_on_warnings(result["rows"], summary)
             writer.add(result["rows"])
             summary.compute_s += result["compute_s"]
@@ -252,7 +295,7 @@ def _execute(client, study, out, manifest, groups, options, summary, progress, t
     except KeyboardInterrupt:
         summary.interrupted = True
         with _no_interrupt():
-            client.cancel(futures)
+            client.cancel(list(in_flight))
     finally:
         summary.failed = writer.failed
         summary.elapsed_s = time.perf_counter() - start

@@ -125,7 +125,7 @@ class Evaluator:
         runs = plan(variant, self.keep)
         if not runs:
             raise InputError("--only: no case of the study is left")
-        groups = execute.batches(runs, max(1, len(self.client.scheduler_info()["workers"])), 1)
+        groups = execute.batches(runs, 1)   # one run a task: the workers share each evaluation
         options = execute._options(variant, self.out, False)
         futures = [self.client.submit(execute._batch_task, variant.base, [execute._payload(r) for r in g],
                                       options, pure=False, retries=execute.RETRIES) for g in groups]

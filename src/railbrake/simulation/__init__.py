@@ -135,7 +135,7 @@ def substeps_for(dt: float) -> int:
 def kernel_code(kernel: str | None = None) -> int:
     """rb_plant_params.kernel for a kernel name; None: the RAILBRAKE_KERNEL environment variable,
     else "auto"."""
-    where = "kernel"
+    where = "--kernel"
     if kernel is None:
         kernel, where = os.environ.get(KERNEL_ENV, "auto"), f"environment variable {KERNEL_ENV}"
     if not isinstance(kernel, str) or kernel not in _core.KERNELS:

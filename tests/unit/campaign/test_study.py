@@ -73,7 +73,7 @@ def test_grid_is_the_full_factorial_and_values_are_si():
 def test_latin_hypercube_fills_each_stratum_once_and_seeds_repeat():
     s = parse("factors:\n  initial_speed: {low: 60 km/h, high: 120 km/h}\n"
               "design: {kind: latin-hypercube, samples: 5}\nseed: 7\n")
-    points = designs.points(s, np.random.default_rng(np.random.SeedSequence(7).spawn(2)[0]))
+    points = list(designs.points(s, np.random.default_rng(np.random.SeedSequence(7).spawn(2)[0])))
     v = np.array([float(p.values["initial_speed"].split()[0]) for p in points])
     strata = np.floor((v - 60) / 12).astype(int)
     assert sorted(strata) == [0, 1, 2, 3, 4]
@@ -90,7 +90,7 @@ def test_latin_hypercube_fills_each_stratum_once_and_seeds_repeat():
 def test_sobol_design_is_saltelli_a_b_ab():
     s = parse("factors:\n  initial_speed: {low: 60 km/h, high: 120 km/h}\n"
               "  adhesion.condition: [dry-medium, wet]\ndesign: {kind: sobol, samples: 4}\n")
-    points = designs.points(s, np.random.default_rng(0))
+    points = list(designs.points(s, np.random.default_rng(0)))
     assert len(points) == 4 * (2 + 2)
     by = {(p.block, p.sample): p.values for p in points}
     for i in range(4):   # AB0 takes factor 0 from B and factor 1 from A
@@ -154,7 +154,7 @@ def test_the_en15595_preset_crosses_speeds_adhesion_brakes_and_load_cases():
     names = {f: [level["name"] for level in s.factor(f).levels] for f in ("adhesion_case", "brake")}
     assert names == {"adhesion_case": ["dry", "low", "extremely-low", "dry-low-dry"],
                      "brake": ["emergency", "full-service"]}
-    points = designs.points(s, np.random.default_rng(0))
+    points = list(designs.points(s, np.random.default_rng(0)))
     assert len(points) == 2 * 4 * 2 * 3
     # every case has its dry reference at the same speed, brake and load
     reference = s.spec.assessment.reference["adhesion_case"]

@@ -62,7 +62,7 @@ def test_load_cases():
     normal = vehicle.load_train("crh380a-8")
     assert normal.load_case == "normal" and normal.mass == pytest.approx(388.4e3)
     assert vehicle.load_train("crh380a-8", False).load_case == "tare"
-    with pytest.raises(InputError, match="load case = 'full': must be one of tare, normal, crush"):
+    with pytest.raises(InputError, match=r"loaded = 'full': must be a load case \(tare, normal, crush\)"):
         vehicle.load_train("crh380a-8", "full")
 
 
