@@ -34,13 +34,18 @@ def parse_formats(text: str | None, option: str = "--format") -> list[str]:
 
 # ------------------------------------------------------------------ writing
 
-def write_parquet(record: RunRecord, path: Path) -> Path:
+def arrow_table(record: RunRecord) -> pa.Table:
+    """One float64 column per channel, its SI unit in the field's metadata (`unit`); the schema's
+    metadata holds run.json's content (`railbrake`), the KPIs, `scenario`, `cars`, `wsp`, `units`."""
     fields = [pa.field(n, pa.float64(), metadata={"unit": record.units.get(n, "")}) for n in record.outputs]
     meta = {"scenario": record.meta.get("scenario", ""), "cars": str(record.cars), "wsp": str(record.wsp),
             "units": json.dumps(record.units), "railbrake": dumps(record.meta), "kpis": dumps(record.kpis)}
-    table = pa.table({n: np.asarray(v, dtype=np.float64) for n, v in record.outputs.items()},
-                     schema=pa.schema(fields, metadata=meta))
-    pq.write_table(table, path)
+    return pa.table({n: np.asarray(v, dtype=np.float64) for n, v in record.outputs.items()},
+                    schema=pa.schema(fields, metadata=meta))
+
+
+def write_parquet(record: RunRecord, path: Path) -> Path:
+    pq.write_table(arrow_table(record), path)
     return Path(path)
 
 

@@ -11,7 +11,7 @@ import ctypes
 import math
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
 from typing import Callable
@@ -24,6 +24,7 @@ from railbrake.adhesion import load_condition, warn_outside_range
 from railbrake.contact import wheel_rail_contact
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
+from railbrake.results import scripting
 from railbrake.scenario import Scenario, load
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import load_train, with_cars
@@ -41,6 +42,9 @@ CHUNK = 2.0                         # s of simulated time per C call
 
 @dataclass
 class Result:
+    """A run's time series (SI), their units and KPIs (`run --json`'s units). For scripts:
+    to_dataframe(), to_arrow(), plot(kind), save(folder) and railbrake.load_result(folder)."""
+
     scenario: str
     cars: int
     wsp: bool
@@ -49,6 +53,24 @@ class Result:
     units: dict            # channel name -> SI unit
     kpis: dict
     atmosphere: float = math.nan   # Pa, the plant's (the train file's)
+    meta: dict = field(default_factory=dict)   # what was run, as in run.json (a loaded result)
+    resolved: object = field(default=None, repr=False, compare=False)   # the resolve.Resolved run
+
+    def to_dataframe(self):
+        """pandas DataFrame, a column per channel; units in .attrs["units"], KPIs in .attrs["kpis"]."""
+        return scripting.to_dataframe(self)
+
+    def to_arrow(self):
+        """pyarrow Table, a column per channel, each field's unit in its metadata."""
+        return scripting.to_arrow(self)
+
+    def plot(self, kind: str = "braking_curve", path=None, **options):
+        """A standard figure (railbrake.results.scripting.PLOT_KINDS): the Figure, or written to path."""
+        return scripting.plot(self, kind, path, **options)
+
+    def save(self, folder):
+        """The run folder: timeseries.parquet, kpis.json, run.json (+ config.yaml); load_result reads it."""
+        return scripting.save(self, folder)
 
     def axle_channels(self, quantity: str) -> list[str]:
         return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" in n.split("_c")[-1]]
@@ -309,6 +331,7 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     """
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
+    configured = resolved if train is None else None   # a train given here is not in the configuration
     train = with_cars(resolved.train if train is None else train, n_cars)
     plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
     bcu = bcu_params(plant, sc, wsp, train)
@@ -341,7 +364,8 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     series = series[:n_rows]
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
-                  dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere)
+                  dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere,
+                  resolved=configured)
 
 
 def axle_name(index: int) -> str:
