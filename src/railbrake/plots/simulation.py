@@ -171,7 +171,7 @@ def plot_speed_time(record: RunRecord, path: Path) -> Path:
 # ------------------------------------------------------------------ slip, reservoirs, cylinders
 
 def _working_slip(record: RunRecord, axle: str) -> np.ndarray:
-    """|slip| of an axle above 10 km/h outside its lock episodes."""
+    """abs(slip) of an axle above 10 km/h outside its lock episodes."""
     keep = record.outputs["speed"] > episodes.LOCK_SPEED
     for s, e in episodes.lock_episodes(record, axle):
         keep &= ~((record.time >= s) & (record.time <= e))
@@ -179,7 +179,7 @@ def _working_slip(record: RunRecord, axle: str) -> np.ndarray:
 
 
 def slip_range(record: RunRecord, axles=()) -> tuple[float, float]:
-    """% range that shows the working slips: SLIP_HEADROOM x the SLIP_QUANTILE percentile of |slip|
+    """% range that shows the working slips: SLIP_HEADROOM x the SLIP_QUANTILE percentile of abs(slip)
     of all axles above 10 km/h outside lock episodes, widened to the largest such slip of the
     chosen axles up to SLIP_CHOSEN_CAP times that (a lock's -100 %, or the large slips of the last
     seconds above 10 km/h, would squash the working slips to pixels)."""
