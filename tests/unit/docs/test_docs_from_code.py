@@ -60,10 +60,22 @@ def typed_figures(text: str) -> list[str]:
 
 
 def test_every_page_is_executed_or_listed_as_still_typed():
+    """docs/CONVERSION.md lists exactly the pages not executed and those executed in part (a
+    `<!-- typed: not yet converted ...-->` region)."""
     executed = {p.name for p in executed_pages()}
     others = {p.name for p in DOCS.glob("*.md")} - executed - {"CONVERSION.md", "index.md", "api.md"}
-    assert {"scripting.md", "vehicle.md"} <= executed
-    assert listed_pages() == others, "docs/CONVERSION.md must list exactly the pages not executed yet"
+    partly = {p.name for p in executed_pages() if "<!-- typed: not yet converted" in p.read_text()}
+    assert {"scripting.md", "vehicle.md", "simulation.md"} <= executed
+    assert listed_pages() == others | partly, "docs/CONVERSION.md must list exactly the pages not executed yet"
+
+
+@pytest.mark.parametrize("page", executed_pages(), ids=lambda p: p.name)
+def test_a_typed_marker_opening_a_line_holds_nothing_else(page):
+    """A line that opens with `<!--` is a raw HTML block in Markdown: text after the marker on
+    that line would be shown unparsed (roles, code spans)."""
+    bad = [line for line in page.read_text().splitlines()
+           if line.startswith("<!--") and not re.fullmatch(r"<!-- (typed: [^>]*|/typed) -->", line)]
+    assert bad == []
 
 
 @pytest.mark.parametrize("page", executed_pages(), ids=lambda p: p.name)
