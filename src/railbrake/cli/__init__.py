@@ -16,7 +16,7 @@ app = typer.Typer(
     name="railbrake",
     help="Design and test electro-pneumatic train brakes with wheel-slide protection.",
     no_args_is_help=True,
-    add_completion=False,
+    add_completion=True,      # --install-completion / --show-completion (bash, zsh, fish, PowerShell)
     pretty_exceptions_enable=False,
 )
 
@@ -77,4 +77,7 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 def main() -> None:
     warnings.showwarning = _show_warning
-    app()
+    try:
+        app()
+    except BrokenPipeError:   # outside a command, e.g. `railbrake --help | head -1`
+        _common.quiet_broken_pipe()

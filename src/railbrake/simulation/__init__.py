@@ -347,6 +347,7 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     _core.call(_core.rb_run_init, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(wspp),
                ctypes.byref(spec), state)
     names = channels(n_cars)
+    speed_column = [name for name, _ in names].index("speed")
     rows = int(math.ceil(sc.spec.stop.max_time / sc.spec.outputs.record_interval)) + 3 if record else 0
     series = np.zeros((rows, len(names)))
     finished = ctypes.c_int(0)
@@ -355,9 +356,9 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
         t += CHUNK
         _core.call(_core.rb_run_advance, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(spec), state,
                    t, _core.ptr(series) if record else None, rows, ctypes.byref(finished))
-        if progress is not None:
-            row = min(int(t / sc.spec.outputs.record_interval), rows - 1)
-            progress(min(t, sc.spec.stop.max_time), float(series[row, 1]) if record else math.nan)
+        if progress is not None:   # the speed of the last row surely written (the one at t may not be)
+            row = max(0, min(int(t / sc.spec.outputs.record_interval) - 1, rows - 1))
+            progress(min(t, sc.spec.stop.max_time), float(series[row, speed_column]) if record else math.nan)
     kpis = _core.Kpis()
     _core.rb_run_kpis(ctypes.byref(plant), state, ctypes.byref(kpis))
     n_rows = int(np.count_nonzero(series[:, 0])) + 1 if record else 0
