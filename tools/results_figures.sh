@@ -31,12 +31,9 @@ PY
 }
 
 if [ "$part" != hil ]; then
-    $rb run --out "$work/demo" --json > "$work/demo.json"
+    # the default demo's figures are drawn when the docs are built (docs/simulation.md, executed)
     $rb run emergency-300-leaves-patch --out "$work/leaves" --json > "$work/leaves.json"
     $rb run fault-vent-valve-stuck --out "$work/fault" --json > "$work/fault.json"
-    a=$(worst "$work/demo")
-    cp "$work/demo/wsp_cycle_$a.png" "$img/demo_wsp_cycle.png"   # docs/simulation.md names the axle
-    for f in slip cylinders reservoirs; do cp "$work/demo/$f.png" "$img/demo_$f.png"; done
     cp "$work/leaves/braking_curve.png" "$img/leaves_braking_curve.png"
     a=$(worst "$work/leaves")
     cp "$work/leaves/wsp_cycle_$a.png" "$img/leaves_wsp_cycle.png"
