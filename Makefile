@@ -9,13 +9,13 @@ JOBS ?= 2
 OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
-.PHONY: demo test install ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
+.PHONY: demo test install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
         fuzz-frames fuzz-python
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q '.[test]'
+	$(PY) -m pip install -q '.[test,docs]'
 	touch $@
 
 install: $(VENV)/.installed
@@ -23,7 +23,20 @@ install: $(VENV)/.installed
 demo: install
 	$(VENV)/bin/railbrake demo --out $(OUT)
 
-test: ctest ctest-sanitize pytest pytest-sanitize
+test: ctest ctest-sanitize docs-fast pytest pytest-sanitize
+
+# The documentation site (docs/conf.py: Sphinx + MyST-NB): every page's code cells run at build and
+# the figures in the prose come from them; executions are cached in $(BUILD)/docs/jupyter_cache, so
+# an unchanged page is not run again. Warnings are errors. Offline: everything is in .venv.
+# docs-fast (part of `make test`): the quick executed pages and the API reference only.
+SPHINX := $(VENV)/bin/sphinx-build -q -W --keep-going -b html
+
+docs: install
+	$(SPHINX) docs $(BUILD)/docs/html
+	@echo "docs: $(BUILD)/docs/html/index.html"
+
+docs-fast: install
+	$(SPHINX) -t fast -d $(BUILD)/docs-fast/doctrees docs $(BUILD)/docs-fast/html
 
 # The C core on its own, as a downstream C user (FMU, HIL target) builds it.
 ctest:

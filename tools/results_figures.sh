@@ -1,15 +1,13 @@
 #!/bin/sh
-# The figures of docs/simulation.md (Results) and docs/hil.md (MIL against HIL), made by the code:
-#   tools/results_figures.sh [WORK_DIR]     (runs the scenarios, ~10 min on 2 cores; HIL runs paced)
+# The figures of docs/hil.md (MIL against HIL), made by the code (those of docs/simulation.md are
+# drawn when the docs are built: make docs):
+#   tools/results_figures.sh [WORK_DIR]     (runs the scenarios; HIL runs paced)
 #   RAILBRAKE="python -m railbrake" tools/results_figures.sh   (another way to call the CLI)
-#   tools/results_figures.sh WORK_DIR mil   (only the MIL figures of docs/simulation.md)
-#   tools/results_figures.sh WORK_DIR hil   (only the MIL-against-HIL part, e.g. after late frames)
 # Each run's worst axle is read from its kpis.json, so the figures follow the model, not a name
 # written here. What each command prints is kept in WORK_DIR/*.json, *.txt (hil8.txt: the HIL run's
-# KPIs, counters and timing report: late frames, overruns; rerun the hil part if it overran badly).
+# KPIs, counters and timing report: late frames, overruns; rerun it if it overran badly).
 set -e
 work=${1:-out/figures}
-part=${2:-all}
 rb=${RAILBRAKE:-railbrake}
 img=$(dirname "$0")/../docs/img
 mkdir -p "$work" "$img"
@@ -30,22 +28,8 @@ print(axle)
 PY
 }
 
-if [ "$part" != hil ]; then
-    $rb run --out "$work/demo" --json > "$work/demo.json"
-    $rb run emergency-300-leaves-patch --out "$work/leaves" --json > "$work/leaves.json"
-    $rb run fault-vent-valve-stuck --out "$work/fault" --json > "$work/fault.json"
-    a=$(worst "$work/demo")
-    cp "$work/demo/wsp_cycle_$a.png" "$img/demo_wsp_cycle.png"   # docs/simulation.md names the axle
-    for f in slip cylinders reservoirs; do cp "$work/demo/$f.png" "$img/demo_$f.png"; done
-    cp "$work/leaves/braking_curve.png" "$img/leaves_braking_curve.png"
-    a=$(worst "$work/leaves")
-    cp "$work/leaves/wsp_cycle_$a.png" "$img/leaves_wsp_cycle.png"
-    # the faulty axle of the preset (car 3, axle 2) is always plotted, whichever axle is worst
-    cp "$work/fault/wsp_cycle_c3a2.png" "$img/fault_wsp_cycle_c3a2.png"
-    cp "$work/fault/cylinders.png" "$img/fault_cylinders.png"
-fi
-
-[ "$part" = mil ] && exit 0
+# the MIL worked examples (default demo, leaf patch, stuck vent valve) are drawn when the docs are
+# built (docs/simulation.md, executed); this script makes the HIL figures only.
 # MIL against HIL (reference BCU over loopback UDP), 8 cars in heavy rain
 $rb run emergency-300-heavy-rain --cars 8 --out "$work/mil8" --json > "$work/mil8.json"
 $rb bcu emergency-300-heavy-rain --cars 8 --listen udp://127.0.0.1:47800 --json > "$work/bcu8.json" &

@@ -73,6 +73,15 @@ class Resolved:
         from railbrake import _changes
         return resolve(self, sets=_changes.merge(changes, kwargs, "Resolved.with_"))
 
+    def origin(self) -> str:
+        """What it was resolved from: the preset name or file, or the name of a Scenario built in code."""
+        base = self._base
+        return base.name if isinstance(base, scenarios.Scenario) else str(base or self.name)
+
+    def override_texts(self) -> list[str]:
+        """The overrides applied, as KEY=VALUE (--cars as train.cars=N)."""
+        return [f"{'.'.join(str(p) for p in path)}={value}" for path, value, _ in self._overrides]
+
 
 # ------------------------------------------------------------------ reading the files
 
@@ -274,13 +283,28 @@ def resolve(scenario="emergency-300-heavy-rain", cars: int | None = None, sets: 
     return _resolve(scenario, overrides)
 
 
+def _inline_train(source: _Source) -> _Source | None:
+    """The train written out inside the scenario (a run folder's config.yaml: `train:` holds the
+    train file's keys beside preset and cars), or None when `train:` only names one."""
+    block = source.data.get("train")
+    if not (isinstance(block, dict) and "schema" in block):
+        return None
+    data = {k: v for k, v in block.items() if k not in _TRAIN_KEYS}
+    lines = {path[1:]: line for path, line in source.lines.items() if path[:1] == ("train",)}
+    return _Source(data, source.origin, lines, source.folder)
+
+
 def _resolve(scenario, overrides: list) -> Resolved:
+    from railbrake.results.config_file import PROVENANCE_KEY
     source = _read_scenario(scenario)
+    source.data.pop(PROVENANCE_KEY, None)   # a run folder's config.yaml: what it was resolved from
     tree = copy.deepcopy(source.data)
     train_block = tree.setdefault("train", {})
     if not isinstance(train_block, dict):
         raise InputError(f"{source.origin}: train must be a mapping (preset, cars, load_case)")
-    _check_train_keys(train_block, source)
+    inline = _inline_train(source)   # a run folder's config.yaml: the train file written out in it
+    if inline is None:
+        _check_train_keys(train_block, source)
     adhesion = tree.get("adhesion")
     if isinstance(adhesion, dict):   # relative adhesion files: against the scenario's folder
         from railbrake.adhesion import preset_names as adhesion_presets
@@ -296,7 +320,7 @@ def _resolve(scenario, overrides: list) -> Resolved:
     for path, value, label in overrides:   # the train preset first: it says which file the train is
         if path == ("train", "preset"):
             preset, labels[path] = str(value), label
-    train_source = _read_train(preset)
+    train_source = inline if inline is not None and ("train", "preset") not in labels else _read_train(preset)
     train_block.clear()
     train_block.update({"preset": preset, "cars": source.data["train"].get("cars")
                         if isinstance(source.data.get("train"), dict) else None})

@@ -67,7 +67,7 @@ class Validity:
 class EnergyConditioning:
     """Rail conditioning by dissipated energy (option; law in core/src/contact_conditioning.c).
 
-    An axle leaves on the rail e = |F w| / (2 b v) J/m^2; the axles behind see mu0 scaled by
+    An axle leaves on the rail e = abs(F w) / (2 b v) J/m^2; the axles behind see mu0 scaled by
     1 - (1 - leading_factor) exp(-E / reference_energy), E the energy left by those ahead. Not yet
     used by the real-time plant. reference_energy (J/m^2) has no published value: an input [T].
     """

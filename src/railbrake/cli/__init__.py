@@ -16,7 +16,7 @@ app = typer.Typer(
     name="railbrake",
     help="Design and test electro-pneumatic train brakes with wheel-slide protection.",
     no_args_is_help=True,
-    add_completion=False,
+    add_completion=True,      # --install-completion / --show-completion (bash, zsh, fish, PowerShell)
     pretty_exceptions_enable=False,
 )
 

@@ -58,8 +58,21 @@ def _one_line(exc: BaseException) -> str:
     return f"{text} (unexpected: railbrake --debug shows where)"
 
 
+BROKEN_PIPE_STATUS = 141   # as a shell reports a command ended by SIGPIPE (128 + 13)
+
+
+def quiet_broken_pipe() -> None:
+    """The reader of stdout went away (`railbrake ... | head`): end quietly, as a Unix tool does.
+    stdout is pointed at /dev/null so that the interpreter's last flush cannot fail again."""
+    import os
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    raise SystemExit(BROKEN_PIPE_STATUS)
+
+
 def reports_errors(command):
-    """Every error becomes one message on stderr and exit status 2 (Ctrl-C: 130); --debug re-raises."""
+    """Every error becomes one message on stderr and exit status 2 (Ctrl-C: 130; a closed pipe on
+    stdout ends quietly with 141); --debug re-raises."""
 
     @functools.wraps(command)
     def wrapper(*args, **kwargs):

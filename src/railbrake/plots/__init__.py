@@ -1,10 +1,16 @@
-"""Plots for the CLI and reports (matplotlib, non-interactive backend). Human units on axes."""
+"""Plots for the CLI, reports and scripts (matplotlib). Human units on axes.
+
+Outside a Jupyter kernel the backend is the non-interactive Agg (the CLI and reports only write
+files); inside one the kernel's inline backend stays, so a figure a script asks for shows."""
 
 from __future__ import annotations
 
+import sys
+
 import matplotlib
 
-matplotlib.use("Agg")
+if "ipykernel" not in sys.modules:
+    matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -15,6 +21,10 @@ def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
     return plt.subplots(nrows, ncols, **kwargs)
 
 
-def save(fig, path) -> None:
+def save(fig, path):
+    """The figure written to path and closed (returns path); path None: the open figure itself."""
+    if path is None:
+        return fig
     fig.savefig(path, dpi=120)
     plt.close(fig)
+    return path

@@ -96,8 +96,7 @@ def plot_wsp_cycle(record: RunRecord, axle: str, path: Path, window=None) -> Pat
     why = _why(record, axle)
     ax1.set_title(f"{record.title()}\nWSP cycle of axle {axle}{f' ({why})' if why else ''}: "
                   f"{n} vent opening{'s' if n != 1 else ''} in {t1 - t0:.1f} s", fontsize=10)
-    save(fig, path)
-    return path
+    return save(fig, path)
 
 
 # ------------------------------------------------------------------ the braking curve
@@ -134,8 +133,7 @@ def plot_braking_curve(record: RunRecord, path: Path) -> Path:
     ax.grid(True, alpha=0.3)
     ax.set_title(f"{record.title()}\nbraking curve{f', adhesion {condition}' if condition else ''}", fontsize=10)
     ax.legend(**OUTSIDE)
-    save(fig, path)
-    return path
+    return save(fig, path)
 
 
 def _zone_spans(ax, record: RunRecord, label: bool = True):
@@ -167,14 +165,13 @@ def plot_speed_time(record: RunRecord, path: Path) -> Path:
     ax2.set_ylabel("deceleration (m/s²)")
     ax2.set_xlabel("time (s)")
     ax2.legend(**OUTSIDE)
-    save(fig, path)
-    return path
+    return save(fig, path)
 
 
 # ------------------------------------------------------------------ slip, reservoirs, cylinders
 
 def _working_slip(record: RunRecord, axle: str) -> np.ndarray:
-    """|slip| of an axle above 10 km/h outside its lock episodes."""
+    """abs(slip) of an axle above 10 km/h outside its lock episodes."""
     keep = record.outputs["speed"] > episodes.LOCK_SPEED
     for s, e in episodes.lock_episodes(record, axle):
         keep &= ~((record.time >= s) & (record.time <= e))
@@ -182,7 +179,7 @@ def _working_slip(record: RunRecord, axle: str) -> np.ndarray:
 
 
 def slip_range(record: RunRecord, axles=()) -> tuple[float, float]:
-    """% range that shows the working slips: SLIP_HEADROOM x the SLIP_QUANTILE percentile of |slip|
+    """% range that shows the working slips: SLIP_HEADROOM x the SLIP_QUANTILE percentile of abs(slip)
     of all axles above 10 km/h outside lock episodes, widened to the largest such slip of the
     chosen axles up to SLIP_CHOSEN_CAP times that (a lock's -100 %, or the large slips of the last
     seconds above 10 km/h, would squash the working slips to pixels)."""
@@ -226,8 +223,7 @@ def plot_slip(record: RunRecord, axles: list[str], path: Path) -> Path:
     ax.set_title(f"{record.title()}\nslip above 10 km/h; {locks} lock episodes on all axles"
                  f"{' (shaded: those of the axles in colour)' if locks else ''}", fontsize=10)
     ax.legend(**OUTSIDE)
-    save(fig, path)
-    return path
+    return save(fig, path)
 
 
 def plot_reservoirs(record: RunRecord, path: Path) -> Path:
@@ -253,8 +249,7 @@ def plot_reservoirs(record: RunRecord, path: Path) -> Path:
     ax.grid(True, alpha=0.3)
     ax.set_title(f"{record.title()}\nair supply", fontsize=10)
     ax.legend(**OUTSIDE)
-    save(fig, path)
-    return path
+    return save(fig, path)
 
 
 def running_mean(t: np.ndarray, x: np.ndarray, span: float = MEAN_SPAN) -> np.ndarray:
@@ -317,8 +312,7 @@ def plot_cylinders(record: RunRecord, path: Path, faulty=()) -> Path:
     handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="upper right", fontsize=7)
     fig.suptitle(f"{record.title()}\nbrake cylinder pressure against demand per car", fontsize=10)
-    save(fig, path)
-    return path
+    return save(fig, path)
 
 
 def plot_channels(record: RunRecord, names: list[str], path: Path, window=None) -> Path:
@@ -338,8 +332,7 @@ def plot_channels(record: RunRecord, names: list[str], path: Path, window=None) 
         ax.legend(**OUTSIDE)
     axes[-1, 0].set_xlabel("time (s)")
     axes[0, 0].set_title(f"{record.title()}\nchannels", fontsize=10)
-    save(fig, path)
-    return path
+    return save(fig, path)
 
 
 # ------------------------------------------------------------------ every figure of a run

@@ -34,26 +34,52 @@ def parse_formats(text: str | None, option: str = "--format") -> list[str]:
 
 # ------------------------------------------------------------------ writing
 
-def write_parquet(record: RunRecord, path: Path) -> Path:
+def arrow_table(record: RunRecord) -> pa.Table:
+    """One float64 column per channel, its SI unit in the field's metadata (`unit`); the schema's
+    metadata holds run.json's content (`railbrake`), the KPIs, `scenario`, `cars`, `wsp`, `units`."""
     fields = [pa.field(n, pa.float64(), metadata={"unit": record.units.get(n, "")}) for n in record.outputs]
     meta = {"scenario": record.meta.get("scenario", ""), "cars": str(record.cars), "wsp": str(record.wsp),
             "units": json.dumps(record.units), "railbrake": dumps(record.meta), "kpis": dumps(record.kpis)}
-    table = pa.table({n: np.asarray(v, dtype=np.float64) for n, v in record.outputs.items()},
-                     schema=pa.schema(fields, metadata=meta))
-    pq.write_table(table, path)
+    return pa.table({n: np.asarray(v, dtype=np.float64) for n, v in record.outputs.items()},
+                    schema=pa.schema(fields, metadata=meta))
+
+
+def write_parquet(record: RunRecord, path: Path) -> Path:
+    pq.write_table(arrow_table(record), path)
     return Path(path)
+
+
+def units_path(path: Path) -> Path:
+    """The units sidecar of a CSV time series: timeseries.csv -> timeseries_units.csv."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}_units.csv")
 
 
 def write_csv(record: RunRecord, path: Path) -> Path:
     """One header line of channel names, then one line per sample; each value is Python's repr of
-    the float64, the shortest text that reads back to the same bits."""
+    the float64, the shortest text that reads back to the same bits. The SI unit of each channel
+    goes into a sidecar, units_path(path) (`channel,unit` lines), so that every CSV reader still
+    reads the time series as it is."""
     names = list(record.outputs)
     columns = np.column_stack([np.asarray(record.outputs[n], dtype=np.float64) for n in names])
     with open(path, "w", newline="") as f:
         f.write(",".join(names) + "\n")
         for row in columns.tolist():
             f.write(",".join(map(repr, row)) + "\n")
+    with open(units_path(path), "w", newline="") as f:
+        f.write("channel,unit\n")
+        for name in names:
+            f.write(f"{name},{record.units.get(name, '')}\n")
     return Path(path)
+
+
+def _read_units(path: Path) -> dict:
+    """Channel -> unit from a CSV's sidecar; {} without one."""
+    sidecar = units_path(path)
+    if not sidecar.is_file():
+        return {}
+    lines = sidecar.read_text().splitlines()[1:]
+    return dict(line.split(",", 1) for line in lines if "," in line)
 
 
 def write_mdf(record: RunRecord, path: Path, extra: dict | None = None) -> Path:
@@ -148,7 +174,7 @@ def _read_csv(path: Path):
         rows = [line.split(",") for line in f if line.strip()]
     columns = zip(*rows) if rows else [[] for _ in names]
     outputs = {n: np.array([_csv_number(x) for x in col], dtype=np.float64) for n, col in zip(names, columns)}
-    return outputs, {}, {"scenario": path.stem, "kind": "FMU"}, None
+    return outputs, _read_units(path), {"scenario": path.stem, "kind": "FMU"}, None
 
 
 _READERS = {"parquet": _read_parquet, "mf4": _read_mdf, "csv": _read_csv}

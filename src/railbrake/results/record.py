@@ -129,10 +129,13 @@ def parse_window(text: str | None, record: RunRecord | None = None, option: str 
 # ------------------------------------------------------------------ from runs
 
 def _scenario_meta(sc) -> dict:
+    """What was run, by name: files by their name, not the folders they lie in on this machine."""
+    from railbrake.results.config_file import display_name
     spec = sc.spec
-    return {"scenario": sc.name, "title": spec.title, "train": spec.train.preset,
-            "condition": spec.adhesion.condition,
-            "zones": [{"start": z.start, "end": z.end, "condition": z.condition} for z in spec.adhesion.zones],
+    return {"scenario": sc.name, "title": spec.title, "train": display_name(spec.train.preset),
+            "condition": display_name(spec.adhesion.condition),
+            "zones": [{"start": z.start, "end": z.end, "condition": display_name(z.condition)}
+                      for z in spec.adhesion.zones],
             "demand": [{"time": d.time, "emergency": d.emergency, "service": d.service} for d in spec.demand],
             "faults": [{"type": f.type, "car": f.car, "axle": f.axle, "start": f.start} for f in spec.faults]}
 

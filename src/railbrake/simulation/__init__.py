@@ -12,7 +12,7 @@ import math
 import os
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
 from typing import Callable
@@ -26,6 +26,7 @@ from railbrake.contact import wheel_rail_contact
 from railbrake._args import choice, flag, function, instance, name_or_path, real, whole
 from railbrake.errors import InputError
 from railbrake.resolve import resolve
+from railbrake.results import scripting
 from railbrake.scenario import Scenario, load
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import LOAD_CASES, Train, load_train, with_cars
@@ -43,6 +44,9 @@ CHUNK = 2.0                         # s of simulated time per C call
 
 @dataclass
 class Result:
+    """A run's time series (SI), their units and KPIs (`run --json`'s units). For scripts:
+    to_dataframe(), to_arrow(), plot(kind), save(folder) and railbrake.load_result(folder)."""
+
     scenario: str
     cars: int
     wsp: bool
@@ -51,6 +55,24 @@ class Result:
     units: dict            # channel name -> SI unit
     kpis: dict
     atmosphere: float = math.nan   # Pa, the plant's (the train file's)
+    meta: dict = field(default_factory=dict)   # what was run, as in run.json (a loaded result)
+    resolved: object = field(default=None, repr=False, compare=False)   # the resolve.Resolved run
+
+    def to_dataframe(self):
+        """pandas DataFrame, a column per channel; units in .attrs["units"], KPIs in .attrs["kpis"]."""
+        return scripting.to_dataframe(self)
+
+    def to_arrow(self):
+        """pyarrow Table, a column per channel, each field's unit in its metadata."""
+        return scripting.to_arrow(self)
+
+    def plot(self, kind: str = "braking_curve", path=None, **options):
+        """A standard figure (railbrake.results.scripting.PLOT_KINDS): the Figure, or written to path."""
+        return scripting.plot(self, kind, path, **options)
+
+    def save(self, folder):
+        """The run folder: timeseries.parquet, kpis.json, run.json (+ config.yaml); load_result reads it."""
+        return scripting.save(self, folder)
 
     def axle_channels(self, quantity: str) -> list[str]:
         return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" in n.split("_c")[-1]]
@@ -357,6 +379,7 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
         instance("train", train, Train)
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
+    configured = resolved if train is None else None   # a train given here is not in the configuration
     plant, bcu, wspp, spec = structs(resolved, wsp, dt, substeps, kernel, train)
     callback = None
     if wsp_function is not None:
@@ -368,6 +391,7 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     _core.call(_core.rb_run_init, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(wspp),
                ctypes.byref(spec), state)
     names = channels(n_cars)
+    speed_column = [name for name, _ in names].index("speed")
     rows = int(math.ceil(sc.spec.stop.max_time / sc.spec.outputs.record_interval)) + 3 if record else 0
     series = np.zeros((rows, len(names)))
     finished = ctypes.c_int(0)
@@ -376,16 +400,17 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
         t += CHUNK
         _core.call(_core.rb_run_advance, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(spec), state,
                    t, _core.ptr(series) if record else None, rows, ctypes.byref(finished))
-        if progress is not None:
-            row = min(int(t / sc.spec.outputs.record_interval), rows - 1)
-            progress(min(t, sc.spec.stop.max_time), float(series[row, 1]) if record else math.nan)
+        if progress is not None:   # the speed of the last row surely written (the one at t may not be)
+            row = max(0, min(int(t / sc.spec.outputs.record_interval) - 1, rows - 1))
+            progress(min(t, sc.spec.stop.max_time), float(series[row, speed_column]) if record else math.nan)
     kpis = _core.Kpis()
     _core.rb_run_kpis(ctypes.byref(plant), state, ctypes.byref(kpis))
     n_rows = int(np.count_nonzero(series[:, 0])) + 1 if record else 0
     series = series[:n_rows]
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
-                  dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere)
+                  dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere,
+                  resolved=configured)
 
 
 def demanded_steps(scenario: Scenario) -> dict:

@@ -6,6 +6,7 @@
   the WSP hold valve, with the WSP vent valve; both with a response delay.
 - Proportional solenoid of the EPV: magnetic circuit -> force table, current response, coil
   temperature (``railbrake.valves.solenoid``).
+
 Defaults: ``railbrake/data/valves/*.yaml`` (an illustrative high-speed-train design, documented in
 docs/pneumatics.md); any key can be overridden from a YAML file or a dict.
 """

@@ -95,7 +95,7 @@ def test_the_cycle_count_needs_vent_hold_and_reapply():
 def test_the_default_demo_shows_three_complete_wsp_cycles_of_its_worst_axle():
     """The default demo as `railbrake run` runs it (emergency-300-heavy-rain, 16 cars, to the stop; no
     files, the figure's own window and axle): the WSP cycle figure of the worst axle holds >= 3
-    complete cycles (4 measured, docs/simulation.md)."""
+    complete cycles (the figure of docs/simulation.md's worked example)."""
     resolved = resolve(DEFAULT_SCENARIO)
     record = from_simulation(simulation.run(resolved), resolved.scenario)
     axle = episodes.worst_axle(record)
@@ -104,4 +104,4 @@ def test_the_default_demo_shows_three_complete_wsp_cycles_of_its_worst_axle():
     assert episodes.WINDOW_MIN <= t1 - t0 <= episodes.WINDOW_MAX
     assert _complete_cycles(record, axle, t0, t1) >= 3
     docs = (Path(__file__).resolve().parents[3] / "docs" / "simulation.md").read_text(encoding="utf-8")
-    assert f"wsp_cycle_{axle}.png" in docs      # the worked example names this axle's figure
+    assert 'default.plot("wsp_cycle")' in docs   # the executed worked example draws this axle's figure

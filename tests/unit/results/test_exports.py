@@ -36,6 +36,19 @@ def test_the_csv_is_plain_text_with_repr_exact_floats(saved_run):
     assert first.split(",") == [repr(table.column(n)[0].as_py()) for n in table.column_names]
 
 
+def test_the_csv_has_its_units_beside_it(saved_run):
+    """timeseries_units.csv: one `channel,unit` line per column of the CSV, the units of the
+    Parquet fields; loading the CSV alone (no run.json) gives them back."""
+    out, _ = saved_run
+    lines = (out / "timeseries_units.csv").read_text().splitlines()
+    table = pq.read_table(out / "timeseries.parquet")
+    assert lines[0] == "channel,unit"
+    assert [line.split(",")[0] for line in lines[1:]] == (out / "timeseries.csv").read_text().split("\n")[0].split(",")
+    assert dict(line.split(",") for line in lines[1:]) == {f.name: f.metadata[b"unit"].decode() for f in table.schema}
+    from railbrake.results.files import _read_csv
+    assert _read_csv(out / "timeseries.csv")[1]["cylinder_c3a2"] == "Pa"
+
+
 def test_parquet_and_mdf4_metadata_carry_the_provenance_and_kpis(saved_run):
     out, kpis = saved_run
     meta = pq.read_table(out / "timeseries.parquet").schema.metadata

@@ -343,3 +343,16 @@ def test_compressor_off_stops_every_compressor_and_the_air_balance_still_closes(
     assert (mr[0] - np.minimum.accumulate(mr[0])).max() > 0.05e5   # recovers by 0.05 bar or more
     assert np.diff(mr[1]).max() <= 0.0
     assert failed.kpis["air_balance_error"] < 1e-9
+
+
+def test_progress_reports_the_recorded_speed_of_the_run_so_far():
+    """The progress callback's speed is the train's recorded speed shortly before t (not a row not
+    yet written, which read 0 km/h): it starts near the initial speed and falls as the train brakes."""
+    reports = []
+    r = simulation.run("emergency-250-dry", cars=1, progress=lambda t, v: reports.append((t, v)))
+    interval = r.time[1] - r.time[0]
+    for t, v in reports[:-1]:
+        recorded = r.outputs["speed"][(r.time >= t - 2.5 * interval) & (r.time <= t)]
+        assert v in recorded, (t, v)
+    assert reports[0][1] > 0.9 * 250 / 3.6
+    assert all(a[1] > b[1] for a, b in zip(reports[:-2], reports[1:-1]))

@@ -1,0 +1,86 @@
+"""What a script does with a run's result (railbrake.simulation.Result): a pandas DataFrame or an
+Arrow table with the units, the standard figures, and saving it to a run folder and loading it
+back unchanged, bit for bit (railbrake.load_result)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from railbrake.errors import InputError
+from railbrake.results.record import RunRecord, from_simulation, parse_axles, parse_window
+
+# The standard figures of a run folder (railbrake.plots.simulation), by the name of their file.
+PLOT_KINDS = ("wsp_cycle", "braking_curve", "speed_time", "slip", "reservoirs", "cylinders")
+
+
+def record_of(result) -> RunRecord:
+    """The RunRecord of a Result: with its scenario's description when the run or the folder it
+    was loaded from knows it."""
+    if result.resolved is not None:
+        return from_simulation(result, result.resolved.scenario)
+    meta = dict(result.meta) or {"scenario": result.scenario, "cars": result.cars, "wsp": result.wsp,
+                                 "atmosphere_pa": result.atmosphere}
+    return RunRecord(result.time, dict(result.outputs), dict(result.units), dict(result.kpis), meta)
+
+
+def to_dataframe(result):
+    """pandas DataFrame, one float64 column per channel (SI), `time` included; the units in
+    df.attrs["units"] (channel -> unit), the KPIs in df.attrs["kpis"]."""
+    import pandas as pd
+    frame = pd.DataFrame({name: values for name, values in result.outputs.items()}, copy=True)
+    frame.attrs["units"] = dict(result.units)
+    frame.attrs["kpis"] = dict(result.kpis)
+    frame.attrs["scenario"] = result.scenario
+    return frame
+
+
+def to_arrow(result):
+    """pyarrow Table, one float64 column per channel, each field's unit in its metadata (b"unit"),
+    the run's description and KPIs in the schema's metadata (as in timeseries.parquet)."""
+    from railbrake.results import files
+    return files.arrow_table(record_of(result))
+
+
+def plot(result, kind: str = "braking_curve", path: Path | str | None = None, axle: str | None = None,
+         axles: str | None = None, window: str | None = None):
+    """One standard figure: path None returns the matplotlib Figure, else writes it (format from the
+    suffix) and returns the path. axle: wsp_cycle's axle (default the worst); axles: slip's
+    coloured axles besides the worst ('c3a2,c1a1'); window: 'T0:T1' in s for wsp_cycle."""
+    from railbrake.plots import simulation as plots
+    from railbrake.results import episodes
+    if kind not in PLOT_KINDS:
+        raise InputError(f"plot kind = {kind!r}: must be one of {', '.join(PLOT_KINDS)}")
+    record = record_of(result)
+    path = None if path is None else Path(path)
+    if kind == "wsp_cycle":
+        chosen = parse_axles(axle, record, "axle") or [episodes.plotted_axles(record, None)[0]]
+        return plots.plot_wsp_cycle(record, chosen[0], path, parse_window(window, record, "window"))
+    if kind == "slip":
+        return plots.plot_slip(record, episodes.plotted_axles(record, parse_axles(axles, record, "axles")), path)
+    if kind == "cylinders":
+        return plots.plot_cylinders(record, path, {a for group in record.faulty_axles() for a in group})
+    return {"braking_curve": plots.plot_braking_curve, "speed_time": plots.plot_speed_time,
+            "reservoirs": plots.plot_reservoirs}[kind](record, path)
+
+
+def save(result, folder: Path | str) -> Path:
+    """timeseries.parquet, kpis.json and run.json into folder (and config.yaml, the resolved
+    configuration, when the result knows it); load_result reads it back bit for bit."""
+    from railbrake.results import files
+    from railbrake.results.config_file import write_config
+    folder = Path(folder)
+    files.write_run(record_of(result), folder, ["parquet"])
+    if result.resolved is not None:
+        write_config(result.resolved, folder / "config.yaml")
+    return folder
+
+
+def load_result(folder: Path | str):
+    """The Result saved in a run folder (Result.save, `railbrake run --out`, `hil --out`) or one of its
+    time-series files."""
+    from railbrake.results import files
+    from railbrake.simulation import Result
+    record = files.load(folder)
+    meta = {k: v for k, v in record.meta.items() if k != "source"}
+    return Result(meta.get("scenario", Path(folder).name), record.cars, record.wsp, record.time, record.outputs,
+                  record.units, record.kpis, record.atmosphere, meta=meta)

@@ -1,0 +1,105 @@
+"""Result for scripts: DataFrame and Arrow with units, the standard figures, save / load_result bit for
+bit; a run folder's config.yaml reproduces its KPIs bit for bit from another folder, its train file gone."""
+
+import json
+import shutil
+from importlib.resources import files
+
+import numpy as np
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+import railbrake
+from railbrake.cli import app
+from railbrake.errors import InputError
+from railbrake.resolve import resolve
+from railbrake.results.scripting import PLOT_KINDS
+
+SHORT = {"stop.max_time": "6 s"}    # the first 6 s of a stop: a few WSP-free seconds, fast
+
+
+@pytest.fixture(scope="module")
+def result():
+    return railbrake.run(resolve("emergency-250-dry", 2, SHORT))
+
+
+def _same_bits(a, b) -> bool:
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    return a.shape == b.shape and np.array_equal(a.view(np.uint64), b.view(np.uint64))
+
+
+def test_the_dataframe_has_one_column_per_channel_with_its_unit(result):
+    df = result.to_dataframe()
+    assert list(df.columns) == list(result.outputs)
+    assert df.attrs["units"] == result.units and df.attrs["units"]["speed"] == "m/s"
+    assert all(_same_bits(df[name].to_numpy(), values) for name, values in result.outputs.items())
+    assert df.attrs["kpis"] == result.kpis
+
+
+def test_the_arrow_table_carries_each_unit_in_its_field(result):
+    table = result.to_arrow()
+    assert table.column_names == list(result.outputs)
+    for field in table.schema:
+        assert field.metadata[b"unit"].decode() == result.units[field.name]
+    assert _same_bits(table.column("cylinder_c1a1").to_numpy(), result.outputs["cylinder_c1a1"])
+
+
+def test_save_and_load_result_round_trip_bit_for_bit(result, tmp_path):
+    result.save(tmp_path / "run")
+    loaded = railbrake.load_result(tmp_path / "run")
+    assert (loaded.scenario, loaded.cars, loaded.wsp) == (result.scenario, result.cars, result.wsp)
+    assert _same_bits(loaded.atmosphere, result.atmosphere)
+    assert list(loaded.outputs) == list(result.outputs) and loaded.units == result.units
+    assert all(_same_bits(loaded.outputs[n], v) for n, v in result.outputs.items())
+    assert _same_bits(loaded.time, result.time)
+    assert loaded.kpis == result.kpis    # JSON floats read back to the same bits
+    loaded.save(tmp_path / "again")      # and a loaded result saves to the same again
+    again = railbrake.load_result(tmp_path / "again")
+    assert all(_same_bits(again.outputs[n], v) for n, v in result.outputs.items()) and again.kpis == result.kpis
+
+
+def test_plot_returns_the_figure_or_writes_the_file(result, tmp_path):
+    from matplotlib.figure import Figure
+    for kind in PLOT_KINDS:
+        assert isinstance(result.plot(kind), Figure), kind
+    path = result.plot("braking_curve", tmp_path / "curve.svg")
+    assert path.read_text().lstrip().startswith("<?xml")
+    with pytest.raises(InputError, match="plot kind = 'speed'.*braking_curve"):
+        result.plot("speed")
+    with pytest.raises(InputError, match="axle = 'c9a1'"):
+        result.plot("wsp_cycle", axle="c9a1")
+
+
+def test_a_run_folder_reproduces_its_kpis_from_another_folder_without_its_train_file(tmp_path):
+    """A user's train file (the preset with heavier motor cars) and overrides: config.yaml alone
+    (with the train copied beside it) reruns it bit for bit elsewhere, after the train file is gone; titles name the train, not its path."""
+    train = yaml.safe_load((files("railbrake") / "data" / "trains" / "crh380a-8.yaml").read_text())
+    train["name"] = "heavy-a8"
+    train["car_types"]["motor"]["tare_t"] += 2.0
+    home = tmp_path / "home" / "someone"
+    home.mkdir(parents=True)
+    (home / "heavy-a8.yaml").write_text(yaml.safe_dump(train))
+    scenario = yaml.safe_load((files("railbrake") / "data" / "scenarios" / "emergency-250-dry.yaml").read_text())
+    scenario["train"] = {"preset": "heavy-a8.yaml"}
+    (home / "stop.yaml").write_text(yaml.safe_dump(scenario))
+    out = tmp_path / "out"
+    first = CliRunner().invoke(app, ["run", str(home / "stop.yaml"), "--cars", "2", "--set", "initial_speed=120 km/h",
+                                     "--out", str(out), "--json"])
+    assert first.exit_code == 0, first.output
+    config = (out / "config.yaml").read_text()
+    assert str(tmp_path) not in config.split("provenance:")[0]
+    assert "initial_speed=120 km/h" in config and "heavy-a8" in config
+    elsewhere = tmp_path / "elsewhere"
+    shutil.copytree(out, elsewhere)
+    shutil.rmtree(home)
+    second = CliRunner().invoke(app, ["run", str(elsewhere / "config.yaml"), "--json"])
+    assert second.exit_code == 0, second.output
+    assert json.loads(second.stdout) == json.loads(first.stdout)
+    assert json.loads(first.stdout)["stopping_distance_m"] is not None
+    meta = json.loads((out / "run.json").read_text())["meta"]
+    report = (out / "report.html").read_text()
+    assert meta["train"] == "heavy-a8" and "<h1>emergency-250-dry (MIL): heavy-a8, 2 cars" in report
+    assert str(tmp_path) not in report.split("<h2>Provenance")[0]    # the command line as typed follows
+    shown = CliRunner().invoke(app, ["config", "show", str(elsewhere / "config.yaml"), "--json"])
+    assert json.loads(shown.stdout)["digest"] == yaml.safe_load(config)["provenance"]["digest"]
