@@ -9,6 +9,7 @@ scale). On a shared machine the figures are noisy: run it twice and take the bes
 
     python bench/bench_campaign.py [--runs 40] [--workers 2] [--cars 4,8,16] [--big]
     python bench/bench_campaign.py --stops 1000     # issue 25: 1000 16-car stops from 300 km/h
+    python bench/bench_campaign.py --huge 100000    # issue 25: 10^5 runs planned, killed, resumed
 """
 
 import argparse
@@ -112,6 +113,63 @@ def stops(runs: int, workers: int) -> dict:
             "scheduler_share": summary.scheduler_share, "tail_share": summary.tail_share}
 
 
+HUGE = """schema: railbrake.study/1
+name: huge
+base: emergency-250-dry
+set: {{train.cars: 4, stop.max_time: "30 s"}}
+factors:
+  initial_speed: {{low: "30 km/h", high: "60 km/h"}}
+  adhesion.condition: [dry-medium, wet, oil-film]
+design: {{kind: latin-hypercube, samples: {runs}}}
+seed: 11
+"""
+
+
+def _peak_rss_mb(pid: int) -> float:
+    with open(f"/proc/{pid}/status") as status:
+        line = next(x for x in status if x.startswith("VmHWM:"))
+    return int(line.split()[1]) / 1024
+
+
+def huge(runs: int = 100_000, workers: int = 2, seconds: float = 60.0) -> dict:
+    """Issue 25: a study of `runs` short 4-car stops planned and started (`campaign run` in a
+    process of its own), its client's peak memory read while it runs, killed with SIGKILL after
+    `seconds`, resumed for as long and killed again; then every key in the dataset once, and the
+    KPIs of the runs done equal those of the same runs made again here in one uninterrupted batch."""
+    import signal
+    import subprocess
+    import sys
+    from railbrake.campaign import worker
+    from railbrake.campaign.plan import iter_plan
+    with tempfile.TemporaryDirectory() as folder:
+        path, out = Path(folder) / "huge.yaml", Path(folder) / "out"
+        path.write_text(HUGE.format(runs=runs))
+        figures = {"runs": runs}
+        for attempt in ("first", "resumed"):
+            process = subprocess.Popen([sys.executable, "-c", "from railbrake.cli import main; main()", "campaign",
+                                        "run", str(path), "--out", str(out), "--workers", str(workers), "--json"],
+                                       start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            start, peak = time.monotonic(), 0.0
+            while time.monotonic() - start < seconds and process.poll() is None:
+                peak = max(peak, _peak_rss_mb(process.pid))
+                time.sleep(0.5)
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+            figures[f"{attempt}_client_peak_mb"] = peak
+            figures[f"{attempt}_in_dataset"] = len(dataset.existing_keys(out))
+        table = dataset.read(out)
+        keys = table.column("key").to_pylist()
+        figures["keys_once"] = len(keys) == len(set(keys))
+        s = study.load(path)
+        wanted = set(keys)
+        done = [r for r in iter_plan(s) if r.key in wanted]
+        rows = worker.execute_batch(s.base, [execute._payload(r) for r in done], {})["rows"]
+        again = {r["key"]: r["kpis"] for r in rows}
+        stored = {k: {name: table.column(name)[i].as_py() for name in again[k]} for i, k in enumerate(keys)}
+        figures["kpis_equal"] = all(stored[k] == again[k] for k in keys)
+        return figures
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--runs", type=int, default=40)
@@ -121,7 +179,12 @@ def main() -> None:
     parser.add_argument("--kill-resume", action="store_true", help="only the 200-run SIGKILL-and-resume check")
     parser.add_argument("--stops", type=int, default=0, help="only the issue-25 study of this many 16-car "
                         "stops from 300 km/h (1000: the issue's)")
+    parser.add_argument("--huge", type=int, default=0, help="only the issue-25 check of a study of this many "
+                        "short 4-car stops (100000: the issue's): planned, started, killed, resumed, killed")
     args = parser.parse_args()
+    if args.huge:
+        print(huge(args.huge, args.workers), flush=True)
+        return
     if args.stops:
         f = stops(args.stops, args.workers)
         print(f"{f['runs']} 16-car stops from 300 km/h on {f['workers']} workers: {f['elapsed_s']:.1f} s "
