@@ -2,41 +2,44 @@
 
 The FMU holds the C sources (core/src, core/include, core/fmi and one generated file with the
 scenario's parameter values, the instantiation token and the variable table), so any target can
-compile it, plus a binary for this platform built with the system C compiler. Layout and
-conventions follow the FMI standard (fmi-standard.org) as the modelica/Reference-FMUs do.
+compile it, binaries for the platforms asked for (railbrake.fmu.binaries), the licence and its
+documentation. Layout and conventions follow the FMI standard (fmi-standard.org) as the
+modelica/Reference-FMUs do.
 """
 
 from __future__ import annotations
 
 import ctypes
-import datetime
 import hashlib
 import math
-import os
+import re
 import shutil
-import subprocess
 import tempfile
 import uuid
 import zipfile
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
-
-import fmpy
 
 import railbrake
 from railbrake import scenario as scenarios
 from railbrake.resolve import resolve
 from railbrake import simulation, vehicle
 from railbrake.errors import InputError
-from railbrake.fmu.variables import UNITS, Variable, table
+from railbrake.fmu.binaries import DEFAULT_PLATFORMS, FMI_HEADERS, compile_binary  # noqa: F401 (FMI_HEADERS: tests)
+from railbrake.fmu.description import Header, build_description, model_description
+from railbrake.fmu.variables import Variable, table
 
-MODEL_IDENTIFIER = "railbrake_plant"
-PLATFORM = {"2": fmpy.platform, "3": fmpy.platform_tuple}          # linux64 / x86_64-linux
-FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
+FMI_VERSIONS = ("2", "3")
 # The real-time runner's sources (rt_*.c: sockets, pacing; hil_runner.c, hil_bcu.c on top of them)
-# are OS-specific and not part of the plant.
-_EXCLUDED = ("rt_", "hil_runner", "hil_bcu")
+# and the plant benchmark (OS clocks) are OS-specific and not part of the plant.
+_EXCLUDED = ("rt_", "hil_runner", "hil_bcu", "plant_bench")
 _STRUCT_ROOTS = ("plant", "bcu", "wsp", "scenario")
+# modelIdentifier: a C identifier (it prefixes the FMI functions in a static build, FMI 2.0.4
+# section 2.1.1) and a file name on every platform.
+MAX_IDENTIFIER = 64
+_C99_KEYWORDS = frozenset(
+    "auto break case char const continue default do double else enum extern float for goto if inline int long "
+    "register restrict return short signed sizeof static struct switch typedef union unsigned void volatile "
+    "while _Bool _Complex _Imaginary".split())
 
 
 def c_sources_dir() -> Path:
@@ -103,116 +106,10 @@ def generated_c(roots: dict, variables: list[Variable], token: str, title: str) 
         "void fmu_scenario_defaults(fmu_instance *m)", "{", *defaults, "}", ""])
 
 
-# ------------------------------------------------------------------ modelDescription.xml
-
-def _attrs(**kw) -> str:
-    return "".join(f" {k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
-
-
-def _number(x: float) -> str | None:
-    return None if math.isinf(x) else repr(float(x))
-
-
-def _start(v: Variable) -> str | None:
-    if v.start is None:
-        return None
-    return ("true" if v.start else "false") if v.type == "Boolean" else repr(float(v.start))
-
-
-def _variability(v: Variable) -> str:
-    if v.causality == "parameter":
-        return "fixed"
-    return "continuous" if v.type == "Real" else "discrete"
-
-
-def _initial(v: Variable) -> str | None:
-    return {"parameter": "exact", "output": "calculated"}.get(v.causality)
-
-
-def _units(used: set) -> list[str]:
-    lines = ["  <UnitDefinitions>"]
-    for name in sorted(used):
-        lines.append(f"    <Unit{_attrs(name=name)}><BaseUnit{_attrs(**UNITS[name])}/></Unit>")
-    return lines + ["  </UnitDefinitions>"]
-
-
-def _real_attrs(v: Variable) -> dict:
-    settable = v.causality in ("parameter", "input")
-    return {"unit": v.unit, "start": _start(v),
-            "min": _number(v.min) if settable else None, "max": _number(v.max) if settable else None}
-
-
-def _variable_attrs(i: int, v: Variable) -> dict:
-    """The attributes every FMI version shares (the value reference is the table position)."""
-    return dict(name=v.name, valueReference=i, description=v.description or None, causality=v.causality,
-                variability=None if v.causality == "independent" else _variability(v), initial=_initial(v))
-
-
-def _typed_attrs(v: Variable) -> dict:
-    return _real_attrs(v) if v.type == "Real" else {"start": _start(v)}
-
-
-def _fmi2_body(variables: list[Variable], token: str, sources: list[str], head: dict) -> tuple[list, list, list]:
-    lines = [f"<fmiModelDescription{_attrs(fmiVersion='2.0', guid=token, **head, numberOfEventIndicators='0')}>",
-             f"  <CoSimulation{_attrs(**_CO_SIMULATION, canNotUseMemoryManagementFunctions='true')}>",
-             "    <SourceFiles>", *[f"      <File{_attrs(name=s)}/>" for s in sources], "    </SourceFiles>",
-             "  </CoSimulation>"]
-    variable_lines = []
-    for i, v in enumerate(variables):
-        variable_lines += [f"    <ScalarVariable{_attrs(**_variable_attrs(i, v))}>",
-                           f"      <{v.type}{_attrs(**_typed_attrs(v))}/>", "    </ScalarVariable>"]
-    # ModelStructure indices are 1-based positions in ModelVariables
-    unknowns = [f'      <Unknown index="{i + 1}"/>' for i, v in enumerate(variables) if v.causality == "output"]
-    structure = ["    <Outputs>", *unknowns, "    </Outputs>", "    <InitialUnknowns>", *unknowns,
-                 "    </InitialUnknowns>"]
-    return lines, variable_lines, structure
-
-
-def _fmi3_body(variables: list[Variable], token: str, dt: float, head: dict) -> tuple[list, list, list]:
-    lines = [f"<fmiModelDescription{_attrs(fmiVersion='3.0', instantiationToken=token, **head)}>",
-             f"  <CoSimulation{_attrs(**_CO_SIMULATION, fixedInternalStepSize=repr(dt), hasEventMode='false')}/>"]
-    variable_lines = [f"    <{'Float64' if v.type == 'Real' else 'Boolean'}"
-                      f"{_attrs(**_variable_attrs(i, v), **_typed_attrs(v))}/>" for i, v in enumerate(variables)]
-    outputs = [i for i, v in enumerate(variables) if v.causality == "output"]
-    structure = ([f'    <Output valueReference="{i}"/>' for i in outputs]
-                 + [f'    <InitialUnknown valueReference="{i}"/>' for i in outputs])
-    return lines, variable_lines, structure
-
-
-_CO_SIMULATION = dict(modelIdentifier=MODEL_IDENTIFIER, canHandleVariableCommunicationStepSize="true")
-
-
-def model_description(version: str, variables: list[Variable], token: str, sources: list[str],
-                      title: str, stop_time: float, dt: float) -> str:
-    """modelDescription.xml in the FMI `version` ("2" or "3") flavour."""
-    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
-    head = dict(modelName=MODEL_IDENTIFIER, description=f"railbrake real-time plant: {title}",
-                generationTool=f"railbrake {railbrake.__version__}", generationDateAndTime=stamp,
-                variableNamingConvention="flat")
-    if version == "2":
-        lines, variable_lines, structure = _fmi2_body(variables, token, sources, head)
-    else:
-        lines, variable_lines, structure = _fmi3_body(variables, token, dt, head)
-    experiment = _attrs(startTime="0", stopTime=repr(stop_time), stepSize=repr(dt))
-    return "\n".join(['<?xml version="1.0" encoding="UTF-8"?>', *lines, *_units({v.unit for v in variables if v.unit}),
-                      f"  <DefaultExperiment{experiment}/>", "  <ModelVariables>", *variable_lines,
-                      "  </ModelVariables>", "  <ModelStructure>", *structure, "  </ModelStructure>",
-                      "</fmiModelDescription>", ""])
-
-
-def build_description(sources: list[str]) -> str:
-    """sources/buildDescription.xml (FMI 3): one C99 source set, headers found from sources/."""
-    files = [f"      <SourceFile{_attrs(name=s)}/>" for s in sources]
-    return "\n".join(['<?xml version="1.0" encoding="UTF-8"?>', '<fmiBuildDescription fmiVersion="3.0">',
-                      f"  <BuildConfiguration{_attrs(modelIdentifier=MODEL_IDENTIFIER)}>",
-                      '    <SourceFileSet language="C99">', *files, '      <IncludeDirectory name="."/>',
-                      "    </SourceFileSet>", "  </BuildConfiguration>", "</fmiBuildDescription>", ""])
-
-
 # ------------------------------------------------------------------ the archive
 
 def _copy_sources(version: str, sources_dir: Path) -> list[str]:
-    """core/src/*.c (but the real-time runner's), the headers and the FMI layer into sources/."""
+    """core/src/*.c (but the OS-specific ones), the headers and the FMI layer into sources/."""
     core = c_sources_dir()
     (sources_dir / "railbrake").mkdir(parents=True)
     for header in (core / "include" / "railbrake").glob("*.h"):
@@ -227,18 +124,12 @@ def _copy_sources(version: str, sources_dir: Path) -> list[str]:
     return names + ["fmu_model.c", f"fmi{version}.c", "fmu_scenario.c"]
 
 
-def compile_binary(unzipped: Path, version: str, sources: list[str], extra_flags: tuple[str, ...] = ()) -> Path:
-    """Builds binaries/<platform>/railbrake_plant.so from sources/ with the system C compiler."""
-    target = unzipped / "binaries" / PLATFORM[version] / f"{MODEL_IDENTIFIER}{fmpy.sharedLibraryExtension}"
-    target.parent.mkdir(parents=True, exist_ok=True)
-    compiler = os.environ.get("CC", "cc")
-    command = [compiler, "-std=c99", "-O2", "-fPIC", "-shared", "-Wall", "-Wextra", "-Wl,--no-undefined",
-               f"-I{unzipped / 'sources'}", "-isystem", str(FMI_HEADERS), *extra_flags,
-               *[str(unzipped / "sources" / s) for s in sources], "-o", str(target), "-lm"]
-    done = subprocess.run(command, capture_output=True, text=True)
-    if done.returncode != 0:
-        raise InputError(f"compiling the FMU with {compiler} failed:\n{done.stderr[-4000:]}")
-    return target
+def license_file() -> Path:
+    """The project's LICENSE: installed with the C sources, or the repository's."""
+    for path in (c_sources_dir() / "LICENSE", c_sources_dir().parent / "LICENSE"):
+        if path.is_file():
+            return path
+    raise InputError("the LICENSE file is not installed with railbrake; reinstall the package")
 
 
 def _zip(folder: Path, output: Path) -> None:
@@ -262,16 +153,42 @@ def resolve_scenario(name):
         raise InputError(f"{exc}; nor a train preset ({', '.join(vehicle.preset_names())})") from None
 
 
+def check_identifier(identifier: str) -> str:
+    """A modelIdentifier given by the user: a C identifier of at most MAX_IDENTIFIER characters, not
+    reserved (C99 section 7.1.3) and not a keyword."""
+    if not isinstance(identifier, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", identifier):
+        raise InputError(f"--model-identifier {identifier!r}: must be a C identifier (letters, digits and _, "
+                         "not starting with a digit)")
+    if len(identifier) > MAX_IDENTIFIER:
+        raise InputError(f"--model-identifier {identifier!r}: {len(identifier)} characters, at most "
+                         f"{MAX_IDENTIFIER}")
+    if identifier in _C99_KEYWORDS or re.match(r"_[A-Z_]", identifier):
+        raise InputError(f"--model-identifier {identifier!r}: a C keyword or reserved identifier; choose another")
+    return identifier
+
+
+def model_identifier(resolved, kernel: str | None) -> str:
+    """railbrake_<scenario>_<digest>: the scenario's name (as a C identifier) and 8 hex digits of the
+    configuration digest (railbrake.resolve.Resolved.digest) with the kernel choice, so that two
+    exports of different configurations never share an identifier."""
+    name = re.sub(r"[^A-Za-z0-9]+", "_", resolved.name).strip("_")[:40]
+    digest = hashlib.sha256(f"{resolved.digest()}\nkernel {kernel}".encode()).hexdigest()[:8]
+    return f"railbrake_{name}_{digest}"
+
+
 def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.fmu", fmi_version: str = "2",
                cars: int | None = None, binary: bool = True, kernel: str | None = None,
-               sets=()) -> Path:
+               sets=(), platforms=DEFAULT_PLATFORMS, identifier: str | None = None) -> Path:
     """Writes the scenario's plant (with its BCU) as a co-simulation FMU; returns its path. kernel: the
     wheelset kernel built in ("auto": the vector one where the importer's CPU has it, chosen at run
-    time; "portable"; None: RAILBRAKE_KERNEL, else auto); either way the sources stay portable C99."""
+    time; "portable"; None: RAILBRAKE_KERNEL, else auto); either way the sources stay portable C99.
+    platforms: the binaries built (railbrake.fmu.binaries.PLATFORMS; none with binary=False);
+    identifier: the modelIdentifier (default: model_identifier)."""
     version = str(fmi_version)
-    if version not in PLATFORM:
+    if version not in FMI_VERSIONS:
         raise InputError(f"FMI version {fmi_version!r}: must be 2 or 3")
     resolved = resolve(resolve_scenario(scenario), cars, sets)
+    identifier = model_identifier(resolved, kernel) if identifier is None else check_identifier(identifier)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = simulation.plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True, resolved.train),
@@ -284,13 +201,15 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         sources = _copy_sources(version, folder / "sources")
+        fmu = Header(version, identifier, token, title, tuple(sources), sc.spec.stop.max_time, plant.dt)
         (folder / "sources" / "fmu_scenario.c").write_text(body.replace("@TOKEN@", token))
         if version == "3":
-            (folder / "sources" / "buildDescription.xml").write_text(build_description(sources))
-        (folder / "modelDescription.xml").write_text(
-            model_description(version, variables, token, sources, title, sc.spec.stop.max_time, plant.dt))
-        if binary:
-            compile_binary(folder, version, sources)
+            (folder / "sources" / "buildDescription.xml").write_text(build_description(fmu))
+        (folder / "modelDescription.xml").write_text(model_description(fmu, variables))
+        (folder / "documentation" / "licenses").mkdir(parents=True)
+        shutil.copy2(license_file(), folder / "documentation" / "licenses" / "LICENSE.txt")
+        for platform in platforms if binary else ():
+            compile_binary(folder, version, sources, identifier, platform)
         output = Path(output)
         _zip(folder, output)
     return output
