@@ -125,6 +125,8 @@ static fmu_status load_defaults(fmu_instance *m)
     size_t keep = offsetof(fmu_instance, log);   /* the environment survives a reset */
     memset(m, 0, keep);
     fmu_scenario_defaults(m);
+    m->setup_stop_time = NAN;
+    m->stop_step = INT64_MAX;
     m->mode = FMU_INSTANTIATED;
     fmu_status s = setup(m);
     if (s == FMU_OK) m->mode = FMU_INSTANTIATED;
@@ -162,10 +164,18 @@ void fmu_free(fmu_instance *m) { free(m); }
 fmu_status fmu_reset(fmu_instance *m) { return load_defaults(m); }
 
 /* The FMI layers check the state (each function its own mask); these only move it on. */
-fmu_status fmu_enter_initialization(fmu_instance *m, double start_time)
+fmu_status fmu_enter_initialization(fmu_instance *m, double start_time, double stop_time)
 {
     if (start_time != 0.0)
         return fmu_log(m, FMU_ERROR, "startTime = %g s: must be 0 (the scenario starts at t = 0)", start_time);
+    m->stop_step = INT64_MAX;
+    if (!isnan(stop_time)) {
+        if (!(stop_time >= 0.0 && stop_time <= 1e9 * m->plant.dt))
+            return fmu_log(m, FMU_ERROR, "stopTime = %g s: must be a finite time from startTime = 0 s to %g s",
+                           stop_time, 1e9 * m->plant.dt);
+        /* the last whole step at or before stopTime (a step size rounded to 1e-6 of a step reaches it) */
+        m->stop_step = (int64_t)floor(stop_time / m->plant.dt + 1e-6);
+    }
     m->mode = FMU_INITIALIZATION;
     return FMU_OK;
 }
@@ -309,6 +319,9 @@ fmu_status fmu_do_step(fmu_instance *m, double t, double h)
     if (!isfinite(t) || fabs(t - fmu_time(m)) > 1e-6 * dt)
         return fmu_log(m, FMU_ERROR, "doStep: currentCommunicationPoint = %.9g s: must equal the FMU's time "
                        "%.9g s", t, fmu_time(m));
+    if (n > m->stop_step - m->step)
+        return fmu_log(m, FMU_ERROR, "doStep: currentCommunicationPoint + communicationStepSize = %.9g s: passes "
+                       "the stopTime %.9g s given at initialization", t + h, (double)m->stop_step * dt);
     switch_faults(m);
     for (int64_t i = 0; i < n; ++i) {
         step_once(m);

@@ -98,16 +98,21 @@ def resolve(roots: dict, path: str):
 
 
 def bound_name(path: str) -> str:
-    """The C bounds-table name of a parameter's C path: plant.car[0].vehicle.mass -> car.mass."""
+    """The C bounds-table name of a parameter's C path: plant.car[0].vehicle.mass -> car.mass,
+    plant.condition[0].polach.mu0 -> condition.mu0."""
     name = re.sub(r"^plant\.", "", path)
+    name = re.sub(r"^condition\[[^]]*\]\.polach\.", "condition.", name)
     return re.sub(r"^car\[[^]]*\]\.(vehicle\.(brake\.caliper\.)?)?", "car.", name)
 
 
 def parameter_range(path: str) -> tuple[float, float]:
-    """(min, max) of a parameter: the C core's plausibility bound (core/src/bounds.c, the same
-    table rb_plant_bounds_check and rb_wsp_check use), else non-negative."""
+    """(min, max) of a parameter: the C core's plausibility bound (core/src/bounds.c), the same table
+    rb_plant_bounds_check and rb_wsp_check use at exitInitializationMode, so that what the
+    modelDescription declares is what the FMU accepts."""
     name = bound_name(path)
-    return _core.bound(name) if name in _core.BOUNDS else (0.0, INF)
+    if name not in _core.BOUNDS:
+        raise KeyError(f"FMU parameter {path}: no entry {name!r} in the bounds table (core/src/bounds.c)")
+    return _core.bound(name)
 
 
 def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:

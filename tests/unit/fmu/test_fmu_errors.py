@@ -180,20 +180,6 @@ def test_invalid_parameter_rejected_at_initialisation(session):
     session.fails(session.fmu.exitInitializationMode, words=("governor_off",))
 
 
-def test_parameter_ranges_are_the_core_bounds(fmu, tmp_path):
-    """modelDescription.xml carries the C bounds table's ranges (one definition)."""
-    from railbrake import _core
-    version, path = fmu
-    with zipfile.ZipFile(path) as zf:
-        zf.extractall(tmp_path)
-    md = read_model_description(str(tmp_path))
-    by_name = {v.name: v for v in md.modelVariables}
-    for name, bound in (("coupler_damping", "coupler.damping"), ("mass_c1", "car.mass"),
-                        ("cylinder_volume_c1", "car.cylinder_volume"), ("wsp_safety_time", "wsp.safety_time")):
-        low, high = _core.bound(bound)
-        assert (float(by_name[name].min), float(by_name[name].max)) == (low, high)
-
-
 def test_bad_instantiation_token(fmu, tmp_path):
     version, path = fmu
     log = []
