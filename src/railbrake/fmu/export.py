@@ -26,6 +26,7 @@ from railbrake import simulation, vehicle
 from railbrake.errors import InputError
 from railbrake.fmu.binaries import DEFAULT_PLATFORMS, FMI_HEADERS, compile_binary  # noqa: F401 (FMI_HEADERS: tests)
 from railbrake.fmu.description import Header, build_description, model_description
+from railbrake.fmu.documentation import index_html
 from railbrake.fmu.variables import Variable, table
 
 FMI_VERSIONS = ("2", "3")
@@ -201,12 +202,14 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         sources = _copy_sources(version, folder / "sources")
-        fmu = Header(version, identifier, token, title, tuple(sources), sc.spec.stop.max_time, plant.dt)
+        fmu = Header(version, identifier, token, title, tuple(sources), sc.spec.stop.max_time, plant.dt,
+                     plant.atmosphere)
         (folder / "sources" / "fmu_scenario.c").write_text(body.replace("@TOKEN@", token))
         if version == "3":
             (folder / "sources" / "buildDescription.xml").write_text(build_description(fmu))
         (folder / "modelDescription.xml").write_text(model_description(fmu, variables))
         (folder / "documentation" / "licenses").mkdir(parents=True)
+        (folder / "documentation" / "index.html").write_text(index_html(fmu, variables))
         shutil.copy2(license_file(), folder / "documentation" / "licenses" / "LICENSE.txt")
         for platform in platforms if binary else ():
             compile_binary(folder, version, sources, identifier, platform)

@@ -13,6 +13,8 @@ import re
 from dataclasses import dataclass
 
 from railbrake import _core
+from railbrake.units import BAR, KMH, KN, TONNE
+from railbrake.vehicle import L, MM2, ZERO_CELSIUS
 
 INF = math.inf
 
@@ -28,15 +30,38 @@ class Variable:
     min: float = -INF
     max: float = INF
     description: str = ""
+    quantity: str | None = None     # None: the unit's (UNITS)
+    display: str | None = None      # display unit; None: the unit's default
 
 
-# SI base-unit exponents of every unit used (FMI UnitDefinitions).
-UNITS = {
-    "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "s": {"s": 1},
-    "kg": {"kg": 1}, "kg/s": {"kg": 1, "s": -1}, "K": {"K": 1}, "m2": {"m": 2}, "m3": {"m": 3},
-    "Pa": {"kg": 1, "m": -1, "s": -2}, "N/m": {"kg": 1, "s": -2}, "N.s/m": {"kg": 1, "s": -1},
-    "1": {},
-}
+@dataclass(frozen=True)
+class Unit:
+    base: dict                      # SI base-unit exponents (FMI BaseUnit)
+    quantity: str
+    displays: tuple = ()            # (name, factor, offset): display value = factor * value + offset
+    default_display: str | None = None
+
+
+def units(atmosphere: float) -> dict[str, Unit]:
+    """Every unit the FMU uses, with its quantity and the display units integrators read: pressures
+    (absolute inside) in bar gauge over the train's own atmosphere, speeds in km/h, temperatures in
+    degC, forces in kN, masses in t, volumes in l, areas in mm2."""
+    pa = {"kg": 1, "m": -1, "s": -2}
+    return {
+        "m": Unit({"m": 1}, "Length"), "m/s": Unit({"m": 1, "s": -1}, "Velocity", (("km/h", 1 / KMH, 0.0),), "km/h"),
+        "m/s2": Unit({"m": 1, "s": -2}, "Acceleration"), "s": Unit({"s": 1}, "Time", (("ms", 1e3, 0.0),)),
+        "kg": Unit({"kg": 1}, "Mass", (("t", 1 / TONNE, 0.0),), "t"),
+        "kg/s": Unit({"kg": 1, "s": -1}, "MassFlowRate"),
+        "K": Unit({"K": 1}, "ThermodynamicTemperature", (("degC", 1.0, -ZERO_CELSIUS),), "degC"),
+        "m2": Unit({"m": 2}, "Area", (("mm2", 1 / MM2, 0.0),), "mm2"),
+        "m3": Unit({"m": 3}, "Volume", (("l", 1 / L, 0.0),), "l"),
+        "Pa": Unit(pa, "Pressure", (("bar_g", 1 / BAR, -atmosphere / BAR), ("bar", 1 / BAR, 0.0)), "bar_g"),
+        "N": Unit({"kg": 1, "m": 1, "s": -2}, "Force", (("kN", 1 / KN, 0.0),), "kN"),
+        "N/m": Unit({"kg": 1, "s": -2}, "TranslationalSpringConstant", (("kN/mm", 1e-6, 0.0),), "kN/mm"),
+        "N.s/m": Unit({"kg": 1, "s": -1}, "TranslationalDampingConstant"),
+        "1": Unit({}, "Dimensionless"),
+    }
+
 
 # Global tunable parameters: name, C path, unit, description.
 _PARAMETERS = [
@@ -166,6 +191,9 @@ def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
     for c in range(n_cars):
         v.append(Variable("supply" + car(c), "output", "Real", f"out.supply[{c}]", "Pa",
                           description=f"car {c + 1}: supply reservoir pressure (absolute)"))
+    for c in range(n_cars):
+        v.append(Variable("ed_force" + car(c), "output", "Real", f"out.ed_force[{c}]", "N",
+                          description=f"car {c + 1}: electrodynamic brake force achieved"))
     for name, field, unit, description in (
             ("wheel_speed", "wheel_speed", "m/s", "wheel peripheral speed (true)"),
             ("wheel_speed_measured", "wheel_speed_measured", "m/s", "wheel speed sensor (< 0: sensor lost)"),

@@ -150,3 +150,31 @@ def test_train_preset_and_bad_arguments(tmp_path):
         export_fmu("emergency-250-dry", tmp_path / "x.fmu", "4")
     with pytest.raises(InputError, match="nor a train preset"):
         export_fmu("no-such-thing", tmp_path / "x.fmu", "2")
+
+
+def test_model_description_an_integrator_reads(fmu, tmp_path):
+    """Display units as integrators read them (bar gauge over the train's atmosphere, km/h, degC, kN),
+    a quantity and a description for every variable, author/version/licence/generation, and
+    documentation/index.html listing every port with its value reference."""
+    version, path = fmu
+    md = read_model_description(str(path))
+    assert md.author and md.version and "Apache-2.0" in md.license and md.generationTool.startswith("railbrake")
+    assert md.generationDateAndTime
+    displays = {u.name: {d.name: (d.factor, d.offset) for d in u.displayUnits} for u in md.unitDefinitions}
+    assert displays["Pa"]["bar_g"] == pytest.approx((1e-5, -ATM * 1e-5))      # 1 bar = 1e5 Pa (SI)
+    assert displays["m/s"]["km/h"] == pytest.approx((3.6, 0.0))
+    assert displays["K"]["degC"] == pytest.approx((1.0, -273.15))              # ITS-90 / SI brochure
+    assert displays["N"]["kN"] == pytest.approx((1e-3, 0.0))
+    by_name = {v.name: v for v in md.modelVariables}
+    assert by_name["cylinder_c1a1"].displayUnit == "bar_g" and by_name["speed"].displayUnit == "km/h"
+    assert by_name["air_temperature"].displayUnit == "degC" and by_name["ed_force_c1"].displayUnit == "kN"
+    assert by_name["cylinder_c1a1"].declaredType is None and by_name["cylinder_c1a1"].quantity == "Pressure"
+    for v in md.modelVariables:
+        assert v.description, v.name
+        if v.type in ("Real", "Float64") and v.unit:
+            assert v.quantity, v.name
+    with zipfile.ZipFile(path) as zf:
+        page = zf.read("documentation/index.html").decode()
+    assert "Interface control table" in page and "licenses/LICENSE.txt" in page
+    for v in md.modelVariables:
+        assert f"<td>{v.valueReference}</td><td>{v.name}</td>" in page, v.name
