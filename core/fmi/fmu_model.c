@@ -213,11 +213,12 @@ static const fmu_variable *lookup(fmu_instance *m, const char *function, unsigne
     return v;
 }
 
-/* Parameters are set before the end of initialisation, inputs until the end; nothing else. */
+/* Fixed parameters are set before the end of initialisation, tunable ones and inputs until the
+ * end; nothing else. */
 static fmu_status settable(fmu_instance *m, const char *function, const fmu_variable *v)
 {
     unsigned before_step = FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION);
-    unsigned allowed = v->causality == FMU_PARAMETER ? before_step
+    unsigned allowed = v->causality == FMU_PARAMETER ? before_step | (v->tunable ? FMU_IN(FMU_STEP) : 0u)
                      : v->causality == FMU_INPUT ? before_step | FMU_IN(FMU_STEP) : 0u;
     if (allowed & FMU_IN(m->mode)) return FMU_OK;
     if (!allowed)
@@ -249,7 +250,15 @@ fmu_status fmu_set_real(fmu_instance *m, const unsigned *vr, size_t n, const dou
             return fmu_log(m, FMU_ERROR, "setReal: %s = %g: must be a finite number in [%g, %g]", v->name,
                            values[i], v->min, v->max);
     }
-    for (size_t i = 0; i < n; ++i) memcpy((char *)m + fmu_variables[vr[i]].offset, &values[i], sizeof(double));
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = &fmu_variables[vr[i]];
+        memcpy((char *)m + v->offset, &values[i], sizeof(double));
+        if (m->mode == FMU_STEP && v->tunable) {
+            m->retune = 1;
+            fmu_log(m, FMU_OK, "setReal: %s = %.17g at t = %.6f s: acts from the next doStep", v->name, values[i],
+                    fmu_time(m));
+        }
+    }
     return FMU_OK;
 }
 
@@ -287,7 +296,10 @@ static void switch_faults(fmu_instance *m)
 {
     double t = fmu_time(m);
     for (int i = 0; i < m->plant.n_faults; ++i)
-        if (m->fault_switch[i] && m->plant.fault[i].start_time > t) m->plant.fault[i].start_time = t;
+        if (m->fault_switch[i] && m->plant.fault[i].start_time > t) {
+            m->plant.fault[i].start_time = t;
+            fmu_log(m, FMU_OK, "doStep: fault_%d starts at t = %.6f s", i + 1, t);
+        }
 }
 
 /* One plant step, in rb_run_advance's order: demand, BCU, plant, outputs. */
@@ -322,6 +334,13 @@ fmu_status fmu_do_step(fmu_instance *m, double t, double h)
     if (n > m->stop_step - m->step)
         return fmu_log(m, FMU_ERROR, "doStep: currentCommunicationPoint + communicationStepSize = %.9g s: passes "
                        "the stopTime %.9g s given at initialization", t + h, (double)m->stop_step * dt);
+    if (m->retune) {   /* tuned parameters act from this step on, as rb_run_retune in a native run */
+        rb_error err;
+        if (rb_wsp_check(&m->wsp, &err) != RB_OK || rb_plant_retune_adhesion(&m->plant, &m->state, &err) != RB_OK ||
+            rb_bcu_retune_wsp(&m->bcu_state, &m->wsp, &err) != RB_OK)
+            return fmu_log(m, FMU_ERROR, "doStep: tuned parameters refused: %s", err.message);
+        m->retune = 0;
+    }
     switch_faults(m);
     for (int64_t i = 0; i < n; ++i) {
         step_once(m);

@@ -36,6 +36,7 @@ typedef struct {
     const char *name;
     unsigned char type;        /* fmu_type */
     unsigned char causality;   /* fmu_causality */
+    unsigned char tunable;     /* 1: a parameter that may change between doSteps */
     size_t offset, size;       /* where the value lives in fmu_instance; a Boolean: uint8_t or int */
     double min, max;           /* allowed range of a Real that can be set */
 } fmu_variable;
@@ -63,6 +64,7 @@ typedef struct fmu_instance {
     rb_bcu_state bcu_state;
     rb_plant_inputs in;
     rb_plant_outputs out;
+    int retune;                /* a tunable parameter changed: applied at the next doStep */
     int64_t step;
     double setup_stop_time;    /* FMI 2: fmi2SetupExperiment's stopTime (NAN: none) until initialization */
     int64_t stop_step;         /* the last step doStep may reach: the stopTime given at initialization,

@@ -45,7 +45,7 @@ def _start(v: Variable) -> str | None:
 
 def variability(v: Variable) -> str:
     if v.causality == "parameter":
-        return "fixed"
+        return "tunable" if v.tunable else "fixed"
     return "continuous" if v.type == "Real" else "discrete"
 
 

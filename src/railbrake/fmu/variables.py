@@ -30,7 +30,8 @@ class Variable:
     min: float = -INF
     max: float = INF
     description: str = ""
-    quantity: str | None = None     # None: the unit's (UNITS)
+    tunable: bool = False           # a parameter that may change between doSteps
+    quantity: str | None = None     # None: the unit's (units())
     display: str | None = None      # display unit; None: the unit's default
 
 
@@ -63,7 +64,12 @@ def units(atmosphere: float) -> dict[str, Unit]:
     }
 
 
-# Global tunable parameters: name, C path, unit, description.
+# Parameters that may change between doSteps (variability tunable): the WSP's and the adhesion,
+# applied at the next doStep as rb_run_retune applies them in a native run (simulation.Change).
+TUNABLE = frozenset({"adhesion_mu0", "wsp_speed_threshold", "wsp_slip_threshold", "wsp_decel_threshold",
+                     "wsp_reaccel_threshold", "wsp_safety_time"})
+
+# Global parameters: name, C path, unit, description.
 _PARAMETERS = [
     ("initial_speed", "plant.initial_speed", "m/s", "train speed at t = 0"),
     ("initial_pressure", "plant.initial_pressure", "Pa",
@@ -148,7 +154,8 @@ def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
 
     def parameter(name, path, unit, description):
         low, high = parameter_range(path)
-        v.append(Variable(name, "parameter", "Real", path, unit, float(resolve(roots, path)), low, high, description))
+        v.append(Variable(name, "parameter", "Real", path, unit, float(resolve(roots, path)), low, high, description,
+                          tunable=name in TUNABLE))
 
     for name, path, unit, description in _PARAMETERS:
         parameter(name, path, unit, description)

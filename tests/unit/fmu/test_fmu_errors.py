@@ -51,6 +51,12 @@ class Session:
     def get_real(self, vr):
         return (self.fmu.getReal if self.version == "2" else self.fmu.getFloat64)([vr])
 
+    def get_real_many(self, vrs):
+        return list((self.fmu.getReal if self.version == "2" else self.fmu.getFloat64)(vrs))
+
+    def set_boolean(self, name, value):
+        self.fmu.setBoolean([self.vr[name]], [value])
+
     def fails(self, call, *args, words=()):
         self.log.clear()
         with pytest.raises(FMICallException) as info:
