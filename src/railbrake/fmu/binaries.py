@@ -17,6 +17,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -53,7 +54,8 @@ DEFAULT_PLATFORMS = ("linux64",)
 
 # C99 with the core's warnings; no FP contraction (the same values as the core's own build); only the
 # FMI API visible.
-_FLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fvisibility=hidden", "-shared", "-Wall", "-Wextra", "-Wvla")
+_FLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fvisibility=hidden", "-shared", "-Wall", "-Wextra",
+          "-Werror=vla")
 
 
 def parse_platforms(text: str) -> tuple[str, ...]:
@@ -88,16 +90,16 @@ def compile_binary(unzipped: Path, version: str, sources: list[str], identifier:
     target.parent.mkdir(parents=True, exist_ok=True)
     compiler = _compiler(platform)
     linux = platform.extension == ".so"
-    command = [*compiler, *_FLAGS, *(["-fPIC", "-Wl,--no-undefined"] if linux else []),
-               f"-I{unzipped / 'sources'}", "-isystem", str(FMI_HEADERS), *extra_flags,
-               *[str(unzipped / "sources" / s) for s in sources], "-o", str(target), *(["-lm"] if linux else [])]
-    done = subprocess.run(command, capture_output=True, text=True)
-    if done.returncode != 0:
-        raise InputError(f"compiling the FMU for {platform.name} with {' '.join(compiler)} failed:\n"
-                         f"{done.stderr[-4000:]}")
-    for leftover in target.parent.glob(f"{identifier}.*"):   # MinGW's import library, zig's .pdb
-        if leftover != target:
-            leftover.unlink()
+    with tempfile.TemporaryDirectory() as build:   # the linker's by-products (import library, .pdb) stay there
+        built = Path(build) / target.name
+        command = [*compiler, *_FLAGS, *(["-fPIC", "-Wl,--no-undefined"] if linux else []),
+                   f"-I{unzipped / 'sources'}", "-isystem", str(FMI_HEADERS), *extra_flags,
+                   *[str(unzipped / "sources" / s) for s in sources], "-o", str(built), *(["-lm"] if linux else [])]
+        done = subprocess.run(command, capture_output=True, text=True, cwd=build)
+        if done.returncode != 0:
+            raise InputError(f"compiling the FMU for {platform.name} with {' '.join(compiler)} failed:\n"
+                             f"{done.stderr[-4000:]}")
+        shutil.move(built, target)
     problems = check_binary(target, version, GLIBC_BASELINE if have_zig() else None)
     if problems:
         raise InputError(f"the {platform.name} binary {target.name} fails its check: {'; '.join(problems)}")
