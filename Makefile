@@ -10,7 +10,7 @@ OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
 .PHONY: demo test install ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
-        fuzz-frames fuzz-python wine
+        fuzz-frames fuzz-python wine wheel
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -101,6 +101,14 @@ fuzz-frames:
 fuzz-python: install
 	RAILBRAKE_FUZZ_CONFIG_VARIANTS=$(FUZZ_CONFIG_VARIANTS) RAILBRAKE_FUZZ_API_CALLS=$(FUZZ_API_CALLS) \
 	$(PY) -m pytest -q -p no:cacheprovider tests/unit/fuzz
+
+# The wheel and sdist into dist/: py3-none-<platform> (the core is loaded with ctypes), then checked and
+# retagged manylinux by auditwheel (the core needs only libc and libm); LICENSE is in both.
+wheel: install
+	$(PY) -m pip install -q '.[dist]' build
+	rm -rf dist && $(PY) -m build --sdist --wheel --outdir dist/raw .
+	PATH=$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --only-plat --wheel-dir dist dist/raw/*.whl
+	mv dist/raw/*.tar.gz dist/ && rm -rf dist/raw && ls dist
 
 bench: install
 	$(PY) bench/run_all.py

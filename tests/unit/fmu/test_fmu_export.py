@@ -37,9 +37,13 @@ def assert_equals_native(fmu_path, native, cars, start_values=None, stop_time=No
                           start_values=start_values or {})
     n = len(result)
     assert n > 10 and np.allclose(result["time"], t[:n], rtol=0, atol=1e-12)
+    largest = 0.0
     for name in names:
         fmu, ref = result[name], native.outputs[name][:n]
         assert np.all(np.abs(fmu - ref) <= 1e-9 * np.abs(ref)), name
+        largest = max(largest, float(np.max(np.abs(fmu - ref) / np.maximum(np.abs(ref), np.finfo(float).tiny))))
+    print(f"FMU vs native, {cars} car(s), {n} samples to {result['time'][-1]:.2f} s: "
+          f"largest relative difference {largest:.3g}")
     return result
 
 

@@ -6,12 +6,8 @@ core's bounds table (core/src/bounds.c). And doStep never passes the stopTime of
 
 import math
 
-import pytest
-
 from railbrake import _core, simulation
 from railbrake.fmu.variables import bound_name, table
-
-from test_fmu_errors import Session
 
 # Two parameters bound to each other, which min/max cannot state: governor_off >= governor_on
 # (rb_plant_check). At an end of one of them the other is set to the same end.
@@ -29,14 +25,6 @@ def table_of(session):
 
 def ranged(md):
     return [v for v in md.modelVariables if v.type in ("Real", "Float64") and v.causality in ("parameter", "input")]
-
-
-@pytest.fixture
-def session(fmu, tmp_path):
-    version, path = fmu
-    s = Session(version, path, tmp_path / "unzipped")
-    yield s
-    s.fmu.freeInstance()
 
 
 def _set_and_initialise(session, name, value):

@@ -13,7 +13,7 @@ from railbrake.errors import InputError
 from railbrake.fmu import export_fmu
 from railbrake.simulation import Change
 
-from test_fmu_errors import Session
+from fmi_session import Session
 
 AT, END, STEP = 2.0, 4.0, 0.01
 NEW_THRESHOLD = 3.0          # m/s, three times and more the scenario's WSP speed threshold
