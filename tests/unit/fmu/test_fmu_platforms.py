@@ -86,7 +86,13 @@ def test_win64_binary_under_wine_equals_linux64_over_a_whole_stop(unzipped, tmp_
                     str(windows_driver)], check=True, cwd=tmp_path)
     linux = _run_stop([str(native_driver)], unzipped, binary(unzipped, "linux64"))
     env = dict(os.environ, WINEPREFIX=str(tmp_path / "wine"), WINEDEBUG="-all", DISPLAY="")
-    windows = _run_stop([wine(), str(windows_driver)], unzipped, binary(unzipped, "win64"), env)
+    try:
+        windows = _run_stop([wine(), str(windows_driver)], unzipped, binary(unzipped, "win64"), env)
+    finally:   # the prefix's wineserver and the services it started end with it
+        server = next((s for s in (shutil.which("wineserver"), str(Path(wine()).with_name("wineserver64")),
+                                   str(Path(wine()).with_name("wineserver"))) if s and Path(s).is_file()), None)
+        if server:
+            subprocess.run([server, "-k"], env=env, timeout=60)
     assert linux.shape == windows.shape and linux[-1, 1] <= STOP_SPEED     # the whole stop, both
     assert linux[-1, 2] > 2000.0                                             # m: a stop from 250 km/h
     difference = np.max(np.abs(windows - linux) / np.maximum(np.abs(linux), np.finfo(float).tiny))
