@@ -2,10 +2,8 @@
 
 import pytest
 
-from fmi_session import Session
+from fmi_session import SCENARIO, Session
 from railbrake.fmu import export_fmu
-
-SCENARIO = "emergency-250-dry"
 
 
 @pytest.fixture(scope="session", params=["2", "3"])

@@ -10,6 +10,7 @@ from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 from fmpy.fmi3 import FMU3Slave
 
 ERROR = 3   # fmi2Error == fmi3Error
+SCENARIO = "emergency-250-dry"   # the session FMUs' (conftest.py): 1 car keeps them quick to build and run
 
 
 class Session:

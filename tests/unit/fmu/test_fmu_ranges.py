@@ -6,6 +6,7 @@ core's bounds table (core/src/bounds.c). And doStep never passes the stopTime of
 
 import math
 
+from fmi_session import SCENARIO
 from railbrake import _core, simulation
 from railbrake.fmu.variables import bound_name, table
 
@@ -16,7 +17,6 @@ PARTNERS = {"governor_off": "governor_on", "governor_on": "governor_off"}
 
 def table_of(session):
     """The exporter's variable table of the 1-car plant (conftest.SCENARIO), with the C paths."""
-    from conftest import SCENARIO
     sc = simulation.load(SCENARIO)
     plant = simulation.plant_params(sc, 1)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc)}

@@ -43,11 +43,18 @@ def scenario(tmp_path_factory):
     return path
 
 
+@pytest.fixture(scope="module")
+def exported(scenario):
+    """The scenario's FMU, exported once per FMI version: {version: path}."""
+    return {version: export_fmu(str(scenario), scenario.with_name(f"plant{version}.fmu"), version, cars=1)
+            for version in ("2", "3")}
+
+
 @pytest.fixture(params=["2", "3"])
-def run_with_change(request, scenario, tmp_path):
+def run_with_change(request, exported, tmp_path):
     """The FMU stepped in 10 ms doSteps with the change made before the doStep at AT: (samples, log)."""
     version = request.param
-    path = export_fmu(str(scenario), tmp_path / "plant.fmu", version, cars=1)
+    path = exported[version]
     log = []
     s = Session(version, path, tmp_path / "unzipped", log=log)
     s.fmu.setDebugLogging(True, [])
@@ -94,8 +101,8 @@ def test_changes_between_do_steps_act_from_the_next_step_as_in_the_native_run(ru
     assert any("fault_1 starts at t = 2.000000 s" in m for m in messages), messages
 
 
-def test_fixed_parameters_stay_fixed_and_tuned_ones_are_checked(scenario, tmp_path):
-    path = export_fmu(str(scenario), tmp_path / "plant.fmu", "2", cars=1, binary=True)
+def test_fixed_parameters_stay_fixed_and_tuned_ones_are_checked(exported, tmp_path):
+    path = exported["2"]
     md = read_model_description(str(path))
     variability = {v.name: v.variability for v in md.modelVariables}
     assert variability["wsp_speed_threshold"] == variability["adhesion_mu0"] == "tunable"
@@ -110,8 +117,8 @@ def test_fixed_parameters_stay_fixed_and_tuned_ones_are_checked(scenario, tmp_pa
     s.fmu.freeInstance()
 
 
-def test_adhesion_change_acts_as_in_the_native_run(scenario, tmp_path):
-    path = export_fmu(str(scenario), tmp_path / "plant.fmu", "2", cars=1)
+def test_adhesion_change_acts_as_in_the_native_run(scenario, exported, tmp_path):
+    path = exported["2"]
     s = Session("2", path, tmp_path / "unzipped")
     s.init()
     s.fmu.doStep(0.0, 1.0)
