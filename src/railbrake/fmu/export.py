@@ -24,7 +24,7 @@ from railbrake import scenario as scenarios
 from railbrake.resolve import resolve
 from railbrake import simulation, vehicle
 from railbrake.errors import InputError
-from railbrake.fmu.binaries import DEFAULT_PLATFORMS, FMI_HEADERS, compile_binary  # noqa: F401 (FMI_HEADERS: tests)
+from railbrake.fmu.binaries import DEFAULT_PLATFORMS, compile_binary
 from railbrake.fmu.description import Header, build_description, model_description
 from railbrake.fmu.documentation import index_html
 from railbrake.fmu.variables import Variable, table

@@ -5,6 +5,7 @@ executable, each running as it does alone; no OS service and nothing beyond glib
 import shutil
 import subprocess
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +16,6 @@ from railbrake.errors import InputError
 from railbrake.fmu import export_fmu
 from railbrake.fmu.binaries import FMI_HEADERS, exported_symbols, glibc_versions, have_zig
 from railbrake.fmu.export import check_identifier
-
-from pathlib import Path
 
 TWO_PLANTS = Path(__file__).with_name("two_plants.c")
 SCENARIO = "emergency-250-dry"
