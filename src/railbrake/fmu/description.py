@@ -66,8 +66,8 @@ def _units(used: set, table: dict[str, Unit]) -> list[str]:
 def _real_attrs(v: Variable, table: dict[str, Unit]) -> dict:
     settable = v.causality in ("parameter", "input")
     unit = table[v.unit] if v.unit else None
-    return {"quantity": v.quantity or (unit.quantity if unit else None), "unit": v.unit,
-            "displayUnit": v.display or (unit.default_display if unit else None), "start": _start(v),
+    return {"quantity": unit.quantity if unit else None, "unit": v.unit,
+            "displayUnit": unit.default_display if unit else None, "start": _start(v),
             "min": _number(v.min) if settable else None, "max": _number(v.max) if settable else None}
 
 

@@ -25,7 +25,7 @@ def _number(x) -> str:
 
 def _row(i: int, v: Variable, table: dict) -> str:
     unit = table[v.unit] if v.unit else None
-    display = v.display or (unit.default_display if unit else None) or ""
+    display = (unit.default_display if unit else None) or ""
     settable = v.causality in ("parameter", "input")
     cells = [str(i), v.name, v.causality, variability(v), v.type, v.unit or "", display, _number(v.start),
              _number(v.min) if settable else "", _number(v.max) if settable else "", v.description]

@@ -31,8 +31,6 @@ class Variable:
     max: float = INF
     description: str = ""
     tunable: bool = False           # a parameter that may change between doSteps
-    quantity: str | None = None     # None: the unit's (units())
-    display: str | None = None      # display unit; None: the unit's default
 
 
 @dataclass(frozen=True)
