@@ -10,12 +10,12 @@ OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
 .PHONY: demo test install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
-        fuzz-frames fuzz-python
+        fuzz-frames fuzz-python wine wheel
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q '.[test,docs]'
+	$(PY) -m pip install -q '.[test,docs,fmu]'
 	touch $@
 
 install: $(VENV)/.installed
@@ -53,9 +53,19 @@ ctest-sanitize:
 # fixtures (a detailed run, a compiled FMU) are made once.
 PYTEST_PARALLEL := -n $(JOBS) --dist loadfile
 
+# Wine runs the FMU's win64 binary in tests/unit/fmu/test_fmu_platforms.py: Debian's wine64 is
+# installed when no wine is there and we are root (about 20 s with apt-get update); otherwise that
+# test skips and says why.
+wine:
+	@if command -v wine64 >/dev/null 2>&1 || command -v wine >/dev/null 2>&1 || [ -x /usr/lib/wine/wine64 ]; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+	  apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
+	    wine64 >/dev/null && echo "installed wine64 (Debian) for the win64 FMU test"; \
+	else echo "wine not found and not root: the win64 FMU test will skip"; fi
+
 # One worker more than cores: the paced 8-car HIL stop (tests/unit/hil/test_loopback.py, 170 s on the
 # wall clock, a few per cent of a core) would otherwise leave its worker's core idle that long.
-pytest: install
+pytest: install wine
 	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile
 
 # The Python tests again, with the C core built under AddressSanitizer and UBSan.
@@ -104,6 +114,14 @@ fuzz-frames:
 fuzz-python: install
 	RAILBRAKE_FUZZ_CONFIG_VARIANTS=$(FUZZ_CONFIG_VARIANTS) RAILBRAKE_FUZZ_API_CALLS=$(FUZZ_API_CALLS) \
 	$(PY) -m pytest -q -p no:cacheprovider tests/unit/fuzz
+
+# The wheel and sdist into dist/: py3-none-<platform> (the core is loaded with ctypes), then checked and
+# retagged manylinux by auditwheel (the core needs only libc and libm); LICENSE is in both.
+wheel: install
+	$(PY) -m pip install -q '.[dist]' build
+	rm -rf dist && $(PY) -m build --sdist --wheel --outdir dist/raw .
+	PATH=$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --only-plat --wheel-dir dist dist/raw/*.whl
+	mv dist/raw/*.tar.gz dist/ && rm -rf dist/raw && ls dist
 
 bench: install
 	$(PY) bench/run_all.py

@@ -3,6 +3,7 @@
  * does not offer (FMU state, derivatives, asynchronous steps) returns fmi2Error with a log message.
  * Any fmi2Error puts the instance in the error state: then only reading values (for diagnosis),
  * fmi2Reset and fmi2FreeInstance are allowed. */
+#include <math.h>
 #include <stdio.h>
 
 #include "fmi2Functions.h"
@@ -89,19 +90,21 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
 {
     (void)toleranceDefined;
     (void)tolerance;
-    (void)stopTimeDefined;
-    (void)stopTime;
     REQUIRE_STATE(c, "fmi2SetupExperiment", MASK_SetupExperiment);
     if (startTime != 0.0)
         return (fmi2Status)fmu_log(MODEL(c), FMU_ERROR, "fmi2SetupExperiment: startTime = %g s: must be 0",
                                    startTime);
+    if (stopTimeDefined && !(stopTime >= startTime))
+        return (fmi2Status)fmu_log(MODEL(c), FMU_ERROR, "fmi2SetupExperiment: stopTime = %g s: must not precede "
+                                   "startTime = %g s", stopTime, startTime);
+    MODEL(c)->setup_stop_time = stopTimeDefined ? stopTime : NAN;
     return fmi2OK;
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c)
 {
     REQUIRE_STATE(c, "fmi2EnterInitializationMode", MASK_EnterInitializationMode);
-    return (fmi2Status)fmu_enter_initialization(MODEL(c), 0.0);
+    return (fmi2Status)fmu_enter_initialization(MODEL(c), 0.0, MODEL(c)->setup_stop_time);
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)

@@ -3,6 +3,7 @@
  * does not offer (model exchange, scheduled execution, clocks, FMU state, derivatives, event mode)
  * returns fmi3Error with a log message. After any fmi3Error only fmi3Reset and fmi3FreeInstance
  * are allowed (FMI 3.0, section 2.2.3). */
+#include <math.h>
 #include <stdbool.h>
 
 #include "fmi3Functions.h"
@@ -150,7 +151,7 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
     if (stopTimeDefined && !(stopTime >= startTime))
         return (fmi3Status)fmu_log(MODEL(instance), FMU_ERROR, "fmi3EnterInitializationMode: stopTime = %g s: "
                                    "must not precede startTime = %g s", stopTime, startTime);
-    return (fmi3Status)fmu_enter_initialization(MODEL(instance), startTime);
+    return (fmi3Status)fmu_enter_initialization(MODEL(instance), startTime, stopTimeDefined ? stopTime : NAN);
 }
 
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)

@@ -125,6 +125,8 @@ static fmu_status load_defaults(fmu_instance *m)
     size_t keep = offsetof(fmu_instance, log);   /* the environment survives a reset */
     memset(m, 0, keep);
     fmu_scenario_defaults(m);
+    m->setup_stop_time = NAN;
+    m->stop_step = INT64_MAX;
     m->mode = FMU_INSTANTIATED;
     fmu_status s = setup(m);
     if (s == FMU_OK) m->mode = FMU_INSTANTIATED;
@@ -162,10 +164,18 @@ void fmu_free(fmu_instance *m) { free(m); }
 fmu_status fmu_reset(fmu_instance *m) { return load_defaults(m); }
 
 /* The FMI layers check the state (each function its own mask); these only move it on. */
-fmu_status fmu_enter_initialization(fmu_instance *m, double start_time)
+fmu_status fmu_enter_initialization(fmu_instance *m, double start_time, double stop_time)
 {
     if (start_time != 0.0)
         return fmu_log(m, FMU_ERROR, "startTime = %g s: must be 0 (the scenario starts at t = 0)", start_time);
+    m->stop_step = INT64_MAX;
+    if (!isnan(stop_time)) {
+        if (!(stop_time >= 0.0 && stop_time <= 1e9 * m->plant.dt))
+            return fmu_log(m, FMU_ERROR, "stopTime = %g s: must be a finite time from startTime = 0 s to %g s",
+                           stop_time, 1e9 * m->plant.dt);
+        /* the last whole step at or before stopTime (a step size rounded to 1e-6 of a step reaches it) */
+        m->stop_step = (int64_t)floor(stop_time / m->plant.dt + 1e-6);
+    }
     m->mode = FMU_INITIALIZATION;
     return FMU_OK;
 }
@@ -203,11 +213,12 @@ static const fmu_variable *lookup(fmu_instance *m, const char *function, unsigne
     return v;
 }
 
-/* Parameters are set before the end of initialisation, inputs until the end; nothing else. */
+/* Fixed parameters are set before the end of initialisation, tunable ones and inputs until the
+ * end; nothing else. */
 static fmu_status settable(fmu_instance *m, const char *function, const fmu_variable *v)
 {
     unsigned before_step = FMU_IN(FMU_INSTANTIATED) | FMU_IN(FMU_INITIALIZATION);
-    unsigned allowed = v->causality == FMU_PARAMETER ? before_step
+    unsigned allowed = v->causality == FMU_PARAMETER ? before_step | (v->tunable ? FMU_IN(FMU_STEP) : 0u)
                      : v->causality == FMU_INPUT ? before_step | FMU_IN(FMU_STEP) : 0u;
     if (allowed & FMU_IN(m->mode)) return FMU_OK;
     if (!allowed)
@@ -239,7 +250,15 @@ fmu_status fmu_set_real(fmu_instance *m, const unsigned *vr, size_t n, const dou
             return fmu_log(m, FMU_ERROR, "setReal: %s = %g: must be a finite number in [%g, %g]", v->name,
                            values[i], v->min, v->max);
     }
-    for (size_t i = 0; i < n; ++i) memcpy((char *)m + fmu_variables[vr[i]].offset, &values[i], sizeof(double));
+    for (size_t i = 0; i < n; ++i) {
+        const fmu_variable *v = &fmu_variables[vr[i]];
+        memcpy((char *)m + v->offset, &values[i], sizeof(double));
+        if (m->mode == FMU_STEP && v->tunable) {
+            m->retune = 1;
+            fmu_log(m, FMU_OK, "setReal: %s = %.17g at t = %.6f s: acts from the next doStep", v->name, values[i],
+                    fmu_time(m));
+        }
+    }
     return FMU_OK;
 }
 
@@ -277,7 +296,10 @@ static void switch_faults(fmu_instance *m)
 {
     double t = fmu_time(m);
     for (int i = 0; i < m->plant.n_faults; ++i)
-        if (m->fault_switch[i] && m->plant.fault[i].start_time > t) m->plant.fault[i].start_time = t;
+        if (m->fault_switch[i] && m->plant.fault[i].start_time > t) {
+            m->plant.fault[i].start_time = t;
+            fmu_log(m, FMU_OK, "doStep: fault_%d starts at t = %.6f s", i + 1, t);
+        }
 }
 
 /* One plant step, in rb_run_advance's order: demand, BCU, plant, outputs. */
@@ -309,6 +331,16 @@ fmu_status fmu_do_step(fmu_instance *m, double t, double h)
     if (!isfinite(t) || fabs(t - fmu_time(m)) > 1e-6 * dt)
         return fmu_log(m, FMU_ERROR, "doStep: currentCommunicationPoint = %.9g s: must equal the FMU's time "
                        "%.9g s", t, fmu_time(m));
+    if (n > m->stop_step - m->step)
+        return fmu_log(m, FMU_ERROR, "doStep: currentCommunicationPoint + communicationStepSize = %.9g s: passes "
+                       "the stopTime %.9g s given at initialization", t + h, (double)m->stop_step * dt);
+    if (m->retune) {   /* tuned parameters act from this step on, as rb_run_retune in a native run */
+        rb_error err;
+        if (rb_wsp_check(&m->wsp, &err) != RB_OK || rb_plant_retune_adhesion(&m->plant, &m->state, &err) != RB_OK ||
+            rb_bcu_retune_wsp(&m->bcu_state, &m->wsp, &err) != RB_OK)
+            return fmu_log(m, FMU_ERROR, "doStep: tuned parameters refused: %s", err.message);
+        m->retune = 0;
+    }
     switch_faults(m);
     for (int64_t i = 0; i < n; ++i) {
         step_once(m);

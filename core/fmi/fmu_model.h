@@ -36,6 +36,7 @@ typedef struct {
     const char *name;
     unsigned char type;        /* fmu_type */
     unsigned char causality;   /* fmu_causality */
+    unsigned char tunable;     /* 1: a parameter that may change between doSteps */
     size_t offset, size;       /* where the value lives in fmu_instance; a Boolean: uint8_t or int */
     double min, max;           /* allowed range of a Real that can be set */
 } fmu_variable;
@@ -63,7 +64,11 @@ typedef struct fmu_instance {
     rb_bcu_state bcu_state;
     rb_plant_inputs in;
     rb_plant_outputs out;
+    int retune;                /* a tunable parameter changed: applied at the next doStep */
     int64_t step;
+    double setup_stop_time;    /* FMI 2: fmi2SetupExperiment's stopTime (NAN: none) until initialization */
+    int64_t stop_step;         /* the last step doStep may reach: the stopTime given at initialization,
+                                  or INT64_MAX when none was */
     fmu_mode mode;
     /* environment */
     fmu_log_function log;
@@ -87,15 +92,16 @@ fmu_instance *fmu_instantiate(const char *name, const char *token, fmu_log_funct
 void fmu_free(fmu_instance *m);
 /* Back to the freshly instantiated state (defaults). */
 fmu_status fmu_reset(fmu_instance *m);
-fmu_status fmu_enter_initialization(fmu_instance *m, double start_time);
+/* stop_time: the importer's stopTime (NAN when it defines none); doStep past it returns Error. */
+fmu_status fmu_enter_initialization(fmu_instance *m, double start_time, double stop_time);
 fmu_status fmu_exit_initialization(fmu_instance *m);
 fmu_status fmu_terminate(fmu_instance *m);
 fmu_status fmu_get_real(fmu_instance *m, const unsigned *vr, size_t n, double *values);
 fmu_status fmu_set_real(fmu_instance *m, const unsigned *vr, size_t n, const double *values);
 fmu_status fmu_get_boolean(fmu_instance *m, const unsigned *vr, size_t n, int *values);
 fmu_status fmu_set_boolean(fmu_instance *m, const unsigned *vr, size_t n, const int *values);
-/* Advances from time t by h, a whole number of plant steps (at most FMU_MAX_STEP_SIZE); Error
- * when an output stops being finite (the step stops there). */
+/* Advances from time t by h, a whole number of plant steps (at most FMU_MAX_STEP_SIZE) that does
+ * not pass the stopTime; Error when an output stops being finite (the step stops there). */
 fmu_status fmu_do_step(fmu_instance *m, double t, double h);
 double fmu_time(const fmu_instance *m);
 

@@ -44,6 +44,15 @@ rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_s
     return RB_OK;
 }
 
+rb_status rb_bcu_retune_wsp(rb_bcu_state *s, const rb_wsp_params *wsp, rb_error *err)
+{
+    rb_status st;
+    if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a BCU state is required");
+    if ((st = rb_wsp_check(wsp, err))) return st;
+    s->wsp_default.p = *wsp;   /* the algorithm's own state (modes, timers) goes on */
+    return RB_OK;
+}
+
 void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_bcu_params *p)
 {
     const double high_speed = 50.0;  /* m/s: nominal pad friction */

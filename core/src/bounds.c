@@ -30,6 +30,12 @@ static const rb_bound bounds[] = {
     {"car.relay_travel", "1", 1.0, 10.0, "a membrane travel of 1 to 10 times its full-opening stroke"},
     {"car.supply_pressure", "Pa", 1.2e5, 1.1e6, "0.2 to 11 bar absolute: the ideal-gas air of the model holds below 10 bar gauge"},
     {"compressor_flow", "kg/s", 0.0, 1.0, "up to 50 m3/min of free air"},
+    /* Absolute pressures of the main reservoir; from the highest atmosphere (train.atmosphere) up, so
+     * that rb_plant_check's "not below the atmosphere" holds over the whole range. */
+    {"initial_pressure", "Pa", 1.2e5, 2e6, "main reservoir charged to 1.2 to 20 bar absolute"},
+    {"governor_on", "Pa", 1.2e5, 2e6, "a compressor starting below 1.2 to 20 bar absolute"},
+    {"governor_off", "Pa", 1.2e5, 2e6, "a compressor stopping above 1.2 to 20 bar absolute (and governor_on)"},
+    {"condition.mu0", "1", 1e-6, 2.0, "a Polach maximum friction coefficient (dry rail about 0.55)"},
     {"initial_speed", "m/s", 0.0, 150.0, "up to 540 km/h"},
     {"temperature", "K", 200.0, 400.0, "-73 to 127 degC"},
     {"wall_time", "s", 0.0, 1e3, "a wall heat-exchange time of the cylinders' air up to 1000 s (0: isothermal)"},
@@ -222,8 +228,16 @@ rb_status rb_plant_bounds_check(const rb_plant_params *p, rb_error *err)
         (s = rb_bound_check(err, "compressor_flow", "compressor_flow", p->compressor_flow)) ||
         (s = rb_bound_check(err, "initial_speed", "initial_speed", p->initial_speed)) ||
         (s = rb_bound_check(err, "temperature", "temperature", p->temperature)) ||
-        (s = rb_bound_check(err, "wall_time", "wall_time", p->wall_time)))
+        (s = rb_bound_check(err, "wall_time", "wall_time", p->wall_time)) ||
+        (s = rb_bound_check(err, "initial_pressure", "initial_pressure", p->initial_pressure)) ||
+        (s = rb_bound_check(err, "governor_on", "governor_on", p->governor_on)) ||
+        (s = rb_bound_check(err, "governor_off", "governor_off", p->governor_off)))
         return s;
+    for (int i = 0; i < p->n_conditions && i < RB_MAX_CONDITIONS; ++i) {
+        char label[64];
+        snprintf(label, sizeof label, "condition[%d].mu0", i);
+        if ((s = rb_bound_check(err, "condition.mu0", label, p->condition[i].polach.mu0))) return s;
+    }
     return RB_OK;
 }
 

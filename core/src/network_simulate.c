@@ -285,7 +285,7 @@ rb_status rb_network_eval_init(const rb_network *net, rb_network_eval *c, double
 {
     rb_status s;
     if ((s = rb_network_check(net, err))) return s;
-    size_t n_int;
+    size_t n_int = 0;   /* set by rb_network_eval_size; 0 if an earlier test fails first */
     if (!c || !work || !iwork || !y || work_size < rb_network_eval_size(net, &n_int) || iwork_size < n_int)
         return rb_fail(err, RB_ESIZE, "network evaluation: storage of %zu doubles and %zu ints is required",
                        rb_network_eval_size(net, NULL), n_int);

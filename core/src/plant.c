@@ -354,6 +354,20 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     return RB_OK;
 }
 
+rb_status rb_plant_retune_adhesion(const rb_plant_params *p, rb_plant_state *s, rb_error *err)
+{
+    rb_status st;
+    if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a state is required");
+    if ((st = rb_plant_check(p, err)) || (st = rb_plant_bounds_check(p, err))) return st;
+    for (int c = 0; c < p->n_cars; ++c)
+        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
+            int a = c * RB_AXLES_PER_CAR + k;
+            s->zone_of[a] = -1;   /* forces the axle's Polach parameters to be derived again */
+            rb_plant_zone_update(p, s, a, s->x[c] - p->car[c].axle_position[k]);
+        }
+    return RB_OK;
+}
+
 double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s)
 {
     double m = s->m_mr;

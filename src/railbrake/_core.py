@@ -408,6 +408,7 @@ rb_run_init = _declare("rb_run_init", c_int, POINTER(PlantParams), POINTER(BcuPa
 rb_run_advance = _declare("rb_run_advance", c_int, POINTER(PlantParams), POINTER(BcuParams),
                           POINTER(Scenario), c_void_p, c_double, c_double_p, c_size_t, POINTER(c_int), _err_p)
 rb_run_kpis = _declare("rb_run_kpis", None, POINTER(PlantParams), c_void_p, POINTER(Kpis))
+rb_run_retune = _declare("rb_run_retune", c_int, POINTER(PlantParams), POINTER(WspParams), c_void_p, _err_p)
 rb_run_channel_count = _declare("rb_run_channel_count", c_int, c_int)
 rb_run_channel_info = _declare("rb_run_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
                                c_size_t, _err_p)

@@ -56,6 +56,11 @@ static long calls, accepted, violations;
 static int state = START;
 static instance_t instance;
 static double now;   /* the FMU's time as the fuzzer expects it */
+static double stop_time = INFINITY;   /* the stopTime given at the last initialization (none: infinity) */
+static double requested_stop;        /* the stopTime of the enterInitializationMode call under way */
+
+/* A random stopTime for enterInitializationMode: none (infinity), or one in [start - 1, start + 9] s. */
+static double random_stop(double start);
 
 static void violation(const char *function, const char *what)
 {
@@ -137,7 +142,8 @@ static int settable(unsigned vr, double value, int is_real)
     if (vr >= fmu_variable_count) return 0;
     const fmu_variable *v = &fmu_variables[vr];
     if (is_real != (v->type == FMU_REAL)) return 0;
-    if (v->causality == FMU_PARAMETER && !(S(state) & (S(INSTANTIATED) | S(INIT)))) return 0;
+    if (v->causality == FMU_PARAMETER && !(S(state) & (S(INSTANTIATED) | S(INIT) | (v->tunable ? S(STEP) : 0u))))
+        return 0;
     if (v->causality != FMU_PARAMETER && v->causality != FMU_INPUT) return 0;
     if (is_real && (!isfinite(value) || value < v->min || value > v->max)) return 0;
     return 1;
@@ -177,7 +183,9 @@ static int call_set_boolean(const unsigned *vr, size_t n, const int *values)
 static int call_do_step(double t, double h) { return fmi2DoStep(instance, t, h, fmi2True); }
 static int call_enter_init(double start)
 {
-    int s = fmi2SetupExperiment(instance, fmi2False, 0.0, start, fmi2False, 0.0);
+    requested_stop = random_stop(start);
+    int s = fmi2SetupExperiment(instance, fmi2False, 0.0, start, isinf(requested_stop) ? fmi2False : fmi2True,
+                                isinf(requested_stop) ? 0.0 : requested_stop);
     if (!outcome("fmi2SetupExperiment", s, S(INSTANTIATED))) return s;
     return fmi2EnterInitializationMode(instance);
 }
@@ -248,7 +256,9 @@ static int call_do_step(double t, double h)
 }
 static int call_enter_init(double start)
 {
-    return fmi3EnterInitializationMode(instance, fmi3False, 0.0, start, (fmi3Boolean)below(2), start + 10 * uniform() - 1);
+    requested_stop = random_stop(start);
+    return fmi3EnterInitializationMode(instance, fmi3False, 0.0, start, !isinf(requested_stop),
+                                       isinf(requested_stop) ? 0.0 : requested_stop);
 }
 static int call_exit_init(void) { return fmi3ExitInitializationMode(instance); }
 static int call_terminate(void) { return fmi3Terminate(instance); }
@@ -333,6 +343,11 @@ static void fuzz_set(int is_real)
     outcome(is_real ? "setReal" : "setBoolean", s, all_settable && !(null_args && n) ? SET_ALLOWED : 0u);
 }
 
+static double random_stop(double start)
+{
+    return below(2) ? INFINITY : start + 10 * uniform() - 1;
+}
+
 static void fuzz_step(void)
 {
     static const double sizes[] = {1e-3, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 1.5e-3, 0.0, -1e-3, 1e-4, 601.0, 9.2e15,
@@ -340,7 +355,8 @@ static void fuzz_step(void)
     double h = sizes[below(sizeof sizes / sizeof sizes[0])];
     double t = below(10) ? now : (below(2) ? now + 1e-3 : NAN);
     int s = call_do_step(t, h);
-    int valid = isfinite(h) && h > 0.0 && h <= 600.0 && fabs(h / 1e-3 - round(h / 1e-3)) < 1e-6 && t == now;
+    int valid = isfinite(h) && h > 0.0 && h <= 600.0 && fabs(h / 1e-3 - round(h / 1e-3)) < 1e-6 && t == now &&
+                now + round(h / 1e-3) * 1e-3 <= stop_time + 1e-9;   /* never past the stopTime */
     if (outcome("doStep", s, valid ? S(STEP) : 0u)) {
         now += round(h / 1e-3) * 1e-3;
         check_outputs("doStep");
@@ -352,8 +368,10 @@ static void fuzz_lifecycle(void)
     switch (below(9)) {
     case 0: case 1: {
         double start = below(6) ? 0.0 : 1.0;
-        if (outcome("enterInitializationMode", call_enter_init(start), start == 0.0 ? S(INSTANTIATED) : 0u))
+        if (outcome("enterInitializationMode", call_enter_init(start), start == 0.0 ? S(INSTANTIATED) : 0u)) {
             state = INIT;
+            stop_time = requested_stop;
+        }
         break;
     }
     case 2: case 3:

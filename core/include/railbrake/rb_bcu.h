@@ -130,6 +130,9 @@ typedef struct {
 size_t rb_bcu_params_size(void);
 rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err);
 rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_state *s, rb_error *err);
+/* New parameters for the default WSP during a run (a tuned threshold): checked (rb_wsp_check),
+ * then used from the next rb_bcu_step on; the WSP's state (modes, timers) is kept. */
+rb_status rb_bcu_retune_wsp(rb_bcu_state *s, const rb_wsp_params *wsp, rb_error *err);
 /* Linear demand -> pressure map of each car from the plant's own brake law at nominal pad
  * friction (load-weighed by the car's mass): pressure_offset, pressure_gain, pressure_max. */
 void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_bcu_params *p);

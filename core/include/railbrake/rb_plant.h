@@ -358,6 +358,9 @@ typedef struct {
 rb_status rb_plant_check(const rb_plant_params *p, rb_error *err);
 /* Checks p and sets the state at t = 0: charged reservoirs, released brakes, rolling wheels. */
 rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *err);
+/* After p->condition[*].polach changed during a run (a tuned adhesion): checks p and derives every
+ * axle's adhesion again from its current track zone; acts from the next rb_plant_step. */
+rb_status rb_plant_retune_adhesion(const rb_plant_params *p, rb_plant_state *s, rb_error *err);
 /* Advances one step of p->dt. No checks, no allocation. */
 void rb_plant_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in);
 void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);

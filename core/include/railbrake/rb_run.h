@@ -95,6 +95,11 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
                          rb_run_state *run, double t_until, double *series, size_t max_rows, int *finished,
                          rb_error *err);
 void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *run, rb_kpis *k);
+/* Parameters changed between two rb_run_advance calls, acting from the next step on (as the FMU's
+ * tunable parameters between doSteps): the WSP's (wsp) and the adhesion of plant->condition[*]
+ * (rb_bcu_retune_wsp, rb_plant_retune_adhesion). A fault is started by setting its start_time in
+ * plant->fault[*] (read at each step). */
+rb_status rb_run_retune(const rb_plant_params *plant, const rb_wsp_params *wsp, rb_run_state *run, rb_error *err);
 /* KPI accumulation for a plant stepped by another loop (the HIL runner): run->plant and run->out
  * hold the plant's state and outputs after the step; run->braking, brake_time, brake_position,
  * brake_speed and next_adhesion are set by the caller when braking begins. */

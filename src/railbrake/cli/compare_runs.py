@@ -34,6 +34,24 @@ def _human(d: dict) -> str:
     return f"{d['channel']} {d['difference'] * scale:.3g} {unit}"
 
 
+def _print_channels(report: dict) -> None:
+    """Every common channel: its largest difference from the first run, absolute (SI) and relative."""
+    labels = [r["label"] for r in report["runs"]]
+    table = Table()
+    table.add_column("channel", no_wrap=True)
+    for lab in labels[1:]:
+        table.add_column(f"{lab}-{labels[0]} (SI)", justify="right")
+        table.add_column(f"{lab}-{labels[0]} relative", justify="right")
+    names = list(dict.fromkeys(n for diffs in report["channels"] for n in diffs))
+    for name in names:
+        cells = []
+        for diffs, relative in zip(report["channels"], report["channels_relative"]):
+            cells += [_difference(diffs.get(name)) if name in diffs else "-",
+                      f"{relative[name]:.3g}" if relative.get(name) is not None else "-"]
+        table.add_row(name, *cells)
+    Console().print(table)
+
+
 def _print(report: dict) -> None:
     from railbrake.results import kpis as info
     console = Console()
@@ -67,6 +85,8 @@ def register(app: typer.Typer) -> None:
         axles: Optional[str] = typer.Option(None, help="Axles to overlay besides the worst and faulty ones."),
         window: Optional[str] = typer.Option(None, help="T0:T1 in s for the axle pressures."),
         json: bool = typer.Option(False, "--json", help="Print the comparison as JSON."),
+        channels: bool = typer.Option(False, "--channels", help="Also list every common channel's largest "
+                                      "difference, absolute and relative (e.g. an FMU's CSV against a run)."),
     ):
         """Saved runs side by side: KPIs with differences from the first run; MIL, HIL and FMU alike."""
         from railbrake.results import files
@@ -80,6 +100,8 @@ def register(app: typer.Typer) -> None:
             print_json(report)
         else:
             _print(report)
+            if channels:
+                _print_channels(report)
         if plot is not None:
             from railbrake.plots.compare_runs import plot_comparison
             labels = [r["label"] for r in report["runs"]]

@@ -8,6 +8,7 @@ from typing import Optional
 import typer
 
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, reports_errors
+from railbrake.fmu.binaries import DEFAULT_PLATFORMS, PLATFORMS, parse_platforms
 from railbrake.fmu.export import BASE_SCENARIO, export_fmu
 
 
@@ -22,9 +23,14 @@ def register(app: typer.Typer) -> None:
         output: Path = typer.Option(Path("plant.fmu"), "-o", "--output", help="The FMU file to write."),
         sets: list[str] = typer.Option([], "--set", help=SET_HELP),
         kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
+        platforms: str = typer.Option(",".join(DEFAULT_PLATFORMS), "--platforms",
+                                      help=f"Binaries to build, comma-separated: {', '.join(PLATFORMS)}."),
+        identifier: Optional[str] = typer.Option(None, "--model-identifier",
+                                                 help="modelIdentifier (a C identifier); default: "
+                                                 "railbrake_<scenario>_<configuration digest>."),
     ):
-        """Co-simulation FMU of the plant and BCU (1 ms fixed step) with its C sources and a binary
-        for this platform (docs/fmu.md)."""
+        """Co-simulation FMU of the plant and BCU (1 ms fixed step) with its C sources and checked
+        binaries for the platforms asked for (docs/fmu.md)."""
         path = export_fmu(scenario, prepare_output(output, "--output", (".fmu",)), fmi, cars, sets=sets,
-                          kernel=kernel)
-        typer.echo(f"{path}: FMI {fmi}.0 co-simulation, {path.stat().st_size / 1024:.0f} kB")
+                          kernel=kernel, platforms=parse_platforms(platforms), identifier=identifier)
+        typer.echo(f"{path}: FMI {fmi}.0 co-simulation, {platforms}, {path.stat().st_size / 1024:.0f} kB")

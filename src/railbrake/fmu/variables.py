@@ -13,6 +13,8 @@ import re
 from dataclasses import dataclass
 
 from railbrake import _core
+from railbrake.units import BAR, KMH, KN, TONNE
+from railbrake.vehicle import L, MM2, ZERO_CELSIUS
 
 INF = math.inf
 
@@ -28,17 +30,44 @@ class Variable:
     min: float = -INF
     max: float = INF
     description: str = ""
+    tunable: bool = False           # a parameter that may change between doSteps
 
 
-# SI base-unit exponents of every unit used (FMI UnitDefinitions).
-UNITS = {
-    "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "s": {"s": 1},
-    "kg": {"kg": 1}, "kg/s": {"kg": 1, "s": -1}, "K": {"K": 1}, "m2": {"m": 2}, "m3": {"m": 3},
-    "Pa": {"kg": 1, "m": -1, "s": -2}, "N/m": {"kg": 1, "s": -2}, "N.s/m": {"kg": 1, "s": -1},
-    "1": {},
-}
+@dataclass(frozen=True)
+class Unit:
+    base: dict                      # SI base-unit exponents (FMI BaseUnit)
+    quantity: str
+    displays: tuple = ()            # (name, factor, offset): display value = factor * value + offset
+    default_display: str | None = None
 
-# Global tunable parameters: name, C path, unit, description.
+
+def units(atmosphere: float) -> dict[str, Unit]:
+    """Every unit the FMU uses, with its quantity and the display units integrators read: pressures
+    (absolute inside) in bar gauge over the train's own atmosphere, speeds in km/h, temperatures in
+    degC, forces in kN, masses in t, volumes in l, areas in mm2."""
+    pa = {"kg": 1, "m": -1, "s": -2}
+    return {
+        "m": Unit({"m": 1}, "Length"), "m/s": Unit({"m": 1, "s": -1}, "Velocity", (("km/h", 1 / KMH, 0.0),), "km/h"),
+        "m/s2": Unit({"m": 1, "s": -2}, "Acceleration"), "s": Unit({"s": 1}, "Time", (("ms", 1e3, 0.0),)),
+        "kg": Unit({"kg": 1}, "Mass", (("t", 1 / TONNE, 0.0),), "t"),
+        "kg/s": Unit({"kg": 1, "s": -1}, "MassFlowRate"),
+        "K": Unit({"K": 1}, "ThermodynamicTemperature", (("degC", 1.0, -ZERO_CELSIUS),), "degC"),
+        "m2": Unit({"m": 2}, "Area", (("mm2", 1 / MM2, 0.0),), "mm2"),
+        "m3": Unit({"m": 3}, "Volume", (("l", 1 / L, 0.0),), "l"),
+        "Pa": Unit(pa, "Pressure", (("bar_g", 1 / BAR, -atmosphere / BAR), ("bar", 1 / BAR, 0.0)), "bar_g"),
+        "N": Unit({"kg": 1, "m": 1, "s": -2}, "Force", (("kN", 1 / KN, 0.0),), "kN"),
+        "N/m": Unit({"kg": 1, "s": -2}, "TranslationalSpringConstant", (("kN/mm", 1e-6, 0.0),), "kN/mm"),
+        "N.s/m": Unit({"kg": 1, "s": -1}, "TranslationalDampingConstant"),
+        "1": Unit({}, "Dimensionless"),
+    }
+
+
+# Parameters that may change between doSteps (variability tunable): the WSP's and the adhesion,
+# applied at the next doStep as rb_run_retune applies them in a native run (simulation.Change).
+TUNABLE = frozenset({"adhesion_mu0", "wsp_speed_threshold", "wsp_slip_threshold", "wsp_decel_threshold",
+                     "wsp_reaccel_threshold", "wsp_safety_time"})
+
+# Global parameters: name, C path, unit, description.
 _PARAMETERS = [
     ("initial_speed", "plant.initial_speed", "m/s", "train speed at t = 0"),
     ("initial_pressure", "plant.initial_pressure", "Pa",
@@ -98,16 +127,21 @@ def resolve(roots: dict, path: str):
 
 
 def bound_name(path: str) -> str:
-    """The C bounds-table name of a parameter's C path: plant.car[0].vehicle.mass -> car.mass."""
+    """The C bounds-table name of a parameter's C path: plant.car[0].vehicle.mass -> car.mass,
+    plant.condition[0].polach.mu0 -> condition.mu0."""
     name = re.sub(r"^plant\.", "", path)
+    name = re.sub(r"^condition\[[^]]*\]\.polach\.", "condition.", name)
     return re.sub(r"^car\[[^]]*\]\.(vehicle\.(brake\.caliper\.)?)?", "car.", name)
 
 
 def parameter_range(path: str) -> tuple[float, float]:
-    """(min, max) of a parameter: the C core's plausibility bound (core/src/bounds.c, the same
-    table rb_plant_bounds_check and rb_wsp_check use), else non-negative."""
+    """(min, max) of a parameter: the C core's plausibility bound (core/src/bounds.c), the same table
+    rb_plant_bounds_check and rb_wsp_check use at exitInitializationMode, so that what the
+    modelDescription declares is what the FMU accepts."""
     name = bound_name(path)
-    return _core.bound(name) if name in _core.BOUNDS else (0.0, INF)
+    if name not in _core.BOUNDS:
+        raise KeyError(f"FMU parameter {path}: no entry {name!r} in the bounds table (core/src/bounds.c)")
+    return _core.bound(name)
 
 
 def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
@@ -118,7 +152,8 @@ def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
 
     def parameter(name, path, unit, description):
         low, high = parameter_range(path)
-        v.append(Variable(name, "parameter", "Real", path, unit, float(resolve(roots, path)), low, high, description))
+        v.append(Variable(name, "parameter", "Real", path, unit, float(resolve(roots, path)), low, high, description,
+                          tunable=name in TUNABLE))
 
     for name, path, unit, description in _PARAMETERS:
         parameter(name, path, unit, description)
@@ -161,6 +196,9 @@ def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
     for c in range(n_cars):
         v.append(Variable("supply" + car(c), "output", "Real", f"out.supply[{c}]", "Pa",
                           description=f"car {c + 1}: supply reservoir pressure (absolute)"))
+    for c in range(n_cars):
+        v.append(Variable("ed_force" + car(c), "output", "Real", f"out.ed_force[{c}]", "N",
+                          description=f"car {c + 1}: electrodynamic brake force achieved"))
     for name, field, unit, description in (
             ("wheel_speed", "wheel_speed", "m/s", "wheel peripheral speed (true)"),
             ("wheel_speed_measured", "wheel_speed_measured", "m/s", "wheel speed sensor (< 0: sensor lost)"),

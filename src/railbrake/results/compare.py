@@ -46,6 +46,16 @@ def channel_differences(a: RunRecord, b: RunRecord) -> dict:
     return out
 
 
+def relative_differences(a: RunRecord, diffs: dict) -> dict:
+    """{channel: largest |b - a| / largest |a|} of channel_differences: how far an FMU's or another
+    tool's samples are from the run, channel by channel, in one scale."""
+    out = {}
+    for name, value in diffs.items():
+        scale = float(np.max(np.abs(a.outputs[name]))) if len(a.outputs[name]) else 0.0
+        out[name] = None if value is None else (value / scale if scale > 0.0 else (0.0 if value == 0.0 else None))
+    return out
+
+
 def _largest_per_unit(diffs: dict, units: dict) -> list[dict]:
     """The largest difference among the channels of each unit (m/s, m, Pa): a pressure in Pa and a
     speed in m/s are not to be ranked against each other."""
@@ -67,11 +77,12 @@ def compare_runs(records: list[RunRecord], paths: list[str]) -> dict:
         values = [r.kpis.get(key) for r in records]
         kpis[key] = {"values": values, "differences": [kpi_difference(values[0], v) for v in values[1:]]}
     channels = [channel_differences(first, r) for r in records[1:]]
+    relative = [relative_differences(first, diffs) for diffs in channels]
     largest = [_largest_per_unit(diffs, first.units) for diffs in channels]
     numeric = [abs(d) for k in kpis.values() for d in k["differences"] if isinstance(d, float)]
     flagged = [d for k in kpis.values() for d in k["differences"] if d == "differs"]
     samples = [v for diffs in channels for v in diffs.values() if v is not None]
     return {"runs": [{"label": lab, "path": p, "title": r.title(), "kind": r.kind}
                      for lab, p, r in zip(labels, paths, records)],
-            "kpis": kpis, "channels": channels, "largest_channel_differences": largest,
+            "kpis": kpis, "channels": channels, "channels_relative": relative, "largest_channel_differences": largest,
             "identical": not flagged and all(d == 0.0 for d in numeric) and all(v == 0.0 for v in samples)}

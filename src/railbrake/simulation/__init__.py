@@ -28,6 +28,8 @@ from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.results import scripting
 from railbrake.scenario import Scenario, load
+from railbrake.simulation import changes as run_changes
+from railbrake.simulation.changes import Change  # noqa: F401 (the run API's)
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import LOAD_CASES, Train, load_train, with_cars
 
@@ -361,7 +363,7 @@ def run_structs(prepared: list) -> list:
 def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool = True,
         wsp_function: WspCallback | None = None, progress: Callable[[float, float], None] | None = None,
         record: bool = True, dt: float = DT, substeps: int | None = None, kernel: str | None = None,
-        train=None) -> Result:
+        train=None, changes=()) -> Result:
     """Run a scenario (preset name, file, Scenario or railbrake.resolve.Resolved) in the C core.
 
     cars: override the train's number of cars; wsp=False: no WSP (valves never commanded);
@@ -370,7 +372,8 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     dt: the plant's fixed step (s); substeps: sub-steps of air and wheelsets per step (None:
     substeps_for(dt)); kernel: the wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL);
     train: a vehicle.Train to use instead of the scenario's (e.g. with overrides), lengthened to
-    the cars asked for.
+    the cars asked for; changes: simulation.Change's (WSP parameters, adhesion, faults changed at a
+    time during the run, as the FMU's tunable parameters between doSteps).
     """
     wsp, record = flag("wsp", wsp), flag("record", record)
     function("wsp_function", wsp_function)
@@ -395,11 +398,14 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     rows = int(math.ceil(sc.spec.stop.max_time / sc.spec.outputs.record_interval)) + 3 if record else 0
     series = np.zeros((rows, len(names)))
     finished = ctypes.c_int(0)
+    pending = run_changes.check(changes, sc.spec.stop.max_time, plant.n_faults)
     t = 0.0
     while not finished.value:
-        t += CHUNK
+        t = min(t + CHUNK, pending[0].time) if pending else t + CHUNK
         _core.call(_core.rb_run_advance, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(spec), state,
                    t, _core.ptr(series) if record else None, rows, ctypes.byref(finished))
+        while pending and pending[0].time <= t and not finished.value:
+            run_changes.apply(pending.pop(0), plant, wspp, state)
         if progress is not None:   # the speed of the last row surely written (the one at t may not be)
             row = max(0, min(int(t / sc.spec.outputs.record_interval) - 1, rows - 1))
             progress(min(t, sc.spec.stop.max_time), float(series[row, speed_column]) if record else math.nan)

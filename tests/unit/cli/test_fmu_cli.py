@@ -24,3 +24,9 @@ def test_export_fmu_rejects_bad_options(tmp_path):
     result = CliRunner().invoke(app, ["export-fmu", "--cars", "17", "-o", str(tmp_path / "x.fmu")])
     assert result.exit_code == 2 and "cars = 17" in result.output
     assert not (tmp_path / "x.fmu").exists()
+    for option, value, words in (("--platforms", "linux64,win32", "'win32' is not a platform"),
+                                 ("--platforms", "win64,win64", "named twice"),
+                                 ("--model-identifier", "8cars", "must be a C identifier")):
+        result = CliRunner().invoke(app, ["export-fmu", option, value, "-o", str(tmp_path / "x.fmu")])
+        assert result.exit_code == 2 and words in result.output, result.output
+    assert not (tmp_path / "x.fmu").exists()

@@ -2,9 +2,8 @@
 
 import pytest
 
+from fmi_session import SCENARIO, Session
 from railbrake.fmu import export_fmu
-
-SCENARIO = "emergency-250-dry"
 
 
 @pytest.fixture(scope="session", params=["2", "3"])
@@ -17,3 +16,12 @@ def fmu(request, tmp_path_factory):
 @pytest.fixture(scope="session")
 def fmu2(tmp_path_factory):
     return export_fmu(SCENARIO, tmp_path_factory.mktemp("fmi2only") / "plant.fmu", "2", cars=1)
+
+
+@pytest.fixture
+def session(fmu, tmp_path):
+    """A Session of the `fmu` fixture's FMU, freed after the test."""
+    version, path = fmu
+    s = Session(version, path, tmp_path / "unzipped")
+    yield s
+    s.fmu.freeInstance()

@@ -4,71 +4,12 @@ Driven through FMPy's low-level classes with a logger callback."""
 
 import ctypes
 import math
-import zipfile
 
 import pytest
 from fmpy import read_model_description
-from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2Real
-from fmpy.fmi3 import FMU3Slave
+from fmpy.fmi2 import fmi2Real
 
-ERROR = 3   # fmi2Error == fmi3Error
-
-
-class Session:
-    """One FMU instance with its log; `fails(call, *words)` checks an error and its message."""
-
-    def __init__(self, version, path, folder, token=None, log=None):
-        with zipfile.ZipFile(path) as zf:
-            zf.extractall(folder)
-        self.md = read_model_description(str(folder))
-        self.version = version
-        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
-        self.log = [] if log is None else log
-        args = dict(guid=token or self.md.guid, unzipDirectory=str(folder),
-                    modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="test")
-        if version == "2":
-            self.callbacks = fmi2CallbackFunctions()
-            self.callbacks.logger = fmi2CallbackLoggerTYPE(
-                lambda env, name, status, category, message: self.log.append((status, message.decode())))
-            self.fmu = FMU2Slave(**args)
-            self.fmu.instantiate(callbacks=self.callbacks)
-        else:
-            self.fmu = FMU3Slave(**args)
-            self.fmu.instantiate(logMessage=lambda env, status, category, message:
-                                 self.log.append((status, message.decode())))
-
-    def init(self):
-        if self.version == "2":
-            self.fmu.setupExperiment(startTime=0.0)
-        self.fmu.enterInitializationMode()
-        self.fmu.exitInitializationMode()
-
-    def set_real(self, name, value):
-        setter = self.fmu.setReal if self.version == "2" else self.fmu.setFloat64
-        setter([self.vr[name]], [value])
-
-    def get_real(self, vr):
-        return (self.fmu.getReal if self.version == "2" else self.fmu.getFloat64)([vr])
-
-    def fails(self, call, *args, words=()):
-        self.log.clear()
-        with pytest.raises(FMICallException) as info:
-            call(*args)
-        assert info.value.status == ERROR
-        assert self.log and self.log[-1][0] == ERROR
-        message = self.log[-1][1]
-        for word in words:
-            assert word in message, message
-        return message
-
-
-@pytest.fixture
-def session(fmu, tmp_path):
-    version, path = fmu
-    s = Session(version, path, tmp_path / "unzipped")
-    yield s
-    s.fmu.freeInstance()
+from fmi_session import ERROR, Session
 
 
 def test_step_before_initialisation(session):
@@ -178,20 +119,6 @@ def test_invalid_parameter_rejected_at_initialisation(session):
         session.fmu.setupExperiment(startTime=0.0)
     session.fmu.enterInitializationMode()
     session.fails(session.fmu.exitInitializationMode, words=("governor_off",))
-
-
-def test_parameter_ranges_are_the_core_bounds(fmu, tmp_path):
-    """modelDescription.xml carries the C bounds table's ranges (one definition)."""
-    from railbrake import _core
-    version, path = fmu
-    with zipfile.ZipFile(path) as zf:
-        zf.extractall(tmp_path)
-    md = read_model_description(str(tmp_path))
-    by_name = {v.name: v for v in md.modelVariables}
-    for name, bound in (("coupler_damping", "coupler.damping"), ("mass_c1", "car.mass"),
-                        ("cylinder_volume_c1", "car.cylinder_volume"), ("wsp_safety_time", "wsp.safety_time")):
-        low, high = _core.bound(bound)
-        assert (float(by_name[name].min), float(by_name[name].max)) == (low, high)
 
 
 def test_bad_instantiation_token(fmu, tmp_path):

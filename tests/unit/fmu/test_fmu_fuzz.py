@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from railbrake.fmu import export_fmu
-from railbrake.fmu.export import FMI_HEADERS, c_sources_dir
+from railbrake.fmu.binaries import FMI_HEADERS
+from railbrake.fmu.export import c_sources_dir
 
 FUZZER = Path(__file__).resolve().parents[2] / "fuzz" / "fmi_fuzz.c"
 CALLS = int(os.environ.get("RAILBRAKE_FUZZ_FMI_CALLS", "30000"))

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from fmpy import read_model_description
 
-from railbrake.fmu.export import FMI_HEADERS
+from railbrake.fmu.binaries import FMI_HEADERS
 
 DRIVER = Path(__file__).with_name("fmu_driver.c")
 

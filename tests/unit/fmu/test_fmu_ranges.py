@@ -1,0 +1,90 @@
+"""What modelDescription.xml declares is what the FMU accepts: for every Real parameter and input
+(generated from the FMU's own variable list) its declared min and max pass setReal and
+exitInitializationMode, and the nearest doubles outside are refused; the declared ranges are the
+core's bounds table (core/src/bounds.c). And doStep never passes the stopTime of the experiment
+(FMI 2.0.4 section 4.2.1, FMI 3.0 section 4.2.1: an error)."""
+
+import math
+
+from fmi_session import SCENARIO
+from railbrake import _core, simulation
+from railbrake.fmu.variables import bound_name, table
+
+# Two parameters bound to each other, which min/max cannot state: governor_off >= governor_on
+# (rb_plant_check). At an end of one of them the other is set to the same end.
+PARTNERS = {"governor_off": "governor_on", "governor_on": "governor_off"}
+
+
+def table_of(session):
+    """The exporter's variable table of the 1-car plant (conftest.SCENARIO), with the C paths."""
+    sc = simulation.load(SCENARIO)
+    plant = simulation.plant_params(sc, 1)
+    roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc)}
+    return table(roots, 1, plant.atmosphere)
+
+
+def ranged(md):
+    return [v for v in md.modelVariables if v.type in ("Real", "Float64") and v.causality in ("parameter", "input")]
+
+
+def _set_and_initialise(session, name, value):
+    partner = PARTNERS.get(name)
+    if partner:
+        session.set_real(partner, value)
+    session.set_real(name, value)
+    if session.version == "2":
+        session.fmu.setupExperiment(startTime=0.0)
+    session.fmu.enterInitializationMode()
+    session.fmu.exitInitializationMode()
+    session.fmu.doStep(0.0, 1e-3)
+    session.fmu.reset()
+
+
+def test_declared_ends_are_accepted_and_beyond_refused(session):
+    variables = ranged(session.md)
+    assert len(variables) > 20
+    for v in variables:
+        low, high = float(v.min), float(v.max)
+        assert math.isfinite(low) and math.isfinite(high) and low <= float(v.start) <= high, v.name
+        for end in (low, high):
+            _set_and_initialise(session, v.name, end)
+        for outside in (math.nextafter(low, -math.inf), math.nextafter(high, math.inf)):
+            session.fails(session.set_real, v.name, outside, words=(v.name, "must be a finite number in ["))
+            session.fmu.reset()
+
+
+def test_declared_parameter_ranges_are_the_bounds_table(session):
+    """Every Real parameter has an entry in the core's table and declares exactly its range."""
+    paths = {v.name: v.where for v in table_of(session)}
+    for v in ranged(session.md):
+        if v.causality == "parameter":
+            low, high = _core.bound(bound_name(paths[v.name]))
+            assert (float(v.min), float(v.max)) == (low, high), v.name
+
+
+def _initialise(session, stop_time):
+    if session.version == "2":
+        session.fmu.setupExperiment(startTime=0.0, stopTime=stop_time)
+        session.fmu.enterInitializationMode()
+    else:
+        session.fmu.enterInitializationMode(startTime=0.0, stopTime=stop_time)
+    session.fmu.exitInitializationMode()
+
+
+def test_no_step_past_the_stop_time(session):
+    """Steps up to the stopTime pass (also one that ends on it); one step beyond fails, naming it."""
+    _initialise(session, 0.05)
+    for k in range(5):
+        session.fmu.doStep(k * 0.01, 0.01)
+    session.fails(session.fmu.doStep, 0.05, 1e-3, words=("passes the stopTime 0.05",))
+    session.fmu.reset()
+    _initialise(session, 0.0105)          # between two plant steps: 10 steps fit, not 11
+    session.fmu.doStep(0.0, 0.01)
+    session.fails(session.fmu.doStep, 0.01, 1e-3, words=("stopTime",))
+
+
+def test_stop_time_before_start_refused(session):
+    if session.version == "2":
+        session.fails(session.fmu.setupExperiment, None, 0.0, -1.0, words=("stopTime = -1",))
+    else:
+        session.fails(session.fmu.enterInitializationMode, None, 0.0, -1.0, words=("stopTime = -1",))
