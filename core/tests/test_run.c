@@ -1,6 +1,6 @@
 /* The scenario runner (run.c): its available-adhesion KPI, whose peaks are followed from sample to
  * sample, must equal the mean of full searches of Polach's curve (rb_polach_peak) at the same
- * samples; its bench (bench_run.c) replays the run's own plant inputs. */
+ * samples; its bench (plant_bench.c) replays the run's own plant inputs. */
 #include "plant_fixture.h"
 #include "rb_test.h"
 #include "railbrake/rb_run.h"

@@ -135,7 +135,7 @@ rb_status rb_run_batch(int n, const rb_plant_params *plants, const rb_bcu_params
                        rb_error *errors, rb_error *err);
 
 /* What a whole run costs against its plant alone on the same scenario, in CPU microseconds of the
- * calling thread per step (bench_run.c): run_us for the run as rb_run_advance makes it without
+ * calling thread per step (plant_bench.c): run_us for the run as rb_run_advance makes it without
  * recording (BCU, WSP, KPIs), plant_us for a fresh plant stepped through the inputs the BCU gave it
  * in that run; each the fastest of `repeats` alternating passes. trace holds max_steps inputs
  * (the run's steps); run is a caller-provided rb_run_state. */
