@@ -15,11 +15,15 @@ from rich.table import Table
 from railbrake import hil as hil_runner
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
+from railbrake.hil.keys import read_key, write_key
 from railbrake.resolve import resolve
 from railbrake.units import cars_text, ms_to_kmh
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 EVENTS_SHOWN = 20   # watchdog events echoed to stderr; the counters hold them all
+EXIT_BCU_LOST = 3   # the run went on without its BCU (safe state): docs/hil.md
+KEY_HELP = ("Key file shared by plant and BCU (one line of 32 hex digits, mode 600; `railbrake hil-key FILE` "
+            "makes one): every frame is authenticated with it.")
 
 
 def _event_printer(err: Console):
@@ -64,6 +68,7 @@ def register(app: typer.Typer) -> None:
     def hil(
         scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
         bcu: str = typer.Option(..., "--bcu", help="The BCU's address, udp://HOST:PORT."),
+        key: Path = typer.Option(..., "--key", help=KEY_HELP),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         duration: Optional[float] = typer.Option(None, help="s; default: the scenario's max_time (the run also "
                                                  "ends at the stop)."),
@@ -91,6 +96,7 @@ def register(app: typer.Typer) -> None:
         from railbrake.results import files, record as records
         formats = files.parse_formats(",".join(formats or []) or "mf4")   # checked before the run
         peer = hil_runner.parse_udp_url(bcu, "--bcu")
+        secret = read_key(key)
         local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
         if duration is not None and duration <= 0:
             raise InputError(f"--duration = {duration}: must be > 0 s")
@@ -109,7 +115,7 @@ def register(app: typer.Typer) -> None:
             result = hil_runner.run(
                 resolved, peer, duration=duration, hold_time=hold_time, late_time=late_time,
                 record_interval=record_interval, bind=local,
-                priority=priority, on_event=_event_printer(err), kernel=kernel,
+                priority=priority, on_event=_event_printer(err), kernel=kernel, key=secret,
                 on_start=lambda port, session, config: err.print(
                     f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
                     f"BCU {bcu}", highlight=False, soft_wrap=True),
@@ -117,8 +123,10 @@ def register(app: typer.Typer) -> None:
         if result.mismatch:
             err.print(f"[red]error[/]: {result.mismatch}", highlight=False)
         elif result.counters["received"] == 0:
-            err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
+            err.print(f"[red]error[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
                       highlight=False)
+        if not result.mismatch and result.loss_report():
+            err.print(f"[red]error[/]: {result.loss_report()}", highlight=False, soft_wrap=True)
         if result.interrupted:
             err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
                       "the recording and counters hold the run until then", highlight=False)
@@ -132,7 +140,7 @@ def register(app: typer.Typer) -> None:
                           mdf_extra={"counters": result.counters, "timing": result.timing})
         if json:
             print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
-                        "counters": result.counters, "timing": result.timing,
+                        "counters": result.counters, "timing": result.timing, "bcu_loss": result.loss,
                         "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
                         "real_time": {"memory_locked": result.real_time.memory_locked,
                                       "fifo_priority": result.real_time.fifo_priority,
@@ -147,6 +155,14 @@ def register(app: typer.Typer) -> None:
             raise typer.Exit(code=130)
         if result.mismatch:
             raise typer.Exit(code=1)
+        if result.loss.get("lost"):
+            raise typer.Exit(code=EXIT_BCU_LOST)
+
+    @app.command("hil-key")
+    @reports_errors
+    def hil_key(path: Path = typer.Argument(..., help="The key file to create (mode 600; never overwritten).")):
+        """A new random key file for `hil --key` and `bcu --key` (give both the same file)."""
+        typer.echo(f"key file: {write_key(path)}")
 
     @app.command("bcu")
     @reports_errors
@@ -155,6 +171,7 @@ def register(app: typer.Typer) -> None:
                                        "train)."),
         listen: str = typer.Option(..., "--listen", help="Address to listen on, udp://HOST:PORT (port 0: any, "
                                    "printed)."),
+        key: Path = typer.Option(..., "--key", help=KEY_HELP),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         duration: float = typer.Option(0.0, help="s of wall time, then stop (0: no limit)."),
         idle_timeout: float = typer.Option(2.0, help="s without plant frames, after the first, then stop."),
@@ -165,6 +182,7 @@ def register(app: typer.Typer) -> None:
     ):
         """The reference BCU: the simulation's BCU and WSP logic answering plant frames over UDP."""
         host, port = hil_runner.parse_udp_url(listen, "--listen", allow_any_port=True)
+        secret = read_key(key)
         err = Console(stderr=True)
 
         def ready(bound, real_time):
@@ -180,7 +198,7 @@ def register(app: typer.Typer) -> None:
         start = time.monotonic()
         counters = hil_runner.serve_bcu(resolve(scenario, cars, sets), (host, port), duration=duration,
                                         idle_timeout=idle_timeout, priority=priority, ready=ready,
-                                        on_refusal=refused)
+                                        on_refusal=refused, key=secret)
         if json:
             print_json(dict(counters))
         else:
