@@ -203,9 +203,8 @@ static void serve_frame(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_bc
 {
     b->received++;
     if (b->have_frame && f->header.step <= b->last_step) {
-        b->stale++;   /* duplicated or reordered: the BCU does not go back in time */
-        b->last_frame_ns = now;
-        return;
+        b->stale++;   /* duplicated, reordered or replayed: the BCU does not go back in time, and a */
+        return;       /* replay does not keep an idle session from another plant */
     }
     if (!b->have_frame) b->state.next_cycle = b->state.last_cycle = (double)f->header.step * RB_HIL_DT;
     b->have_frame = 1;
