@@ -8,9 +8,20 @@
 
 static uint64_t rotl(uint64_t x, int b) { return (x << b) | (x >> (64 - b)); }
 
+static int host_little_endian(void)
+{
+    const union { uint16_t u; uint8_t b[2]; } probe = {1};
+    return probe.b[0] == 1;   /* a constant: the compiler keeps one branch */
+}
+
+/* A little-endian 64-bit word (one load on a little-endian host). */
 static uint64_t load_le64(const uint8_t *p)
 {
     uint64_t v = 0;
+    if (host_little_endian()) {
+        memcpy(&v, p, 8);
+        return v;
+    }
     for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
     return v;
 }
