@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import signal
 import sys
 import time
 from pathlib import Path
@@ -39,6 +40,33 @@ def _event_printer(err: Console):
     return on_event
 
 
+class _Interrupts:
+    """SIGINT and SIGTERM for `railbrake hil`: the first ends the run (KeyboardInterrupt between two
+    chunks); any later one, or any once the run is over, is only acknowledged, so the recording and
+    the summary are always written (a second Ctrl-C never loses what the first kept)."""
+
+    def __init__(self, err: Console):
+        self.err, self.count, self.finishing = err, 0, False
+        self.previous = {}
+
+    def __call__(self, signum, frame):
+        self.count += 1
+        if self.count == 1 and not self.finishing:
+            raise KeyboardInterrupt(f"signal {signum}")
+        self.err.print("interrupt noted: the run is over; writing the recording and the summary first",
+                       highlight=False)
+
+    def __enter__(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self.previous[sig] = signal.signal(sig, self)
+        return self
+
+    def __exit__(self, *exc):
+        for sig, handler in self.previous.items():
+            signal.signal(sig, handler)
+        return False
+
+
 def _print_report(result) -> None:
     console = Console()
     table = Table(title=f"HIL {result.scenario}, {cars_text(result.cars)}, {result.time[-1]:.1f} s")
@@ -60,6 +88,65 @@ def _print_report(result) -> None:
     console.print(table)
     for line in result.timing_report():
         console.print(line, highlight=False)
+
+
+def _run(resolved, peer, secret, record, bcu, local, err, json, **options):
+    """The paced run with its progress bar; with --record, the recording grows chunk by chunk as the
+    run goes (railbrake.hil.mdf: what was written survives a kill)."""
+    sc = resolved.scenario
+    stream = None
+    if record is not None:
+        from railbrake.hil.mdf import StreamingRecording
+        stream = StreamingRecording(record, hil_runner.channels(resolved.cars),
+                                    {"scenario": sc.name, "cars": resolved.cars,
+                                     "recording": "unfinalised: written as the run went, which did not end"})
+    total = sc.spec.stop.max_time if options["duration"] is None else options["duration"]
+    bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
+                   TimeElapsedColumn(), console=err, transient=True, disable=json,
+                   refresh_per_second=2)   # the render thread competes for the GIL between chunks
+    task = bar.add_task(f"HIL {sc.name}", total=total, speed="")
+    try:
+        with bar:
+            result = hil_runner.run(
+                resolved, peer, bind=local, on_event=_event_printer(err), key=secret,
+                on_rows=stream.append if stream is not None else None,
+                on_start=lambda port, session, config: err.print(
+                    f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
+                    f"BCU {bcu}", highlight=False, soft_wrap=True),
+                progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"),
+                **options)
+    finally:
+        if stream is not None:
+            stream.close()
+    return result
+
+
+def _summary(result, json: bool, written, out, bcu: str) -> None:
+    """Why the run went as it did (stderr), then the report: JSON or the table."""
+    err = Console(stderr=True)
+    if result.mismatch:
+        err.print(f"[red]error[/]: {result.mismatch}", highlight=False)
+    elif result.counters["received"] == 0:
+        err.print(f"[red]error[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
+                  highlight=False)
+    if not result.mismatch and result.loss_report():
+        err.print(f"[red]error[/]: {result.loss_report()}", highlight=False, soft_wrap=True)
+    if result.interrupted:
+        err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
+                  "the recording and counters hold the run until then", highlight=False)
+    if json:
+        print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
+                    "counters": result.counters, "timing": result.timing, "bcu_loss": result.loss,
+                    "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
+                    "real_time": {"memory_locked": result.real_time.memory_locked,
+                                  "fifo_priority": result.real_time.fifo_priority,
+                                  "notes": result.real_time.notes()}})
+    else:
+        _print_report(result)
+    if written is not None:
+        typer.echo(f"recording: {written}", err=json)
+    if out is not None:
+        typer.echo(f"outputs: {out}/", err=json)
 
 
 def register(app: typer.Typer) -> None:
@@ -106,51 +193,20 @@ def register(app: typer.Typer) -> None:
         records.parse_window(window)
         prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
         err = Console(stderr=True)
-        total = sc.spec.stop.max_time if duration is None else duration
-        bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
-                       TimeElapsedColumn(), console=err, transient=True, disable=json,
-                       refresh_per_second=2)   # the render thread competes for the GIL between chunks
-        task = bar.add_task(f"HIL {sc.name}", total=total, speed="")
-        with bar:
-            result = hil_runner.run(
-                resolved, peer, duration=duration, hold_time=hold_time, late_time=late_time,
-                record_interval=record_interval, bind=local,
-                priority=priority, on_event=_event_printer(err), kernel=kernel, key=secret,
-                on_start=lambda port, session, config: err.print(
-                    f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
-                    f"BCU {bcu}", highlight=False, soft_wrap=True),
-                progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
-        if result.mismatch:
-            err.print(f"[red]error[/]: {result.mismatch}", highlight=False)
-        elif result.counters["received"] == 0:
-            err.print(f"[red]error[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
-                      highlight=False)
-        if not result.mismatch and result.loss_report():
-            err.print(f"[red]error[/]: {result.loss_report()}", highlight=False, soft_wrap=True)
-        if result.interrupted:
-            err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
-                      "the recording and counters hold the run until then", highlight=False)
-        written = None
-        if record is not None:
-            from railbrake.hil.mdf import write_mdf
-            written = write_mdf(result, record, sc)
-        if out is not None:
-            from railbrake.results.outputs import write_outputs
-            write_outputs(records.from_hil(result, sc), out, formats, axles, window,
-                          mdf_extra={"counters": result.counters, "timing": result.timing})
-        if json:
-            print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
-                        "counters": result.counters, "timing": result.timing, "bcu_loss": result.loss,
-                        "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
-                        "real_time": {"memory_locked": result.real_time.memory_locked,
-                                      "fifo_priority": result.real_time.fifo_priority,
-                                      "notes": result.real_time.notes()}})
-        else:
-            _print_report(result)
-        if written is not None:
-            typer.echo(f"recording: {written}", err=json)
-        if out is not None:
-            typer.echo(f"outputs: {out}/", err=json)
+        with _Interrupts(err) as interrupts:
+            result = _run(resolved, peer, secret, record, bcu, local, err, json, duration=duration,
+                          hold_time=hold_time, late_time=late_time, record_interval=record_interval,
+                          priority=priority, kernel=kernel)
+            interrupts.finishing = True
+            written = None
+            if record is not None:
+                from railbrake.hil.mdf import write_mdf
+                written = write_mdf(result, record, sc)
+            if out is not None:
+                from railbrake.results.outputs import write_outputs
+                write_outputs(records.from_hil(result, sc), out, formats, axles, window,
+                              mdf_extra={"counters": result.counters, "timing": result.timing})
+            _summary(result, json, written, out, bcu)
         if result.interrupted:
             raise typer.Exit(code=130)
         if result.mismatch:

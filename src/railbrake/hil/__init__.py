@@ -78,8 +78,10 @@ def describe_config(scenario: Scenario, n_cars: int) -> str:
 @contextmanager
 def _sigterm_as_interrupt():
     """SIGTERM ends a run like Ctrl-C (KeyboardInterrupt between two C chunks), so the caller keeps
-    what was recorded and the counters; restored afterwards. Only the main thread can install it."""
-    if threading.current_thread() is not threading.main_thread():
+    what was recorded and the counters; restored afterwards. Only the main thread can install it, and
+    only over the default handling (a caller's own handler, as `railbrake hil`'s, stays)."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL):
         yield
         return
 
@@ -244,10 +246,13 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         record_interval: float | None = None, bind: tuple[str, int] = ("0.0.0.0", 0), paced: bool = True,
         priority: int = DEFAULT_PRIORITY, progress: Callable[[float, float], None] | None = None,
         on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None,
-        on_start: Callable[[int, int, int], None] | None = None, key=None) -> HilResult:
+        on_start: Callable[[int, int, int], None] | None = None, key=None,
+        on_rows: Callable[[np.ndarray], None] | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
-    watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch);
+    watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch, forged, keyed,
+    order); on_rows(rows) with each chunk's recorded rows (channels in the order of channels(cars))
+    as soon as the chunk has run (a recording written as the run goes: railbrake.hil.mdf);
     on_start(local port, session, configuration digest) once the plant's endpoint is open; kernel: the
     plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto); key: the key
     file's path or its 16 bytes (the BCU's too: frames are authenticated). Ctrl-C or SIGTERM end the
@@ -281,6 +286,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
                            CHUNK_STEPS, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
                 chunks.append(chunk[:rows.value].copy())
+                if on_rows is not None:
+                    on_rows(chunks[-1])
                 _core.rb_hil_runner_result(state, ctypes.byref(result))
                 events += _drain_events(state, seen, result.events, on_event)
                 seen = result.events
