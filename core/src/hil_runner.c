@@ -364,15 +364,12 @@ static void receive(const rb_plant_params *p, const rb_hil_config *c, rb_hil_run
 
 /* The BCU is lost while the safe state applies after a valid frame came, or once the hold time
  * passed without one: counted, with what it cost (locks, distance) accumulated after each step. */
-static void note_loss(const rb_hil_config *c, rb_hil_runner *r, int safe)
+static void note_loss(rb_hil_runner *r, int safe)
 {
-    (void)c;
     int lost = safe && (r->had_valid || r->step > r->watchdog.hold_steps);
-    if (lost && !r->lost) {
-        if (!r->losses++) {
-            r->lost_step = r->step;
-            r->last_valid_step = r->had_valid ? r->watchdog.last_valid_step : 0;
-        }
+    if (lost && !r->lost && !r->losses++) {
+        r->lost_step = r->step;
+        r->last_valid_step = r->had_valid ? r->watchdog.last_valid_step : 0;
     }
     r->lost = lost;
 }
@@ -385,7 +382,7 @@ static void choose_commands(const rb_hil_config *c, rb_hil_runner *r)
                   safe ? "no valid BCU frame within the hold time: safe state" : "valid BCU frames: safe state left");
         if (safe) r->nonce = 0;   /* say hello again (a restarted BCU has another nonce); the key stays good */
     }
-    note_loss(c, r, safe);
+    note_loss(r, safe);
     if (safe) safe_commands(c, r, !r->safe);
     r->safe = safe;
     r->applied = safe ? r->safe_in : r->last;
