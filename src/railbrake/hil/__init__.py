@@ -322,7 +322,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
 
 class BcuCounters(dict):
     """The reference BCU's counters (received, malformed, stale, sent, send_errors, cycles, foreign,
-    refused), with why it refused a plant (`refusal`, None if none) and whether Ctrl-C or SIGTERM
+    refused, forged, challenges), with why it refused a plant (`refusal`, None if none) and whether Ctrl-C or SIGTERM
     ended it (`interrupted`)."""
     refusal: str | None = None
     interrupted: bool = False
