@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "railbrake/rb_hil.h"
 
+#include <math.h>
 #include <poll.h>
 #include <string.h>
 
@@ -206,7 +207,8 @@ static void serve_frame(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_bc
         b->stale++;   /* duplicated, reordered or replayed: the BCU does not go back in time, and a */
         return;       /* replay does not keep an idle session from another plant */
     }
-    if (!b->have_frame) b->state.next_cycle = b->state.last_cycle = (double)f->header.step * RB_HIL_DT;
+    int first = !b->have_frame;
+    if (first) b->state.next_cycle = b->state.last_cycle = (double)f->header.step * RB_HIL_DT;
     b->have_frame = 1;
     b->last_step = f->header.step;
     b->last_frame_ns = now;
@@ -215,6 +217,10 @@ static void serve_frame(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_bc
     double next = b->state.next_cycle;
     rb_plant_inputs in;
     rb_bcu_step(p, &b->state, &d, &b->out, &in);
+    if (first) {   /* a cycle at once, then on the plant's grid of cycles from its step 0, as in MIL */
+        double grid = ceil(b->out.time / p->cycle - 1e-9) * p->cycle;
+        b->state.next_cycle = grid > b->out.time + 1e-9 ? grid : grid + p->cycle;
+    }
     if (b->state.next_cycle != next) {   /* a BCU cycle ran: send its commands */
         b->cycles++;
         send_commands(p, b, &d, f->header.step);

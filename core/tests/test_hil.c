@@ -108,9 +108,10 @@ static void test_loop_matches_mil(void)
     CHECK_CLOSE(runner.out.speed, mil.out.speed, 2e-3, 0);
     CHECK(res.malformed == 0 && res.lost == 0 && res.late == 0 && res.forged == 0 && res.foreign == 0);
     CHECK(res.duplicate == 0 && res.out_of_order == 0 && res.replayed == 0);
-    CHECK(res.received == server.sent && server.cycles == server.sent);   /* cycles from step 2: 2992 the last */
     /* the hellos of steps 0 and 1 are challenged (the plant reads the first challenge in step 2);
-     * step 2's frame under the agreed key opens the session, its answer applies from step 2 on */
+     * step 2's frame under the agreed key opens the session and runs a cycle at once, then the
+     * cycles follow the plant's grid from step 0 as in MIL (10, 20, ... 3000: its answer in flight) */
+    CHECK(res.received + 1 == server.sent && server.cycles == server.sent && server.cycles == 301);
     CHECK(res.challenges == 2 && server.challenges == 2 && res.safe_state_steps == 2 && res.losses == 0);
     CHECK(server.malformed == 0 && server.forged == 0 && server.received + 2 == res.frames_sent);
     CHECK(res.braking && !bcu_finished);

@@ -41,9 +41,10 @@ def _event_printer(err: Console):
 
 
 class _Interrupts:
-    """SIGINT and SIGTERM for `railbrake hil`: the first ends the run (KeyboardInterrupt between two
-    chunks); any later one, or any once the run is over, is only acknowledged, so the recording and
-    the summary are always written (a second Ctrl-C never loses what the first kept)."""
+    """SIGINT and SIGTERM for `railbrake hil`, from the command's start: each is only noted (raising
+    from a handler can land in Python's import machinery, which swallows the exception and prints a
+    traceback); the run stops before its next chunk once one came, and the recording and the summary
+    are always written (a second Ctrl-C never loses what the first kept)."""
 
     def __init__(self, err: Console):
         self.err, self.count, self.finishing = err, 0, False
@@ -51,10 +52,11 @@ class _Interrupts:
 
     def __call__(self, signum, frame):
         self.count += 1
-        if self.count == 1 and not self.finishing:
-            raise KeyboardInterrupt(f"signal {signum}")
-        self.err.print("interrupt noted: the run is over; writing the recording and the summary first",
-                       highlight=False)
+        if self.count > 1 or self.finishing:
+            self.err.print("interrupt noted: writing the recording and the summary first", highlight=False)
+
+    def stop(self) -> bool:
+        return self.count > 0
 
     def __enter__(self):
         for sig in (signal.SIGINT, signal.SIGTERM):
@@ -149,6 +151,42 @@ def _summary(result, json: bool, written, out, bcu: str) -> None:
         typer.echo(f"outputs: {out}/", err=json)
 
 
+def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval, hold_time,
+                     late_time, bind, priority, json, sets, out, axles, window, formats, kernel):
+    """Everything `railbrake hil` does, with its interrupts noted: inputs checked, the run, then the
+    recording, the run folder and the summary, whatever interrupts come."""
+    from railbrake.results import files, record as records
+    formats = files.parse_formats(",".join(formats or []) or "mf4")   # checked before the run
+    peer = hil_runner.parse_udp_url(bcu, "--bcu")
+    secret = read_key(key)
+    local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
+    if duration is not None and duration <= 0:
+        raise InputError(f"--duration = {duration}: must be > 0 s")
+    resolved = resolve(scenario, cars, sets)
+    sc = resolved.scenario
+    records.parse_axles(axles, resolved.cars)
+    records.parse_window(window)
+    prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
+    err = Console(stderr=True)
+    if interrupts.stop():
+        err.print("interrupted before the run started", highlight=False)
+        raise typer.Exit(code=130)
+    result = _run(resolved, peer, secret, record, bcu, local, err, json, duration=duration, hold_time=hold_time,
+                  late_time=late_time, record_interval=record_interval, priority=priority, kernel=kernel,
+                  stop=interrupts.stop)
+    interrupts.finishing = True
+    written = None
+    if record is not None:
+        from railbrake.hil.mdf import write_mdf
+        written = write_mdf(result, record, sc)
+    if out is not None:
+        from railbrake.results.outputs import write_outputs
+        write_outputs(records.from_hil(result, sc), out, formats, axles, window,
+                      mdf_extra={"counters": result.counters, "timing": result.timing})
+    _summary(result, json, written, out, bcu)
+    return result
+
+
 def register(app: typer.Typer) -> None:
     @app.command("hil")
     @reports_errors
@@ -180,33 +218,10 @@ def register(app: typer.Typer) -> None:
         kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
-        from railbrake.results import files, record as records
-        formats = files.parse_formats(",".join(formats or []) or "mf4")   # checked before the run
-        peer = hil_runner.parse_udp_url(bcu, "--bcu")
-        secret = read_key(key)
-        local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
-        if duration is not None and duration <= 0:
-            raise InputError(f"--duration = {duration}: must be > 0 s")
-        resolved = resolve(scenario, cars, sets)
-        sc = resolved.scenario
-        records.parse_axles(axles, resolved.cars)
-        records.parse_window(window)
-        prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
-        err = Console(stderr=True)
-        with _Interrupts(err) as interrupts:
-            result = _run(resolved, peer, secret, record, bcu, local, err, json, duration=duration,
-                          hold_time=hold_time, late_time=late_time, record_interval=record_interval,
-                          priority=priority, kernel=kernel)
-            interrupts.finishing = True
-            written = None
-            if record is not None:
-                from railbrake.hil.mdf import write_mdf
-                written = write_mdf(result, record, sc)
-            if out is not None:
-                from railbrake.results.outputs import write_outputs
-                write_outputs(records.from_hil(result, sc), out, formats, axles, window,
-                              mdf_extra={"counters": result.counters, "timing": result.timing})
-            _summary(result, json, written, out, bcu)
+        with _Interrupts(Console(stderr=True)) as interrupts:
+            result = _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval,
+                                      hold_time, late_time, bind, priority, json, sets, out, axles, window,
+                                      formats, kernel)
         if result.interrupted:
             raise typer.Exit(code=130)
         if result.mismatch:

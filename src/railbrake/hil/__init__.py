@@ -247,12 +247,14 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         priority: int = DEFAULT_PRIORITY, progress: Callable[[float, float], None] | None = None,
         on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None,
         on_start: Callable[[int, int, int], None] | None = None, key=None,
-        on_rows: Callable[[np.ndarray], None] | None = None) -> HilResult:
+        on_rows: Callable[[np.ndarray], None] | None = None, stop: Callable[[], bool] | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
     watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch, forged, keyed,
     order); on_rows(rows) with each chunk's recorded rows (channels in the order of channels(cars))
-    as soon as the chunk has run (a recording written as the run goes: railbrake.hil.mdf);
+    as soon as the chunk has run (a recording written as the run goes: railbrake.hil.mdf); stop()
+    before each chunk: True ends the run as an interrupt does (a caller's signal handler that only
+    notes the signal: raising from it can hit Python's import machinery, which swallows it);
     on_start(local port, session, configuration digest) once the plant's endpoint is open; kernel: the
     plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto); key: the key
     file's path or its 16 bytes (the BCU's too: frames are authenticated). Ctrl-C or SIGTERM end the
@@ -282,7 +284,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     try:
         with _normal_scheduling_after(), _sigterm_as_interrupt():
             real_time = request_real_time(priority) if paced else RealTime(False)
-            while not finished.value:
+            while not finished.value and not interrupted:
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
                            CHUNK_STEPS, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
                 chunks.append(chunk[:rows.value].copy())
@@ -293,6 +295,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
                 seen = result.events
                 if progress is not None and rows.value:
                     progress(result.time, float(chunk[rows.value - 1, 1]))
+                interrupted = stop is not None and stop() and not finished.value
     except KeyboardInterrupt:
         # Ctrl-C or SIGTERM between two chunks (or inside Python code between them): keep what was
         # recorded; a chunk the interrupt cut short was not appended, the C state still holds it
