@@ -100,6 +100,7 @@ static rb_status check_config(const rb_plant_params *plant, const rb_hil_config 
     if ((s = rb_check_nonnegative(err, "stop_speed", c->stop_speed))) return s;
     if ((s = rb_check_range(err, "record_interval", c->record_interval, RB_HIL_DT, 60.0))) return s;
     if ((s = rb_check_range(err, "adhesion_interval", c->adhesion_interval, 0.0, 60.0))) return s;
+    if ((s = rb_check_range(err, "chunk_time", c->chunk_time, 0.0, 60.0))) return s;
     if (c->session == 0) return rb_fail(err, RB_EINVAL, "session = 0: a run needs a non-zero session id");
     if ((s = rb_bcu_check(&c->safe, err))) return s;
     if (c->safe.n_cars != plant->n_cars)
@@ -531,8 +532,10 @@ rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_confi
         record_due(plant, r, series, max_rows, &written);
         if (config->paced) rb_pacer_wait(&r->pacer);
     }
+    int64_t call_start = rb_monotonic_ns();
     for (uint64_t i = 0; i < steps && !r->finished; ++i) {
         if (series && written >= max_rows) break;
+        if (config->chunk_time > 0.0 && (double)(rb_monotonic_ns() - call_start) * 1e-9 >= config->chunk_time) break;
         receive(plant, config, r);       /* frames echo at most r->step, the last step sent */
         if (r->mismatch) break;          /* the BCU refuses this plant: nothing to wait for */
         choose_commands(config, r);

@@ -567,7 +567,8 @@ class PlantInputs(Structure):
 class HilConfig(Structure):
     _fields_ = (_doubles("hold_time", "late_time", "duration", "stop_speed", "record_interval")
                 + [("paced", c_int), ("safe", BcuParams), ("adhesion_interval", c_double),
-                   ("session", c_uint32), ("config", c_uint32), ("secret", c_uint8 * HIL_KEY_SIZE)])
+                   ("session", c_uint32), ("config", c_uint32), ("secret", c_uint8 * HIL_KEY_SIZE),
+                   ("chunk_time", c_double)])
 
 
 HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",

@@ -38,6 +38,8 @@ typedef struct {
     uint32_t session;          /* this run's session id (non-zero, random: chosen by the caller) */
     uint32_t config;           /* rb_hil_config_digest of this plant */
     uint8_t secret[RB_HIL_KEY_SIZE];   /* shared with the BCU (its key file): session keys derive from it */
+    double chunk_time;         /* s of wall time one rb_hil_runner_advance call lasts at most (0: no limit),
+                                  so a caller writing each chunk's rows keeps up with the wall clock */
 } rb_hil_config;
 
 typedef enum {

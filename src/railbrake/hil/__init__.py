@@ -33,6 +33,7 @@ from railbrake.vehicle import load_train
 
 DT = 1e-3                  # s, fixed by the interface
 CHUNK_STEPS = 500          # plant steps per C call
+CHUNK_TIME = 0.5           # s of wall time per C call at most (paced): a recording keeps up with the clock
 BCU_CHUNK = 0.5            # s of wall time per C call of the BCU server
 DEFAULT_HOLD_TIME = 0.1    # s
 DEFAULT_LATE_TIME = 0.02   # s
@@ -200,6 +201,7 @@ def hil_config(scenario: Scenario, bcu: _core.BcuParams, duration: float | None,
     if abs(c.record_interval / DT - round(c.record_interval / DT)) > 1e-9:
         raise InputError(f"record_interval = {c.record_interval} s: must be a multiple of 1 ms")
     c.paced = int(paced)
+    c.chunk_time = CHUNK_TIME if paced else 0.0
     c.adhesion_interval = _scenario_struct(scenario).adhesion_interval   # as in the MIL run
     c.session = secrets.randbits(32) or 1   # a new session per run: a BCU tells runs apart
     c.secret[:] = key
