@@ -102,11 +102,11 @@ fuzz-frames:
 	mkdir -p $(BUILD)/fuzz
 	if command -v clang >/dev/null 2>&1; then \
 	  clang -std=c99 $(FUZZ_SANITIZE) -fsanitize=fuzzer -DRB_LIBFUZZER -Icore/include core/tests/fuzz_hil_frame.c \
-	    core/src/hil_frame.c core/src/common.c -o $(BUILD)/fuzz/hil_frame_fuzz -lm && \
+	    core/src/hil_frame.c core/src/hil_mac.c core/src/common.c -o $(BUILD)/fuzz/hil_frame_fuzz -lm && \
 	  $(BUILD)/fuzz/hil_frame_fuzz -runs=$(FUZZ_FRAMES) -max_len=1024; \
 	else \
 	  echo "clang not found: the gcc mutational loop instead of libFuzzer"; \
-	  gcc -std=c99 $(FUZZ_SANITIZE) -Icore/include core/tests/fuzz_hil_frame.c core/src/hil_frame.c \
+	  gcc -std=c99 $(FUZZ_SANITIZE) -Icore/include core/tests/fuzz_hil_frame.c core/src/hil_frame.c core/src/hil_mac.c \
 	    core/src/common.c -o $(BUILD)/fuzz/hil_frame_fuzz -lm && \
 	  $(BUILD)/fuzz/hil_frame_fuzz $(FUZZ_FRAMES); \
 	fi

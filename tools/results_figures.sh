@@ -32,10 +32,12 @@ PY
 # built (docs/simulation.md, executed); this script makes the HIL figures only.
 # MIL against HIL (reference BCU over loopback UDP), 8 cars in heavy rain
 $rb run emergency-300-heavy-rain --cars 8 --out "$work/mil8" --json > "$work/mil8.json"
-$rb bcu emergency-300-heavy-rain --cars 8 --listen udp://127.0.0.1:47800 --json > "$work/bcu8.json" &
+[ -f "$work/hil.key" ] || $rb hil-key "$work/hil.key"   # both sides authenticate their frames with it
+$rb bcu emergency-300-heavy-rain --cars 8 --listen udp://127.0.0.1:47800 --key "$work/hil.key" \
+    --json > "$work/bcu8.json" &
 bcu=$!
 sleep 3
-$rb hil emergency-300-heavy-rain --cars 8 --bcu udp://127.0.0.1:47800 --out "$work/hil8" \
+$rb hil emergency-300-heavy-rain --cars 8 --bcu udp://127.0.0.1:47800 --key "$work/hil.key" --out "$work/hil8" \
     > "$work/hil8.txt"   # the console table of docs/hil.md; counters and timing also in hil8/run.json
 wait $bcu
 $rb compare "$work/mil8" "$work/hil8" --plot "$work/compare8" > "$work/compare8.txt"

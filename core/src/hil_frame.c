@@ -43,12 +43,20 @@ static float get_f32(reader *r) { uint32_t u = get_u32(r); float v; memcpy(&v, &
 
 size_t rb_plant_frame_size(int n_cars, int n_axles)
 {
-    return RB_FRAME_HEADER_SIZE + 4u * (3u + 2u * (size_t)n_axles + (size_t)n_cars) + RB_FRAME_CRC_SIZE;
+    return RB_FRAME_HEADER_SIZE + 4u * (3u + 2u * (size_t)n_axles + (size_t)n_cars) + RB_FRAME_TRAILER_SIZE;
 }
 
 size_t rb_bcu_frame_size(int n_cars, int n_axles)
 {
-    return RB_FRAME_HEADER_SIZE + 4u * (1u + (size_t)n_cars) + 2u * (size_t)n_axles + RB_FRAME_CRC_SIZE;
+    return RB_FRAME_HEADER_SIZE + 4u * (1u + (size_t)n_cars) + 2u * (size_t)n_axles + RB_FRAME_TRAILER_SIZE;
+}
+
+size_t rb_challenge_frame_size(void) { return RB_FRAME_HEADER_SIZE + RB_FRAME_TRAILER_SIZE; }
+
+static size_t frame_size(int type, int n_cars, int n_axles)
+{
+    return type == RB_FRAME_PLANT ? rb_plant_frame_size(n_cars, n_axles)
+         : type == RB_FRAME_BCU ? rb_bcu_frame_size(n_cars, n_axles) : rb_challenge_frame_size();
 }
 
 static rb_status check_counts(const rb_frame_header *h, rb_error *err)
@@ -73,34 +81,39 @@ static void put_header(writer *w, const rb_frame_header *h, rb_frame_type type, 
     put_u8(w, h->n_cars);
     put_u8(w, h->n_axles);
     put_u16(w, 0);  /* reserved */
+    put_u64(w, h->nonce);
 }
 
-/* Checks counts and capacity, then writes the header. */
-static rb_status begin_frame(writer *w, const rb_frame_header *h, rb_frame_type type,
-                             size_t (*frame_size)(int, int), uint8_t *buf, size_t capacity, rb_error *err)
+/* Checks key, counts and capacity, then writes the header. */
+static rb_status begin_frame(writer *w, const rb_frame_header *h, rb_frame_type type, const uint8_t *key,
+                             uint8_t *buf, size_t capacity, rb_error *err)
 {
-    if (!buf) return rb_fail(err, RB_EINVAL, "buffer must not be NULL");
+    if (!buf || !key) return rb_fail(err, RB_EINVAL, "buffer and key must not be NULL");
     rb_status s = check_counts(h, err);
     if (s) return s;
-    size_t size = frame_size(h->n_cars, h->n_axles);
+    size_t size = frame_size(type, h->n_cars, h->n_axles);
     if (capacity < size) return rb_fail(err, RB_ESIZE, "capacity = %zu: the frame needs %zu bytes", capacity, size);
     w->p = buf;
     w->at = 0;
-    put_header(w, h, type, (uint16_t)(size - RB_FRAME_HEADER_SIZE - RB_FRAME_CRC_SIZE));
+    put_header(w, h, type, (uint16_t)(size - RB_FRAME_HEADER_SIZE - RB_FRAME_TRAILER_SIZE));
     return RB_OK;
 }
 
-static void put_crc(writer *w)
+/* CRC over header and payload (corruption), then the tag over the same bytes (authenticity). */
+static void put_trailer(writer *w, const uint8_t *key, size_t *written)
 {
-    put_u32(w, rb_crc32(w->p, w->at));
+    size_t body = w->at;
+    put_u32(w, rb_crc32(w->p, body));
+    put_u64(w, rb_siphash24(key, w->p, body));
+    if (written) *written = w->at;
 }
 
-rb_status rb_plant_frame_encode(const rb_plant_frame *f, uint8_t *buf, size_t capacity,
+rb_status rb_plant_frame_encode(const rb_plant_frame *f, const uint8_t *key, uint8_t *buf, size_t capacity,
                                 size_t *written, rb_error *err)
 {
     if (!f) return rb_fail(err, RB_EINVAL, "frame must not be NULL");
-    writer w;
-    rb_status s = begin_frame(&w, &f->header, RB_FRAME_PLANT, rb_plant_frame_size, buf, capacity, err);
+    writer w = {NULL, 0};
+    rb_status s = begin_frame(&w, &f->header, RB_FRAME_PLANT, key, buf, capacity, err);
     if (s) return s;
     put_f32(&w, f->train_speed);
     put_f32(&w, f->position);
@@ -108,38 +121,48 @@ rb_status rb_plant_frame_encode(const rb_plant_frame *f, uint8_t *buf, size_t ca
     for (int i = 0; i < f->header.n_axles; ++i) put_f32(&w, f->wheel_speed[i]);
     for (int i = 0; i < f->header.n_axles; ++i) put_f32(&w, f->cylinder_pressure[i]);
     for (int i = 0; i < f->header.n_cars; ++i) put_f32(&w, f->supply_pressure[i]);
-    put_crc(&w);
-    if (written) *written = w.at;
+    put_trailer(&w, key, written);
     return RB_OK;
 }
 
-rb_status rb_bcu_frame_encode(const rb_bcu_frame *f, uint8_t *buf, size_t capacity,
+rb_status rb_bcu_frame_encode(const rb_bcu_frame *f, const uint8_t *key, uint8_t *buf, size_t capacity,
                               size_t *written, rb_error *err)
 {
     if (!f) return rb_fail(err, RB_EINVAL, "frame must not be NULL");
-    writer w;
-    rb_status s = begin_frame(&w, &f->header, RB_FRAME_BCU, rb_bcu_frame_size, buf, capacity, err);
+    writer w = {NULL, 0};
+    rb_status s = begin_frame(&w, &f->header, RB_FRAME_BCU, key, buf, capacity, err);
     if (s) return s;
     put_f32(&w, f->brake_demand);
     for (int i = 0; i < f->header.n_cars; ++i) put_f32(&w, f->pressure_demand[i]);
     for (int i = 0; i < f->header.n_axles; ++i) put_u8(&w, f->hold[i]);
     for (int i = 0; i < f->header.n_axles; ++i) put_u8(&w, f->vent[i]);
-    put_crc(&w);
-    if (written) *written = w.at;
+    put_trailer(&w, key, written);
+    return RB_OK;
+}
+
+rb_status rb_challenge_frame_encode(const rb_frame_header *h, const uint8_t *key, uint8_t *buf, size_t capacity,
+                                    size_t *written, rb_error *err)
+{
+    if (!h) return rb_fail(err, RB_EINVAL, "header must not be NULL");
+    writer w = {NULL, 0};
+    rb_status s = begin_frame(&w, h, RB_FRAME_CHALLENGE, key, buf, capacity, err);
+    if (s) return s;
+    put_trailer(&w, key, written);
     return RB_OK;
 }
 
 /* Header, sizes and CRC; leaves the reader after the header. */
-static rb_status read_header(reader *r, size_t size, rb_frame_type type, rb_frame_header *h,
-                             size_t (*frame_size)(int, int), rb_error *err)
+static rb_status read_header(reader *r, size_t size, rb_frame_header *h, rb_error *err)
 {
-    if (size < RB_FRAME_HEADER_SIZE + RB_FRAME_CRC_SIZE)
-        return rb_fail(err, RB_EINVAL, "size = %zu: shorter than header and CRC", size);
+    if (size < RB_FRAME_HEADER_SIZE + RB_FRAME_TRAILER_SIZE)
+        return rb_fail(err, RB_EINVAL, "size = %zu: shorter than header, CRC and tag", size);
     uint32_t magic = get_u32(r);
     if (magic != RB_FRAME_MAGIC) return rb_fail(err, RB_EINVAL, "magic = 0x%08x: expected 0x%08x", magic, RB_FRAME_MAGIC);
-    unsigned version = get_u8(r), got_type = get_u8(r);
+    unsigned version = get_u8(r), type = get_u8(r);
     if (version != RB_FRAME_VERSION) return rb_fail(err, RB_EINVAL, "version = %u: expected %u", version, RB_FRAME_VERSION);
-    if (got_type != (unsigned)type) return rb_fail(err, RB_EINVAL, "type = %u: expected %u", got_type, (unsigned)type);
+    if (type < RB_FRAME_PLANT || type > RB_FRAME_CHALLENGE)
+        return rb_fail(err, RB_EINVAL, "type = %u: expected 1 (plant), 2 (BCU) or 3 (challenge)", type);
+    h->type = (uint8_t)type;
     unsigned payload = get_u16(r);
     h->session = get_u32(r);
     h->config = get_u32(r);
@@ -148,26 +171,55 @@ static rb_status read_header(reader *r, size_t size, rb_frame_type type, rb_fram
     h->n_cars = get_u8(r);
     h->n_axles = get_u8(r);
     (void)get_u16(r);
+    h->nonce = get_u64(r);
     rb_status s = check_counts(h, err);
     if (s) return s;
-    size_t expected = frame_size(h->n_cars, h->n_axles);
-    size_t expected_payload = expected - RB_FRAME_HEADER_SIZE - RB_FRAME_CRC_SIZE;
+    size_t expected = frame_size((int)type, h->n_cars, h->n_axles);
+    size_t expected_payload = expected - RB_FRAME_HEADER_SIZE - RB_FRAME_TRAILER_SIZE;
     if (size != expected)
-        return rb_fail(err, RB_EINVAL, "size = %zu: expected %zu for %d cars and %d axles", size, expected,
-                       h->n_cars, h->n_axles);
+        return rb_fail(err, RB_EINVAL, "size = %zu: expected %zu for type %u, %d cars and %d axles", size, expected,
+                       type, h->n_cars, h->n_axles);
     if (payload != expected_payload)
-        return rb_fail(err, RB_EINVAL, "payload_size = %u: expected %zu for %d cars and %d axles", payload,
-                       expected_payload, h->n_cars, h->n_axles);
+        return rb_fail(err, RB_EINVAL, "payload_size = %u: expected %zu for type %u, %d cars and %d axles", payload,
+                       expected_payload, type, h->n_cars, h->n_axles);
     if (h->session == 0) return rb_fail(err, RB_EINVAL, "session = 0: a plant opens a non-zero session");
-    reader crc_at = {r->p, size - RB_FRAME_CRC_SIZE};
-    uint32_t crc = get_u32(&crc_at), computed = rb_crc32(r->p, size - RB_FRAME_CRC_SIZE);
+    size_t body = size - RB_FRAME_TRAILER_SIZE;
+    reader crc_at = {r->p, body};
+    uint32_t crc = get_u32(&crc_at), computed = rb_crc32(r->p, body);
     if (crc != computed) return rb_fail(err, RB_EINVAL, "crc = 0x%08x: computed 0x%08x", crc, computed);
     return RB_OK;
+}
+
+rb_status rb_frame_check(const uint8_t *buf, size_t size, rb_frame_header *h, rb_error *err)
+{
+    if (!buf || !h) return rb_fail(err, RB_EINVAL, "buffer and header must not be NULL");
+    reader r = {buf, 0};
+    return read_header(&r, size, h, err);
+}
+
+int rb_frame_authentic(const uint8_t *buf, size_t size, const uint8_t *key)
+{
+    if (!buf || !key || size < RB_FRAME_HEADER_SIZE + RB_FRAME_TRAILER_SIZE) return 0;
+    size_t body = size - RB_FRAME_TRAILER_SIZE;
+    uint64_t tag = rb_siphash24(key, buf, body);
+    uint8_t diff = 0;   /* every byte compared: the time does not tell how much of a forged tag matched */
+    for (int i = 0; i < RB_FRAME_MAC_SIZE; ++i)
+        diff |= (uint8_t)(buf[body + RB_FRAME_CRC_SIZE + (size_t)i] ^ (uint8_t)(tag >> (8 * i)));
+    return diff == 0;
 }
 
 static rb_status check_float(rb_error *err, const char *name, int index, float v)
 {
     if (!isfinite(v)) return rb_fail(err, RB_EINVAL, "%s[%d] = %g: must be finite", name, index, (double)v);
+    return RB_OK;
+}
+
+/* The header of a frame of the wanted type. */
+static rb_status read_typed_header(reader *r, size_t size, rb_frame_type type, rb_frame_header *h, rb_error *err)
+{
+    rb_status s = read_header(r, size, h, err);
+    if (s) return s;
+    if (h->type != (uint8_t)type) return rb_fail(err, RB_EINVAL, "type = %u: expected %u", h->type, (unsigned)type);
     return RB_OK;
 }
 
@@ -177,7 +229,7 @@ rb_status rb_plant_frame_decode(const uint8_t *buf, size_t size, rb_plant_frame 
     reader r = {buf, 0};
     rb_plant_frame out;
     memset(&out, 0, sizeof out);
-    rb_status s = read_header(&r, size, RB_FRAME_PLANT, &out.header, rb_plant_frame_size, err);
+    rb_status s = read_typed_header(&r, size, RB_FRAME_PLANT, &out.header, err);
     if (s) return s;
     out.train_speed = get_f32(&r);
     out.position = get_f32(&r);
@@ -201,7 +253,7 @@ rb_status rb_bcu_frame_decode(const uint8_t *buf, size_t size, rb_bcu_frame *f, 
     reader r = {buf, 0};
     rb_bcu_frame out;
     memset(&out, 0, sizeof out);
-    rb_status s = read_header(&r, size, RB_FRAME_BCU, &out.header, rb_bcu_frame_size, err);
+    rb_status s = read_typed_header(&r, size, RB_FRAME_BCU, &out.header, err);
     if (s) return s;
     out.brake_demand = get_f32(&r);
     if (!(out.brake_demand >= 0.0f && out.brake_demand <= 2.0f))

@@ -60,24 +60,30 @@ static void record(const rb_plant_params *p, const rb_hil_runner *r, double *row
 
 /* ---- safe state */
 
-rb_status rb_hil_safe_state(const rb_bcu_params *bcu, rb_plant_inputs *safe, rb_error *err)
+rb_status rb_hil_safe_bcu(const rb_bcu_params *bcu, rb_bcu_params *safe, rb_error *err)
 {
-    static const rb_brake_demand emergency = {1.0, 0.0};
-    rb_bcu_params p;
-    rb_bcu_state s;
-    rb_plant_outputs at_rest;
     rb_status st;
     if (!bcu || !safe) return rb_fail(err, RB_EINVAL, "bcu and safe must not be NULL");
-    p = *bcu;
-    p.wsp_enabled = 0;
-    p.wsp = NULL;
-    if ((st = rb_bcu_init(&p, NULL, &s, err))) return st;
-    memset(&at_rest, 0, sizeof at_rest);
-    rb_bcu_step(&p, &s, &emergency, &at_rest, safe);
-    memset(safe->ed_demand, 0, sizeof safe->ed_demand);
-    memset(safe->hold, 0, sizeof safe->hold);
-    memset(safe->vent, 0, sizeof safe->vent);
+    if ((st = rb_bcu_check(bcu, err))) return st;
+    *safe = *bcu;
+    safe->wsp_enabled = 0;   /* nobody drives the WSP valves: de-energised */
+    safe->wsp = NULL;
+    safe->wsp_context = NULL;
+    safe->ed_in_emergency = 0;   /* the electric brake is the BCU's too */
+    safe->ed_in_service = 0;
     return RB_OK;
+}
+
+/* The BCU's emergency demand law on the plant's outputs, every BCU cycle (from entering the safe
+ * state on); valves de-energised: hold = 0 passes air, vent = 0 stays shut. */
+static void safe_commands(const rb_hil_config *c, rb_hil_runner *r, int entering)
+{
+    static const rb_brake_demand emergency = {1.0, 0.0};
+    if (entering) r->safe_bcu.next_cycle = r->out.time;
+    rb_bcu_step(&c->safe, &r->safe_bcu, &emergency, &r->out, &r->safe_in);
+    memset(r->safe_in.ed_demand, 0, sizeof r->safe_in.ed_demand);
+    memset(r->safe_in.hold, 0, sizeof r->safe_in.hold);
+    memset(r->safe_in.vent, 0, sizeof r->safe_in.vent);
 }
 
 /* ---- opening */
@@ -94,9 +100,12 @@ static rb_status check_config(const rb_plant_params *plant, const rb_hil_config 
     if ((s = rb_check_nonnegative(err, "stop_speed", c->stop_speed))) return s;
     if ((s = rb_check_range(err, "record_interval", c->record_interval, RB_HIL_DT, 60.0))) return s;
     if ((s = rb_check_range(err, "adhesion_interval", c->adhesion_interval, 0.0, 60.0))) return s;
+    if ((s = rb_check_range(err, "chunk_time", c->chunk_time, 0.0, 60.0))) return s;
     if (c->session == 0) return rb_fail(err, RB_EINVAL, "session = 0: a run needs a non-zero session id");
-    for (int i = 0; i < plant->n_cars; ++i)
-        if ((s = rb_check_range(err, "safe.pressure_demand", c->safe.pressure_demand[i], 0.0, 2e6))) return s;
+    if ((s = rb_bcu_check(&c->safe, err))) return s;
+    if (c->safe.n_cars != plant->n_cars)
+        return rb_fail(err, RB_EINVAL, "safe.n_cars = %d: the plant has %d cars", c->safe.n_cars, plant->n_cars);
+    if (c->safe.wsp_enabled || c->safe.wsp) return rb_fail(err, RB_EINVAL, "safe: WSP must be off (rb_hil_safe_bcu)");
     return RB_OK;
 }
 
@@ -124,8 +133,14 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
     rb_plant_get_outputs(plant, &r->plant, &r->out);
     r->kpi.plant = r->plant;
     r->kpi.out = r->out;
+    if ((s = rb_bcu_init(&config->safe, NULL, &r->safe_bcu, err))) {
+        rb_udp_close(&r->udp);
+        return s;
+    }
+    rb_hil_session_key(config->secret, config->session, 0, r->hello_key);
     r->safe = 1;   /* until the first valid frame */
-    r->applied = config->safe;
+    safe_commands(config, r, 1);
+    r->applied = r->safe_in;
     r->applied_demand = 2.0f;
     return RB_OK;
 }
@@ -171,9 +186,7 @@ static int frame_problem(const rb_plant_params *p, const rb_hil_runner *r, long 
 {
     rb_error err;
     int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    if ((size_t)size > sizeof r->buffer)
-        snprintf(text, capacity, "size = %ld: larger than any frame", size);
-    else if (rb_bcu_frame_decode(r->buffer, (size_t)size, f, &err))
+    if (rb_bcu_frame_decode(r->buffer, (size_t)size, f, &err))
         snprintf(text, capacity, "%.*s", (int)capacity - 1, err.message);
     else if (f->header.n_cars != p->n_cars || f->header.n_axles != n_axles)
         snprintf(text, capacity, "n_cars = %d, n_axles = %d: the plant has %d cars and %d axles",
@@ -198,65 +211,138 @@ static void foreign(rb_hil_runner *r, const uint8_t from[16], const char *why)
     }
 }
 
+/* A frame of this session whose tag does not authenticate (no key, or a key it does not hold). */
+static void forged(rb_hil_runner *r, const rb_frame_header *h)
+{
+    if (!r->forged++) {
+        char text[RB_HIL_LOG_TEXT];
+        snprintf(text, sizeof text, "type %u sequence %u nonce 0x%016llx: tag does not authenticate, "
+                 "ignored, further ones only counted", h->type, h->sequence, (unsigned long long)h->nonce);
+        log_event(r, RB_HIL_EVENT_FORGED, text);
+    }
+}
+
 /* The BCU answers in this session for another configuration: it refuses this plant; the run ends. */
-static void mismatch(rb_hil_runner *r, const rb_hil_config *c, const rb_bcu_frame *f)
+static void mismatch(rb_hil_runner *r, const rb_hil_config *c, const rb_frame_header *h)
 {
     char text[RB_HIL_LOG_TEXT];
     r->mismatch = 1;
-    r->bcu_config = f->header.config;
-    r->bcu_cars = f->header.n_cars;
-    r->bcu_axles = f->header.n_axles;
+    r->bcu_config = h->config;
+    r->bcu_cars = h->n_cars;
+    r->bcu_axles = h->n_axles;
     r->finished = 1;
     snprintf(text, sizeof text, "the BCU is set up for configuration 0x%08x (%d cars, %d axles), the plant runs "
-             "0x%08x: run ended", (unsigned)f->header.config, f->header.n_cars, f->header.n_axles,
-             (unsigned)c->config);
+             "0x%08x: run ended", (unsigned)h->config, h->n_cars, h->n_axles, (unsigned)c->config);
     log_event(r, RB_HIL_EVENT_MISMATCH, text);
 }
 
-/* One datagram: check it, account for it, keep its commands if on time. */
+/* The BCU's challenge: while saying hello, take its nonce. A new nonce brings a new session key,
+ * under which the BCU numbers its frames from 0; the same nonce again (the BCU kept the session)
+ * keeps key and numbering. */
+static void take_challenge(const rb_hil_config *c, rb_hil_runner *r, const rb_frame_header *h)
+{
+    char text[RB_HIL_LOG_TEXT];
+    r->challenges++;
+    if (r->nonce || h->nonce == 0) return;
+    r->nonce = h->nonce;
+    if (h->nonce == r->key_nonce) return;
+    r->key_nonce = h->nonce;
+    rb_hil_session_key(c->secret, c->session, r->key_nonce, r->key);
+    rb_watchdog_rekey(&r->watchdog);
+    snprintf(text, sizeof text, "BCU nonce 0x%016llx: session key agreed", (unsigned long long)r->key_nonce);
+    log_event(r, RB_HIL_EVENT_KEYED, text);
+}
+
+/* The key a BCU frame of this session must carry: that of nonce 0 for challenges and refusals,
+ * that of the agreed nonce for commands (also while saying hello again); NULL for any other nonce. */
+static const uint8_t *key_for(const rb_hil_runner *r, const rb_frame_header *h)
+{
+    if (h->type == RB_FRAME_CHALLENGE || h->nonce == 0) return r->hello_key;
+    return r->key_nonce && h->nonce == r->key_nonce ? r->key : NULL;
+}
+
+static const char *const outcome_text[] = {"applied", "late", "out of order: older than the newest, not applied",
+                                           "duplicate: received before, not applied",
+                                           "replayed: older than the replay window, not applied"};
+
+/* An authenticated command frame in the BCU's sequence: applied only when newer than every other
+ * and on time. */
+static void take_commands(const rb_plant_params *p, rb_hil_runner *r, const rb_bcu_frame *f)
+{
+    char text[RB_HIL_LOG_TEXT];
+    rb_watchdog *w = &r->watchdog;
+    uint64_t lost = w->lost, misordered = w->duplicate + w->out_of_order + w->replayed;
+    int outcome = rb_watchdog_frame(w, f->header.sequence, f->header.step, r->step, r->late_steps);
+    if (w->lost > lost) {
+        snprintf(text, sizeof text, "%llu BCU frame(s) lost before sequence %u",
+                 (unsigned long long)(w->lost - lost), f->header.sequence);
+        log_event(r, RB_HIL_EVENT_LOST, text);
+    }
+    if (outcome == RB_SEQ_LATE) {
+        snprintf(text, sizeof text, "sequence %u echoes step %llu: %llu ms old, not applied", f->header.sequence,
+                 (unsigned long long)f->header.step, (unsigned long long)(r->step - f->header.step));
+        log_event(r, RB_HIL_EVENT_LATE, text);
+    } else if (outcome != RB_SEQ_APPLY && misordered == 0) {
+        snprintf(text, sizeof text, "sequence %u: %s (further ones only counted)", f->header.sequence,
+                 outcome_text[outcome]);
+        log_event(r, RB_HIL_EVENT_ORDER, text);
+    }
+    if (outcome != RB_SEQ_APPLY) return;
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    r->had_valid = 1;
+    r->last_demand = f->brake_demand;
+    memset(&r->last, 0, sizeof r->last);
+    for (int k = 0; k < p->n_cars; ++k) r->last.pressure_demand[k] = f->pressure_demand[k];
+    memcpy(r->last.hold, f->hold, (size_t)n_axles);
+    memcpy(r->last.vent, f->vent, (size_t)n_axles);
+}
+
+/* One datagram: where from, its structure, its session, its tag, then what it says. Each check
+ * that fails counts it once (foreign, malformed, forged) and nothing of it applies. */
 static void take_datagram(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r, long size,
                           const uint8_t from[16])
 {
+    rb_frame_header h;
     rb_bcu_frame f;
+    rb_error err;
     char text[RB_HIL_LOG_TEXT];
-    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
     if (!rb_udp_same_address(from, r->udp.peer)) {
         foreign(r, from, "(not the BCU's address)");
         return;
     }
-    rb_error err;
-    if ((size_t)size <= sizeof r->buffer && rb_bcu_frame_decode(r->buffer, (size_t)size, &f, &err) == RB_OK) {
-        if (f.header.session != c->session) {
-            foreign(r, from, "(another session)");
-            return;
-        }
-        if (f.header.config != c->config) {
-            mismatch(r, c, &f);
-            return;
-        }
-    }
-    if (frame_problem(p, r, size, &f, text, sizeof text)) {
+    if ((size_t)size > sizeof r->buffer) {
+        snprintf(text, sizeof text, "size = %ld: larger than any frame", size);
         malformed(r, text);
         return;
     }
-    uint64_t lost = r->watchdog.lost, late = r->watchdog.late;
-    rb_watchdog_frame(&r->watchdog, f.header.sequence, f.header.step, r->step, r->late_steps);
-    if (r->watchdog.lost != lost) {
-        snprintf(text, sizeof text, "%llu BCU frame(s) lost before sequence %u",
-                 (unsigned long long)(r->watchdog.lost - lost), f.header.sequence);
-        log_event(r, RB_HIL_EVENT_LOST, text);
-    }
-    if (r->watchdog.late != late) {
-        snprintf(text, sizeof text, "sequence %u echoes step %llu: %llu ms old, not applied", f.header.sequence,
-                 (unsigned long long)f.header.step, (unsigned long long)(r->step - f.header.step));
-        log_event(r, RB_HIL_EVENT_LATE, text);
+    if (rb_frame_check(r->buffer, (size_t)size, &h, &err)) {
+        malformed(r, err.message);
         return;
     }
-    r->last_demand = f.brake_demand;
-    memset(&r->last, 0, sizeof r->last);
-    for (int k = 0; k < p->n_cars; ++k) r->last.pressure_demand[k] = f.pressure_demand[k];
-    memcpy(r->last.hold, f.hold, (size_t)n_axles);
-    memcpy(r->last.vent, f.vent, (size_t)n_axles);
+    if (h.type == RB_FRAME_PLANT) {
+        malformed(r, "type = 1: a plant frame, expected 2 (BCU) or 3 (challenge)");
+        return;
+    }
+    if (h.session != c->session) {
+        foreign(r, from, "(another session)");
+        return;
+    }
+    const uint8_t *key = key_for(r, &h);
+    if (!key || !rb_frame_authentic(r->buffer, (size_t)size, key)) {
+        forged(r, &h);
+        return;
+    }
+    if (h.type == RB_FRAME_CHALLENGE) {
+        take_challenge(c, r, &h);
+    } else if (h.config != c->config) {
+        mismatch(r, c, &h);
+    } else if (h.nonce == 0) {
+        malformed(r, "nonce = 0: commands come under the agreed session key");
+    } else if (frame_problem(p, r, size, &f, text, sizeof text)) {
+        malformed(r, text);
+    } else {
+        take_commands(p, r, &f);
+    }
 }
 
 static void receive(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r)
@@ -277,15 +363,46 @@ static void receive(const rb_plant_params *p, const rb_hil_config *c, rb_hil_run
     }
 }
 
+/* The BCU is lost while the safe state applies after a valid frame came, or once the hold time
+ * passed without one: counted, with what it cost (locks, distance) accumulated after each step. */
+static void note_loss(rb_hil_runner *r, int safe)
+{
+    int lost = safe && (r->had_valid || r->step > r->watchdog.hold_steps);
+    if (lost && !r->lost && !r->losses++) {
+        r->lost_step = r->step;
+        r->last_valid_step = r->had_valid ? r->watchdog.last_valid_step : 0;
+    }
+    r->lost = lost;
+}
+
 static void choose_commands(const rb_hil_config *c, rb_hil_runner *r)
 {
     int safe = rb_watchdog_tick(&r->watchdog, r->step);
-    if (safe != r->safe)
+    if (safe != r->safe) {
         log_event(r, safe ? RB_HIL_EVENT_SAFE_ON : RB_HIL_EVENT_SAFE_OFF,
                   safe ? "no valid BCU frame within the hold time: safe state" : "valid BCU frames: safe state left");
+        if (safe) r->nonce = 0;   /* say hello again (a restarted BCU has another nonce); the key stays good */
+    }
+    note_loss(r, safe);
+    if (safe) safe_commands(c, r, !r->safe);
     r->safe = safe;
-    r->applied = safe ? c->safe : r->last;
+    r->applied = safe ? r->safe_in : r->last;
     r->applied_demand = safe ? 2.0f : r->last_demand;
+}
+
+/* After the step: what the loss cost (rb_run_accumulate's lock definition). */
+static void account_loss(const rb_plant_params *p, rb_hil_runner *r, double position_before)
+{
+    if (!r->lost) {
+        r->lock_events_before = r->kpi.lock_events;
+        return;
+    }
+    r->lost_steps++;
+    r->lost_distance += r->out.position - position_before;
+    r->lost_lock_events += r->kpi.lock_events - r->lock_events_before;
+    r->lock_events_before = r->kpi.lock_events;
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
+        if (r->kpi.lock_time[a] > 0.0) r->lost_lock_time += p->dt;
 }
 
 static void send_frame(const rb_plant_params *p, const rb_hil_config *c, rb_hil_runner *r)
@@ -298,6 +415,7 @@ static void send_frame(const rb_plant_params *p, const rb_hil_config *c, rb_hil_
     f.header.config = c->config;
     f.header.sequence = r->sequence++;
     f.header.step = r->step;
+    f.header.nonce = r->nonce;
     f.header.n_cars = (uint8_t)p->n_cars;
     f.header.n_axles = (uint8_t)n_axles;
     f.train_speed = (float)o->speed;
@@ -308,7 +426,7 @@ static void send_frame(const rb_plant_params *p, const rb_hil_config *c, rb_hil_
         f.cylinder_pressure[a] = (float)o->cylinder[a];
     }
     for (int k = 0; k < p->n_cars; ++k) f.supply_pressure[k] = (float)o->supply[k];
-    if (rb_plant_frame_encode(&f, r->buffer, sizeof r->buffer, &size, NULL) == RB_OK &&
+    if (rb_plant_frame_encode(&f, r->nonce ? r->key : r->hello_key, r->buffer, sizeof r->buffer, &size, NULL) == RB_OK &&
         rb_udp_send(&r->udp, r->buffer, size) == (long)size)
         r->frames_sent++;
     else
@@ -414,17 +532,21 @@ rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_confi
         record_due(plant, r, series, max_rows, &written);
         if (config->paced) rb_pacer_wait(&r->pacer);
     }
+    int64_t call_start = rb_monotonic_ns();
     for (uint64_t i = 0; i < steps && !r->finished; ++i) {
         if (series && written >= max_rows) break;
+        if (config->chunk_time > 0.0 && (double)(rb_monotonic_ns() - call_start) * 1e-9 >= config->chunk_time) break;
         receive(plant, config, r);       /* frames echo at most r->step, the last step sent */
         if (r->mismatch) break;          /* the BCU refuses this plant: nothing to wait for */
         choose_commands(config, r);
         check_braking(plant, r);
+        double position = r->out.position;
         rb_plant_step(plant, &r->plant, &r->applied);
         r->step++;
         rb_plant_get_outputs(plant, &r->plant, &r->out);
         check_stop(config, r);
         accumulate_kpis(plant, config, r);
+        account_loss(plant, r, position);
         if (!r->finished) send_frame(plant, config, r);
         record_due(plant, r, series, max_rows, &written);
         if (config->paced && !r->finished) rb_pacer_wait(&r->pacer);
@@ -465,6 +587,18 @@ void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res)
     res->finished = r->finished;
     res->events = r->events;
     res->foreign = r->foreign;
+    res->forged = r->forged;
+    res->duplicate = w->duplicate;
+    res->out_of_order = w->out_of_order;
+    res->replayed = w->replayed;
+    res->challenges = r->challenges;
+    res->losses = r->losses;
+    res->lost_step = r->lost_step;
+    res->last_valid_step = r->last_valid_step;
+    res->lost_steps = r->lost_steps;
+    res->lost_lock_events = r->lost_lock_events;
+    res->lost_lock_time = r->lost_lock_time;
+    res->lost_distance = r->lost_distance;
     res->mismatch = r->mismatch;
     res->bcu_config = r->bcu_config;
     res->bcu_cars = r->bcu_cars;

@@ -1,5 +1,6 @@
 /* HIL runner and reference BCU on loopback: the closed loop against the model-in-the-loop run,
- * the safe state against the BCU's demand law, hostile frames, pacing. */
+ * the safe state against the BCU's demand law, the handshake and the tag, hostile and spoofed
+ * frames, the sequence under duplication, reordering and replay, the BCU's loss, pacing. */
 #define _GNU_SOURCE   /* sendmmsg: the flooder sends in batches */
 #include "plant_fixture.h"
 #include "rb_test.h"
@@ -19,6 +20,11 @@ static rb_hil_bcu server;
 static rb_run_state mil;
 static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
 #define SESSION 0x5e55104du
+#define NONCE 0x0123456789abcdefULL
+static const uint8_t SECRET[RB_HIL_KEY_SIZE] = {0x52, 0x42, 0x52, 0x4b, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+static const uint8_t WRONG[RB_HIL_KEY_SIZE] = {0x52, 0x42, 0x52, 0x4b, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 13};
+static const uint8_t COOKIE[RB_HIL_KEY_SIZE] = {9, 9, 9, 9, 8, 8, 8, 8, 7, 7, 7, 7, 6, 6, 6, 6};
+static uint8_t session_key[RB_HIL_KEY_SIZE];   /* the fake BCU's (NONCE), as the plant derives it */
 
 static uint32_t digest(int n_cars) { return rb_hil_config_digest("fixture", n_cars, 4 * n_cars, 1e-3); }
 
@@ -34,19 +40,30 @@ static void setup(int n_cars, double speed)
     config.hold_time = 0.05; config.late_time = 0.02; config.duration = 10.0;
     config.stop_speed = 0.05; config.record_interval = 0.01; config.adhesion_interval = scenario.adhesion_interval;
     config.session = SESSION; config.config = digest(n_cars);
-    CHECK(rb_hil_safe_state(&bcu, &config.safe, NULL) == RB_OK);
+    memcpy(config.secret, SECRET, sizeof SECRET);
+    CHECK(rb_hil_safe_bcu(&bcu, &config.safe, NULL) == RB_OK);
+    rb_hil_session_key(SECRET, SESSION, NONCE, session_key);
 }
 
-/* The safe state is the BCU's emergency demand: offset + gain * decel * mass (capped), valves off. */
+/* The BCU's emergency demand of car c by its linear map: offset + gain * decel * mass, capped. */
+static double emergency_demand(int c)
+{
+    return fmin(bcu.pressure_offset[c] + bcu.pressure_gain[c] * bcu.emergency_decel * bcu.car_mass[c],
+                bcu.pressure_max[c]);
+}
+
+/* The safe state is the BCU's emergency demand (WSP and ED off), valves de-energised. */
 static void test_safe_state(void)
 {
     setup(2, 50.0);
+    CHECK(config.safe.wsp_enabled == 0 && config.safe.ed_in_emergency == 0);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, NULL) == RB_OK);
     for (int c = 0; c < 2; ++c) {
-        double expected = bcu.pressure_offset[c] + bcu.pressure_gain[c] * bcu.emergency_decel * bcu.car_mass[c];
-        CHECK_CLOSE(config.safe.pressure_demand[c], fmin(expected, bcu.pressure_max[c]), 1e-12, 0);
-        CHECK(config.safe.pressure_demand[c] > bcu.atmosphere + 1e5);
+        CHECK_CLOSE(runner.applied.pressure_demand[c], emergency_demand(c), 1e-12, 0);
+        CHECK(runner.applied.pressure_demand[c] > bcu.atmosphere + 1e5);
     }
-    for (int a = 0; a < 8; ++a) CHECK(config.safe.hold[a] == 0 && config.safe.vent[a] == 0);
+    for (int a = 0; a < 8; ++a) CHECK(runner.applied.hold[a] == 0 && runner.applied.vent[a] == 0);
+    rb_hil_runner_close(&runner);
     rb_error err;
     plant.dt = 2e-3;
     CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, &err) == RB_EINVAL);
@@ -55,6 +72,10 @@ static void test_safe_state(void)
     config.hold_time = -1.0;
     CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, &err) == RB_EINVAL);
     CHECK(strstr(err.message, "hold_time") != NULL);
+    config.hold_time = 0.05;
+    config.safe.wsp_enabled = 1;
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "WSP") != NULL);
 }
 
 /* Plant and reference BCU interleaved step by step (unpaced): the loop closes over UDP with one
@@ -63,7 +84,8 @@ static void test_loop_matches_mil(void)
 {
     setup(1, 100 / 3.6);
     rb_error err;
-    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(bcu.n_cars), "127.0.0.1", 0, &server, &err) == RB_OK);
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(bcu.n_cars), SECRET, COOKIE, "127.0.0.1", 0, &server,
+                          &err) == RB_OK);
     CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_hil_bcu_port(&server), &runner,
                              &err) == RB_OK);
     int finished = 0, bcu_finished = 0;
@@ -75,15 +97,23 @@ static void test_loop_matches_mil(void)
     rb_hil_runner_result(&runner, &res);
     CHECK(rb_run_init(&plant, &bcu, NULL, &scenario, &mil, &err) == RB_OK);
     CHECK(rb_run_advance(&plant, &bcu, &scenario, &mil, res.time, NULL, 0, NULL, &err) == RB_OK);
-    printf("loop at %.3f s: HIL %.5f m/s, MIL %.5f m/s; received %llu, safe steps %llu, BCU cycles %llu\n",
+    printf("loop at %.3f s: HIL %.5f m/s, MIL %.5f m/s; received %llu, safe steps %llu, BCU cycles %llu, sent %llu, "
+           "received %llu of %llu frames, challenges %llu / %llu\n",
            res.time, runner.out.speed, mil.out.speed, (unsigned long long)res.received,
-           (unsigned long long)res.safe_state_steps, (unsigned long long)server.cycles);
+           (unsigned long long)res.safe_state_steps, (unsigned long long)server.cycles,
+           (unsigned long long)server.sent, (unsigned long long)server.received,
+           (unsigned long long)res.frames_sent, (unsigned long long)res.challenges,
+           (unsigned long long)server.challenges);
     CHECK_CLOSE(res.time, 3.0, 0, 1e-9);
     CHECK_CLOSE(runner.out.speed, mil.out.speed, 2e-3, 0);
-    CHECK(res.malformed == 0 && res.lost == 0 && res.late == 0);
-    CHECK(res.received + 1 == server.sent && server.cycles == 301);   /* the last answer is in flight */
-    CHECK(res.safe_state_steps == 1);          /* step 0 only: no BCU frame yet */
-    CHECK(server.malformed == 0 && server.received == res.frames_sent);
+    CHECK(res.malformed == 0 && res.lost == 0 && res.late == 0 && res.forged == 0 && res.foreign == 0);
+    CHECK(res.duplicate == 0 && res.out_of_order == 0 && res.replayed == 0);
+    /* the hellos of steps 0 and 1 are challenged (the plant reads the first challenge in step 2);
+     * step 2's frame under the agreed key opens the session and runs a cycle at once, then the
+     * cycles follow the plant's grid from step 0 as in MIL (10, 20, ... 3000: its answer in flight) */
+    CHECK(res.received + 1 == server.sent && server.cycles == server.sent && server.cycles == 301);
+    CHECK(res.challenges == 2 && server.challenges == 2 && res.safe_state_steps == 2 && res.losses == 0);
+    CHECK(server.malformed == 0 && server.forged == 0 && server.received + 2 == res.frames_sent);
     CHECK(res.braking && !bcu_finished);
     /* the KPIs by the MIL run's own accumulation: the same to the loop's transport delay */
     rb_kpis hil_k, mil_k;
@@ -107,19 +137,52 @@ static void send_raw(rb_udp *peer, const uint8_t *data, size_t size)
     CHECK(rb_udp_send(peer, data, size) == (long)size);
 }
 
-static void valid_frame(uint8_t *buf, size_t *size, uint32_t sequence, uint64_t step, int n_cars, float demand)
+/* A BCU frame of the session under key (the agreed one: session_key). */
+static void keyed_frame(uint8_t *buf, size_t *size, uint32_t sequence, uint64_t step, int n_cars, float demand,
+                        const uint8_t *key)
 {
     rb_bcu_frame f;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){SESSION, config.config, sequence, step, (uint8_t)n_cars, (uint8_t)(4 * n_cars)};
+    f.header = (rb_frame_header){SESSION, config.config, sequence, step, NONCE, (uint8_t)n_cars,
+                                 (uint8_t)(4 * n_cars), 0};
     for (int c = 0; c < n_cars; ++c) f.pressure_demand[c] = demand;
-    CHECK(rb_bcu_frame_encode(&f, buf, 1024, size, NULL) == RB_OK);
+    CHECK(rb_bcu_frame_encode(&f, key, buf, 1024, size, NULL) == RB_OK);
+}
+
+static void valid_frame(uint8_t *buf, size_t *size, uint32_t sequence, uint64_t step, int n_cars, float demand)
+{
+    keyed_frame(buf, size, sequence, step, n_cars, demand, session_key);
 }
 
 static void step_runner(int steps)
 {
     int finished;
     CHECK(rb_hil_runner_advance(&plant, &config, &runner, (uint64_t)steps, NULL, 0, NULL, &finished, NULL) == RB_OK);
+}
+
+/* A fake BCU at `peer` answers the plant's hello with a challenge of nonce NONCE (under the key of
+ * nonce 0), then the plant takes frames under session_key. */
+static void handshake(rb_udp *peer)
+{
+    uint8_t buf[256], hello_key[RB_HIL_KEY_SIZE];
+    size_t size = 0;
+    rb_frame_header h = {SESSION, config.config, 0, 0, NONCE, (uint8_t)plant.n_cars, (uint8_t)(4 * plant.n_cars), 0};
+    rb_hil_session_key(SECRET, SESSION, 0, hello_key);
+    CHECK(rb_challenge_frame_encode(&h, hello_key, buf, sizeof buf, &size, NULL) == RB_OK);
+    step_runner(1);
+    send_raw(peer, buf, size);
+    step_runner(1);
+    CHECK(runner.nonce == NONCE);
+}
+
+/* Opens the runner against a fake BCU endpoint (peer) and agrees the session key. */
+static void open_against(rb_udp *peer)
+{
+    CHECK(rb_udp_open(peer, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_udp_local_port(peer), &runner,
+                             NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(peer, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
+    handshake(peer);
 }
 
 /* Garbage is counted as malformed and never applied; the safe state follows the hold time. */
@@ -129,15 +192,12 @@ static void test_hostile_frames(void)
     rb_udp peer;
     uint8_t buf[1024];
     size_t size;
-    CHECK(rb_udp_open(&peer, "127.0.0.1", 0, NULL) == RB_OK);
-    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_udp_local_port(&peer), &runner,
-                             NULL) == RB_OK);
-    CHECK(rb_udp_set_peer(&peer, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
-    step_runner(1);
-    valid_frame(buf, &size, 1, 1, 1, 2e5f);
+    open_against(&peer);
+    valid_frame(buf, &size, 0, 1, 1, 2e5f);
     send_raw(&peer, buf, size);
     step_runner(1);
     CHECK(!runner.safe && runner.applied.pressure_demand[0] == 2e5);
+    uint64_t events = runner.events, last_valid = runner.step - 1;
     /* bad CRC, wrong counts, NaN, random bytes, an echo from the future, an oversize datagram */
     valid_frame(buf, &size, 2, 1, 1, 2e5f);
     buf[30] ^= 0x40;
@@ -155,22 +215,26 @@ static void test_hostile_frames(void)
     send_raw(&peer, big, 0);
     step_runner(1);
     CHECK(runner.watchdog.malformed == 7 && runner.watchdog.received == 1);
-    CHECK(runner.events == 8);   /* safe state left, then the seven */
+    CHECK(runner.events == events + 7);
     rb_hil_event e;
-    CHECK(rb_hil_runner_event(&runner, 1, &e) == 1 && strstr(e.text, "crc") != NULL);
-    CHECK(rb_hil_runner_event(&runner, 3, &e) == 1 && strstr(e.text, "pressure_demand") != NULL);
-    /* still held: the last valid frame came at step 1; hold 50 steps */
-    step_runner(47);
+    CHECK(rb_hil_runner_event(&runner, events, &e) == 1 && strstr(e.text, "crc") != NULL);
+    CHECK(rb_hil_runner_event(&runner, events + 2, &e) == 1 && strstr(e.text, "pressure_demand") != NULL);
+    /* still held: the last valid frame came at last_valid; hold 50 steps */
+    step_runner((int)(last_valid + 50 - runner.step));
     CHECK(!runner.safe && runner.applied.pressure_demand[0] == 2e5);
-    step_runner(3);
-    CHECK(runner.safe && runner.applied.pressure_demand[0] == config.safe.pressure_demand[0]);
+    step_runner(2);
+    CHECK(runner.safe && runner.applied.pressure_demand[0] == emergency_demand(0));
     CHECK(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_SAFE_ON);
+    /* the safe state says hello again (a restarted BCU has another nonce): the same challenge again
+     * keeps key and numbering */
+    CHECK(runner.nonce == 0);
+    handshake(&peer);
     /* a sequence gap counts as lost; an old echo as late (not applied) */
-    valid_frame(buf, &size, 9, runner.step, 1, 3e5f);
+    valid_frame(buf, &size, 8, runner.step, 1, 3e5f);
     send_raw(&peer, buf, size);
     step_runner(1);
     CHECK(runner.watchdog.lost == 7 && !runner.safe && runner.applied.pressure_demand[0] == 3e5);
-    valid_frame(buf, &size, 10, 1, 1, 4e5f);
+    valid_frame(buf, &size, 9, 1, 1, 4e5f);
     send_raw(&peer, buf, size);
     step_runner(1);
     CHECK(runner.watchdog.late == 1 && runner.applied.pressure_demand[0] == 3e5);
@@ -178,47 +242,91 @@ static void test_hostile_frames(void)
     rb_udp_close(&peer);
 }
 
-static size_t session_frame(uint8_t *buf, uint32_t session, uint64_t step, int n_cars)
+/* A plant frame of `session` under nonce (0: hello) and the key derived from secret. */
+static size_t keyed_plant_frame(uint8_t *buf, uint32_t session, uint64_t step, int n_cars, uint64_t nonce,
+                                const uint8_t *secret)
 {
     rb_plant_frame f;
+    uint8_t key[RB_HIL_KEY_SIZE];
     size_t size = 0;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){session, digest(n_cars), (uint32_t)step, step, (uint8_t)n_cars,
-                                 (uint8_t)(4 * n_cars)};
+    f.header = (rb_frame_header){session, digest(n_cars), (uint32_t)step, step, nonce, (uint8_t)n_cars,
+                                 (uint8_t)(4 * n_cars), 0};
     f.train_speed = 30.0f;
     for (int a = 0; a < 4 * n_cars; ++a) f.wheel_speed[a] = 30.0f, f.cylinder_pressure[a] = 1.01325e5f;
     for (int c = 0; c < n_cars; ++c) f.supply_pressure[c] = 5.5e5f;
-    CHECK(rb_plant_frame_encode(&f, buf, 1024, &size, NULL) == RB_OK);
+    rb_hil_session_key(secret, session, nonce, key);
+    CHECK(rb_plant_frame_encode(&f, key, buf, 1024, &size, NULL) == RB_OK);
     return size;
 }
 
-static size_t plant_frame(uint8_t *buf, uint64_t step, int n_cars) { return session_frame(buf, SESSION, step, n_cars); }
+static size_t hello(uint8_t *buf, uint64_t step, int n_cars)
+{
+    return keyed_plant_frame(buf, SESSION, step, n_cars, 0, SECRET);
+}
 
-/* The reference BCU drops garbage, refuses frames of another train (answering with its own digest),
- * ignores repeated steps (stale), and answers each due BCU cycle to the plant of its session. */
+/* Reads the BCU's answer to a hello: its nonce (0 if no authentic challenge came). */
+static uint64_t read_challenge(rb_udp *plant_side)
+{
+    uint8_t buf[256], hello_key[RB_HIL_KEY_SIZE];
+    rb_frame_header h;
+    long n = rb_udp_recv(plant_side, buf, sizeof buf);
+    rb_hil_session_key(SECRET, SESSION, 0, hello_key);
+    if (n <= 0 || rb_frame_check(buf, (size_t)n, &h, NULL) || h.type != RB_FRAME_CHALLENGE ||
+        !rb_frame_authentic(buf, (size_t)n, hello_key))
+        return 0;
+    return h.nonce;
+}
+
+static void serve(double seconds, int *finished)
+{
+    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, seconds, 0.0, 5.0, finished, NULL) == RB_OK);
+}
+
+/* The BCU and a plant endpoint that said hello and took the challenge: returns the nonce. */
+static uint64_t bcu_handshake(rb_udp *plant_side)
+{
+    uint8_t buf[1024];
+    int finished = 0;
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(1), SECRET, COOKIE, "127.0.0.1", 0, &server, NULL) == RB_OK);
+    CHECK(rb_udp_open(plant_side, "127.0.0.1", 0, NULL) == RB_OK);
+    CHECK(rb_udp_set_peer(plant_side, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    send_raw(plant_side, buf, hello(buf, 0, 1));
+    serve(0.02, &finished);
+    uint64_t nonce = read_challenge(plant_side);
+    CHECK(nonce != 0 && server.challenges == 1 && server.session == 0);   /* no session before the key */
+    return nonce;
+}
+
+/* The reference BCU drops garbage, refuses a plant of another train (answering with its own digest
+ * under the hello key), challenges a hello, opens the session with the first frame under the key of
+ * its nonce, ignores repeated steps (stale), and answers each due BCU cycle. */
 static void test_bcu_server_input(void)
 {
     setup(1, 30.0);
     rb_udp plant_side;
-    uint8_t buf[1024];
+    uint8_t buf[1024], hello_key[RB_HIL_KEY_SIZE];
     int finished = 0;
-    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(bcu.n_cars), "127.0.0.1", 0, &server, NULL) == RB_OK);
-    CHECK(rb_udp_open(&plant_side, "127.0.0.1", 0, NULL) == RB_OK);
-    CHECK(rb_udp_set_peer(&plant_side, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    uint64_t nonce = bcu_handshake(&plant_side);
+    rb_hil_session_key(SECRET, SESSION, 0, hello_key);
     send_raw(&plant_side, (const uint8_t *)"garbage", 7);
-    send_raw(&plant_side, buf, plant_frame(buf, 0, 2));           /* two cars: not this train */
-    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));
-    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));           /* the same step again */
-    send_raw(&plant_side, buf, plant_frame(buf, 5, 1));           /* inside the first BCU cycle */
-    send_raw(&plant_side, buf, plant_frame(buf, 10, 1));          /* the next cycle */
-    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.05, 0.0, 1.0, &finished, NULL) == RB_OK);
+    send_raw(&plant_side, buf, hello(buf, 0, 2));                                     /* two cars: not this train */
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 0, 1, nonce, WRONG));  /* no key: forged */
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 0, 1, nonce, SECRET));
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 0, 1, nonce, SECRET)); /* the same step again */
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 5, 1, nonce, SECRET)); /* inside the first cycle */
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 10, 1, nonce, SECRET));/* the next cycle */
+    serve(0.05, &finished);
     uint64_t c[RB_HIL_BCU_COUNTERS];
     rb_hil_bcu_counters(&server, c);
     CHECK(c[0] == 4 && c[1] == 1 && c[2] == 1);                   /* received, malformed, stale */
     CHECK(c[3] == 3 && c[5] == 2 && c[6] == 0 && c[7] == 1);      /* sent, cycles, foreign, refused */
+    CHECK(c[8] == 1 && c[9] == 1);                                /* forged, challenges */
+    CHECK(server.session == SESSION && server.nonce == nonce && server.epoch == 1);
     rb_bcu_frame answer;
     long n = rb_udp_recv(&plant_side, buf, sizeof buf);            /* the refusal: this BCU's digest */
     CHECK(n > 0 && rb_bcu_frame_decode(buf, (size_t)n, &answer, NULL) == RB_OK);
+    CHECK(rb_frame_authentic(buf, (size_t)n, hello_key) && answer.header.nonce == 0);
     CHECK(answer.header.config == digest(1) && answer.header.session == SESSION && answer.header.n_cars == 1);
     uint32_t refused_config = 0;
     int cars = 0, axles = 0;
@@ -227,8 +335,9 @@ static void test_bcu_server_input(void)
     CHECK(refused_config == digest(2) && cars == 2 && axles == 8 && strncmp(from, "127.0.0.1:", 10) == 0);
     n = rb_udp_recv(&plant_side, buf, sizeof buf);
     CHECK(n > 0 && rb_bcu_frame_decode(buf, (size_t)n, &answer, NULL) == RB_OK);
-    CHECK(answer.header.step == 0 && answer.brake_demand == 2.0f);
-    CHECK(answer.pressure_demand[0] == (float)config.safe.pressure_demand[0]);   /* emergency, no WSP action */
+    CHECK(rb_frame_authentic(buf, (size_t)n, server.key) && answer.header.nonce == nonce);
+    CHECK(answer.header.step == 0 && answer.header.sequence == 0 && answer.brake_demand == 2.0f);
+    CHECK(answer.pressure_demand[0] == (float)emergency_demand(0));   /* emergency, no WSP action */
     CHECK(!finished);
     CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 2.0, 0.0, 0.1, &finished, NULL) == RB_OK);
     CHECK(finished);                                              /* idle for 0.1 s after the last frame */
@@ -236,9 +345,10 @@ static void test_bcu_server_input(void)
     rb_hil_bcu_close(&server);
 }
 
-/* Hostile peers against the BCU: a CRC-valid plant frame with step 2^64 - 1 from another address,
- * or from the plant's own address and session, or a frame of another session, is foreign: the BCU
- * keeps serving its plant, no other counter moves. */
+/* Hostile peers against the BCU: without the key, from another address, in another session, with an
+ * old or foreign nonce, or spoofing the plant's address and session: foreign or forged, never served;
+ * a third peer's hellos without the key get no challenge, so it cannot open a session before the
+ * plant; the BCU keeps serving its plant. */
 static void test_bcu_keeps_its_plant(void)
 {
     setup(1, 30.0);
@@ -246,27 +356,36 @@ static void test_bcu_keeps_its_plant(void)
     uint8_t buf[1024];
     int finished = 0;
     uint64_t c[RB_HIL_BCU_COUNTERS], before[RB_HIL_BCU_COUNTERS];
-    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(1), "127.0.0.1", 0, &server, NULL) == RB_OK);
-    CHECK(rb_udp_open(&plant_side, "127.0.0.1", 0, NULL) == RB_OK);
     CHECK(rb_udp_open(&hostile, "127.0.0.1", 0, NULL) == RB_OK);
-    CHECK(rb_udp_set_peer(&plant_side, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    /* before the plant: a third peer without the key says hello, then sends keyed-looking frames */
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, digest(1), SECRET, COOKIE, "127.0.0.1", 0, &server, NULL) == RB_OK);
     CHECK(rb_udp_set_peer(&hostile, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
-    send_raw(&plant_side, buf, plant_frame(buf, 0, 1));
-    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.02, 0.0, 5.0, &finished, NULL) == RB_OK);
+    send_raw(&hostile, buf, keyed_plant_frame(buf, SESSION, 0, 1, 0, WRONG));
+    send_raw(&hostile, buf, keyed_plant_frame(buf, SESSION, 1, 1, 77, WRONG));
+    serve(0.02, &finished);
+    CHECK(server.forged == 1 && server.foreign == 1 && server.challenges == 0 && server.session == 0);
+    CHECK(rb_udp_recv_from(&hostile, buf, sizeof buf, (uint8_t[16]){0}) == 0);   /* nothing answered */
+    rb_hil_bcu_close(&server);
+    uint64_t nonce = bcu_handshake(&plant_side);
+    CHECK(rb_udp_set_peer(&hostile, "127.0.0.1", rb_hil_bcu_port(&server), NULL) == RB_OK);
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 0, 1, nonce, SECRET));
+    serve(0.02, &finished);
     rb_hil_bcu_counters(&server, before);
-    send_raw(&hostile, buf, plant_frame(buf, UINT64_MAX, 1));              /* another address */
-    send_raw(&hostile, buf, session_frame(buf, 0x0badf00du, UINT64_MAX, 1));
-    send_raw(&plant_side, buf, plant_frame(buf, UINT64_MAX, 1));           /* spoofed: a forged jump */
-    send_raw(&plant_side, buf, session_frame(buf, 0x0badf00du, 20, 1));    /* another session */
+    send_raw(&hostile, buf, keyed_plant_frame(buf, SESSION, UINT64_MAX, 1, nonce, SECRET));   /* another address */
+    send_raw(&hostile, buf, keyed_plant_frame(buf, 0x0badf00du, 20, 1, nonce, SECRET));      /* ... another session */
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 20, 1, nonce, WRONG));        /* spoofed: no key */
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, 0x0badf00du, 20, 1, nonce, SECRET));   /* another session */
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 20, 1, nonce + 1, SECRET));   /* an old nonce */
     send_raw(&hostile, (const uint8_t *)"garbage", 7);
-    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.02, 0.0, 5.0, &finished, NULL) == RB_OK);
+    serve(0.02, &finished);
     rb_hil_bcu_counters(&server, c);
-    CHECK(c[6] == before[6] + 5);
+    CHECK(c[6] == before[6] + 5 && c[8] == before[8] + 1);        /* foreign, forged */
     for (int k = 0; k < 6; ++k) CHECK(c[k] == before[k]);
-    CHECK(c[7] == 0 && server.udp.have_peer && server.session == SESSION);
+    CHECK(c[7] == 0 && server.udp.have_peer && server.session == SESSION && server.epoch == 1);
     /* the plant's next frames are served: received, a cycle, an answer to the plant */
-    for (uint64_t step = 10; step <= 30; step += 10) send_raw(&plant_side, buf, plant_frame(buf, step, 1));
-    CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 0.02, 0.0, 5.0, &finished, NULL) == RB_OK);
+    for (uint64_t step = 10; step <= 30; step += 10)
+        send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, step, 1, nonce, SECRET));
+    serve(0.02, &finished);
     rb_hil_bcu_counters(&server, c);
     CHECK(c[0] == before[0] + 3 && c[2] == before[2] && c[5] == before[5] + 3);
     int answers = 0;
@@ -278,22 +397,19 @@ static void test_bcu_keeps_its_plant(void)
     rb_hil_bcu_close(&server);
 }
 
-/* Foreign datagrams at the plant (another address, another session) are counted as foreign and
- * touch nothing else: no lost frames from their sequence numbers, no command applied. */
+/* Foreign datagrams at the plant (another address, another session) count as foreign, a spoofer
+ * with the BCU's address and session but without the key as forged; they touch nothing else: no
+ * lost frames from their sequence numbers, no command applied. */
 static void test_plant_takes_only_its_bcu(void)
 {
     setup(1, 30.0);
     rb_udp bcu_side, hostile;
     uint8_t buf[1024];
     size_t size;
-    CHECK(rb_udp_open(&bcu_side, "127.0.0.1", 0, NULL) == RB_OK);
+    open_against(&bcu_side);
     CHECK(rb_udp_open(&hostile, "127.0.0.1", 0, NULL) == RB_OK);
-    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_udp_local_port(&bcu_side), &runner,
-                             NULL) == RB_OK);
-    CHECK(rb_udp_set_peer(&bcu_side, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
     CHECK(rb_udp_set_peer(&hostile, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
-    step_runner(1);
-    valid_frame(buf, &size, 1, 1, 1, 2e5f);
+    valid_frame(buf, &size, 0, 1, 1, 2e5f);
     send_raw(&bcu_side, buf, size);
     step_runner(1);
     CHECK(!runner.safe && runner.applied.pressure_demand[0] == 2e5);
@@ -302,18 +418,22 @@ static void test_plant_takes_only_its_bcu(void)
     send_raw(&hostile, (const uint8_t *)"garbage", 7);
     rb_bcu_frame f;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){0x0badf00du, digest(1), 2, runner.step, 1, 4};
+    f.header = (rb_frame_header){0x0badf00du, digest(1), 2, runner.step, NONCE, 1, 4, 0};
     f.pressure_demand[0] = 6e5f;
-    CHECK(rb_bcu_frame_encode(&f, buf, sizeof buf, &size, NULL) == RB_OK);
+    CHECK(rb_bcu_frame_encode(&f, session_key, buf, sizeof buf, &size, NULL) == RB_OK);
     send_raw(&bcu_side, buf, size);                                   /* the BCU's address, another session */
+    uint8_t wrong_key[RB_HIL_KEY_SIZE];
+    rb_hil_session_key(WRONG, SESSION, NONCE, wrong_key);
+    keyed_frame(buf, &size, 1, runner.step, 1, 6e5f, wrong_key);      /* the BCU's address and session, no key */
+    send_raw(&bcu_side, buf, size);
     step_runner(1);
     rb_hil_result res;
     rb_hil_runner_result(&runner, &res);
-    CHECK(res.foreign == 3 && res.received == 1 && res.lost == 0 && res.late == 0 && res.malformed == 0);
+    CHECK(res.foreign == 3 && res.forged == 1 && res.received == 1 && res.lost == 0 && res.late == 0);
+    CHECK(res.malformed == 0 && res.duplicate == 0 && res.replayed == 0 && res.out_of_order == 0);
     CHECK(runner.applied.pressure_demand[0] == 2e5);
-    CHECK(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_FOREIGN);
-    CHECK(strstr(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].text, "not the BCU's address") != NULL);
-    valid_frame(buf, &size, 2, runner.step, 1, 3e5f);
+    CHECK(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_FORGED);
+    valid_frame(buf, &size, 1, runner.step, 1, 3e5f);
     send_raw(&bcu_side, buf, size);
     step_runner(1);
     rb_hil_runner_result(&runner, &res);
@@ -323,6 +443,173 @@ static void test_plant_takes_only_its_bcu(void)
     rb_udp_close(&hostile);
 }
 
+/* A spoofer at the BCU's own address, in the session, with the session's nonce but without the key:
+ * forged release commands every step, a forged challenge (to make the plant change keys) and forged
+ * hellos-key frames change nothing: the cylinder pressures equal those of the undisturbed run, and
+ * every forgery is counted. */
+static void run_with_spoofer(int spoof, double *cylinders, int steps, rb_hil_result *res)
+{
+    setup(1, 30.0);
+    rb_udp bcu_side;
+    uint8_t buf[1024], wrong_key[RB_HIL_KEY_SIZE], wrong_hello[RB_HIL_KEY_SIZE];
+    size_t size;
+    rb_hil_session_key(WRONG, SESSION, NONCE, wrong_key);
+    rb_hil_session_key(WRONG, SESSION, 0, wrong_hello);
+    open_against(&bcu_side);
+    for (int i = 0; i < steps; ++i) {
+        if (i % 10 == 0) {
+            valid_frame(buf, &size, (uint32_t)(i / 10), runner.step, 1, 3.5e5f);
+            send_raw(&bcu_side, buf, size);
+        }
+        if (spoof) {
+            keyed_frame(buf, &size, (uint32_t)(i / 10 + 1), runner.step, 1, 1.0e5f, wrong_key);
+            send_raw(&bcu_side, buf, size);
+            rb_frame_header h = {SESSION, config.config, 0, runner.step, NONCE + 1, 1, 4, 0};
+            CHECK(rb_challenge_frame_encode(&h, wrong_hello, buf, sizeof buf, &size, NULL) == RB_OK);
+            send_raw(&bcu_side, buf, size);
+        }
+        step_runner(1);
+        cylinders[i] = runner.out.cylinder[0];
+    }
+    rb_hil_runner_result(&runner, res);
+    rb_hil_runner_close(&runner);
+    rb_udp_close(&bcu_side);
+}
+
+static void test_spoofer_changes_nothing(void)
+{
+    enum { STEPS = 400 };
+    static double quiet[STEPS], spoofed[STEPS];
+    rb_hil_result a, b;
+    run_with_spoofer(0, quiet, STEPS, &a);
+    run_with_spoofer(1, spoofed, STEPS, &b);
+    CHECK(memcmp(quiet, spoofed, sizeof quiet) == 0);
+    printf("spoofer: cylinder %.0f Pa after %d steps, forged %llu\n", quiet[STEPS - 1], STEPS, (unsigned long long)b.forged);
+    CHECK(quiet[STEPS - 1] > 2e5);                      /* braking as commanded, not released by the spoofer */
+    CHECK(a.forged == 0 && b.forged == 2 * STEPS && b.challenges == a.challenges);
+    CHECK(a.received == b.received && b.lost == 0 && b.malformed == 0 && b.foreign == 0);
+}
+
+/* The sequence window alone: a BCU's frames 0..N-1 duplicated, pair-swapped and replayed from long
+ * ago, in a random order of faults: received + lost = N exactly, duplicates and replays are never
+ * received, and no frame is applied unless newer than every frame before it. */
+static void test_sequence_window(void)
+{
+    enum { N = 5000 };
+    rb_watchdog w;
+    unsigned seed = 2026u;
+    uint32_t arrivals[4 * N];
+    int n = 0;
+    rb_watchdog_init(&w, 100);
+    for (uint32_t seq = 0; seq < N; ++seq) {
+        seed = seed * 1103515245u + 12345u;
+        unsigned fault = (seed >> 16) % 8;
+        if (fault == 0) continue;                                    /* lost */
+        arrivals[n++] = seq;
+        if (fault == 1) arrivals[n++] = seq;                         /* duplicated */
+        if (fault == 2 && n >= 2) {                                  /* swapped with the one before */
+            uint32_t t = arrivals[n - 1]; arrivals[n - 1] = arrivals[n - 2]; arrivals[n - 2] = t;
+        }
+        if (fault == 3 && seq > 200) arrivals[n++] = seq - 100 - (seed >> 20) % 100;   /* replayed */
+    }
+    uint64_t applied = 0, newest = 0;
+    int applied_out_of_order = 0, have = 0;
+    uint32_t last = 0;
+    for (int i = 0; i < n; ++i) {
+        int outcome = rb_watchdog_frame(&w, arrivals[i], 10, 10, 5);
+        if (outcome == RB_SEQ_APPLY) {
+            applied_out_of_order += have && arrivals[i] <= newest;
+            newest = arrivals[i];
+            have = 1;
+            applied++;
+        }
+        if (arrivals[i] > last) last = arrivals[i];
+    }
+    printf("sequence window: %d arrivals of %u frames: received %llu, lost %llu, duplicate %llu, out of order %llu, "
+           "replayed %llu, applied %llu\n", n, last + 1, (unsigned long long)w.received, (unsigned long long)w.lost,
+           (unsigned long long)w.duplicate, (unsigned long long)w.out_of_order, (unsigned long long)w.replayed,
+           (unsigned long long)applied);
+    CHECK(w.received + w.lost == (uint64_t)last + 1);
+    CHECK(applied_out_of_order == 0 && applied + w.out_of_order == w.received);
+    CHECK(w.duplicate > 0 && w.out_of_order > 0 && w.replayed > 0 && w.lost > 0);
+    uint64_t received = w.received;
+    rb_watchdog_rekey(&w);                                          /* a new key: numbered from 0 again */
+    CHECK(rb_watchdog_frame(&w, 3, 10, 10, 5) == RB_SEQ_APPLY && w.received == received + 1);
+    CHECK(rb_watchdog_frame(&w, 1, 10, 10, 5) == RB_SEQ_OUT_OF_ORDER);
+    CHECK(rb_watchdog_frame(&w, 1, 10, 10, 5) == RB_SEQ_DUPLICATE);
+    CHECK(rb_watchdog_frame(&w, 0xFFFFFFF0u, 10, 10, 5) == RB_SEQ_REPLAYED);   /* before the key's first */
+}
+
+/* The same faults over UDP against the runner: its counters add up and only newer frames apply. */
+static void test_sequence_faults_on_the_wire(void)
+{
+    setup(1, 30.0);
+    rb_udp bcu_side;
+    uint8_t buf[1024];
+    size_t size;
+    config.hold_time = 1.0;
+    config.late_time = 1.0;
+    open_against(&bcu_side);
+    /* frames 0..39 answering the current step; sent as: 0, 2, 1 (swap), 3, 3 (duplicate), 5, 4, 6..39,
+     * then 0 and 2 again (replays inside the window), 20 lost */
+    uint32_t order[48];
+    int n = 0;
+    uint32_t head[] = {0, 2, 1, 3, 3, 5, 4};
+    for (int i = 0; i < 7; ++i) order[n++] = head[i];
+    for (uint32_t s = 6; s < 40; ++s) if (s != 20) order[n++] = s;
+    order[n++] = 0;
+    order[n++] = 2;
+    int applied_older = 0;
+    float newest = 0.0f;
+    for (int i = 0; i < n; ++i) {
+        valid_frame(buf, &size, order[i], runner.step, 1, 1e5f + 1e3f * (float)order[i]);
+        send_raw(&bcu_side, buf, size);
+        step_runner(1);
+        float demand = (float)runner.applied.pressure_demand[0];
+        applied_older += demand < newest;
+        if (demand > newest) newest = demand;
+    }
+    rb_hil_result res;
+    rb_hil_runner_result(&runner, &res);
+    CHECK(res.received + res.lost == 40 && res.lost == 1);
+    CHECK(res.out_of_order == 2 && res.duplicate == 3 && res.replayed == 0 && applied_older == 0);
+    CHECK(runner.applied.pressure_demand[0] == (double)(1e5f + 39e3f));
+    rb_hil_runner_close(&runner);
+    rb_udp_close(&bcu_side);
+}
+
+/* The BCU falls silent: the safe state applies after the hold time, and the loss is counted with
+ * when it happened and what it cost (the distance run in the safe state, its locks). */
+static void test_bcu_lost(void)
+{
+    setup(1, 30.0);
+    rb_udp bcu_side;
+    uint8_t buf[1024];
+    size_t size;
+    open_against(&bcu_side);
+    for (uint32_t s = 0; s < 20; ++s) {
+        valid_frame(buf, &size, s, runner.step, 1, 2e5f);
+        send_raw(&bcu_side, buf, size);
+        step_runner(1);
+    }
+    uint64_t last_valid = runner.watchdog.last_valid_step;
+    double position = runner.out.position;
+    step_runner(50);
+    rb_hil_result res;
+    rb_hil_runner_result(&runner, &res);
+    CHECK(res.losses == 0 && !runner.safe);
+    step_runner(200);
+    rb_hil_runner_result(&runner, &res);
+    CHECK(res.losses == 1 && res.last_valid_step == last_valid && res.lost_step == last_valid + 51);
+    CHECK(res.lost_steps == res.steps - res.lost_step);   /* the steps from lost_step on */
+    double run = runner.out.position - position, lost_run = res.lost_distance;
+    /* between the loss and now the train ran lost_distance; before it, about 51 steps at speed */
+    CHECK(lost_run > 0.0 && lost_run < run && run - lost_run > 50 * 1e-3 * runner.out.speed);
+    CHECK(runner.applied.pressure_demand[0] == emergency_demand(0));
+    rb_hil_runner_close(&runner);
+    rb_udp_close(&bcu_side);
+}
+
 /* A BCU set up for another train: it refuses the plant and says so (refusal), the plant learns
  * why from the refusal frame and ends its run; the BCU reaches its idle timeout without valid frames. */
 static void test_mismatch(void)
@@ -330,8 +617,8 @@ static void test_mismatch(void)
     setup(1, 30.0);
     rb_error err;
     int finished = 0, bcu_finished = 0;
-    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, rb_hil_config_digest("other", 1, 4, 1e-3), "127.0.0.1", 0,
-                          &server, &err) == RB_OK);
+    CHECK(rb_hil_bcu_open(&bcu, NULL, &scenario, rb_hil_config_digest("other", 1, 4, 1e-3), SECRET, COOKIE,
+                          "127.0.0.1", 0, &server, &err) == RB_OK);
     CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_hil_bcu_port(&server), &runner,
                              &err) == RB_OK);
     for (int i = 0; i < 100 && !finished; ++i) {
@@ -376,7 +663,7 @@ static void test_paced_without_bcu(void)
     char name[64], unit[16];
     CHECK(rb_hil_channel_info(8, 1, name, sizeof name, unit, sizeof unit, NULL) == RB_OK);
     CHECK(strcmp(name, "pressure_demand_c1") == 0 && strcmp(unit, "Pa") == 0);
-    CHECK(series[10 * nch + 8] == config.safe.pressure_demand[0]);
+    CHECK(series[10 * nch + 8] == emergency_demand(0));
     rb_hil_runner_close(&runner);
 }
 
@@ -390,10 +677,10 @@ static void test_flood(void)
     config.duration = 0.4;
     config.hold_time = 0.1;
     rb_udp peer;
-    CHECK(rb_udp_open(&peer, "127.0.0.1", 0, NULL) == RB_OK);
-    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_udp_local_port(&peer), &runner,
-                             NULL) == RB_OK);
-    CHECK(rb_udp_set_peer(&peer, "127.0.0.1", rb_udp_local_port(&runner.udp), NULL) == RB_OK);
+    config.paced = 0;
+    open_against(&peer);   /* unpaced for the handshake, then paced (the pacer starts at the next call) */
+    config.paced = 1;
+    runner.started = 0;
     fflush(stdout);
     pid_t child = fork();
     if (child == 0) {   /* the flooder: valid frames echoing step 0, in batches of 256 per system call */
@@ -444,6 +731,10 @@ int main(void)
     test_bcu_server_input();
     test_bcu_keeps_its_plant();
     test_plant_takes_only_its_bcu();
+    test_spoofer_changes_nothing();
+    test_sequence_window();
+    test_sequence_faults_on_the_wire();
+    test_bcu_lost();
     test_mismatch();
     test_paced_without_bcu();
     test_flood();

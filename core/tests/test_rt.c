@@ -22,15 +22,15 @@ static void test_watchdog(void)
     rb_watchdog w;
     rb_watchdog_init(&w, 50);
     CHECK(rb_watchdog_tick(&w, 0) == 1);           /* no BCU yet: safe state */
-    rb_watchdog_frame(&w, 1, 10, 10, 5);
+    rb_watchdog_frame(&w, 0, 10, 10, 5);            /* the BCU numbers its frames from 0 */
     CHECK(rb_watchdog_tick(&w, 10) == 0);
-    rb_watchdog_frame(&w, 4, 11, 11, 5);            /* sequences 2 and 3 lost */
+    rb_watchdog_frame(&w, 3, 11, 11, 5);            /* sequences 1 and 2 lost */
     CHECK(w.lost == 2);
     CHECK(rb_watchdog_tick(&w, 61) == 0);           /* held for 50 steps */
     CHECK(rb_watchdog_tick(&w, 62) == 1);           /* then safe */
-    rb_watchdog_frame(&w, 5, 20, 70, 5);            /* echoes an old step: late, no refresh */
+    rb_watchdog_frame(&w, 4, 20, 70, 5);            /* echoes an old step: late, no refresh */
     CHECK(w.late == 1 && rb_watchdog_tick(&w, 70) == 1);
-    rb_watchdog_frame(&w, 6, 70, 70, 5);
+    rb_watchdog_frame(&w, 5, 70, 70, 5);
     CHECK(rb_watchdog_tick(&w, 71) == 0);
     rb_watchdog_malformed(&w);
     CHECK(w.malformed == 1 && w.received == 4);

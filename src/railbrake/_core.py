@@ -564,7 +564,9 @@ from ctypes import c_float, c_uint32  # noqa: E402
 FRAME_MAX_CARS = 16
 FRAME_MAX_AXLES = 64
 HIL_LOG_TEXT = 120
-HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off", "foreign", "mismatch")
+HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off", "foreign", "mismatch", "forged", "keyed",
+                   "order")
+HIL_KEY_SIZE = 16
 RT_MEMORY_LOCKED = 1
 RT_FIFO_PRIORITY = 2
 
@@ -576,18 +578,23 @@ class PlantInputs(Structure):
 
 class HilConfig(Structure):
     _fields_ = (_doubles("hold_time", "late_time", "duration", "stop_speed", "record_interval")
-                + [("paced", c_int), ("safe", PlantInputs), ("adhesion_interval", c_double),
-                   ("session", c_uint32), ("config", c_uint32)])
+                + [("paced", c_int), ("safe", BcuParams), ("adhesion_interval", c_double),
+                   ("session", c_uint32), ("config", c_uint32), ("secret", c_uint8 * HIL_KEY_SIZE),
+                   ("chunk_time", c_double)])
 
 
 HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",
-                "safe_state_steps", "overruns", "foreign")
+                "safe_state_steps", "overruns", "foreign", "forged", "duplicate", "out_of_order", "replayed",
+                "challenges")
+# the BCU's loss (rb_hil_result): how often, when (steps), for how long, and what it cost
+HIL_LOSS = ("losses", "lost_step", "last_valid_step", "lost_steps", "lost_lock_events")
 HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us", "work_mean_us",
               "work_p99_us", "work_max_us")
 
 
 class HilResult(Structure):
-    _fields_ = ([(n, c_uint64) for n in HIL_COUNTERS] + _doubles(*HIL_TIMING)
+    _fields_ = ([(n, c_uint64) for n in HIL_COUNTERS + HIL_LOSS] + _doubles("lost_lock_time", "lost_distance")
+                + _doubles(*HIL_TIMING)
                 + _doubles("time", "stopping_distance", "stopping_time")
                 + [("braking", c_int), ("stopped", c_int), ("finished", c_int), ("events", c_uint64),
                    ("mismatch", c_int), ("bcu_config", c_uint32), ("bcu_cars", c_int), ("bcu_axles", c_int)])
@@ -598,7 +605,8 @@ class HilEvent(Structure):
 
 
 class FrameHeader(Structure):
-    _fields_ = [("session", c_uint32), ("config", c_uint32), ("sequence", c_uint32), ("step", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8)]
+    _fields_ = [("session", c_uint32), ("config", c_uint32), ("sequence", c_uint32), ("step", c_uint64),
+                ("nonce", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8), ("type", c_uint8)]
 
 
 class PlantFrame(Structure):
@@ -617,17 +625,24 @@ _u8_p = POINTER(c_uint8)
 rb_crc32 = _declare("rb_crc32", c_uint32, c_char_p, c_size_t)
 rb_plant_frame_size = _declare("rb_plant_frame_size", c_size_t, c_int, c_int)
 rb_bcu_frame_size = _declare("rb_bcu_frame_size", c_size_t, c_int, c_int)
-rb_plant_frame_encode = _declare("rb_plant_frame_encode", c_int, POINTER(PlantFrame), c_char_p, c_size_t,
+rb_challenge_frame_size = _declare("rb_challenge_frame_size", c_size_t)
+rb_plant_frame_encode = _declare("rb_plant_frame_encode", c_int, POINTER(PlantFrame), c_char_p, c_char_p, c_size_t,
                                  POINTER(c_size_t), _err_p)
-rb_bcu_frame_encode = _declare("rb_bcu_frame_encode", c_int, POINTER(BcuFrame), c_char_p, c_size_t,
+rb_bcu_frame_encode = _declare("rb_bcu_frame_encode", c_int, POINTER(BcuFrame), c_char_p, c_char_p, c_size_t,
                                POINTER(c_size_t), _err_p)
+rb_challenge_frame_encode = _declare("rb_challenge_frame_encode", c_int, POINTER(FrameHeader), c_char_p, c_char_p,
+                                     c_size_t, POINTER(c_size_t), _err_p)
+rb_frame_check = _declare("rb_frame_check", c_int, c_char_p, c_size_t, POINTER(FrameHeader), _err_p)
+rb_frame_authentic = _declare("rb_frame_authentic", c_int, c_char_p, c_size_t, c_char_p)
+rb_siphash24 = _declare("rb_siphash24", c_uint64, c_char_p, c_char_p, c_size_t)
+rb_hil_session_key = _declare("rb_hil_session_key", None, c_char_p, c_uint32, c_uint64, c_char_p)
 rb_plant_frame_decode = _declare("rb_plant_frame_decode", c_int, c_char_p, c_size_t, POINTER(PlantFrame), _err_p)
 rb_bcu_frame_decode = _declare("rb_bcu_frame_decode", c_int, c_char_p, c_size_t, POINTER(BcuFrame), _err_p)
 rb_hil_config_digest = _declare("rb_hil_config_digest", c_uint32, c_char_p, c_int, c_int, c_double)
 
 rb_rt_request = _declare("rb_rt_request", c_int, c_int)
 rb_hil_runner_size = _declare("rb_hil_runner_size", c_size_t)
-rb_hil_safe_state = _declare("rb_hil_safe_state", c_int, POINTER(BcuParams), POINTER(PlantInputs), _err_p)
+rb_hil_safe_bcu = _declare("rb_hil_safe_bcu", c_int, POINTER(BcuParams), POINTER(BcuParams), _err_p)
 rb_hil_runner_open = _declare("rb_hil_runner_open", c_int, POINTER(PlantParams), POINTER(HilConfig), c_char_p,
                               c_int, c_char_p, c_int, c_void_p, _err_p)
 rb_hil_runner_advance = _declare("rb_hil_runner_advance", c_int, POINTER(PlantParams), POINTER(HilConfig),
@@ -643,14 +658,15 @@ rb_hil_channel_info = _declare("rb_hil_channel_info", c_int, c_int, c_int, c_cha
                                c_size_t, _err_p)
 rb_hil_bcu_size = _declare("rb_hil_bcu_size", c_size_t)
 rb_hil_bcu_open = _declare("rb_hil_bcu_open", c_int, POINTER(BcuParams), POINTER(WspParams), POINTER(Scenario),
-                           c_uint32, c_char_p, c_int, c_void_p, _err_p)
+                           c_uint32, c_char_p, c_char_p, c_char_p, c_int, c_void_p, _err_p)
 rb_hil_bcu_refusal = _declare("rb_hil_bcu_refusal", c_int, c_void_p, POINTER(c_uint32), POINTER(c_int),
                               POINTER(c_int), c_char_p, c_size_t)
 rb_hil_bcu_port = _declare("rb_hil_bcu_port", c_int, c_void_p)
 rb_hil_bcu_serve = _declare("rb_hil_bcu_serve", c_int, POINTER(BcuParams), POINTER(Scenario), c_void_p, c_double,
                             c_double, c_double, POINTER(c_int), _err_p)
 rb_hil_bcu_close = _declare("rb_hil_bcu_close", None, c_void_p)
-HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles", "foreign", "refused")
+HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cycles", "foreign", "refused", "forged",
+                    "challenges")
 rb_hil_bcu_counters = _declare("rb_hil_bcu_counters", None, c_void_p, c_uint64 * len(HIL_BCU_COUNTERS))
 
 for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_result_size"),

@@ -33,10 +33,13 @@ typedef struct {
     double stop_speed;         /* m/s: the run ends once braking has begun and the train is below */
     double record_interval;    /* s: decimation of the recorded channels (a multiple of 1 ms) */
     int paced;                 /* 1: 1 kHz on the wall clock; 0: as fast as possible (tests) */
-    rb_plant_inputs safe;      /* the safe state (rb_hil_safe_state) */
+    rb_bcu_params safe;        /* the BCU whose emergency demand law the safe state runs (WSP and ED off) */
     double adhesion_interval;  /* s: sampling of the available peak adhesion for the KPIs (0: every step) */
     uint32_t session;          /* this run's session id (non-zero, random: chosen by the caller) */
     uint32_t config;           /* rb_hil_config_digest of this plant */
+    uint8_t secret[RB_HIL_KEY_SIZE];   /* shared with the BCU (its key file): session keys derive from it */
+    double chunk_time;         /* s of wall time one rb_hil_runner_advance call lasts at most (0: no limit),
+                                  so a caller writing each chunk's rows keeps up with the wall clock */
 } rb_hil_config;
 
 typedef enum {
@@ -46,7 +49,10 @@ typedef enum {
     RB_HIL_EVENT_SAFE_ON,
     RB_HIL_EVENT_SAFE_OFF,
     RB_HIL_EVENT_FOREIGN,      /* the first datagram not from the BCU's address and session */
-    RB_HIL_EVENT_MISMATCH      /* the BCU answers for another configuration: the run ends */
+    RB_HIL_EVENT_MISMATCH,     /* the BCU answers for another configuration: the run ends */
+    RB_HIL_EVENT_FORGED,       /* the first frame of the session whose tag does not authenticate */
+    RB_HIL_EVENT_KEYED,        /* the BCU's challenge: the session key is agreed */
+    RB_HIL_EVENT_ORDER         /* the first duplicate, out-of-order or replayed frame */
 } rb_hil_event_kind;
 
 typedef struct {
@@ -60,6 +66,17 @@ typedef struct {
     uint64_t received, lost, late, malformed, safe_state_steps;   /* watchdog accounting */
     uint64_t overruns;
     uint64_t foreign;          /* datagrams not from the BCU's address and session: touch nothing else */
+    uint64_t forged;           /* frames of the session whose tag does not authenticate: touch nothing else */
+    uint64_t duplicate, out_of_order, replayed;   /* rb_seq_outcome: not applied */
+    uint64_t challenges;       /* authenticated challenges from the BCU */
+    /* the BCU lost: the safe state applied after a valid frame, or no valid frame within the hold time */
+    uint64_t losses;           /* times the BCU was lost */
+    uint64_t lost_step;        /* step of the first loss */
+    uint64_t last_valid_step;  /* step of the last valid frame before it (0: none came) */
+    uint64_t lost_steps;       /* steps in the safe state after a loss */
+    uint64_t lost_lock_events; /* wheel locks (rb_run.h's definition) that began while the BCU was lost */
+    double lost_lock_time;     /* axle-seconds locked while the BCU was lost */
+    double lost_distance;      /* m run while the BCU was lost */
     double wakeup_p50_us, wakeup_p99_us, wakeup_max_us, wakeup_mean_us;
     double work_mean_us, work_p99_us, work_max_us;   /* wake-up to end of the step's work */
     double time;                                     /* s, simulated */
@@ -75,6 +92,8 @@ typedef struct {
     rb_plant_state plant;
     rb_plant_outputs out;
     rb_plant_inputs applied, last;   /* commands applied this step; the last valid BCU commands */
+    rb_bcu_state safe_bcu;           /* the safe state's emergency demand law, run on the plant's outputs */
+    rb_plant_inputs safe_in;
     float last_demand, applied_demand; /* brake_demand of the last valid frame; applied (2 when safe) */
     rb_watchdog watchdog;
     rb_pacer pacer;
@@ -83,7 +102,13 @@ typedef struct {
     uint64_t step, record_every, late_steps, duration_steps;
     int started, finished, stopped, braking, safe;
     double brake_time, brake_position;
-    uint64_t frames_sent, send_errors, datagrams, foreign;
+    uint64_t frames_sent, send_errors, datagrams, foreign, forged, challenges;
+    uint8_t hello_key[RB_HIL_KEY_SIZE], key[RB_HIL_KEY_SIZE];   /* keys of nonce 0 and of the BCU's nonce */
+    uint64_t nonce;                  /* the nonce the plant's frames carry (0: saying hello) */
+    uint64_t key_nonce;              /* the BCU's nonce of `key` (0: none agreed yet) */
+    int had_valid, lost;             /* a valid frame came; the BCU is lost now */
+    uint64_t losses, lost_step, last_valid_step, lost_steps, lost_lock_events, lock_events_before;
+    double lost_lock_time, lost_distance;
     int mismatch;
     uint32_t bcu_config;
     int bcu_cars, bcu_axles;
@@ -100,9 +125,10 @@ size_t rb_hil_runner_size(void);
 size_t rb_hil_config_size(void);
 size_t rb_hil_result_size(void);
 size_t rb_hil_event_size(void);
-/* The safe state of the BCU described by bcu: its emergency pressure demand on every car, no ED,
- * WSP hold and vent valves de-energised (the same demand law as the BCU, run once). */
-rb_status rb_hil_safe_state(const rb_bcu_params *bcu, rb_plant_inputs *safe, rb_error *err);
+/* The safe state's BCU from the BCU's parameters: the same demand law, WSP and ED off (in the safe
+ * state the plant runs it each BCU cycle on its own outputs with an emergency demand: no more than
+ * the BCU's own emergency demand at that speed; hold and vent de-energised). */
+rb_status rb_hil_safe_bcu(const rb_bcu_params *bcu, rb_bcu_params *safe, rb_error *err);
 /* Checks the parameters (plant->dt must be RB_HIL_DT), initialises the plant, opens the UDP endpoint
  * on bind_host:bind_port and sends to bcu_host:bcu_port (numeric IPv4). */
 rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *config, const char *bind_host,
@@ -138,10 +164,15 @@ typedef struct {
     uint32_t sequence;
     uint32_t config;                 /* this BCU's rb_hil_config_digest */
     uint32_t session;                /* the session served (0: none yet) */
+    uint8_t secret[RB_HIL_KEY_SIZE];         /* shared with the plant (the key file) */
+    uint8_t cookie_secret[RB_HIL_KEY_SIZE];  /* this BCU's own, random: its nonces derive from it */
+    uint8_t key[RB_HIL_KEY_SIZE];            /* the session key */
+    uint64_t nonce;                  /* the nonce of the session key */
+    uint64_t epoch;                  /* session keys agreed so far: a nonce is good until the next one */
     uint64_t last_step;
     int have_frame, finished;
     int64_t start_ns, last_frame_ns, first_datagram_ns, last_refusal_ns;
-    uint64_t received, malformed, stale, sent, send_errors, cycles, foreign, refused;
+    uint64_t received, malformed, stale, sent, send_errors, cycles, foreign, refused, forged, challenges;
     /* the first refused plant: its configuration digest, cars and axles (refused > 0) */
     uint32_t refused_config;
     int refused_cars, refused_axles;
@@ -150,13 +181,18 @@ typedef struct {
 } rb_hil_bcu;
 
 size_t rb_hil_bcu_size(void);
-/* config: rb_hil_config_digest of the train this BCU is set up for. */
+/* config: rb_hil_config_digest of the train this BCU is set up for; secret: the key file's 16
+ * bytes (shared with the plant); cookie_secret: 16 random bytes of this BCU's own (its nonces). */
 rb_status rb_hil_bcu_open(const rb_bcu_params *bcu, const rb_wsp_params *wsp, const rb_scenario *scenario,
-                          uint32_t config, const char *host, int port, rb_hil_bcu *b, rb_error *err);
+                          uint32_t config, const uint8_t *secret, const uint8_t *cookie_secret, const char *host,
+                          int port, rb_hil_bcu *b, rb_error *err);
 /* Local UDP port (useful after binding port 0). */
 int rb_hil_bcu_port(const rb_hil_bcu *b);
-/* Serves plant frames for up to `for_s` seconds of wall time, waiting with poll(). The first valid
- * plant frame of this BCU's configuration opens the session (its sender and session id); later frames
+/* Serves plant frames for up to `for_s` seconds of wall time, waiting with poll(). A hello (a plant
+ * frame of nonce 0 that authenticates under the key of nonce 0) is answered with a challenge carrying
+ * this BCU's nonce for that plant (a keyed hash of session, address and epoch: nothing is stored, and
+ * it is good until the next session key is agreed, so no recorded handshake can be replayed). The
+ * first plant frame under the key of that nonce opens the session (its sender and session id); later frames
  * count only from that sender in that session (others: foreign, touching no other counter), unless
  * the session has been silent for RB_HIL_SESSION_IDLE s, when a new one may open (the BCU restarts).
  * Each session frame newer than the last (and at most RB_HIL_MAX_STEP_JUMP steps plus the wall time
@@ -171,8 +207,8 @@ rb_status rb_hil_bcu_serve(const rb_bcu_params *bcu, const rb_scenario *scenario
 #define RB_HIL_SESSION_IDLE 1.0       /* s of silence after which another plant may open a session */
 #define RB_HIL_MAX_STEP_JUMP 1000u     /* steps a plant frame may run ahead of the last, beyond the wall time */
 /* Counters in the order of RB_HIL_BCU_COUNTERS: received, malformed, stale, sent, send_errors, cycles,
- * foreign, refused. */
-#define RB_HIL_BCU_COUNTERS 8
+ * foreign, refused, forged (the tag does not authenticate), challenges (sent). */
+#define RB_HIL_BCU_COUNTERS 10
 void rb_hil_bcu_counters(const rb_hil_bcu *b, uint64_t counts[RB_HIL_BCU_COUNTERS]);
 /* The first refused plant (another configuration): 1 and its digest, cars, axles and IPv4 address
  * "a.b.c.d:port" in from; 0 if none was refused. */

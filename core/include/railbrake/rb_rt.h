@@ -49,21 +49,39 @@ int rb_pacer_wait(rb_pacer *p);
 int rb_rt_request(int priority);
 
 /* Watchdog on the BCU link: commands are held for hold_steps after the last valid frame, then the
- * safe state applies until valid frames come back. */
+ * safe state applies until valid frames come back. It also places each authenticated frame in the
+ * BCU's sequence (numbered from 0 per session key) with a window of the last RB_RT_WINDOW numbers
+ * (as the anti-replay window of RFC 4303, section 3.4.3), so that received + lost is exactly the
+ * count of frames sent up to the newest received, whatever the network duplicates or reorders. */
+#define RB_RT_WINDOW 64
+
+typedef enum {
+    RB_SEQ_APPLY = 0,      /* newer than any before, on time: its commands apply */
+    RB_SEQ_LATE,           /* newer than any before, echoing an old plant step: received, not applied */
+    RB_SEQ_OUT_OF_ORDER,   /* older than the newest, not seen before: received (no longer lost), not applied */
+    RB_SEQ_DUPLICATE,      /* seen before (within the window): not received again, not applied */
+    RB_SEQ_REPLAYED        /* older than the window, or than the session key: cannot be new, not applied */
+} rb_seq_outcome;
+
 typedef struct {
     uint64_t hold_steps;
     uint64_t last_valid_step;
     int have_valid;
-    uint32_t last_sequence;
+    int have_sequence;          /* a frame under the current session key came */
+    uint64_t highest;           /* newest sequence number (extended past 32 bits) */
+    uint64_t window;            /* bit i: sequence highest - i was received */
     uint64_t received, lost, late, malformed, safe_state_steps;
+    uint64_t duplicate, out_of_order, replayed;
     int safe;
 } rb_watchdog;
 
 void rb_watchdog_init(rb_watchdog *w, uint64_t hold_steps);
-/* A frame that decoded: sequence, the plant step it echoes, the current step, and the latest
- * step it may echo to count as on time (current - late_steps). */
-void rb_watchdog_frame(rb_watchdog *w, uint32_t sequence, uint64_t echoed_step, uint64_t step,
-                       uint64_t late_steps);
+/* A new session key: the BCU numbers its frames from 0 again (the counters go on). */
+void rb_watchdog_rekey(rb_watchdog *w);
+/* An authenticated, valid frame: sequence, the plant step it echoes, the current step, and the
+ * lateness limit in steps. Returns what to do with it (rb_seq_outcome) and counts it. */
+int rb_watchdog_frame(rb_watchdog *w, uint32_t sequence, uint64_t echoed_step, uint64_t step,
+                      uint64_t late_steps);
 void rb_watchdog_malformed(rb_watchdog *w);
 /* Called once per step; returns 1 while the safe state must apply. */
 int rb_watchdog_tick(rb_watchdog *w, uint64_t step);

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import signal
 import sys
 import time
 from pathlib import Path
@@ -15,11 +16,15 @@ from rich.table import Table
 from railbrake import hil as hil_runner
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
+from railbrake.hil.keys import read_key, write_key
 from railbrake.resolve import resolve
 from railbrake.units import cars_text, ms_to_kmh
 
 DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 EVENTS_SHOWN = 20   # watchdog events echoed to stderr; the counters hold them all
+EXIT_BCU_LOST = 3   # the run went on without its BCU (safe state): docs/hil.md
+KEY_HELP = ("Key file shared by plant and BCU (one line of 32 hex digits, mode 600; `railbrake hil-key FILE` "
+            "makes one): every frame is authenticated with it.")
 
 
 def _event_printer(err: Console):
@@ -33,6 +38,35 @@ def _event_printer(err: Console):
         elif shown == EVENTS_SHOWN + 1:
             err.print("[yellow]watchdog[/] further events are only counted", highlight=False)
     return on_event
+
+
+class _Interrupts:
+    """SIGINT and SIGTERM for `railbrake hil`, from the command's start: each is only noted (raising
+    from a handler can land in Python's import machinery, which swallows the exception and prints a
+    traceback); the run stops before its next chunk once one came, and the recording and the summary
+    are always written (a second Ctrl-C never loses what the first kept)."""
+
+    def __init__(self, err: Console):
+        self.err, self.count, self.finishing = err, 0, False
+        self.previous = {}
+
+    def __call__(self, signum, frame):
+        self.count += 1
+        if self.count > 1 or self.finishing:
+            self.err.print("interrupt noted: writing the recording and the summary first", highlight=False)
+
+    def stop(self) -> bool:
+        return self.count > 0
+
+    def __enter__(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self.previous[sig] = signal.signal(sig, self)
+        return self
+
+    def __exit__(self, *exc):
+        for sig, handler in self.previous.items():
+            signal.signal(sig, handler)
+        return False
 
 
 def _print_report(result) -> None:
@@ -58,12 +92,108 @@ def _print_report(result) -> None:
         console.print(line, highlight=False)
 
 
+def _run(resolved, peer, secret, record, bcu, local, err, json, **options):
+    """The paced run with its progress bar; with --record, the recording grows chunk by chunk as the
+    run goes (railbrake.hil.mdf: what was written survives a kill)."""
+    sc = resolved.scenario
+    stream = None
+    if record is not None:
+        from railbrake.hil.mdf import StreamingRecording
+        stream = StreamingRecording(record, hil_runner.channels(resolved.cars),
+                                    {"scenario": sc.name, "cars": resolved.cars,
+                                     "recording": "unfinalised: written as the run went, which did not end"})
+    total = sc.spec.stop.max_time if options["duration"] is None else options["duration"]
+    bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
+                   TimeElapsedColumn(), console=err, transient=True, disable=json,
+                   refresh_per_second=2)   # the render thread competes for the GIL between chunks
+    task = bar.add_task(f"HIL {sc.name}", total=total, speed="")
+    try:
+        with bar:
+            result = hil_runner.run(
+                resolved, peer, bind=local, on_event=_event_printer(err), key=secret,
+                on_rows=stream.append if stream is not None else None,
+                on_start=lambda port, session, config: err.print(
+                    f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
+                    f"BCU {bcu}", highlight=False, soft_wrap=True),
+                progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"),
+                **options)
+    finally:
+        if stream is not None:
+            stream.close()
+    return result
+
+
+def _summary(result, json: bool, written, out, bcu: str) -> None:
+    """Why the run went as it did (stderr), then the report: JSON or the table."""
+    err = Console(stderr=True)
+    if result.mismatch:
+        err.print(f"[red]error[/]: {result.mismatch}", highlight=False)
+    elif result.counters["received"] == 0:
+        err.print(f"[red]error[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
+                  highlight=False)
+    if not result.mismatch and result.loss_report():
+        err.print(f"[red]error[/]: {result.loss_report()}", highlight=False, soft_wrap=True)
+    if result.interrupted:
+        err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
+                  "the recording and counters hold the run until then", highlight=False)
+    if json:
+        print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
+                    "counters": result.counters, "timing": result.timing, "bcu_loss": result.loss,
+                    "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
+                    "real_time": {"memory_locked": result.real_time.memory_locked,
+                                  "fifo_priority": result.real_time.fifo_priority,
+                                  "notes": result.real_time.notes()}})
+    else:
+        _print_report(result)
+    if written is not None:
+        typer.echo(f"recording: {written}", err=json)
+    if out is not None:
+        typer.echo(f"outputs: {out}/", err=json)
+
+
+def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval, hold_time,
+                     late_time, bind, priority, json, sets, out, axles, window, formats, kernel):
+    """Everything `railbrake hil` does, with its interrupts noted: inputs checked, the run, then the
+    recording, the run folder and the summary, whatever interrupts come."""
+    from railbrake.results import files, record as records
+    formats = files.parse_formats(",".join(formats or []) or "mf4")   # checked before the run
+    peer = hil_runner.parse_udp_url(bcu, "--bcu")
+    secret = read_key(key)
+    local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
+    if duration is not None and duration <= 0:
+        raise InputError(f"--duration = {duration}: must be > 0 s")
+    resolved = resolve(scenario, cars, sets)
+    sc = resolved.scenario
+    records.parse_axles(axles, resolved.cars)
+    records.parse_window(window)
+    prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
+    err = Console(stderr=True)
+    if interrupts.stop():
+        err.print("interrupted before the run started", highlight=False)
+        raise typer.Exit(code=130)
+    result = _run(resolved, peer, secret, record, bcu, local, err, json, duration=duration, hold_time=hold_time,
+                  late_time=late_time, record_interval=record_interval, priority=priority, kernel=kernel,
+                  stop=interrupts.stop)
+    interrupts.finishing = True
+    written = None
+    if record is not None:
+        from railbrake.hil.mdf import write_mdf
+        written = write_mdf(result, record, sc)
+    if out is not None:
+        from railbrake.results.outputs import write_outputs
+        write_outputs(records.from_hil(result, sc), out, formats, axles, window,
+                      mdf_extra={"counters": result.counters, "timing": result.timing})
+    _summary(result, json, written, out, bcu)
+    return result
+
+
 def register(app: typer.Typer) -> None:
     @app.command("hil")
     @reports_errors
     def hil(
         scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
         bcu: str = typer.Option(..., "--bcu", help="The BCU's address, udp://HOST:PORT."),
+        key: Path = typer.Option(..., "--key", help=KEY_HELP),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         duration: Optional[float] = typer.Option(None, help="s; default: the scenario's max_time (the run also "
                                                  "ends at the stop)."),
@@ -88,65 +218,22 @@ def register(app: typer.Typer) -> None:
         kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
-        from railbrake.results import files, record as records
-        formats = files.parse_formats(",".join(formats or []) or "mf4")   # checked before the run
-        peer = hil_runner.parse_udp_url(bcu, "--bcu")
-        local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
-        if duration is not None and duration <= 0:
-            raise InputError(f"--duration = {duration}: must be > 0 s")
-        resolved = resolve(scenario, cars, sets)
-        sc = resolved.scenario
-        records.parse_axles(axles, resolved.cars)
-        records.parse_window(window)
-        prepare_output(record, "--record", (".mf4", ".mdf"))   # before the run, which cannot be repeated
-        err = Console(stderr=True)
-        total = sc.spec.stop.max_time if duration is None else duration
-        bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.fields[speed]}"),
-                       TimeElapsedColumn(), console=err, transient=True, disable=json,
-                       refresh_per_second=2)   # the render thread competes for the GIL between chunks
-        task = bar.add_task(f"HIL {sc.name}", total=total, speed="")
-        with bar:
-            result = hil_runner.run(
-                resolved, peer, duration=duration, hold_time=hold_time, late_time=late_time,
-                record_interval=record_interval, bind=local,
-                priority=priority, on_event=_event_printer(err), kernel=kernel,
-                on_start=lambda port, session, config: err.print(
-                    f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
-                    f"BCU {bcu}", highlight=False, soft_wrap=True),
-                progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"))
-        if result.mismatch:
-            err.print(f"[red]error[/]: {result.mismatch}", highlight=False)
-        elif result.counters["received"] == 0:
-            err.print(f"[red]warning[/]: no frame came from the BCU at {bcu}: the safe state applied throughout",
-                      highlight=False)
-        if result.interrupted:
-            err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
-                      "the recording and counters hold the run until then", highlight=False)
-        written = None
-        if record is not None:
-            from railbrake.hil.mdf import write_mdf
-            written = write_mdf(result, record, sc)
-        if out is not None:
-            from railbrake.results.outputs import write_outputs
-            write_outputs(records.from_hil(result, sc), out, formats, axles, window,
-                          mdf_extra={"counters": result.counters, "timing": result.timing})
-        if json:
-            print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
-                        "counters": result.counters, "timing": result.timing,
-                        "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
-                        "real_time": {"memory_locked": result.real_time.memory_locked,
-                                      "fifo_priority": result.real_time.fifo_priority,
-                                      "notes": result.real_time.notes()}})
-        else:
-            _print_report(result)
-        if written is not None:
-            typer.echo(f"recording: {written}", err=json)
-        if out is not None:
-            typer.echo(f"outputs: {out}/", err=json)
+        with _Interrupts(Console(stderr=True)) as interrupts:
+            result = _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval,
+                                      hold_time, late_time, bind, priority, json, sets, out, axles, window,
+                                      formats, kernel)
         if result.interrupted:
             raise typer.Exit(code=130)
         if result.mismatch:
             raise typer.Exit(code=1)
+        if result.loss.get("lost"):
+            raise typer.Exit(code=EXIT_BCU_LOST)
+
+    @app.command("hil-key")
+    @reports_errors
+    def hil_key(path: Path = typer.Argument(..., help="The key file to create (mode 600; never overwritten).")):
+        """A new random key file for `hil --key` and `bcu --key` (give both the same file)."""
+        typer.echo(f"key file: {write_key(path)}")
 
     @app.command("bcu")
     @reports_errors
@@ -155,6 +242,7 @@ def register(app: typer.Typer) -> None:
                                        "train)."),
         listen: str = typer.Option(..., "--listen", help="Address to listen on, udp://HOST:PORT (port 0: any, "
                                    "printed)."),
+        key: Path = typer.Option(..., "--key", help=KEY_HELP),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         duration: float = typer.Option(0.0, help="s of wall time, then stop (0: no limit)."),
         idle_timeout: float = typer.Option(2.0, help="s without plant frames, after the first, then stop."),
@@ -165,6 +253,7 @@ def register(app: typer.Typer) -> None:
     ):
         """The reference BCU: the simulation's BCU and WSP logic answering plant frames over UDP."""
         host, port = hil_runner.parse_udp_url(listen, "--listen", allow_any_port=True)
+        secret = read_key(key)
         err = Console(stderr=True)
 
         def ready(bound, real_time):
@@ -180,7 +269,7 @@ def register(app: typer.Typer) -> None:
         start = time.monotonic()
         counters = hil_runner.serve_bcu(resolve(scenario, cars, sets), (host, port), duration=duration,
                                         idle_timeout=idle_timeout, priority=priority, ready=ready,
-                                        on_refusal=refused)
+                                        on_refusal=refused, key=secret)
         if json:
             print_json(dict(counters))
         else:

@@ -25,6 +25,7 @@ import numpy as np
 
 from railbrake import _core
 from railbrake.errors import InputError
+from railbrake.hil.keys import key_bytes
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario
 from railbrake.simulation import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
@@ -32,6 +33,7 @@ from railbrake.vehicle import load_train
 
 DT = 1e-3                  # s, fixed by the interface
 CHUNK_STEPS = 500          # plant steps per C call
+CHUNK_TIME = 0.5           # s of wall time per C call at most (paced): a recording keeps up with the clock
 BCU_CHUNK = 0.5            # s of wall time per C call of the BCU server
 DEFAULT_HOLD_TIME = 0.1    # s
 DEFAULT_LATE_TIME = 0.02   # s
@@ -77,8 +79,10 @@ def describe_config(scenario: Scenario, n_cars: int) -> str:
 @contextmanager
 def _sigterm_as_interrupt():
     """SIGTERM ends a run like Ctrl-C (KeyboardInterrupt between two C chunks), so the caller keeps
-    what was recorded and the counters; restored afterwards. Only the main thread can install it."""
-    if threading.current_thread() is not threading.main_thread():
+    what was recorded and the counters; restored afterwards. Only the main thread can install it, and
+    only over the default handling (a caller's own handler, as `railbrake hil`'s, stays)."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL):
         yield
         return
 
@@ -158,6 +162,19 @@ class HilResult:
     atmosphere: float = math.nan  # Pa, the plant's (the train file's)
     interrupted: bool = False     # ended by Ctrl-C or SIGTERM: what was recorded until then
     mismatch: str | None = None   # why the BCU refused this plant (another configuration), else None
+    loss: dict = field(default_factory=dict)   # the BCU's loss: loss_dict (lost False: never lost)
+
+    def loss_report(self) -> str | None:
+        """When the BCU was lost and what it cost, in one sentence (None if it never was)."""
+        s = self.loss
+        if not s.get("lost"):
+            return None
+        before = (f"its last valid frame at t = {s['last_valid_s']:.3f} s" if s["last_valid_s"] is not None
+                  else "no valid frame from it before")
+        again = f", lost {s['losses']} times in all" if s["losses"] > 1 else ""
+        return (f"BCU lost at t = {s['at_s']:.3f} s ({before}){again}: the safe state (the BCU's emergency "
+                f"demand, WSP off) applied for {s['safe_s']:.3f} s, {s['distance_m']:.1f} m run, "
+                f"{s['lock_events']} wheel lock(s) began, {s['lock_axle_s']:.3f} axle-s locked")
 
     def timing_report(self) -> list[str]:
         t, c = self.timing, self.counters
@@ -174,7 +191,7 @@ def channels(n_cars: int) -> list[tuple[str, str]]:
 
 
 def hil_config(scenario: Scenario, bcu: _core.BcuParams, duration: float | None, hold_time: float,
-               late_time: float, record_interval: float | None, paced: bool) -> _core.HilConfig:
+               late_time: float, record_interval: float | None, paced: bool, key: bytes) -> _core.HilConfig:
     spec = scenario.spec
     c = _core.HilConfig()
     c.hold_time, c.late_time = hold_time, late_time
@@ -184,10 +201,22 @@ def hil_config(scenario: Scenario, bcu: _core.BcuParams, duration: float | None,
     if abs(c.record_interval / DT - round(c.record_interval / DT)) > 1e-9:
         raise InputError(f"record_interval = {c.record_interval} s: must be a multiple of 1 ms")
     c.paced = int(paced)
+    c.chunk_time = CHUNK_TIME if paced else 0.0
     c.adhesion_interval = _scenario_struct(scenario).adhesion_interval   # as in the MIL run
     c.session = secrets.randbits(32) or 1   # a new session per run: a BCU tells runs apart
-    _core.call(_core.rb_hil_safe_state, ctypes.byref(bcu), ctypes.byref(c.safe))
+    c.secret[:] = key
+    _core.call(_core.rb_hil_safe_bcu, ctypes.byref(bcu), ctypes.byref(c.safe))
     return c
+
+
+def loss_dict(result: _core.HilResult) -> dict:
+    """The BCU's loss from the C result: when (s), for how long, and what it cost."""
+    lost = result.losses > 0
+    return {"lost": lost, "losses": int(result.losses),
+            "at_s": result.lost_step * DT if lost else None,
+            "last_valid_s": result.last_valid_step * DT if lost and result.last_valid_step else None,
+            "safe_s": result.lost_steps * DT, "distance_m": result.lost_distance,
+            "lock_events": int(result.lost_lock_events), "lock_axle_s": result.lost_lock_time}
 
 
 def _drain_events(state, seen: int, total: int, on_event) -> list:
@@ -219,18 +248,25 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         record_interval: float | None = None, bind: tuple[str, int] = ("0.0.0.0", 0), paced: bool = True,
         priority: int = DEFAULT_PRIORITY, progress: Callable[[float, float], None] | None = None,
         on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None,
-        on_start: Callable[[int, int, int], None] | None = None) -> HilResult:
+        on_start: Callable[[int, int, int], None] | None = None, key=None,
+        on_rows: Callable[[np.ndarray], None] | None = None, stop: Callable[[], bool] | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
-    watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch);
+    watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch, forged, keyed,
+    order); on_rows(rows) with each chunk's recorded rows (channels in the order of channels(cars))
+    as soon as the chunk has run (a recording written as the run goes: railbrake.hil.mdf); stop()
+    before each chunk: True ends the run as an interrupt does (a caller's signal handler that only
+    notes the signal: raising from it can hit Python's import machinery, which swallows it);
     on_start(local port, session, configuration digest) once the plant's endpoint is open; kernel: the
-    plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto). Ctrl-C or
-    SIGTERM end the run early: the result holds what was recorded until then (interrupted=True)."""
+    plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto); key: the key
+    file's path or its 16 bytes (the BCU's too: frames are authenticated). Ctrl-C or SIGTERM end the
+    run early: the result holds what was recorded until then (interrupted=True)."""
+    secret = key_bytes(key)
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
     config = hil_config(sc, bcu_params(plant, sc, True, resolved.train), duration, hold_time, late_time,
-                        record_interval, paced)
+                        record_interval, paced, secret)
     config.config = config_digest(sc, n_cars)
     names = channels(n_cars)
     state = ctypes.create_string_buffer(_core.rb_hil_runner_size())
@@ -250,15 +286,18 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     try:
         with _normal_scheduling_after(), _sigterm_as_interrupt():
             real_time = request_real_time(priority) if paced else RealTime(False)
-            while not finished.value:
+            while not finished.value and not interrupted:
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
                            CHUNK_STEPS, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
                 chunks.append(chunk[:rows.value].copy())
+                if on_rows is not None:
+                    on_rows(chunks[-1])
                 _core.rb_hil_runner_result(state, ctypes.byref(result))
                 events += _drain_events(state, seen, result.events, on_event)
                 seen = result.events
                 if progress is not None and rows.value:
                     progress(result.time, float(chunk[rows.value - 1, 1]))
+                interrupted = stop is not None and stop() and not finished.value
     except KeyboardInterrupt:
         # Ctrl-C or SIGTERM between two chunks (or inside Python code between them): keep what was
         # recorded; a chunk the interrupt cut short was not appended, the C state still holds it
@@ -281,14 +320,14 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
                     f"({result.bcu_cars} cars, {result.bcu_axles} axles); this plant runs "
                     f"{describe_config(sc, n_cars)}: start both with the same scenario, train and --cars")
     return HilResult(sc.name, n_cars, outputs["time"], outputs, dict(names), counters, timing, kpis, real_time,
-                     events, plant.atmosphere, interrupted, mismatch)
+                     events, plant.atmosphere, interrupted, mismatch, loss_dict(result))
 
 
 # ------------------------------------------------------------------ the reference BCU
 
 class BcuCounters(dict):
     """The reference BCU's counters (received, malformed, stale, sent, send_errors, cycles, foreign,
-    refused), with why it refused a plant (`refusal`, None if none) and whether Ctrl-C or SIGTERM
+    refused, forged, challenges), with why it refused a plant (`refusal`, None if none) and whether Ctrl-C or SIGTERM
     ended it (`interrupted`)."""
     refusal: str | None = None
     interrupted: bool = False
@@ -309,12 +348,14 @@ def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0
               cars: int | None = None, duration: float = 0.0, idle_timeout: float = 2.0,
               priority: int = DEFAULT_BCU_PRIORITY, ready: Callable[[int, RealTime], None] | None = None,
               progress: Callable[[dict], None] | None = None,
-              on_refusal: Callable[[str], None] | None = None) -> BcuCounters:
+              on_refusal: Callable[[str], None] | None = None, key=None) -> BcuCounters:
     """Serve plant frames with the scenario's BCU (same logic and demand profile as the simulation)
     until `duration` s of wall time (0: none) or `idle_timeout` s without a frame of its session
     (counted from the first datagram while none came). ready(port, real_time) once listening (port: the
     one bound, useful with port 0); on_refusal(text) once, when the first plant of another
-    configuration is refused. Ctrl-C and SIGTERM end it with the counters. Returns the counters."""
+    configuration is refused; key: the key file's path or its 16 bytes (the plant's too). Ctrl-C and
+    SIGTERM end it with the counters. Returns the counters."""
+    secret = key_bytes(key)
     if idle_timeout < 0 or duration < 0:
         raise InputError(f"idle_timeout = {idle_timeout}, duration = {duration}: must be >= 0")
     resolved = resolve(scenario, cars)
@@ -323,7 +364,8 @@ def serve_bcu(scenario="emergency-300-heavy-rain", listen: tuple[str, int] = ("0
     wsp, spec = wsp_params(sc), _scenario_struct(sc)
     state = ctypes.create_string_buffer(_core.rb_hil_bcu_size())
     _core.call(_core.rb_hil_bcu_open, ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec),
-               config_digest(sc, n_cars), listen[0].encode(), listen[1], state)
+               config_digest(sc, n_cars), secret, secrets.token_bytes(_core.HIL_KEY_SIZE), listen[0].encode(),
+               listen[1], state)
     counts = (ctypes.c_uint64 * len(_core.HIL_BCU_COUNTERS))()
     finished = ctypes.c_int(0)
     refusal, interrupted = None, False

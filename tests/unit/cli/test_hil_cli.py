@@ -2,11 +2,16 @@
 a BCU with a duration stops on its own. The paced runs themselves: tests/unit/hil/."""
 
 import json
+import tempfile
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
 from railbrake.cli import app
+from railbrake.hil.keys import write_key
+
+KEY = str(write_key(Path(tempfile.mkdtemp(prefix="railbrake-cli-key-")) / "hil.key"))
 
 
 @pytest.mark.parametrize("args, words", [
@@ -23,18 +28,22 @@ from railbrake.cli import app
     (["bcu", "--listen", "udp://127.0.0.1:0", "--idle-timeout", "-1"], "idle_timeout = -1.0"),
 ])
 def test_bad_input_is_a_one_line_error(args, words):
-    result = CliRunner().invoke(app, args)
+    result = CliRunner().invoke(app, [*args, "--key", KEY])
     assert result.exit_code == 2
     assert words in result.output
 
 
 def test_hil_without_a_bcu_runs_in_the_safe_state_and_says_so():
     result = CliRunner().invoke(app, ["hil", "emergency-250-dry", "--cars", "1", "--bcu", "udp://127.0.0.1:9",
-                                      "--duration", "0.1", "--priority", "0", "--json"])
-    assert result.exit_code == 0, result.output
+                                      "--duration", "0.3", "--priority", "0", "--json", "--key", KEY])
+    assert result.exit_code == 3, result.output   # the BCU lost (never answered): docs/hil.md
     assert "no frame came from the BCU at udp://127.0.0.1:9" in result.output
-    report = json.loads(result.output[result.output.index("{"):])
-    assert report["counters"]["safe_state_steps"] == report["counters"]["steps"] == 100
+    assert "BCU lost at t = 0.101 s (no valid frame from it before)" in " ".join(result.output.split())
+    report = json.loads(result.output[result.output.index("{"):result.output.rindex("}") + 1])
+    loss = report["bcu_loss"]   # lost once the hold time (0.1 s) passed without a frame
+    assert loss["lost"] and loss["at_s"] == 0.101 and loss["safe_s"] == pytest.approx(0.199)
+    assert 0 < loss["distance_m"] < report["kpis"]["braked_distance_m"]
+    assert report["counters"]["safe_state_steps"] == report["counters"]["steps"] == 300
     assert report["kpis"]["stopping_distance_m"] is None  # cut short by --duration: not stopped
     assert report["kpis"]["braked_distance_m"] > 0        # the safe state brakes
     assert report["kpis"]["min_supply_bar"] > 7.0
@@ -42,9 +51,31 @@ def test_hil_without_a_bcu_runs_in_the_safe_state_and_says_so():
 
 def test_bcu_stops_after_its_duration_without_a_plant():
     result = CliRunner().invoke(app, ["bcu", "emergency-250-dry", "--cars", "1", "--listen", "udp://127.0.0.1:0",
-                                      "--duration", "0.3", "--priority", "0", "--json"])
+                                      "--duration", "0.3", "--priority", "0", "--json", "--key", KEY])
     assert result.exit_code == 0, result.output
     first, rest = result.output.split("\n", 1)
     assert first.startswith("listening on udp://127.0.0.1:")
     assert json.loads(rest) == {"received": 0, "malformed": 0, "stale": 0, "sent": 0, "send_errors": 0, "cycles": 0,
-                                "foreign": 0, "refused": 0}
+                                "foreign": 0, "refused": 0, "forged": 0, "challenges": 0}
+
+
+@pytest.mark.parametrize("content, mode, words", [
+    ("00" * 16 + "\n", 0o644, "mode 0644 lets others read it: chmod 600"),
+    ("00" * 15 + "\n", 0o600, "line 1: 30 characters: expected 32 hexadecimal digits"),
+    ("# comment\n" + "zz" * 16 + "\n", 0o600, "line 2: 32 characters: expected 32 hexadecimal digits"),
+    ("# only a comment\n", 0o600, "0 key lines"),
+])
+def test_bad_key_files_are_refused_naming_file_and_line(tmp_path, content, mode, words):
+    key = tmp_path / "bad.key"
+    key.write_text(content)
+    key.chmod(mode)
+    result = CliRunner().invoke(app, ["bcu", "--listen", "udp://127.0.0.1:0", "--key", str(key)])
+    assert result.exit_code == 2 and f"key file {key}" in result.output and words in result.output
+
+
+def test_hil_key_makes_a_private_key_and_never_overwrites(tmp_path):
+    key = tmp_path / "new.key"
+    assert CliRunner().invoke(app, ["hil-key", str(key)]).exit_code == 0
+    assert key.stat().st_mode & 0o777 == 0o600
+    again = CliRunner().invoke(app, ["hil-key", str(key)])
+    assert again.exit_code == 2 and "exists" in again.output

@@ -1,18 +1,26 @@
-"""The reference BCU as a separate process (`railbrake bcu`), as a user would start it."""
+"""The reference BCU as a separate process (`railbrake bcu`), as a user would start it, and the key
+file plant and BCU share (ICD v3: every frame authenticated)."""
 
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
 
+from railbrake.hil.keys import read_key, write_key
+
 RAILBRAKE = str(Path(sys.executable).parent / "railbrake")
+KEY_FILE = Path(tempfile.mkdtemp(prefix="railbrake-hil-key-")) / "hil.key"   # one per test process
+write_key(KEY_FILE)
+SECRET = read_key(KEY_FILE)
 
 
 def start_bcu(*args):
     """Starts `railbrake bcu ... --listen udp://127.0.0.1:0`; returns the process and its port."""
     proc = subprocess.Popen([RAILBRAKE, "bcu", *args, "--listen", "udp://127.0.0.1:0", "--priority", "0",
-                             "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                             "--key", str(KEY_FILE), "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
     line = proc.stdout.readline()
     if not line.startswith("listening on udp://127.0.0.1:"):
         proc.kill()
@@ -40,3 +48,9 @@ def bcu_process():
 def railbrake_cli():
     """The installed `railbrake` command of this environment."""
     return RAILBRAKE
+
+
+@pytest.fixture
+def hil_key():
+    """The key file every plant and BCU of these tests share."""
+    return KEY_FILE

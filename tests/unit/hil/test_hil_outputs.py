@@ -17,10 +17,11 @@ from railbrake.units import kmh_to_ms
 SCENARIO = "emergency-250-dry"
 
 
-def test_hil_out_writes_the_run_folder(bcu_process, tmp_path):
+def test_hil_out_writes_the_run_folder(bcu_process, hil_key, tmp_path):
     _, port = bcu_process(SCENARIO, "--cars", "1", "--idle-timeout", "0.5")
     out = tmp_path / "hil"
     result = CliRunner().invoke(app, ["hil", SCENARIO, "--cars", "1", "--bcu", f"udp://127.0.0.1:{port}",
+                                      "--key", str(hil_key),
                                       "--duration", "1", "--priority", "0", "--out", str(out),
                                       "--format", "mf4,parquet", "--json"])
     assert result.exit_code == 0, result.output
@@ -50,7 +51,8 @@ SHORT_STOP = ("--set", "initial_speed=40 km/h")   # a dry stop of 8.6 s: cheap t
 
 
 @pytest.mark.slow
-def test_compare_of_a_mil_run_and_its_hil_run_reports_their_stopping_distance_difference(bcu_process, tmp_path):
+def test_compare_of_a_mil_run_and_its_hil_run_reports_their_stopping_distance_difference(bcu_process, hil_key,
+                                                                                        tmp_path):
     """A MIL run and its HIL run (paced against the reference BCU process; 1 car, dry, from 40 km/h so
     the WSP stays idle): `compare` reports B - A of the two stops, and the stops differ by less than
     the train travels in one 1 ms step (the transport delay of the frames; braking is timed from the
@@ -59,6 +61,7 @@ def test_compare_of_a_mil_run_and_its_hil_run_reports_their_stopping_distance_di
     resolved = resolve(SCENARIO, 1, [SHORT_STOP[1]])
     write_run(from_simulation(simulation.run(resolved), resolved.scenario), tmp_path / "mil")   # no plots: faster
     result = CliRunner().invoke(app, ["hil", SCENARIO, "--cars", "1", *SHORT_STOP, "--bcu", f"udp://127.0.0.1:{port}",
+                                      "--key", str(hil_key),
                                       "--priority", "0", "--record", str(tmp_path / "hil.mf4"), "--json"])
     assert result.exit_code == 0, result.output
     mil = json.loads((tmp_path / "mil" / "kpis.json").read_text())

@@ -10,13 +10,14 @@ import pytest
 from asammdf import MDF
 
 from railbrake import simulation
+from conftest import KEY_FILE
 
 SCENARIO = "emergency-300-heavy-rain"
 
 
 def run_plant(railbrake, port, *args):
     out = subprocess.run([railbrake, "hil", SCENARIO, "--cars", "8", "--bcu", f"udp://127.0.0.1:{port}", "--json",
-                          *args], capture_output=True, text=True, timeout=600)
+                          "--key", str(KEY_FILE), *args], capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout)
 
@@ -35,7 +36,8 @@ def test_short_paced_loop_follows_mil_and_records_mdf4(bcu_process, railbrake_cl
     assert 150 <= c["received"] <= 201              # one BCU cycle every 10 ms
     assert c["safe_state_steps"] < 100               # only until the BCU's first answer
     served = json.loads(bcu.communicate(timeout=30)[0])   # after the "listening" line
-    assert served["received"] == 2000 and served["malformed"] == 0 and served["sent"] == c["received"]
+    assert served["received"] + served["challenges"] == 2000 and served["malformed"] == 0
+    assert served["sent"] == c["received"] and served["forged"] == 0
 
     with MDF(tmp_path / "run.mf4") as mdf:
         speed = mdf.get("speed")

@@ -1,6 +1,6 @@
-"""The session handshake of ICD version 2 with the real processes (`railbrake hil`, `railbrake bcu`):
-a BCU set up for another train refuses the plant and both say why, a forged frame cannot silence the
-BCU, and Ctrl-C / SIGTERM keep the recording and the summary."""
+"""The session handshake (ICD versions 2 and 3) with the real processes (`railbrake hil`, `railbrake
+bcu`): a BCU set up for another train refuses the plant and both say why, a forged frame cannot
+silence the BCU, and Ctrl-C / SIGTERM keep the recording and the summary."""
 
 import json
 import signal
@@ -13,14 +13,16 @@ import numpy as np
 from asammdf import MDF
 
 from railbrake import hil, scenario
-from railbrake.hil.frames import crc32
+from railbrake.hil.frames import crc32, siphash24
+from conftest import KEY_FILE, SECRET
 
 SCENARIO = "emergency-300-heavy-rain"
 
 
 def plant(railbrake, port, *args, **kwargs):
     return subprocess.Popen([railbrake, "hil", SCENARIO, "--bcu", f"udp://127.0.0.1:{port}", "--priority", "0",
-                             *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kwargs)
+                             "--key", str(KEY_FILE), *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, **kwargs)
 
 
 def test_bcu_of_another_train_both_say_why(bcu_process, railbrake_cli):
@@ -39,14 +41,16 @@ def test_bcu_of_another_train_both_say_why(bcu_process, railbrake_cli):
 
 
 def forged_frame(step):
-    """A CRC-valid plant frame of this train (1 car) with the given step, in session 1."""
-    forged = bytearray(32 + 4 * (3 + 2 * 4 + 1))
-    forged[0:8] = bytes([0x52, 0x42, 0x52, 0x4B, 2, 1, 48, 0])
+    """A CRC-valid plant hello of this train (1 car) with the given step, in session 1, tagged under
+    a key that is not the session's (the forger has no key file)."""
+    forged = bytearray(40 + 4 * (3 + 2 * 4 + 1))
+    forged[0:8] = bytes([0x52, 0x42, 0x52, 0x4B, 3, 1, 48, 0])
     forged[8:12] = (1).to_bytes(4, "little")
     forged[12:16] = hil.config_digest(scenario.load(SCENARIO), 1).to_bytes(4, "little")
     forged[20:28] = step.to_bytes(8, "little")
     forged[28:30] = bytes([1, 4])
-    return bytes(forged) + crc32(bytes(forged)).to_bytes(4, "little")
+    return (bytes(forged) + crc32(bytes(forged)).to_bytes(4, "little")
+            + siphash24(bytes(16), bytes(forged)).to_bytes(8, "little"))
 
 
 def test_forged_step_does_not_silence_the_bcu(bcu_process):
@@ -61,14 +65,15 @@ def test_forged_step_does_not_silence_the_bcu(bcu_process):
                 hostile.sendto(forged_frame(2 ** 64 - 1), ("127.0.0.1", port))
             sent.append(t)
 
-    result = hil.run(SCENARIO, ("127.0.0.1", port), cars=1, duration=1.5, priority=0, progress=forge_once)
+    result = hil.run(SCENARIO, ("127.0.0.1", port), cars=1, duration=1.5, priority=0, progress=forge_once,
+                     key=SECRET)
     c = result.counters
     assert sent and c["received"] >= 140 and c["safe_state_steps"] < 100   # answers throughout (every 10 ms)
     t, frames = result.time, result.outputs["bcu_frames"]
     assert frames[-1] - frames[np.searchsorted(t, 1.0)] >= 40               # still answered after the forgery
     served = json.loads(bcu.communicate(timeout=60)[0])
-    assert served["stale"] == 0 and served["received"] == c["frames_sent"]
-    assert served["foreign"] == 1 and served["refused"] == 0
+    assert served["stale"] == 0 and served["received"] + served["challenges"] == c["frames_sent"]
+    assert served["forged"] == 1 and served["foreign"] == 0 and served["refused"] == 0
 
 
 def test_ctrl_c_keeps_the_recording_and_the_summary(bcu_process, railbrake_cli, tmp_path):
