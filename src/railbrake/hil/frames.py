@@ -8,6 +8,7 @@ from __future__ import annotations
 import ctypes
 
 from railbrake import _core
+from railbrake._args import whole
 from railbrake.errors import InputError
 
 FRAME_TYPES = {1: "plant", 2: "bcu", 3: "challenge"}
@@ -49,12 +50,18 @@ def _encode(encoder, frame, key: bytes) -> bytes:
 
 def encode_bcu_frame(sequence: int, step: int, n_cars: int, brake_demand: float, pressure_demand,
                      hold=(), vent=(), n_axles: int | None = None, session: int = 1, config: int = 0,
-                     nonce: int = 0, key: bytes | None = None) -> bytes:
+                     nonce: int = 0, key: bytes | None = None, check: bool = True) -> bytes:
     """A BCU frame (pressures in Pa absolute, hold/vent per axle 0/1) in `session` (echo the plant
     frame's) with the configuration digest `config` (the plant's, to be accepted), tagged under key
-    (session_key(secret, session, nonce)). Values are not checked here, so a test peer can send what
-    a faulty BCU would; the receiver validates."""
+    (session_key(secret, session, nonce)). Its values are checked as the receiver checks them (the
+    ICD's ranges: InputError naming the field); check=False leaves them as given, so a test peer
+    can send what a faulty BCU would."""
     f = _core.BcuFrame()
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
+    pressure_demand, hold, vent = list(pressure_demand), list(hold), list(vent)
+    if len(pressure_demand) > n_cars or len(hold) > _core.PLANT_MAX_AXLES or len(vent) > _core.PLANT_MAX_AXLES:
+        raise InputError(f"pressure_demand, hold, vent: at most n_cars = {n_cars} pressures and "
+                         f"{_core.PLANT_MAX_AXLES} valve states")
     _header(f.header, session, config, sequence, step, nonce, n_cars,
             _core.AXLES_PER_CAR * n_cars if n_axles is None else n_axles)
     f.brake_demand = brake_demand
@@ -62,7 +69,13 @@ def encode_bcu_frame(sequence: int, step: int, n_cars: int, brake_demand: float,
         f.pressure_demand[i] = p
     for i, (h, v) in enumerate(zip(hold, vent)):
         f.hold[i], f.vent[i] = h, v
-    return _encode(_core.rb_bcu_frame_encode, f, key)
+    data = _encode(_core.rb_bcu_frame_encode, f, key)
+    if check:   # the receiver's own checks, on the frame as it will travel (float32 values)
+        try:
+            _core.call(_core.rb_bcu_frame_decode, data, len(data), ctypes.byref(_core.BcuFrame()))
+        except InputError as exc:
+            raise InputError(f"encode_bcu_frame: {exc}") from None
+    return data
 
 
 def encode_challenge(session: int, config: int, step: int, nonce: int, n_cars: int, key: bytes) -> bytes:

@@ -1,6 +1,7 @@
 """The frame codec seen from Python (the C implementation, docs/hil-interface.md, ICD v3)."""
 
 import math
+import re
 import struct
 
 import pytest
@@ -78,3 +79,17 @@ def test_only_payload_size_wrong_says_so():
 def test_a_frame_needs_a_key():
     with pytest.raises(InputError, match="key: expected 16 bytes"):
         encode_bcu_frame(1, 2, 1, 0.5, [2e5])
+
+
+def test_a_bad_bcu_frame_is_refused_when_built_unless_asked_for():
+    """The encoder checks what the receiver checks (NaN, out of range, a valve state of 2), naming
+    the field; check=False builds it anyway, as a faulty BCU would send it."""
+    for args, field in (((1, 2, 1, math.nan, [2e5]), "brake_demand"), ((1, 2, 1, 0.5, [math.inf]), "pressure_demand[0]"),
+                        ((1, 2, 1, 0.5, [-1.0]), "pressure_demand[0]"), ((1, 2, 1, 3.0, [2e5]), "brake_demand")):
+        with pytest.raises(InputError, match=rf"encode_bcu_frame: {re.escape(field)} = "):
+            encode_bcu_frame(*args, key=KEY)
+        assert len(encode_bcu_frame(*args, key=KEY, check=False)) > 40
+    with pytest.raises(InputError, match=r"hold\[1\] = 2"):
+        encode_bcu_frame(1, 2, 1, 0.5, [2e5], hold=[0, 2, 0, 0], vent=[0] * 4, key=KEY)
+    with pytest.raises(ValueError, match="n_cars = 0"):
+        encode_bcu_frame(1, 2, 0, 0.5, [], key=KEY)
