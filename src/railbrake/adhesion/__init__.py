@@ -29,6 +29,10 @@ def __getattr__(name):
         return getattr(fit, name)
     raise AttributeError(f"module 'railbrake.adhesion' has no attribute {name!r}")
 
+
+def __dir__():
+    return sorted(set(globals()) | set(_FIT))   # the lazy names too (help(), the API reference)
+
 __all__ = [
     "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",
     "Peak", "PolachFit", "RailConditioning",
