@@ -79,7 +79,7 @@ def _recorded(base: str, run: dict, options: dict, row: dict) -> None:
 
 def _kpis_only(base: str, runs: list[dict], rows: list[dict], options: dict) -> None:
     """Runs without time series: each resolved and set up here, then all run in one C call."""
-    from railbrake import simulation
+    from railbrake import _core, simulation
     prepared, ready = [], []
     for run, row in zip(runs, rows):
         try:
@@ -90,7 +90,9 @@ def _kpis_only(base: str, runs: list[dict], rows: list[dict], options: dict) -> 
             ready.append(row)
         except Exception as exc:   # noqa: BLE001
             _failed(row, exc)
-    for row, outcome in zip(ready, simulation.run_structs(prepared) if prepared else []):
+    outcomes = [o for i in range(0, len(prepared), _core.MAX_BATCH)
+                for o in simulation.run_structs(prepared[i:i + _core.MAX_BATCH])]
+    for row, outcome in zip(ready, outcomes):
         if isinstance(outcome, Exception):
             _failed(row, outcome)
         else:
