@@ -129,12 +129,13 @@ def garbage_kinds(peer, step):
     """Random bytes, a bad CRC, wrong counts, NaN and out-of-range values, a truncated frame."""
     good = bytearray(peer.frame(1000, step, 1, 0.5, [HELD]))
     bad_crc = bytes(good[:-12]) + bytes([good[-12] ^ 0xFF]) + bytes(good[-11:])   # the CRC's first byte
+    faulty = {"check": False}   # built as a faulty BCU would send them
     return [os.urandom(40 + step % 200), bad_crc,
-            peer.frame(1000, step, 2, 0.5, [HELD, HELD]),          # the plant has 1 car
-            peer.frame(1000, step, 1, 0.5, [HELD], n_axles=3),     # ... and 4 axles
-            peer.frame(1000, step, 1, math.nan, [HELD]),
-            peer.frame(1000, step, 1, 0.5, [-5.0]),
-            peer.frame(1000, step, 1, 0.5, [HELD], hold=[2] * 4, vent=[0] * 4),
+            peer.frame(1000, step, 2, 0.5, [HELD, HELD], **faulty),          # the plant has 1 car
+            peer.frame(1000, step, 1, 0.5, [HELD], n_axles=3, **faulty),     # ... and 4 axles
+            peer.frame(1000, step, 1, math.nan, [HELD], **faulty),
+            peer.frame(1000, step, 1, 0.5, [-5.0], **faulty),
+            peer.frame(1000, step, 1, 0.5, [HELD], hold=[2] * 4, vent=[0] * 4, **faulty),
             bytes(good[:30]), b""]
 
 
