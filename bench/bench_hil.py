@@ -16,7 +16,6 @@ import time
 from pathlib import Path
 
 from railbrake import _core, hil
-from railbrake.hil.frames import session_key
 from railbrake.hil.keys import write_key
 
 SCENARIO = "emergency-300-heavy-rain"
