@@ -368,16 +368,6 @@ rb_status rb_plant_retune_adhesion(const rb_plant_params *p, rb_plant_state *s, 
     return RB_OK;
 }
 
-double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s)
-{
-    double m = s->m_mr;
-    for (int c = 0; c < p->n_cars; ++c) {
-        m += s->m_pipe[c] + s->m_supply[c] + s->m_pilot[c] + s->m_relay[c];
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) m += s->m_cyl[c * RB_AXLES_PER_CAR + k];
-    }
-    return m;
-}
-
 double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double wheel_speed)
 {
     return rb_axle_brake_torque(&c->vehicle.brake, p_cyl, wheel_speed);
@@ -404,44 +394,3 @@ double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_sta
                   : rb_polach_peak_track(v, wheel_load, &car->contact, &s->polach[axle], log_creep);
 }
 
-void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
-{
-    memset(out, 0, sizeof *out);
-    rb_plant_update_outputs(p, s, out);
-}
-
-void rb_plant_update_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
-{
-    double rt = 287.05 * p->temperature;
-    out->time = s->time;
-    out->speed = s->v[0];
-    out->position = s->x[0];
-    out->deceleration = -s->a[0];
-    out->main_reservoir = s->m_mr * rt / p->main_reservoir_volume;
-    out->pipe_end = s->m_pipe[p->n_cars - 1] * rt / p->car[p->n_cars - 1].pipe_volume;
-    out->compressor_on = s->compressor_on;
-    for (int c = 0; c < p->n_cars; ++c) {
-        const rb_plant_car *car = &p->car[c];
-        out->supply[c] = s->m_supply[c] * rt / car->supply_volume;
-        out->pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
-        out->relay[c] = s->m_relay[c] * rt / car->relay_volume;
-        out->ed_force[c] = s->ed_force[c];
-        out->car_speed[c] = s->v[c];
-        double vr = s->v[c] > p->creep_speed_min ? s->v[c] : p->creep_speed_min;
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-            int a = c * RB_AXLES_PER_CAR + k;
-            double w = s->omega[a] * car->vehicle.wheelset.wheel_radius;
-            out->wheel_speed[a] = w;
-            out->wheel_speed_measured[a] = s->sensor_lost[a] ? -1.0 : w + s->noise[a];
-            out->slip[a] = (w - s->v[c]) / vr;
-            out->adhesion[a] = s->coefficient[a];
-            out->cylinder[a] = s->mt_cyl[a] * s->derived.r_cyl[c];
-            out->hold[a] = s->hold_effective[a];
-            out->vent[a] = s->vent_effective[a];
-        }
-    }
-    out->air_in_system = rb_plant_air_mass(p, s);
-    out->air_vented = s->m_vented;
-    out->air_compressed = s->m_compressed;
-    rb_plant_train_outputs(p, s, out);
-}

@@ -228,7 +228,5 @@ double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s
 /* Friction brake energy and disc temperature of every axle over a sub-step dt, from the friction
  * torque the wheelset kernel applied in it (s->brake_torque). */
 void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt);
-/* The outputs of plant_train.c. */
-void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
 
 #endif
