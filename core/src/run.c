@@ -5,6 +5,7 @@
 #include "plant_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -172,8 +173,10 @@ static inline double smaller(double x, double y) { return x < y ? x : y; }
 static inline int accumulate_axles(const rb_plant_params *p, rb_run_state *r)
 {
     const rb_plant_outputs *o = &r->out;
+    /* flags as wide as the doubles they select between: no packing between lane widths */
     double demand[RB_PLANT_MAX_AXLES], lock_speed[RB_PLANT_MAX_AXLES], dt = p->dt;
-    int counts[RB_PLANT_MAX_AXLES], n = p->n_cars * RB_AXLES_PER_CAR, events = 0;
+    int64_t counts[RB_PLANT_MAX_AXLES], events = 0;
+    int n = p->n_cars * RB_AXLES_PER_CAR;
     for (int c = 0; c < p->n_cars; ++c)
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             demand[a] = r->in.pressure_demand[c];
@@ -181,7 +184,7 @@ static inline int accumulate_axles(const rb_plant_params *p, rb_run_state *r)
             counts[a] = o->car_speed[c] > LOCK_SPEED;
         }
     for (int a = 0; a < n; ++a) {
-        int short_of = ((o->hold[a] | o->vent[a]) == 0) & (demand[a] - o->cylinder[a] > RB_SHORTFALL_PA);
+        int64_t short_of = ((o->hold[a] | o->vent[a]) == 0) & (demand[a] - o->cylinder[a] > RB_SHORTFALL_PA);
         r->shortfall_time[a] = short_of ? r->shortfall_time[a] + dt : 0.0;
         r->axle_max_shortfall[a] = larger(r->shortfall_time[a], r->axle_max_shortfall[a]);
     }
@@ -190,13 +193,14 @@ static inline int accumulate_axles(const rb_plant_params *p, rb_run_state *r)
         r->axle_max_slip[a] = counts[a] ? larger(slip, r->axle_max_slip[a]) : r->axle_max_slip[a];
     }
     for (int a = 0; a < n; ++a) {
-        int locked = counts[a] & (o->wheel_speed[a] < lock_speed[a]), begins = locked & (r->lock_time[a] == 0.0);
+        int64_t locked = counts[a] & (o->wheel_speed[a] < lock_speed[a]);
+        int64_t begins = locked & (r->lock_time[a] == 0.0);
         events += begins;
         r->axle_locks[a] += begins ? 1.0 : 0.0;
         r->lock_time[a] = locked ? r->lock_time[a] + dt : (counts[a] ? 0.0 : r->lock_time[a]);
         r->axle_max_lock[a] = larger(r->lock_time[a], r->axle_max_lock[a]);
     }
-    return events;
+    return (int)events;
 }
 
 /* KPI accumulation after one step: air supply minima and the hottest disc always; while
@@ -273,13 +277,17 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
             r->brake_speed = r->out.speed;
             r->next_adhesion = r->out.time;
         }
-        rb_bcu_step(bcu, &r->bcu, &d, &r->out, &r->in);
+        if (rb_bcu_update(bcu, &r->bcu, &d, &r->out)) r->in = r->bcu.command;   /* held between cycles */
         rb_plant_step(plant, &r->plant, &r->in);
-        rb_plant_update_outputs(plant, &r->plant, &r->out);
+        rb_plant_update_step_outputs(plant, &r->plant, &r->out);
         accumulate_step(plant, sc, r);
         r->stopped = r->braking && r->out.speed <= sc->stop_speed;
-        if (r->stopped || r->out.time >= sc->max_time - 1e-9) {
-            r->finished = 1;
+        r->finished = r->stopped || r->out.time >= sc->max_time - 1e-9;
+        /* the rest of the outputs where they are read: by the next BCU cycle, a record, the end */
+        int read = r->finished || r->out.time >= r->bcu.next_cycle - 1e-9 || r->out.time >= t_until - 1e-9 ||
+                   (series && r->out.time >= r->next_record - 1e-9);
+        if (read) rb_plant_update_outputs(plant, &r->plant, &r->out);
+        if (r->finished) {
             if (series && r->rows < max_rows) {
                 rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
                 r->rows++;

@@ -367,6 +367,10 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
 /* The same into outputs that rb_plant_get_outputs filled for this plant before (a loop's own
  * copy): the cars' and axles' entries, without clearing the unused rest each step. */
 void rb_plant_update_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
+/* Only what a run reads after every step (rb_run_advance): time, speed, position, main_reservoir,
+ * supply, car_speed, wheel_speed, slip, cylinder, hold, vent, disc_temperature; the rest keeps
+ * its last values until rb_plant_update_outputs. */
+void rb_plant_update_step_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
 /* Air mass in every volume of the plant, kg. */
 double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
 /* Brake torque of one axle at cylinder pressure p_cyl and wheel peripheral speed (N m). */
