@@ -3,10 +3,12 @@
 dropped: a scenario's unknown `train:` keys, a FIFO and a symlink to /dev/zero as adhesion
 condition, a 50 MB study file and a study's unchecked values. Each case must end in status 2; the
 tests (tests/unit/guard/test_inputs_read_or_refused.py) check the messages, this only the clock.
-Prints each wall time and the load average, since other jobs on the machine show up in them.
+Prints each wall time, the CPU time it took (which other jobs on the machine do not inflate) and
+the load average, and the same for `railbrake --version` (the start-up alone).
 Usage: bench_refusals.py [ROUNDS]."""
 
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -20,7 +22,7 @@ SCENARIO = ("schema: railbrake.scenario/1\nname: x\ntrain: {{{train}}}\ninitial_
 
 
 def scenario(folder: Path, name: str, train: str = "preset: crh380a-8, cars: 2", condition: str = "dry-medium"):
-    path = folder / f"{name}.yaml"
+    path = folder / f"scenario-{name}.yaml"
     path.write_text(SCENARIO.format(train=train, condition=condition))
     return ["run", str(path)]
 
@@ -52,19 +54,26 @@ def main(rounds: int = 3) -> None:
               f"(load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores):")
         slowest = 0.0
         for name, args in cases(Path(tmp)).items():
-            times = []
-            for _ in range(rounds):
-                start = time.perf_counter()
-                done = subprocess.run([RAILBRAKE, *args], capture_output=True, text=True, timeout=120)
-                times.append(time.perf_counter() - start)
-                if done.returncode != 2:
-                    sys.exit(f"{name}: status {done.returncode}, not 2: {done.stderr}")
-            slowest = max(slowest, max(times))
-            print(f"  {name}: {min(times):.2f} .. {max(times):.2f} s   {done.stderr.strip()[:110]}")
-        start = time.perf_counter()
-        subprocess.run([RAILBRAKE, "--version"], capture_output=True, check=True)
-        print(f"slowest {slowest:.2f} s (limit 5 s); `railbrake --version` alone: {time.perf_counter() - start:.2f} s; "
-              f"load average now {os.getloadavg()[0]:.2f}")
+            times = [timed([RAILBRAKE, *args], name) for _ in range(rounds)]
+            slowest = max(slowest, max(wall for wall, _, _ in times))
+            print(f"  {name}: wall {min(w for w, _, _ in times):.2f} .. {max(w for w, _, _ in times):.2f} s, "
+                  f"CPU {min(c for _, c, _ in times):.2f} s   {times[-1][2][:100]}")
+        wall, cpu, _ = timed([RAILBRAKE, "--version"], "--version", status=0)
+        print(f"slowest {slowest:.2f} s wall (limit 5 s); `railbrake --version` alone: wall {wall:.2f} s, "
+              f"CPU {cpu:.2f} s; load average now {os.getloadavg()[0]:.2f}")
+
+
+def timed(command: list[str], name: str, status: int = 2) -> tuple[float, float, str]:
+    """Wall and CPU seconds (the child's user + system: what load does not inflate) and the error."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    done = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode != status:
+        sys.exit(f"{name}: status {done.returncode}, not {status}: {done.stderr}")
+    cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+    return wall, cpu, done.stderr.strip()
 
 
 if __name__ == "__main__":
