@@ -60,7 +60,8 @@ static double now;   /* the FMU's time as the fuzzer expects it */
 static double stop_time = INFINITY;   /* the stopTime given at the last initialization (none: infinity) */
 static double requested_stop;        /* the stopTime of the enterInitializationMode call under way */
 
-/* A random stopTime for enterInitializationMode: none (infinity), or one in [start - 1, start + 9] s. */
+/* A random stopTime for enterInitializationMode: none (infinity), one the doSteps soon reach (within
+ * 10 ms, on a plant step or between two), or one in [start - 1, start + 9] s. */
 static double random_stop(double start);
 
 static void violation(const char *function, const char *what)
@@ -346,7 +347,11 @@ static void fuzz_set(int is_real)
 
 static double random_stop(double start)
 {
-    return below(2) ? INFINITY : start + 10 * uniform() - 1;
+    switch (below(3)) {
+    case 0: return INFINITY;
+    case 1: return start + 1e-3 * below(10) + (below(2) ? 0.0 : 5e-4);   /* reached within a doStep or two */
+    default: return start + 10 * uniform() - 1;
+    }
 }
 
 static void fuzz_step(void)
