@@ -70,8 +70,8 @@ def main() -> int:
     machine = {"cores": os.cpu_count(), "load_before": round(load_before, 2),
                "load_after": round(os.getloadavg()[0], 2), "compiler": compiler()}
     for result in found:
-        kept[result.pop("target")] = {**result, "date": when, "command": described,
-                                      "seconds": round(seconds), "machine": machine}
+        target = result.pop("target")
+        kept[target] = {**result, "date": when, "command": described, "seconds": round(seconds), "machine": machine}
     results.parent.mkdir(parents=True, exist_ok=True)
     results.write_text(json.dumps(kept, indent=2, sort_keys=True) + "\n")
     print(f"fuzz_record: {len(found)} target(s) of {described} recorded in {results}")
