@@ -19,13 +19,15 @@ import sys
 import time
 from pathlib import Path
 
+RESULT = re.compile(r"fuzz-result (\{.*\})$")
 LIBFUZZER_DONE = re.compile(r"^Done (\d+) runs in (\d+) second")
 
 
 def figures(line: str):
     """The target's figures a fuzzer's output line carries, or None."""
-    if line.startswith("fuzz-result "):
-        return json.loads(line[len("fuzz-result "):])
+    result = RESULT.search(line)   # anywhere in the line: pytest's progress dots may come first
+    if result:
+        return json.loads(result[1])
     done = LIBFUZZER_DONE.match(line)
     if done:
         return {"target": "frames", "inputs": int(done[1]), "violations": 0, "engine": "libFuzzer"}
