@@ -17,6 +17,7 @@ reasons: tests/unit/fuzz/accepted_variants.md). A bounded sample in `make test`
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import random
@@ -386,6 +387,10 @@ def test_config_mutator(tmp_path):
     assert not out["unnamed"], out["unnamed"][:10]
     assert not out["read_as_number"], out["read_as_number"][:10]
     assert not out["meaningless"], out["meaningless"][:20]
+    record = {"target": "config", "variants": len(chosen), "pool": len(fixed) + len(pool), "pairs": len(fixed),
+              "accepted": len(accepted), "refused": len(chosen) - len(accepted), "classes_accepted": len(counts),
+              "seed": os.environ.get("RAILBRAKE_FUZZ_SEED", "1")}
+    print("fuzz-result", json.dumps(record))   # for docs/robustness.md (tools/fuzz_record.py, make fuzz-python)
 
 
 def test_every_pair_is_refused_naming_its_key(tmp_path):
