@@ -101,7 +101,8 @@ def main() -> None:
         args.json.write_text(json.dumps({
             "made": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "railbrake_commit": commit,
             "command": f"python bench/bench_fmu.py --json {args.json}", "scenario": SCENARIO,
-            "simulated_s": SIMULATED, "repeat": REPEAT, "load_average_1min": load, "native": native, "fmu": fmu}, indent=1) + "\n")
+            "simulated_s": SIMULATED, "repeat": REPEAT, "load_average_1min": load, "native": native, "fmu": fmu},
+            indent=1) + "\n")
 
 
 if __name__ == "__main__":
