@@ -158,3 +158,8 @@ def test_in_print_the_table_shrinks_to_a_landscape_page(written):
     _, _, page, _, table = written
     assert "@page{size:A4 landscape;margin:10mm}" in page and "@media print{" in page
     assert sum(_widths(table, glyph=0.64 * 8)) < (297 - 20) / 25.4 * 96
+
+
+def test_a_utilisation_just_below_the_criterion_shows_the_digits_that_fail_it():
+    from railbrake.campaign.assess import _below
+    assert _below(0.8497, 0.85) == "0.8497" and _below(0.8, 0.85) == "0.800" and _below(0.84999, 0.85) == "0.84999"
