@@ -26,8 +26,9 @@ demo: install
 test: ctest ctest-sanitize docs-fast pytest pytest-sanitize
 
 # The documentation site (docs/conf.py: Sphinx + MyST-NB): every page's code cells run at build and
-# the figures in the prose come from them; executions are cached in $(BUILD)/docs/jupyter_cache, so
-# an unchanged page is not run again. Warnings are errors. Offline: everything is in .venv.
+# the figures in the prose come from them; executions are cached in $(BUILD)/docs/jupyter_cache under
+# a digest of the installed package, so an unchanged page of unchanged code is not run again, and a
+# model change re-measures every page. Warnings are errors. Offline: everything is in .venv.
 # docs-fast (part of `make test`): the quick executed pages and the API reference only.
 SPHINX := $(VENV)/bin/sphinx-build -q -W --keep-going -b html
 
@@ -82,7 +83,7 @@ pytest-sanitize: install ctest-sanitize
 # the Markdown summary into docs/validation.md. Failing validation cases are findings, so only a
 # failing verification case or a broken case folder fails the target (--strict).
 validate: install
-	$(VENV)/bin/railbrake validate --report $(OUT)/validation.html --markdown docs/validation.md --strict
+	$(VENV)/bin/railbrake validate --report $(OUT)/validation.html --markdown $(OUT)/validation.md --strict
 
 # The fuzz suite, long runs (bounded smoke runs of each are part of `make test`): FMI call sequences
 # (10^6 calls per FMI version), the HIL frame decoder (libFuzzer with clang, else a gcc mutational
