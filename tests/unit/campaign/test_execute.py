@@ -105,11 +105,12 @@ def test_rerun_skips_every_key_already_there(reference):
 
 
 @pytest.mark.slow
-def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(dask_cli_cluster, two_workers,
-                                                                           tmp_path):
+def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(reference, dask_cli_cluster,
+                                                                           two_workers, tmp_path):
     """`campaign run` on the one-worker cluster, killed once two runs are in; rerun on two workers.
     The study has 32 runs in batches of one, so the kill lands well before its end (8 runs of
-    ~40 ms each once finished between two polls on a fast machine)."""
+    ~40 ms each once finished between two polls on a fast machine). `reference` first: the CLI waits
+    10 s for the scheduler's worker, which a loaded machine may not have started yet by itself."""
     study_file = tmp_path / "study.yaml"
     study_file.write_text(SMALL.read_text().replace("seeds: 2", "seeds: 8"))
     out = tmp_path / "killed"
