@@ -68,8 +68,8 @@ def test_lock_events_and_durations_equal_their_definitions(every_step):
     assert every_step.kpis["max_lock_duration_s"] == longest
 
 
-def test_without_wsp_the_wheels_lock(every_step):
+def test_without_wsp_the_wheels_lock():
     """The lock test above is not vacuous: without WSP on heavy rain the axles lock."""
-    if every_step.wsp:
-        pytest.skip("with WSP the axles need not lock")
-    assert lock_episodes(every_step)[0] > 0
+    resolved = resolve("emergency-300-heavy-rain", cars=1,
+                       sets=["initial_speed=120 km/h", "outputs.record_interval=1 ms"])
+    assert lock_episodes(simulation.run(resolved, wsp=False))[0] > 0
