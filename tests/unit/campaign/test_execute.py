@@ -116,12 +116,15 @@ def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(refe
     out = tmp_path / "killed"
     command = [sys.executable, "-c", "from railbrake.cli import main; main()", "campaign", "run", str(study_file),
                "--out", str(out), "--scheduler", dask_cli_cluster, "--batch-size", "1", "--json"]
-    process = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
+    log = tmp_path / "stderr.txt"
+    with log.open("w") as stderr:
+        process = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=stderr)
     deadline = time.monotonic() + 180
-    while len(dataset.existing_keys(out)) < 2 and time.monotonic() < deadline and process.poll() is None:
+    while len(list(out.glob("runs/part-*.parquet"))) < 2 and time.monotonic() < deadline \
+            and process.poll() is None:   # only look: existing_keys would complete the CLI's renames
         time.sleep(0.005)
-    assert process.poll() is None, f"`campaign run` ended (status {process.returncode}) before the kill"
+    assert process.poll() is None, \
+        f"`campaign run` ended (status {process.returncode}) before the kill: {log.read_text()[-2000:]}"
     os.killpg(process.pid, signal.SIGKILL)
     process.wait()
     partial = dataset.existing_keys(out)
