@@ -161,6 +161,8 @@ void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand 
         run_cycle(p, s, demand, out);
         s->next_cycle += p->cycle;
     }
+    /* the emergency loop is a train line: it acts at once, not at the BCU's next cycle */
+    s->command.emergency = demand->emergency > 0.5 ? 1.0 : 0.0;
     *in = s->command;
 }
 

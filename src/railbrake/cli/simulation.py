@@ -61,6 +61,31 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
     return result
 
 
+def measured_build_up(result, resolved):
+    """EN 14531 ta, tb, te of the run's brake as measured on it (railbrake.simulation.response),
+    when it starts with an emergency (or full service) demand at t = 0 and lasts the measurement's
+    window; else None."""
+    from railbrake.simulation import response
+    first = resolved.scenario.spec.demand[0]
+    braking = first.time == 0.0 and (first.emergency or first.service > 0.0)
+    if not braking or result.time.size < 2 or result.time[-1] < response.settings()["window_s"]:
+        return None
+    return response.measure(result, resolved.train)
+
+
+def print_build_up(build_up) -> None:
+    if build_up is not None:
+        typer.echo(f"build-up (EN 14531-1, measured on this run): ta {build_up.delay:.2f} s, tb "
+                   f"{build_up.build_up:.2f} s, te {build_up.response:.2f} s; cylinders filled (95 %) in "
+                   f"{build_up.filling:.2f} s; largest jerk {build_up.jerk:.2f} m/s3")
+
+
+def build_up_dict(build_up) -> dict | None:
+    return None if build_up is None else {"delay_time_s": build_up.delay, "build_up_time_s": build_up.build_up,
+                                          "equivalent_response_time_s": build_up.response,
+                                          "filling_time_s": build_up.filling, "jerk_max_m_s3": build_up.jerk}
+
+
 def print_kpis(result) -> None:
     table = Table(title=f"{result.scenario}: {cars_text(result.cars)}, WSP {'on' if result.wsp else 'off'}")
     table.add_column("KPI")
@@ -101,10 +126,12 @@ def register(app: typer.Typer) -> None:
         result = run_scenario(scenario, cars, not no_wsp, out, quiet=json, axles=axles, window=window,
                               formats=formats, sets=sets, kernel=kernel)
         print_warnings(result)
+        build_up = measured_build_up(result, result.resolved)
         if json:
-            print_json(result.kpis)
+            print_json({**result.kpis, "build_up": build_up_dict(build_up)})
             return
         print_kpis(result)
+        print_build_up(build_up)
         if out is not None:
             typer.echo(f"outputs: {out}/")
 

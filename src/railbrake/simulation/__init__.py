@@ -125,7 +125,28 @@ def _car(train, index: int) -> _core.PlantCar:
     cooling = discs.cooling_W_per_K
     car.disc_cooling = _core.speed_table(np.asarray(cooling.speed_kmh) * KMH,
                                          discs.per_axle * np.asarray(cooling.value))
+    _emergency_circuit(train, index, car)
     return car
+
+
+def _emergency_circuit(train, index: int, car: _core.PlantCar) -> None:
+    """Car `index`'s emergency circuit (rb_plant_car.emergency_*) from the train file: the delay
+    from the loop's opening at the leading car (propagation to the car's front, relay drop-out,
+    valve response), the choke and the load-weighing valve's limit at the car's mass."""
+    entry = train.cars[index]
+    valve, loop = entry.equipment.emergency_valve, train.spec.emergency_loop
+    if valve is None:
+        car.emergency_area = 0.0   # the EP valve brakes in emergency too
+        return
+    front = sum(c.equipment.length_m for c in train.cars[:index])
+    travel = front / loop.propagation_m_per_s if loop.propagation_m_per_s else 0.0
+    car.emergency_delay = travel + loop.drop_out_s + valve.response_s
+    car.emergency_area = math.pi / 4 * (valve.choke_diameter_mm * 1e-3) ** 2
+    tare = entry.tare
+    crush = tare + entry.equipment.payload_t.crush * 1e3
+    share = min(max((entry.mass - tare) / (crush - tare), 0.0), 1.0) if crush > tare else 1.0
+    limit = valve.limit_bar.tare + share * (valve.limit_bar.crush - valve.limit_bar.tare)
+    car.emergency_limit = train.atmospheric_pressure + limit * BAR
 
 
 def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
