@@ -351,6 +351,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     }
     s->compressor_on = p->initial_pressure < p->governor_on;
     s->loop_open_time = -1.0;   /* emergency loop closed */
+    rb_plant_pilot_init(p, s);
     s->rng = p->noise_seed ? p->noise_seed : 0x9E3779B97F4A7C15ULL;
     s->m_initial = rb_plant_air_mass(p, s);
     rb_plant_train_init(p, s);

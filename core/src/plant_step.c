@@ -599,7 +599,10 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
     for (int k = 0; k < p->substeps; ++k) {
         /* air, in phases */
         air_supply(p, s, f);
+        double m_pilot[RB_PLANT_MAX_CARS];
+        memcpy(m_pilot, s->m_pilot, sizeof m_pilot);
         double valves = air_car_valves(p, s, in, f, vector);
+        rb_plant_pilot_energy(p, s, m_pilot);
         s->m_vented += valves;
         s->m_valves_vented += valves;
         s->m_vented += air_cylinders(p, s, in, f, start);   /* start: each cylinder's pressure before it, Pa */

@@ -263,6 +263,7 @@ typedef struct {
     double sweep_ratio[RB_PLANT_MAX_CARS]; /* relay_sweep / pilot_volume */
     double relay_travel[RB_PLANT_MAX_CARS];
     double g_emergency[RB_PLANT_MAX_CARS];   /* kg/(s Pa), the emergency choke's conductance */
+    double pilot_heat[RB_PLANT_MAX_CARS];    /* kg: h x the control chamber wall's h A / cv (plant_pilot.c) */
     /* mechanics per car */
     double inv_mass[RB_PLANT_MAX_CARS];
     double mass_share[RB_PLANT_MAX_CARS];    /* car mass / train mass */
@@ -375,6 +376,8 @@ typedef struct {
     double emergency_g[RB_PLANT_MAX_CARS];        /* kg/(s Pa), the choke's conductance once the car's
                                                      emergency valve acts, 0 before */
     double emergency_target[RB_PLANT_MAX_CARS];   /* Pa, the control pressure it fills to */
+    double pilot_theta[RB_PLANT_MAX_CARS];        /* the control chamber air's temperature over the
+                                                     wall's (plant_pilot.c; 1: isothermal) */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
