@@ -127,7 +127,7 @@ def register(app: typer.Typer) -> None:
             simulated_response = simulated_response and response_time_s is None and profile is None
             if simulated_response:
                 from railbrake.simulation import response
-                measured = response.simulated(t, kmh_to_ms(v0_kmh))
+                measured = response.simulated(t, kmh_to_ms(v0_kmh), preset=train)
                 delay, build_up = measured.delay, measured.build_up
             result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=t, profile=profile,
                                               response_time=response_time_s, delay=delay, build_up=build_up,

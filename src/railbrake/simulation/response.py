@@ -87,19 +87,20 @@ def measure(result, train, demand_time: float = 0.0) -> BuildUp:
     cylinders = [n for n in result.outputs if n.startswith("cylinder_c")]
     gauge = np.mean([result.outputs[n] for n in cylinders], axis=0)[inside] - result.atmosphere
     filling = _crossing(t, gauge, s["filling_fraction"] * float(gauge[-1]))
-    mass = train.mass + train.rotating_mass
+    mass = sum(car.mass + car.equivalent_rotating_mass for car in train.cars[:result.cars])
     lag = max(1, int(round(s["jerk_interval_s"] / float(np.median(np.diff(t))))))
     jerk = float(np.max(force[lag:] - force[:-lag]) / (mass * s["jerk_interval_s"])) if force.size > lag else 0.0
     return BuildUp(ta, tb, filling, jerk, final)
 
 
-def simulated(train, initial_speed: float, condition: str = "dry-medium") -> BuildUp:
+def simulated(train, initial_speed: float, condition: str = "dry-medium", preset: str | None = None) -> BuildUp:
     """The build-up of `train`'s emergency brake (a vehicle.Train, its load case as it is) in an
-    emergency stop from initial_speed (m/s) on `condition`, measured over the window."""
+    emergency stop from initial_speed (m/s) on `condition`, measured over the window; preset: the
+    preset name or file the train was read from (default: its name), for the run's scenario."""
     from railbrake.simulation import emergency_scenario, run
     from railbrake.vehicle import Train
     instance("train", train, Train)
     initial_speed = real("initial_speed", initial_speed, 0.0, low_open=True)
-    scenario = emergency_scenario(train.spec.name, initial_speed, condition, settings()["window_s"] + 0.1,
+    scenario = emergency_scenario(preset or train.spec.name, initial_speed, condition, settings()["window_s"] + 0.1,
                                   train.load_case)
     return measure(run(scenario, cars=len(train.cars), train=train), train)
