@@ -196,6 +196,8 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
     double bled[RB_PLANT_MAX_CARS];
     double k_pilot[RB_PLANT_MAX_CARS];
     valves_start(p, s, k_pilot, bled);
+    double m_before[RB_PLANT_MAX_CARS];   /* the chambers' air before their links (plant_pilot.c) */
+    memcpy(m_before, s->m_pilot, sizeof m_before);
     for (int c = 0; c < p->n_cars; ++c) {
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
@@ -225,6 +227,8 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
         }
         p_pilot[c] = s->m_pilot[c] * k_pilot[c];
     }
+    rb_plant_pilot_energy(p, s, m_before);   /* the relays see the chambers at their new temperature */
+    for (int c = 0; c < p->n_cars; ++c) p_pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
     for (int c = 0; c < p->n_cars; ++c) {
         double p_relay = s->m_relay[c] * d->k_relay[c];
         double e = (((f->isolated[c] > 0.0) ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
@@ -305,6 +309,8 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     double ik[RB_PLANT_MAX_CARS], dm[RB_PLANT_MAX_CARS], bled[RB_PLANT_MAX_CARS];
     double k_pilot[RB_PLANT_MAX_CARS];
     valves_start(p, s, k_pilot, bled);
+    double m_before[RB_PLANT_MAX_CARS];   /* the chambers' air before their links (plant_pilot.c) */
+    memcpy(m_before, s->m_pilot, sizeof m_before);
     for (int c = 0; c < n; ++c) {   /* EP valves: inlet where dir > 0, exhaust where dir < 0 */
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
@@ -324,7 +330,8 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     }
     links_select(&law, n, pi, pj, g, ik, dm);
     apply_valve_links(n, dir, dm, s->m_supply, s->m_pilot, ep_vented);
-    for (int c = 0; c < n; ++c) p_pilot[c] = s->m_pilot[c] * k_pilot[c];
+    rb_plant_pilot_energy(p, s, m_before);   /* the relays see the chambers at their new temperature */
+    for (int c = 0; c < n; ++c) p_pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
     for (int c = 0; c < n; ++c) {   /* relay valves: supply where dir > 0, exhaust where dir < 0 */
         double p_relay = s->m_relay[c] * d->k_relay[c], p_supply = s->m_supply[c] * d->k_supply[c];
         double isolated = f->isolated[c];
@@ -599,10 +606,7 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
     for (int k = 0; k < p->substeps; ++k) {
         /* air, in phases */
         air_supply(p, s, f);
-        double m_pilot[RB_PLANT_MAX_CARS];
-        memcpy(m_pilot, s->m_pilot, sizeof m_pilot);
         double valves = air_car_valves(p, s, in, f, vector);
-        rb_plant_pilot_energy(p, s, m_pilot);
         s->m_vented += valves;
         s->m_valves_vented += valves;
         s->m_vented += air_cylinders(p, s, in, f, start);   /* start: each cylinder's pressure before it, Pa */

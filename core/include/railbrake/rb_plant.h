@@ -378,6 +378,8 @@ typedef struct {
     double emergency_target[RB_PLANT_MAX_CARS];   /* Pa, the control pressure it fills to */
     double pilot_theta[RB_PLANT_MAX_CARS];        /* the control chamber air's temperature over the
                                                      wall's (plant_pilot.c; 1: isothermal) */
+    double pilot_volume[RB_PLANT_MAX_CARS];       /* its volume over the volume at rest at the last
+                                                     update (the membrane's sweep) */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
