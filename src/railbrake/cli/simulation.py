@@ -62,28 +62,26 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
 
 
 def measured_build_up(result, resolved):
-    """EN 14531 ta, tb, te of the run's brake as measured on it (railbrake.simulation.response),
-    when it starts with an emergency (or full service) demand at t = 0 and lasts the measurement's
-    window; else None."""
+    """EN 14531 ta, tb, te of the run's brake as measured on it (railbrake.simulation.response) and
+    whether the WSP vented within the window, when the run starts braking at t = 0 and lasts the
+    measurement's window; else None."""
     from railbrake.simulation import response
     first = resolved.scenario.spec.demand[0]
     braking = first.time == 0.0 and (first.emergency or first.service > 0.0)
-    if not braking or result.time.size < 2 or result.time[-1] < response.settings()["window_s"]:
+    window = response.settings()["window_s"]
+    if not braking or result.time.size < 2 or result.time[-1] < window:
         return None
-    return response.measure(result, resolved.train)
+    inside = result.time <= window
+    wsp = any(result.outputs[n][inside].any() for n in result.outputs if n.startswith("vent_c"))
+    return response.measure(result, resolved.train), wsp
 
 
-def print_build_up(build_up) -> None:
-    if build_up is not None:
-        typer.echo(f"build-up (EN 14531-1, measured on this run): ta {build_up.delay:.2f} s, tb "
-                   f"{build_up.build_up:.2f} s, te {build_up.response:.2f} s; cylinders filled (95 %) in "
-                   f"{build_up.filling:.2f} s; largest jerk {build_up.jerk:.2f} m/s3")
-
-
-def build_up_dict(build_up) -> dict | None:
-    return None if build_up is None else {"delay_time_s": build_up.delay, "build_up_time_s": build_up.build_up,
-                                          "equivalent_response_time_s": build_up.response,
-                                          "filling_time_s": build_up.filling, "jerk_max_m_s3": build_up.jerk}
+def print_build_up(measured) -> None:
+    if measured is not None:
+        b, wsp = measured
+        typer.echo(f"build-up (EN 14531-1, measured on this run): ta {b.delay:.2f} s, tb {b.build_up:.2f} s, "
+                   f"te {b.response:.2f} s; cylinders filled (95 %) in {b.filling:.2f} s; largest jerk "
+                   f"{b.jerk:.2f} m/s3" + ("; the WSP vented within it: not the brake's own build-up" if wsp else ""))
 
 
 def print_kpis(result) -> None:
@@ -128,7 +126,7 @@ def register(app: typer.Typer) -> None:
         print_warnings(result)
         build_up = measured_build_up(result, result.resolved)
         if json:
-            print_json({**result.kpis, "build_up": build_up_dict(build_up)})
+            print_json(result.kpis)
             return
         print_kpis(result)
         print_build_up(build_up)

@@ -97,10 +97,9 @@ def register(app: typer.Typer) -> None:
                                                           "train's emergency brake step)."),
         deceleration_ms2: Optional[float] = typer.Option(None, help="Hand check: constant deceleration."),
         response_time_s: Optional[float] = typer.Option(None, help="Equivalent response time te, s."),
-        simulated_response: bool = typer.Option(True, "--simulated-response/--profile-response",
-                                                help="Take ta and tb from the train's own simulated build-up "
-                                                "(EN 14531 on a 6 s run of the plant; default), or from the "
-                                                "profile's response."),
+        profile_response: bool = typer.Option(False, "--profile-response",
+                                              help="Take ta and tb from the profile instead of the train's own "
+                                              "simulated build-up (EN 14531 on a 6 s run of the plant)."),
         gradient_permille: float = typer.Option(0.0, "--gradient-permille",
                                                 help="Gradient, per mille, uphill positive (train mode)."),
         load: Optional[str] = typer.Option(None, help="Load case: tare, normal, crush (default: the train file's)."),
@@ -124,7 +123,7 @@ def register(app: typer.Typer) -> None:
                 raise InputError(f"--v0-kmh = {v0_kmh:g}: above the maximum speed of train {t.name}, "
                                  f"{ms_to_kmh(t.max_speed):g} km/h")
             delay = build_up = None
-            simulated_response = simulated_response and response_time_s is None and profile is None
+            simulated_response = not profile_response and response_time_s is None and profile is None
             if simulated_response:
                 from railbrake.simulation import response
                 measured = response.simulated(t, kmh_to_ms(v0_kmh), preset=train)
