@@ -1,5 +1,6 @@
 /* Whole-train plant: parameter checks, initial state, outputs (the step is in plant_step.c). */
 #include "plant_internal.h"
+#include "emergency_circuit.h"
 #include "railbrake/rb_bounds.h"
 
 #include <math.h>
@@ -120,7 +121,7 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if ((s = rb_check_range(err, "discharge_coefficient", p->discharge_coefficient, 0.01, 1.0))) return s;
     if ((s = rb_check_range(err, "critical_ratio", p->critical_ratio, 0.0, 0.99))) return s;
     for (int i = 0; i < p->n_cars; ++i)
-        if ((s = check_car(&p->car[i], i, err))) return s;
+        if ((s = check_car(&p->car[i], i, err)) || (s = rb_emergency_check(&p->car[i], i, p->atmosphere, err))) return s;
     if (p->n_cars > 1 && (s = rb_coupler_check(&p->coupler, err))) return s;
     if ((s = rb_resistance_check(&p->resistance, err))) return s;
     if (p->compressor_car < 0 || p->compressor_car >= p->n_cars)
@@ -250,6 +251,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->relay_lag[c] = car->relay_tau > 0.0 ? -expm1(-d->h / car->relay_tau) : 1.0;
         d->sweep_ratio[c] = car->relay_sweep / car->pilot_volume;
         d->relay_travel[c] = car->relay_travel;
+        d->g_emergency[c] = d->g_unit * car->emergency_area;
         d->fill_pipe[c] = rb_plant_link_laminar_fill(d, d->g_pipe[c], d->ik_pipe[c]);
         d->fill_charge[c] = rb_plant_link_laminar_fill(d, d->g_charge[c], d->ik_charge[c]);
     }
@@ -348,6 +350,8 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
         }
     }
     s->compressor_on = p->initial_pressure < p->governor_on;
+    s->loop_open_time = -1.0;   /* emergency loop closed */
+    rb_plant_pilot_init(p, s);
     s->rng = p->noise_seed ? p->noise_seed : 0x9E3779B97F4A7C15ULL;
     s->m_initial = rb_plant_air_mass(p, s);
     rb_plant_train_init(p, s);
