@@ -79,9 +79,12 @@ def measured_build_up(result, resolved):
 def print_build_up(measured) -> None:
     if measured is not None:
         b, wsp = measured
-        typer.echo(f"build-up (EN 14531-1, measured on this run): ta {b.delay:.2f} s, tb {b.build_up:.2f} s, "
-                   f"te {b.response:.2f} s; cylinders filled (95 %) in {b.filling:.2f} s; largest jerk "
-                   f"{b.jerk:.2f} m/s3" + ("; the WSP vented within it: not the brake's own build-up" if wsp else ""))
+        lines = [f"build-up (EN 14531-1, measured on this run): ta {b.delay:.2f} s, tb {b.build_up:.2f} s, "
+                 f"te {b.response:.2f} s;",
+                 f"  cylinders filled (95 %) in {b.filling:.2f} s; largest jerk {b.jerk:.2f} m/s3"]
+        if wsp:
+            lines.append("  the WSP vented within it: not the brake's own build-up")
+        typer.echo("\n".join(lines))   # each line within 80 columns
 
 
 def print_kpis(result) -> None:

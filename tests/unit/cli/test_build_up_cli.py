@@ -13,7 +13,7 @@ from railbrake.cli import app
 def test_run_reports_the_measured_build_up():
     result = CliRunner().invoke(app, ["run", "emergency-250-dry", "--cars", "1"])
     assert result.exit_code == 0, result.output
-    found = re.search(r"build-up \(EN 14531-1, measured on this run\): ta ([\d.]+) s, tb ([\d.]+) s, te ([\d.]+) s; "
+    found = re.search(r"build-up \(EN 14531-1, measured on this run\): ta ([\d.]+) s, tb ([\d.]+) s, te ([\d.]+) s;\s+"
                       r"cylinders filled \(95 %\) in ([\d.]+) s", result.output)
     ta, tb, te, filling = (float(found[i]) for i in range(1, 5))
     assert abs(ta + tb / 2 - te) <= 0.01 and 0.0 < ta < te < filling
