@@ -18,7 +18,7 @@ static rb_hil_config config;
 static rb_hil_runner runner;
 static rb_hil_bcu server;
 static rb_run_state mil;
-static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
 #define SESSION 0x5e55104du
 #define NONCE 0x0123456789abcdefULL
 static const uint8_t SECRET[RB_HIL_KEY_SIZE] = {0x52, 0x42, 0x52, 0x4b, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};

@@ -14,7 +14,7 @@ static void run_stop(int kernel, int wsp, rb_run_state *r, rb_kpis *k, char *nam
 {
     static rb_plant_params p;
     static rb_bcu_params b;
-    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
     int finished = 0;
     fill_plant(&p, 4, 250 / 3.6);
     p.kernel = kernel;

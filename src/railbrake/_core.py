@@ -255,6 +255,7 @@ MAX_CONDITIONS = 4
 MAX_ZONES = 8
 MAX_FAULTS = 16
 MAX_DEMAND_STEPS = 16
+MAX_SPEED_MARKS = 16   # RB_MAX_SPEED_MARKS
 MAX_GRADIENTS = 16
 
 
@@ -352,7 +353,8 @@ class Scenario(Structure):
     _fields_ = ([("n_demand", c_int)]
                 + [(n, c_double * MAX_DEMAND_STEPS) for n in ("demand_time", "demand_service",
                                                               "demand_emergency")]
-                + _doubles("max_time", "stop_speed", "record_interval", "adhesion_interval"))
+                + _doubles("max_time", "stop_speed", "record_interval", "adhesion_interval")
+                + [("n_speed_marks", c_int), ("speed_mark", c_double * MAX_SPEED_MARKS)])
 
 
 KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max_slip",
@@ -364,7 +366,8 @@ SHORTFALL_PA = 0.2e5  # RB_SHORTFALL_PA
 
 
 class Kpis(Structure):
-    _fields_ = _doubles(*KPI_NAMES)
+    _fields_ = _doubles(*KPI_NAMES) + [("mark_time_s", c_double * MAX_SPEED_MARKS),
+                                       ("mark_distance_m", c_double * MAX_SPEED_MARKS)]
 
 
 rb_plant_params_size = _declare("rb_plant_params_size", c_size_t)

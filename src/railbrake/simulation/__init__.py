@@ -356,7 +356,7 @@ def run_structs(prepared: list) -> list:
     kpis, status, errors = (_core.Kpis * n)(), (ctypes.c_int * n)(), (_core.RbError * n)()
     state = ctypes.create_string_buffer(_core.rb_run_state_size())
     _core.call(_core.rb_run_batch, n, *arrays, state, kpis, status, errors)
-    return [kpi_dict(kpis[i], arrays[0][i].atmosphere) if status[i] == 0
+    return [kpi_dict(kpis[i], arrays[0][i].atmosphere, arrays[3][i].n_speed_marks) if status[i] == 0
             else InputError(errors[i].message.decode("utf-8", "replace")) for i in range(n)]
 
 
@@ -436,12 +436,17 @@ def axle_name(index: int) -> str:
     return f"c{index // _core.AXLES_PER_CAR + 1}a{index % _core.AXLES_PER_CAR + 1}"
 
 
-def kpi_dict(kpis: _core.Kpis, atmosphere: float) -> dict:
-    """The C KPIs in the units of `run --json`: pressures bar gauge, energy MJ, temperature degC."""
+def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
+    """The C KPIs in the units of `run --json`: pressures bar gauge, energy MJ, temperature degC;
+    with speed_marks (rb_scenario.n_speed_marks) > 0 also "speed_marks": the time (s) and distance
+    (m) from the brake demand to each mark, None for a mark never reached."""
     k = {name: getattr(kpis, name) for name in _core.KPI_NAMES}
     stopped = bool(k["stopped"])
     gauge = lambda pa: (pa - atmosphere) / BAR  # noqa: E731
-    return {
+    marks = {} if not speed_marks else {"speed_marks": {
+        "time_s": [t if t >= 0.0 else None for t in kpis.mark_time_s[:speed_marks]],
+        "distance_m": [d if d >= 0.0 else None for d in kpis.mark_distance_m[:speed_marks]]}}
+    return marks | {
         "stopping_distance_m": k["stopping_distance_m"] if stopped else None,
         "stopping_time_s": k["stopping_time_s"] if stopped else None,
         "mean_deceleration": k["mean_deceleration"],
