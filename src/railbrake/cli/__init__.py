@@ -9,7 +9,7 @@ import typer
 import typer.core
 
 import railbrake
-from railbrake.cli import (_common, adhesion, campaign, compare, compare_runs, config, demo, fmu, hil, plot,
+from railbrake.cli import (_common, adhesion, campaign, compare, compare_runs, config, demo, etcs, fmu, hil, plot,
                            simulation, sizing, train, validate, valve, wsp)
 
 app = typer.Typer(
@@ -61,6 +61,7 @@ campaign.register(app)
 compare.register(app)
 compare_runs.register(app)
 demo.register(app)
+etcs.register(app)
 fmu.register(app)
 hil.register(app)
 plot.register(app)
