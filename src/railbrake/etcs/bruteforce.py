@@ -28,8 +28,6 @@ def _draw_faults(ctx: runs.Context, rng: np.random.Generator) -> list:
     for (kind, units), g in zip(ctx.common, ctx.reliability.common_cause):
         if rng.random() < g.per_demand:
             out += [_core.Fault(index[kind], u.car, u.axle, 0.0, 0.0) for u in units]
-    if len(out) > _core.MAX_FAULTS:
-        raise InputError(f"a brute-force stop drew {len(out)} faults; the plant takes at most {_core.MAX_FAULTS}")
     return out
 
 
@@ -49,17 +47,14 @@ def ratios(spec: runs.Spec, n: int, seed: int) -> np.ndarray:
     ctx = runs.context(spec)
     t_be = model.nominal_build_up(ctx)
     stop_speed = ctx.structs[3].stop_speed
-    nominal = model._nominal(ctx, t_be, stop_speed)
+    nominal = model.nominal_decelerations(ctx, t_be, stop_speed)
     rng = np.random.default_rng(seed)
     out = []
     for start in range(0, n, CHUNK):
         prepared = []
         for _ in range(min(CHUNK, n - start)):
             plant, bcu = scatter.apply(ctx.structs[0], ctx.structs[1], _draw_factors(ctx, rng))
-            faults = _draw_faults(ctx, rng)
-            plant.n_faults = len(faults)
-            for i, f in enumerate(faults):
-                plant.fault[i] = f
+            failures.set_faults(plant, _draw_faults(ctx, rng))
             prepared.append((plant, bcu, ctx.structs[2], ctx.structs[3]))
         for row in simulation.run_structs(prepared):
             out.append(model.step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(row), t_be) / nominal)

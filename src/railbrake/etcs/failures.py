@@ -13,7 +13,6 @@ below the floor; what is left out counts as no brake at all (railbrake.etcs.mixt
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from scipy.stats import binom
@@ -147,3 +146,12 @@ def plant_faults(state: TrainState, cls: list, common: list) -> list:
     index = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
     return [_core.Fault(index[kind], u.car, u.axle, 0.0, value) for kind, u, value in state.faults(cls, common)]
 
+
+
+def set_faults(plant, faults: list) -> None:
+    """The plant's faults (rb_plant_params.fault) set to `faults` (at most MAX_FAULTS, checked)."""
+    if len(faults) > _core.MAX_FAULTS:
+        raise InputError(f"{len(faults)} faults; the plant takes at most {_core.MAX_FAULTS} in one run")
+    plant.n_faults = len(faults)
+    for i, f in enumerate(faults):
+        plant.fault[i] = f

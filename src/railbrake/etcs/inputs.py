@@ -106,11 +106,14 @@ class CommonCause(_Strict):
         return self
 
 
-class ReliabilityFile(_Strict):
-    schema_: Literal["railbrake.reliability/1"] = Field(alias="schema")
+class _File(_Strict):
     name: str
     title: str = ""
     source: str
+
+
+class ReliabilityFile(_File):
+    schema_: Literal["railbrake.reliability/1"] = Field(alias="schema")
     failures: list[Failure] = Field(max_length=64)
     common_cause: list[CommonCause] = Field(default_factory=list, max_length=16)
 
@@ -155,11 +158,8 @@ class Distribution(_Strict):
         return self
 
 
-class ScatterFile(_Strict):
+class ScatterFile(_File):
     schema_: Literal["railbrake.scatter/1"] = Field(alias="schema")
-    name: str
-    title: str = ""
-    source: str
     # each a factor on the train file's nominal value (1 = nominal); missing: no scatter
     pad_friction: Distribution | None = None          # pad/disc friction coefficient
     pressure_control: Distribution | None = None      # cylinder pressure the BCU's control gives

@@ -24,7 +24,7 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from railbrake import config, simulation
+from railbrake import _core, config, simulation
 from railbrake.campaign.worker import equivalent_response_time
 from railbrake.errors import InputError
 from railbrake.etcs import confidence, mixture, runs
@@ -41,7 +41,7 @@ class Method(BaseModel):
     """data/etcs/method.yaml: the method's settings, each with its source."""
     model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
     schema_: Literal["railbrake.etcs-method/1"] = Field(alias="schema")
-    speed_steps_kmh: list[float] = Field(min_length=1, max_length=runs.simulation._core.MAX_SPEED_MARKS)
+    speed_steps_kmh: list[float] = Field(min_length=1, max_length=_core.MAX_SPEED_MARKS)
     speed_steps_source: str
     dry_condition: str
     kwet_test_speed_kmh: float = Field(gt=0.0, le=600.0)
@@ -149,7 +149,7 @@ def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) ->
     ctx = runs.context(spec)
     t_be = nominal_build_up(ctx)
     stop_speed = ctx.structs[3].stop_speed
-    nominal = _nominal(ctx, t_be, stop_speed)
+    nominal = nominal_decelerations(ctx, t_be, stop_speed)
     rows = runs.run_all(spec, ctx.jobs(), out, workers, progress)
     n_steps = len(ctx.marks) + 1
     per_state = [[] for _ in ctx.states]
@@ -170,7 +170,7 @@ def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) ->
                         summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios])
 
 
-def _nominal(ctx: runs.Context, t_be: float, stop_speed: float) -> np.ndarray:
+def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float) -> np.ndarray:
     """A_brake_emergency per step: the nominal train's stop (no failure, no scatter)."""
     row = runs._row(simulation.run_structs([ctx.structs])[0])
     a = step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be)

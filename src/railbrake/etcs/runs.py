@@ -89,10 +89,7 @@ class Context:
     def prepared(self, state: int, sample: int) -> tuple:
         plant, bcu, wsp, scen = self.structs
         plant, bcu = scatter.apply(plant, bcu, self.draws[sample])
-        faults = failures.plant_faults(self.states[state], self.classes, self.common)
-        plant.n_faults = len(faults)
-        for i, f in enumerate(faults):
-            plant.fault[i] = f
+        failures.set_faults(plant, failures.plant_faults(self.states[state], self.classes, self.common))
         return plant, bcu, wsp, scen
 
 
