@@ -71,12 +71,15 @@ def spec(train: str, reliability: str = "hs-emu", scatter: str | None = "hs-emu"
 
 def step_decelerations(v0: float, marks: tuple, stop_speed: float, row: dict, t_be: float) -> np.ndarray:
     """Each speed step's deceleration (m/s^2, lowest step first) from a run's mark distances."""
-    if row.get("error") or row["stopping_distance_m"] is None or any(d is None for d in row["marks_m"]):
-        return np.zeros(len(marks) + 1)   # a run that did not stop: no brake (the safe side)
+    if row.get("error"):
+        return np.zeros(len(marks) + 1)   # a run the core refused: no brake (the safe side)
     speeds = [v0, *marks, stop_speed]
     ends = [v0 * t_be, *row["marks_m"], row["stopping_distance_m"]]
     out = []
     for j in range(len(speeds) - 1):
+        if ends[j + 1] is None:   # a step the run did not get through in its time: no brake there
+            out.append(0.0)
+            continue
         run = ends[j + 1] - ends[j]
         if run <= 0.0:
             raise InputError(f"speed step {speeds[j + 1] / KMH:.0f}-{speeds[j] / KMH:.0f} km/h is passed within "

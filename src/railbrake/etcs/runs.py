@@ -23,6 +23,9 @@ from railbrake.resolve import resolve
 from railbrake.units import KMH
 
 BATCH = 32            # runs per C call and per file: bounds what a kill loses
+# A run ends at this many times the nominal stopping time: a state with (almost) no brake would
+# otherwise run to the scenario's 3600 s; the steps it has not reached by then count as no brake.
+MAX_TIME_FACTOR = 10.0
 MANIFEST = "etcs-analysis.json"
 
 
@@ -62,6 +65,11 @@ class Context:
         self.v0 = train.max_speed if spec.initial_speed_kmh is None else spec.initial_speed_kmh * KMH
         self.marks = tuple(v * KMH for v in sorted(spec.speed_steps_kmh, reverse=True) if 0 < v * KMH < self.v0)
         self.structs = self.stop(self.v0, spec.dry_condition)
+        nominal = simulation.run_structs([self.structs])[0]
+        if isinstance(nominal, Exception) or nominal["stopping_time_s"] is None:
+            raise InputError(f"train {spec.train}: the nominal emergency stop from {self.v0 / KMH:.0f} km/h "
+                             f"did not stop ({nominal})")
+        self.structs[3].max_time = min(self.structs[3].max_time, MAX_TIME_FACTOR * nominal["stopping_time_s"])
         scatter.check_against(self.scatter, self.structs[0], f"scatter file {spec.scatter}")
         self.classes, self.common, self.states = failures.enumerate_states(self.reliability, train, spec.state_floor)
         n = len(train.cars)
