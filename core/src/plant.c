@@ -63,23 +63,38 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
     return RB_OK;
 }
 
+const char *rb_fault_kind_name(int kind)
+{
+    static const char *const names[RB_FAULT_KINDS] = {
+        "hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed", "sensor_lost",
+        "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost", "car_isolated", "compressor_off"};
+    return kind >= 0 && kind < RB_FAULT_KINDS ? names[kind] : "unknown";
+}
+
+rb_status rb_fault_check(const rb_fault *f, int n_cars, const char *name, rb_error *err)
+{
+    if (f->kind < 0 || f->kind >= RB_FAULT_KINDS)
+        return rb_fail(err, RB_EINVAL, "%s.kind = %d: must be in [0, %d]", name, f->kind, RB_FAULT_KINDS - 1);
+    if (f->car < 0 || f->car >= n_cars)
+        return rb_fail(err, RB_EINVAL, "%s.car = %d: the train has cars 0..%d", name, f->car, n_cars - 1);
+    if (f->axle < -1 || f->axle >= RB_AXLES_PER_CAR)
+        return rb_fail(err, RB_EINVAL, "%s.axle = %d: must be -1 (all) or 0..%d", name, f->axle,
+                       RB_AXLES_PER_CAR - 1);
+    if (!isfinite(f->start_time) || f->start_time < 0.0)
+        return rb_fail(err, RB_EINVAL, "%s.start_time = %g: must be finite and >= 0 s", name, f->start_time);
+    if (!isfinite(f->value) || f->value < 0.0)
+        return rb_fail(err, RB_EINVAL, "%s.value = %g: must be finite and >= 0", name, f->value);
+    return RB_OK;
+}
+
 static rb_status check_faults(const rb_plant_params *p, rb_error *err)
 {
     if (p->n_faults < 0 || p->n_faults > RB_MAX_FAULTS)
         return rb_fail(err, RB_EINVAL, "n_faults = %d: must be in [0, %d]", p->n_faults, RB_MAX_FAULTS);
     for (int i = 0; i < p->n_faults; ++i) {
-        const rb_fault *f = &p->fault[i];
-        if (f->kind < 0 || f->kind >= RB_FAULT_KINDS)
-            return rb_fail(err, RB_EINVAL, "fault[%d].kind = %d: must be in [0, %d]", i, f->kind, RB_FAULT_KINDS - 1);
-        if (f->car < 0 || f->car >= p->n_cars)
-            return rb_fail(err, RB_EINVAL, "fault[%d].car = %d: the train has cars 0..%d", i, f->car, p->n_cars - 1);
-        if (f->axle < -1 || f->axle >= RB_AXLES_PER_CAR)
-            return rb_fail(err, RB_EINVAL, "fault[%d].axle = %d: must be -1 (all) or 0..%d", i, f->axle,
-                           RB_AXLES_PER_CAR - 1);
-        if (!isfinite(f->start_time) || f->start_time < 0.0)
-            return rb_fail(err, RB_EINVAL, "fault[%d].start_time = %g: must be finite and >= 0 s", i, f->start_time);
-        if (!isfinite(f->value) || f->value < 0.0)
-            return rb_fail(err, RB_EINVAL, "fault[%d].value = %g: must be finite and >= 0", i, f->value);
+        char name[24];
+        snprintf(name, sizeof name, "fault[%d]", i);
+        if (rb_fault_check(&p->fault[i], p->n_cars, name, err)) return RB_EINVAL;
     }
     return RB_OK;
 }

@@ -356,6 +356,10 @@ typedef struct {
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
 rb_status rb_plant_check(const rb_plant_params *p, rb_error *err);
+/* Checks one fault of a train of n_cars; the message names it as `name` (e.g. "fault[2]"). */
+rb_status rb_fault_check(const rb_fault *f, int n_cars, const char *name, rb_error *err);
+/* The name of a fault kind as scenario files write it ("vent_stuck_open"; "unknown" outside the kinds). */
+const char *rb_fault_kind_name(int kind);
 /* Checks p and sets the state at t = 0: charged reservoirs, released brakes, rolling wheels. */
 rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *err);
 /* After p->condition[*].polach changed during a run (a tuned adhesion): checks p and derives every
