@@ -565,7 +565,9 @@ FRAME_MAX_CARS = 16
 FRAME_MAX_AXLES = 64
 HIL_LOG_TEXT = 120
 HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off", "foreign", "mismatch", "forged", "keyed",
-                   "order")
+                   "order", "fault_on", "fault_off")
+HIL_FAULT_INJECT, HIL_FAULT_CLEAR = 1, 2
+ERROR_MESSAGE_SIZE = _ERROR_MESSAGE_SIZE
 HIL_KEY_SIZE = 16
 RT_MEMORY_LOCKED = 1
 RT_FIFO_PRIORITY = 2
@@ -652,6 +654,15 @@ rb_hil_runner_kpis = _declare("rb_hil_runner_kpis", None, POINTER(PlantParams), 
 rb_hil_runner_result = _declare("rb_hil_runner_result", None, c_void_p, POINTER(HilResult))
 rb_hil_runner_event = _declare("rb_hil_runner_event", c_int, c_void_p, c_uint64, POINTER(HilEvent))
 rb_hil_runner_close = _declare("rb_hil_runner_close", None, c_void_p)
+
+
+class HilFaultCommand(Structure):
+    _fields_ = [("action", c_int), ("fault", Fault)]
+
+
+rb_hil_runner_post_fault = _declare("rb_hil_runner_post_fault", c_int, c_void_p, POINTER(HilFaultCommand))
+rb_hil_runner_fault_answer = _declare("rb_hil_runner_fault_answer", c_int, c_void_p, POINTER(c_uint64), c_char_p,
+                                      c_size_t)
 rb_hil_runner_port = _declare("rb_hil_runner_port", c_int, c_void_p)
 rb_hil_channel_count = _declare("rb_hil_channel_count", c_int, c_int)
 rb_hil_channel_info = _declare("rb_hil_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,

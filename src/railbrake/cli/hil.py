@@ -92,10 +92,41 @@ def _print_report(result) -> None:
         console.print(line, highlight=False)
 
 
-def _run(resolved, peer, secret, record, bcu, local, err, json, **options):
+def parse_control(text: str | None, option: str = "--control") -> tuple[str, int] | None:
+    """'[HOST:]PORT' (host default 127.0.0.1; port 0: any free one) -> (host, port)."""
+    if text is None:
+        return None
+    host, _, port = text.rpartition(":")
+    if not port.isdigit() or not 0 <= int(port) <= 65535:
+        raise InputError(f"{option} = {text!r}: port = {port!r}: expected [HOST:]PORT, port in [0, 65535]")
+    return host or "127.0.0.1", int(port)
+
+
+class _Control:
+    """The control socket of --control, started once the plant runs (on_faults), stopped after."""
+
+    def __init__(self, address, err: Console):
+        self.address, self.err, self.server = address, err, None
+
+    def start(self, switch) -> None:
+        if self.address is None:
+            return
+        from railbrake.hil.control import ControlServer
+        self.server = ControlServer(switch, *self.address)
+        self.err.print(f"control on tcp://{self.server.host}:{self.server.port}, token {self.server.token} "
+                       "(docs/hil.md, faults at run time)", highlight=False, soft_wrap=True)
+
+    def stop(self) -> None:
+        if self.server is not None:
+            self.server.stop()
+
+
+def _run(resolved, peer, secret, record, bcu, local, err, json, control=None, **options):
     """The paced run with its progress bar; with --record, the recording grows chunk by chunk as the
-    run goes (railbrake.hil.mdf: what was written survives a kill)."""
+    run goes (railbrake.hil.mdf: what was written survives a kill); with --control, the control
+    socket takes fault changes while the plant runs."""
     sc = resolved.scenario
+    control = _Control(control, err)
     stream = None
     if record is not None:
         from railbrake.hil.mdf import StreamingRecording
@@ -116,8 +147,9 @@ def _run(resolved, peer, secret, record, bcu, local, err, json, **options):
                     f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
                     f"BCU {bcu}", highlight=False, soft_wrap=True),
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"),
-                **options)
+                on_faults=control.start, **options)
     finally:
+        control.stop()
         if stream is not None:
             stream.close()
     return result
@@ -136,9 +168,12 @@ def _summary(result, json: bool, written, out, bcu: str) -> None:
     if result.interrupted:
         err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
                   "the recording and counters hold the run until then", highlight=False)
+    for change in result.fault_changes:
+        err.print(f"fault t = {change.time_s:.3f} s: {change.text} ({change.origin})", highlight=False)
     if json:
         print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
                     "counters": result.counters, "timing": result.timing, "bcu_loss": result.loss,
+                    "fault_changes": [c.as_dict() for c in result.fault_changes],
                     "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
                     "real_time": {"memory_locked": result.real_time.memory_locked,
                                   "fifo_priority": result.real_time.fifo_priority,
@@ -152,7 +187,7 @@ def _summary(result, json: bool, written, out, bcu: str) -> None:
 
 
 def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval, hold_time,
-                     late_time, bind, priority, json, sets, out, axles, window, formats, kernel):
+                     late_time, bind, priority, json, sets, out, axles, window, formats, kernel, control):
     """Everything `railbrake hil` does, with its interrupts noted: inputs checked, the run, then the
     recording, the run folder and the summary, whatever interrupts come."""
     from railbrake.results import files, record as records
@@ -160,6 +195,7 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
     peer = hil_runner.parse_udp_url(bcu, "--bcu")
     secret = read_key(key)
     local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
+    control = parse_control(control)
     if duration is not None and duration <= 0:
         raise InputError(f"--duration = {duration}: must be > 0 s")
     resolved = resolve(scenario, cars, sets)
@@ -173,7 +209,7 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
         raise typer.Exit(code=130)
     result = _run(resolved, peer, secret, record, bcu, local, err, json, duration=duration, hold_time=hold_time,
                   late_time=late_time, record_interval=record_interval, priority=priority, kernel=kernel,
-                  stop=interrupts.stop)
+                  stop=interrupts.stop, control=control)
     interrupts.finishing = True
     written = None
     if record is not None:
@@ -182,7 +218,8 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
     if out is not None:
         from railbrake.results.outputs import write_outputs
         write_outputs(records.from_hil(result, sc), out, formats, axles, window,
-                      mdf_extra={"counters": result.counters, "timing": result.timing})
+                      mdf_extra={"counters": result.counters, "timing": result.timing,
+                                 "fault_changes": [c.as_dict() for c in result.fault_changes]})
     _summary(result, json, written, out, bcu)
     return result
 
@@ -216,12 +253,15 @@ def register(app: typer.Typer) -> None:
         formats: Optional[List[str]] = typer.Option(None, "--format", help="With --out: time series format(s): "
                                                     "mf4, parquet, csv (default mf4)."),
         kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
+        control: Optional[str] = typer.Option(None, "--control", help="[HOST:]PORT of a control socket taking "
+                                              "fault changes while the plant runs (JSON lines with the token "
+                                              "printed at the start; host default 127.0.0.1; port 0: any)."),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
         with _Interrupts(Console(stderr=True)) as interrupts:
             result = _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval,
                                       hold_time, late_time, bind, priority, json, sets, out, axles, window,
-                                      formats, kernel)
+                                      formats, kernel, control)
         if result.interrupted:
             raise typer.Exit(code=130)
         if result.mismatch:

@@ -82,10 +82,13 @@ def _read_units(path: Path) -> dict:
     return dict(line.split(",", 1) for line in lines if "," in line)
 
 
-def write_mdf(record: RunRecord, path: Path, extra: dict | None = None) -> Path:
+def write_mdf(record: RunRecord, path: Path, extra: dict | None = None, events=()) -> Path:
     """MDF 4.10: each channel but time (the master, s) with its SI unit; the header comment holds
-    run.json's content, the KPIs and `extra` as JSON."""
+    run.json's content, the KPIs and `extra` as JSON; events: (time s, name, comment) as MDF4 event
+    blocks (EVBLOCK, trigger points synchronised on the time master)."""
     from asammdf import MDF, Signal
+    from asammdf.blocks import v4_constants
+    from asammdf.blocks.v4_blocks import EventBlock
     mdf = MDF(version="4.10")
     t = np.asarray(record.time, dtype=np.float64)
     mdf.append([Signal(samples=np.asarray(v, dtype=np.float64), timestamps=t, name=n, unit=record.units.get(n, ""))
@@ -94,6 +97,12 @@ def write_mdf(record: RunRecord, path: Path, extra: dict | None = None) -> Path:
     header = {"scenario": record.meta.get("scenario"), "cars": record.cars, "kpis": record.kpis,
               **(extra or {}), "railbrake": record.meta}
     mdf.header.comment = dumps(header)
+    for time_s, name, comment in events:
+        # the event's time is sync_base * sync_factor s: in integer microseconds, exact for 1 ms steps
+        event = EventBlock(event_type=v4_constants.EVENT_TYPE_TRIGGER, sync_type=v4_constants.EVENT_SYNC_TYPE_S,
+                           cause=v4_constants.EVENT_CAUSE_TOOL, sync_base=int(round(time_s * 1e6)), sync_factor=1e-6)
+        event.name, event.comment = name, comment
+        mdf.events.append(event)
     saved = mdf.save(path, overwrite=True)   # asammdf may change the suffix: report what it wrote
     mdf.close()
     return Path(saved)
