@@ -65,6 +65,10 @@ class WaitUntil(_Strict):
     timeout: str
 
 
+class WaitAt(_Strict):
+    at: str                     # the plant time to wait for (from the test's start)
+
+
 class Demand(_Strict):
     emergency: bool = False
     service: float = Field(default=0.0, ge=0.0, le=1.0)
@@ -82,7 +86,7 @@ class Step(_Strict):
     set_adhesion: str | None = None     # an adhesion condition (railbrake adhesion list) everywhere
     inject: dict | None = None          # a fault as in a scenario file's faults (no start)
     clear: dict | None = None
-    wait: str | WaitUntil | None = None
+    wait: str | WaitUntil | WaitAt | None = None
     expect: Expect | None = None
     kpi: RecordKpi | None = None
 

@@ -16,7 +16,8 @@ from railbrake.errors import InputError
 from railbrake.hil.faults import parse_fault
 from railbrake.resolve import resolve
 from railbrake.results import kpis as kpi_info
-from railbrake.sequence import (CHANNEL_DIMENSION, COMPARISONS, Condition, Sequence, Threshold, duration, matching,
+from railbrake.units import BAR
+from railbrake.sequence import (CHANNEL_DIMENSION, COMPARISONS, Sequence, Threshold, WaitAt, duration, matching,
                                 quantity)
 
 
@@ -30,6 +31,7 @@ class StepResult:
     end_s: float
     seconds: float = 0.0        # wall time
     window: tuple | None = None   # expect: (t0, t1, channels, threshold) for the plot
+    name: str = ""              # an expectation's name
 
 
 @dataclass
@@ -40,6 +42,7 @@ class TestResult:
     series: dict = field(default_factory=dict)    # channel -> samples of the test's run
     units: dict = field(default_factory=dict)
     seconds: float = 0.0
+    atmosphere: float = math.nan                  # Pa, the plant's
 
     @property
     def verdict(self) -> str:
@@ -162,12 +165,13 @@ class _Check:
         return self.plant.column("time")[rows], self.plant.signal(self.channels, rows)
 
     def describe(self, t: float, x: float) -> str:
-        shown = x
-        dimension = CHANNEL_DIMENSION.get(self.plant.units.get(self.channels[0], "1")) if self.channels else None
-        if dimension == "pressure":
-            shown = f"{(x - self.plant.atmosphere) / 1e5:.4g} bar"
-        elif self.channels:
-            shown = f"{x:.4g} {self.plant.units[self.channels[0]]}".rstrip(" 1")
+        unit = self.plant.units[self.channels[0]] if self.channels else ""
+        if math.isnan(x):
+            shown = "no value yet (e.g. no stop)"
+        elif CHANNEL_DIMENSION.get(unit) == "pressure":
+            shown = f"{(x - self.plant.atmosphere) / BAR:.4g} bar"
+        else:
+            shown = f"{x:.4g}" + (f" {unit}" if unit not in ("", "1") else "")
         return f"{self.label} = {shown} at t = {t:.3f} s"
 
 
@@ -183,15 +187,16 @@ def run_test(sequence: Sequence, index: int, resolved, progress=None) -> TestRes
             verdict, message, window = _execute(step, plant, where, result)
         except InputError as exc:
             verdict, message, window = "error", str(exc), None
+        name = step.expect.name or "" if step.expect is not None else ""
         result.steps.append(StepResult(j, step.action, verdict, message, t0, plant.t,
-                                       wallclock.monotonic() - w0, window))
+                                       wallclock.monotonic() - w0, window, name))
         if progress is not None:
             progress(test.name, result.steps[-1])
         if verdict == "error":
             break
     result.seconds = wallclock.monotonic() - started
     result.series = {n: plant.column(n).copy() for n, _ in plant.names}
-    result.units = plant.units
+    result.units, result.atmosphere = plant.units, plant.atmosphere
     return result
 
 
@@ -214,6 +219,12 @@ def _wait(wait, plant: MilPlant, where: str):
     if isinstance(wait, str):
         seconds = duration(wait, where)
         plant.advance(plant.t + seconds)
+        return "done", f"waited to t = {plant.t:.3f} s", None
+    if isinstance(wait, WaitAt):
+        at = duration(wait.at, f"{where}.at", high=plant.spec.max_time)
+        if at < plant.t - 1e-9:
+            raise InputError(f"{where}.at = {wait.at!r}: the test is at t = {plant.t:.3f} s already")
+        plant.advance(at)
         return "done", f"waited to t = {plant.t:.3f} s", None
     check = _Check(wait.until, plant, f"{where}.until")
     timeout = duration(wait.timeout, f"{where}.timeout")
@@ -244,6 +255,11 @@ def _first(check: _Check, plant: MilPlant, t0: float, t1: float, want: bool):
 
 
 def _expect(expect, plant: MilPlant, where: str):
+    verdict, message, window = _judge(expect, plant, where)
+    return verdict, (f"{expect.name}: {message}" if expect.name else message), window
+
+
+def _judge(expect, plant: MilPlant, where: str):
     check = _Check(expect, plant, where)
     if expect.within is not None and expect.during is not None:
         raise InputError(f"{where}: give within or during, not both")
