@@ -306,8 +306,43 @@ def _record_kpi(step, plant: MilPlant, where: str, result: TestResult):
     return "done", f"{step.name} = {value}", None
 
 
+def check(sequence: Sequence, resolved) -> None:
+    """Every step checked against the plant before anything runs: signals, KPIs, thresholds and
+    their units, times, faults, adhesion conditions (InputError: file, line, key)."""
+    plant = MilPlant(resolved)
+    for i, test in enumerate(sequence.spec.tests):
+        for j, step in enumerate(test.steps):
+            where = sequence.where("tests", i, "steps", j, step.action)
+            action, value = step.action, getattr(step, step.action)
+            if action == "expect":
+                _Check(value, plant, where)
+                if value.within is not None and value.during is not None:
+                    raise InputError(f"{where}: give within or during, not both")
+                for key in ("within", "during"):
+                    if getattr(value, key) is not None:
+                        duration(getattr(value, key), f"{where}.{key}")
+            elif action == "wait" and isinstance(value, str):
+                duration(value, where)
+            elif action == "wait" and isinstance(value, WaitAt):
+                duration(value.at, f"{where}.at", high=plant.spec.max_time)
+            elif action == "wait":
+                _Check(value.until, plant, f"{where}.until")
+                duration(value.timeout, f"{where}.timeout")
+            elif action in ("inject", "clear"):
+                parse_fault(value, action, plant.n_cars, where)
+            elif action == "set_adhesion":
+                plant.set_adhesion(value, where)
+            elif action == "kpi" and (value.signal is None) == (value.kpi is None):
+                raise InputError(f"{where}: give signal or kpi")
+            elif action == "kpi" and value.signal is not None:
+                matching(value.signal, plant.units, f"{where}.signal")
+            elif action == "kpi" and value.kpi not in plant.kpis():
+                raise InputError(f"{where}.kpi = {value.kpi!r}: not a KPI ({', '.join(plant.kpis())})")
+
+
 def run(sequence: Sequence, sets=(), progress=None) -> list[TestResult]:
     """Every test of the sequence, each on a fresh MIL run of its scenario (with `sets` overrides,
-    e.g. ['wsp.enabled=false'])."""
+    e.g. ['wsp.enabled=false']), once every step has been checked."""
     resolved = resolve(sequence.spec.scenario, sequence.spec.cars, sets)
+    check(sequence, resolved)
     return [run_test(sequence, i, resolved, progress) for i in range(len(sequence.spec.tests))]
