@@ -98,8 +98,13 @@ class StreamingRecording:
 
 def recording_events(result) -> list[tuple[float, str, str]]:
     """(time s, name, comment) of what changed during the run, in time order: each fault injected or
-    cleared (fault_on, fault_off), the safe state entered and left (from the loop's event log)."""
-    events = [(c.time_s, f"fault_{'on' if c.action == 'inject' else 'off'}", f"{c.text} ({c.origin})")
+    cleared (fault_on, fault_off), the safe state entered and left (from the loop's event log), each
+    change of the applied brake demand (at the recorded sample that first shows it)."""
+    demand = np.asarray(result.outputs.get("brake_demand", []))
+    changed = np.flatnonzero(np.diff(demand)) + 1
+    events = [(float(result.time[i]), "demand", f"brake demand {demand[i - 1]:g} -> {demand[i]:g} (2: the safe "
+               "state's emergency demand)") for i in changed]
+    events += [(c.time_s, f"fault_{'on' if c.action == 'inject' else 'off'}", f"{c.text} ({c.origin})")
               for c in getattr(result, "fault_changes", [])]
     events += [(t, kind, text) for t, kind, text in result.events if kind in ("safe_on", "safe_off")]
     return sorted(events, key=lambda e: e[0])

@@ -89,8 +89,8 @@ def test_faults_changed_over_the_control_socket_are_in_the_recording(tmp_path):
     path = write_mdf(result, tmp_path / "run.mf4")
     with MDF(path) as mdf:
         events = [(e.name, e.sync_base * e.sync_factor, e.comment) for e in mdf.events]
-        vent = mdf.get("vent_c1a2")
-        other = mdf.get("vent_c1a1")
+        vent = mdf.get("vent_c1a2", raw=True)
+        other = mdf.get("vent_c1a1", raw=True)
         comment = mdf.header.comment
     faults = [e for e in events if e[0].startswith("fault")]
     assert [(name, pytest.approx(t, abs=1e-9)) for name, t, _ in faults] == [("fault_on", t_on), ("fault_off", t_off)]
@@ -101,3 +101,28 @@ def test_faults_changed_over_the_control_socket_are_in_the_recording(tmp_path):
     np.testing.assert_array_equal(vent.samples, np.where(stuck, 1.0, 0.0))
     assert not other.samples.any()
     assert "vent_stuck_open" in comment and "fault_changes" in comment
+
+
+def test_recording_has_comments_state_texts_attachments_and_railbrake_as_its_tool(tmp_path):
+    """A short unpaced run against no BCU: the safe state applies from the start (demand 2)."""
+    from asammdf import MDF
+    result = hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=0.3, paced=False,
+                     priority=0, key=bytes(16))
+    path = write_mdf(result, tmp_path / "run.mf4")
+    with MDF(path) as mdf:
+        cylinder = mdf.get("cylinder_c1a2")
+        vent = mdf.get("vent_c1a2")
+        raw = mdf.get("vent_c1a2", raw=True)
+        safe = mdf.get("safe_state")
+        attachments = {a.file_name: mdf.extract_attachment(i)[0] for i, a in enumerate(mdf.attachments)}
+        history = [fh.comment for fh in mdf.file_history]
+    assert cylinder.comment == "brake cylinder pressure of the wheelset, absolute (car 1, axle 2)"
+    assert raw.samples.dtype == np.uint8 and set(vent.samples) == {b"shut"}
+    assert set(safe.samples) == {b"safe state"}   # no BCU answered: the safe state throughout
+    assert json.loads(attachments["kpis.json"]) == json.loads(json.dumps(result.kpis))
+    assert json.loads(attachments["scenario.json"])["scenario"] == "emergency-300-heavy-rain"
+    assert len(history) == 1 and "<tool_id>railbrake</tool_id>" in history[0] and "asammdf" not in history[0]
+    # railbrake's own reader gets the states back as numbers
+    from railbrake.results import files
+    outputs, *_ = files._read_mdf(path)
+    assert outputs["vent_c1a2"].dtype == np.float64 and not outputs["vent_c1a2"].any()
