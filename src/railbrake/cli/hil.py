@@ -216,10 +216,12 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
         from railbrake.hil.mdf import write_mdf
         written = write_mdf(result, record, sc)
     if out is not None:
+        from railbrake.hil.mdf import recording_events
         from railbrake.results.outputs import write_outputs
         write_outputs(records.from_hil(result, sc), out, formats, axles, window,
                       mdf_extra={"counters": result.counters, "timing": result.timing,
-                                 "fault_changes": [c.as_dict() for c in result.fault_changes]})
+                                 "fault_changes": [c.as_dict() for c in result.fault_changes]},
+                      mdf_events=recording_events(result))
     _summary(result, json, written, out, bcu)
     return result
 

@@ -126,3 +126,12 @@ def test_recording_has_comments_state_texts_attachments_and_railbrake_as_its_too
     from railbrake.results import files
     outputs, *_ = files._read_mdf(path)
     assert outputs["vent_c1a2"].dtype == np.float64 and not outputs["vent_c1a2"].any()
+
+
+@pytest.mark.parametrize("control, words", [("127.0.0.1:99999", "port = '99999'"), ("here", "port = 'here'")])
+def test_bad_control_address_is_refused_before_the_run(railbrake_cli, hil_key, control, words):
+    import subprocess
+    done = subprocess.run([railbrake_cli, "hil", "emergency-300-heavy-rain", "--cars", "1", "--bcu",
+                           "udp://127.0.0.1:9", "--key", str(hil_key), "--duration", "0.1", "--priority", "0",
+                           "--control", control], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and "--control" in done.stderr and words in done.stderr, done.stderr
