@@ -252,7 +252,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None,
         on_start: Callable[[int, int, int], None] | None = None, key=None,
         on_rows: Callable[[np.ndarray], None] | None = None, stop: Callable[[], bool] | None = None,
-        on_faults: Callable[[FaultSwitch], None] | None = None) -> HilResult:
+        on_faults: Callable[[FaultSwitch], None] | None = None, chunk_steps: int = CHUNK_STEPS) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
     watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch, forged, keyed,
@@ -262,10 +262,13 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     notes the signal: raising from it can hit Python's import machinery, which swallows it);
     on_start(local port, session, configuration digest) once the plant's endpoint is open; on_faults(switch)
     then too, with the faults.FaultSwitch that injects and clears faults from any thread while the
-    plant runs (refused once it has ended); kernel: the
+    plant runs (refused once it has ended); chunk_steps: plant steps per C call (rows and progress
+    come after each; a sequence follows the run closely with fewer); kernel: the
     plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto); key: the key
     file's path or its 16 bytes (the BCU's too: frames are authenticated). Ctrl-C or SIGTERM end the
     run early: the result holds what was recorded until then (interrupted=True)."""
+    if not 1 <= chunk_steps <= CHUNK_STEPS:
+        raise InputError(f"chunk_steps = {chunk_steps}: must lie in [1, {CHUNK_STEPS}]")
     secret = key_bytes(key)
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
@@ -282,7 +285,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         on_start(_core.rb_hil_runner_port(state), config.session, config.config)
     if on_faults is not None:
         on_faults(switch)
-    rows_per_chunk = CHUNK_STEPS // round(config.record_interval / DT) + 2
+    rows_per_chunk = chunk_steps // round(config.record_interval / DT) + 2
     chunk = np.zeros((rows_per_chunk, len(names)))
     chunks, events, seen = [], [], 0
     result = _core.HilResult()
@@ -296,7 +299,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
             real_time = request_real_time(priority) if paced else RealTime(False)
             while not finished.value and not interrupted:
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
-                           CHUNK_STEPS, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
+                           chunk_steps, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
                 chunks.append(chunk[:rows.value].copy())
                 if on_rows is not None:
                     on_rows(chunks[-1])

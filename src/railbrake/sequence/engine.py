@@ -21,6 +21,10 @@ from railbrake.sequence import (CHANNEL_DIMENSION, COMPARISONS, Sequence, Thresh
                                 quantity)
 
 
+# the KPIs a condition may name: a MIL run's (run --json); a HIL run's also braked_distance_m
+KPI_NAMES = tuple(simulation.kpi_dict(_core.Kpis(), 0.0)) + ("braked_distance_m",)
+
+
 @dataclass
 class StepResult:
     index: int                  # 0-based in its test
@@ -68,6 +72,7 @@ class MilPlant:
         rows = int(math.ceil(self.spec.max_time / self.interval)) + 3
         self.series = np.zeros((rows, len(self.names)))
         self.rows, self.t, self.finished = 1, 0.0, False
+        self.max_time = self.spec.max_time
         self.atmosphere = self.plant.atmosphere
 
     def advance(self, t_until: float) -> None:
@@ -143,8 +148,8 @@ class _Check:
             raise InputError(f"{where}: give one of signal or kpi and one of {', '.join(COMPARISONS)}")
         self.plant, self.kpi = plant, cond.kpi
         if cond.kpi is not None:
-            if cond.kpi not in plant.kpis():
-                raise InputError(f"{where}.kpi = {cond.kpi!r}: not a KPI ({', '.join(plant.kpis())})")
+            if cond.kpi not in KPI_NAMES:
+                raise InputError(f"{where}.kpi = {cond.kpi!r}: not a KPI ({', '.join(KPI_NAMES)})")
             self.channels, dimension, offset = [], CHANNEL_DIMENSION.get(kpi_info.unit(cond.kpi)), 0.0
             self.label = cond.kpi
         else:
@@ -175,9 +180,10 @@ class _Check:
         return f"{self.label} = {shown} at t = {t:.3f} s"
 
 
-def run_test(sequence: Sequence, index: int, resolved, progress=None) -> TestResult:
+def run_test(sequence: Sequence, index: int, resolved, progress=None, plant=None) -> TestResult:
+    """Test `index` on `plant` (default: a fresh MIL plant of the resolved scenario)."""
     test = sequence.spec.tests[index]
-    plant = MilPlant(resolved)
+    plant = MilPlant(resolved) if plant is None else plant
     result = TestResult(test.name)
     started = wallclock.monotonic()
     for j, step in enumerate(test.steps):
@@ -221,7 +227,7 @@ def _wait(wait, plant: MilPlant, where: str):
         plant.advance(plant.t + seconds)
         return "done", f"waited to t = {plant.t:.3f} s", None
     if isinstance(wait, WaitAt):
-        at = duration(wait.at, f"{where}.at", high=plant.spec.max_time)
+        at = duration(wait.at, f"{where}.at", high=plant.max_time)
         if at < plant.t - 1e-9:
             raise InputError(f"{where}.at = {wait.at!r}: the test is at t = {plant.t:.3f} s already")
         plant.advance(at)
@@ -293,10 +299,7 @@ def _judge(expect, plant: MilPlant, where: str):
 
 def _record_kpi(step, plant: MilPlant, where: str, result: TestResult):
     if step.kpi is not None:
-        kpis = plant.kpis()
-        if step.kpi not in kpis:
-            raise InputError(f"{where}.kpi = {step.kpi!r}: not a KPI ({', '.join(kpis)})")
-        value = kpis[step.kpi]
+        value = plant.kpis().get(step.kpi)
     elif step.signal is not None:
         values = plant.signal(matching(step.signal, plant.units, f"{where}.signal"))
         value = float({"max": values.max, "min": values.min, "final": lambda: values[-1]}[step.stat]())
@@ -324,7 +327,7 @@ def check(sequence: Sequence, resolved) -> None:
             elif action == "wait" and isinstance(value, str):
                 duration(value, where)
             elif action == "wait" and isinstance(value, WaitAt):
-                duration(value.at, f"{where}.at", high=plant.spec.max_time)
+                duration(value.at, f"{where}.at", high=plant.max_time)
             elif action == "wait":
                 _Check(value.until, plant, f"{where}.until")
                 duration(value.timeout, f"{where}.timeout")
@@ -336,13 +339,25 @@ def check(sequence: Sequence, resolved) -> None:
                 raise InputError(f"{where}: give signal or kpi")
             elif action == "kpi" and value.signal is not None:
                 matching(value.signal, plant.units, f"{where}.signal")
-            elif action == "kpi" and value.kpi not in plant.kpis():
-                raise InputError(f"{where}.kpi = {value.kpi!r}: not a KPI ({', '.join(plant.kpis())})")
+            elif action == "kpi" and value.kpi not in KPI_NAMES:
+                raise InputError(f"{where}.kpi = {value.kpi!r}: not a KPI ({', '.join(KPI_NAMES)})")
 
 
-def run(sequence: Sequence, sets=(), progress=None) -> list[TestResult]:
-    """Every test of the sequence, each on a fresh MIL run of its scenario (with `sets` overrides,
-    e.g. ['wsp.enabled=false']), once every step has been checked."""
+def run(sequence: Sequence, sets=(), progress=None, bcu: tuple[str, int] | None = None, key=None) -> list[TestResult]:
+    """Every test of the sequence, each on a fresh run of its scenario (with `sets` overrides, e.g.
+    ['wsp.enabled=false']), once every step has been checked: the MIL plant, or with `bcu` (host,
+    port) and `key` the paced HIL loop against that BCU."""
     resolved = resolve(sequence.spec.scenario, sequence.spec.cars, sets)
     check(sequence, resolved)
-    return [run_test(sequence, i, resolved, progress) for i in range(len(sequence.spec.tests))]
+    results = []
+    for i in range(len(sequence.spec.tests)):
+        if bcu is None:
+            results.append(run_test(sequence, i, resolved, progress))
+            continue
+        from railbrake.sequence.hil_plant import HilPlant
+        plant = HilPlant(resolved, bcu, key)
+        try:
+            results.append(run_test(sequence, i, resolved, progress, plant))
+        finally:
+            plant.close()
+    return results
