@@ -14,6 +14,7 @@ size_t rb_hil_runner_size(void) { return sizeof(rb_hil_runner); }
 size_t rb_hil_config_size(void) { return sizeof(rb_hil_config); }
 size_t rb_hil_result_size(void) { return sizeof(rb_hil_result); }
 size_t rb_hil_event_size(void) { return sizeof(rb_hil_event); }
+size_t rb_hil_snapshot_size(void) { return sizeof(rb_hil_snapshot); }
 
 /* ---- recorded channels */
 
@@ -268,6 +269,44 @@ static void take_fault_command(rb_plant_params *p, rb_hil_runner *r)
     r->answer_status = status;
     r->answer_step = r->step;
     __atomic_store_n(&r->mailbox, 2, __ATOMIC_RELEASE);
+}
+
+/* ---- the live view: a seqlock the loop writes after each step */
+
+static void write_snapshot(const rb_plant_params *p, rb_hil_runner *r)
+{
+    rb_hil_snapshot *v = &r->snapshot;
+    const rb_plant_outputs *o = &r->out;
+    int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
+    __atomic_store_n(&r->snapshot_sequence, r->snapshot_sequence + 1, __ATOMIC_RELAXED);   /* odd: writing */
+    __atomic_thread_fence(__ATOMIC_RELEASE);
+    v->step = r->step;
+    v->time = o->time; v->speed = o->speed; v->position = o->position; v->main_reservoir = o->main_reservoir;
+    v->brake_demand = r->applied_demand;
+    v->safe = r->safe; v->n_cars = n; v->n_axles = na;
+    v->received = r->watchdog.received; v->lost = r->watchdog.lost; v->late = r->watchdog.late;
+    v->malformed = r->watchdog.malformed; v->foreign = r->foreign; v->forged = r->forged;
+    v->overruns = r->pacer.overruns;
+    memcpy(v->supply, o->supply, (size_t)n * sizeof *v->supply);
+    memcpy(v->pressure_demand, r->applied.pressure_demand, (size_t)n * sizeof *v->pressure_demand);
+    memcpy(v->wheel_speed, o->wheel_speed, (size_t)na * sizeof *v->wheel_speed);
+    memcpy(v->slip, o->slip, (size_t)na * sizeof *v->slip);
+    memcpy(v->cylinder, o->cylinder, (size_t)na * sizeof *v->cylinder);
+    for (int a = 0; a < na; ++a) { v->hold[a] = (uint8_t)(o->hold[a] != 0); v->vent[a] = (uint8_t)(o->vent[a] != 0); }
+    __atomic_store_n(&r->snapshot_sequence, r->snapshot_sequence + 1, __ATOMIC_RELEASE);   /* even: done */
+}
+
+int rb_hil_runner_snapshot(const rb_hil_runner *r, rb_hil_snapshot *out, int tries)
+{
+    if (!r || !out) return 0;
+    for (int i = 0; i < tries; ++i) {
+        uint32_t before = __atomic_load_n(&r->snapshot_sequence, __ATOMIC_ACQUIRE);
+        if (before & 1u) continue;
+        memcpy(out, &r->snapshot, sizeof *out);
+        __atomic_thread_fence(__ATOMIC_ACQUIRE);
+        if (__atomic_load_n(&r->snapshot_sequence, __ATOMIC_RELAXED) == before) return 1;
+    }
+    return 0;
 }
 
 /* ---- one step */
@@ -652,6 +691,7 @@ rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_confi
         account_loss(p, r, position);
         if (!r->finished) send_frame(p, config, r);
         record_due(p, r, series, max_rows, &written);
+        write_snapshot(p, r);
         if (config->paced && !r->finished) rb_pacer_wait(&r->pacer);
     }
     if (rows) *rows = written;

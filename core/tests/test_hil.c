@@ -757,6 +757,14 @@ static void test_faults_at_run_time(void)
     CHECK(strstr(text, "vent_stuck_open on car 1, axle 2: injected") != NULL);
     CHECK(runner.events == events + 1 && runner.log[events % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_FAULT_ON);
     CHECK(runner.out.vent[1] == 1 && runner.out.vent[0] == 0);
+    rb_hil_snapshot view;   /* the live view holds what the step gave */
+    CHECK(rb_hil_runner_snapshot(&runner, &view, 10) == 1);
+    CHECK(view.step == runner.step && view.time == runner.out.time && view.speed == runner.out.speed);
+    CHECK(view.vent[1] == 1 && view.vent[0] == 0 && view.cylinder[1] == runner.out.cylinder[1] && view.safe == 1);
+    CHECK(view.n_cars == 2 && view.n_axles == 8 && view.pressure_demand[0] == runner.applied.pressure_demand[0]);
+    runner.snapshot_sequence |= 1u;   /* a write in progress: no copy is handed out */
+    CHECK(rb_hil_runner_snapshot(&runner, &view, 10) == 0);
+    runner.snapshot_sequence++;
     step_runner(500);
     CHECK(runner.out.vent[1] == 1);
     /* the open hold valve feeds what the vent drains: the cylinder settles between the two */

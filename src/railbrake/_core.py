@@ -680,8 +680,22 @@ HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cy
                     "challenges")
 rb_hil_bcu_counters = _declare("rb_hil_bcu_counters", None, c_void_p, c_uint64 * len(HIL_BCU_COUNTERS))
 
+HIL_SNAPSHOT_COUNTERS = ("received", "lost", "late", "malformed", "foreign", "forged", "overruns")
+
+
+class HilSnapshot(Structure):
+    _fields_ = ([("step", c_uint64)] + _doubles("time", "speed", "position", "main_reservoir", "brake_demand")
+                + [("safe", c_int), ("n_cars", c_int), ("n_axles", c_int)]
+                + [(n, c_uint64) for n in HIL_SNAPSHOT_COUNTERS]
+                + [(n, c_double * PLANT_MAX_CARS) for n in ("supply", "pressure_demand")]
+                + [(n, c_double * PLANT_MAX_AXLES) for n in ("wheel_speed", "slip", "cylinder")]
+                + [(n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent")])
+
+
+rb_hil_runner_snapshot = _declare("rb_hil_runner_snapshot", c_int, c_void_p, POINTER(HilSnapshot), c_int)
+
 for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_result_size"),
-                       (HilEvent, "rb_hil_event_size")):
+                       (HilEvent, "rb_hil_event_size"), (HilSnapshot, "rb_hil_snapshot_size")):
     if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
         raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
                           "src/railbrake/_core.py is out of date")

@@ -26,6 +26,19 @@ extern "C" {
 
 /* ---- the plant runner */
 
+/* What a live view shows of the running loop (rb_hil_runner_snapshot): written by the loop after
+ * every step under a sequence counter (a seqlock: the loop never waits, a reader retries). */
+typedef struct {
+    uint64_t step;
+    double time, speed, position, main_reservoir;   /* s, m/s, m, Pa */
+    double brake_demand;                            /* applied (2: the safe state's) */
+    int safe, n_cars, n_axles;
+    uint64_t received, lost, late, malformed, foreign, forged, overruns;
+    double supply[RB_PLANT_MAX_CARS], pressure_demand[RB_PLANT_MAX_CARS];                /* Pa */
+    double wheel_speed[RB_PLANT_MAX_AXLES], slip[RB_PLANT_MAX_AXLES], cylinder[RB_PLANT_MAX_AXLES];
+    uint8_t hold[RB_PLANT_MAX_AXLES], vent[RB_PLANT_MAX_AXLES];
+} rb_hil_snapshot;
+
 typedef struct {
     double hold_time;          /* s: last valid commands held this long, then the safe state */
     double late_time;          /* s: a BCU frame echoing a plant step older than this is late */
@@ -140,6 +153,9 @@ typedef struct {
     int answer_status;
     uint64_t answer_step;
     char answer_text[RB_ERROR_MESSAGE_SIZE];
+    /* the live view: odd while the loop writes it */
+    uint32_t snapshot_sequence;
+    rb_hil_snapshot snapshot;
 } rb_hil_runner;
 
 size_t rb_hil_runner_size(void);
@@ -176,6 +192,10 @@ int rb_hil_runner_post_fault(rb_hil_runner *r, const rb_hil_fault_command *comma
 /* The answer to the change posted: -1 while not applied yet; else RB_OK (applied at plant step
  * *step, text what changed) or RB_EINVAL (refused, nothing changed, text why). Empties the mailbox. */
 int rb_hil_runner_fault_answer(rb_hil_runner *r, uint64_t *step, char *text, size_t text_size);
+/* The loop's latest snapshot, from any thread: 1 and a consistent copy, 0 when none could be read
+ * between two of the loop's writes within `tries` attempts (the loop is never held up). */
+int rb_hil_runner_snapshot(const rb_hil_runner *r, rb_hil_snapshot *out, int tries);
+size_t rb_hil_snapshot_size(void);
 /* Local UDP port of the plant (useful after binding port 0). */
 int rb_hil_runner_port(const rb_hil_runner *r);
 
