@@ -27,6 +27,7 @@ from railbrake import _core
 from railbrake.errors import InputError
 from railbrake.hil.faults import FaultSwitch
 from railbrake.hil.keys import key_bytes
+from railbrake.hil.live import LiveView
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario
 from railbrake.simulation import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
@@ -252,7 +253,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None,
         on_start: Callable[[int, int, int], None] | None = None, key=None,
         on_rows: Callable[[np.ndarray], None] | None = None, stop: Callable[[], bool] | None = None,
-        on_faults: Callable[[FaultSwitch], None] | None = None, chunk_steps: int = CHUNK_STEPS) -> HilResult:
+        on_faults: Callable[[FaultSwitch], None] | None = None, chunk_steps: int = CHUNK_STEPS,
+        on_live: Callable[[LiveView], None] | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
     watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch, forged, keyed,
@@ -262,7 +264,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     notes the signal: raising from it can hit Python's import machinery, which swallows it);
     on_start(local port, session, configuration digest) once the plant's endpoint is open; on_faults(switch)
     then too, with the faults.FaultSwitch that injects and clears faults from any thread while the
-    plant runs (refused once it has ended); chunk_steps: plant steps per C call (rows and progress
+    plant runs (refused once it has ended); on_live(view) then too, with the live.LiveView that reads
+    the loop's latest step from any thread (a dashboard); chunk_steps: plant steps per C call (rows and progress
     come after each; a sequence follows the run closely with fewer); kernel: the
     plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto); key: the key
     file's path or its 16 bytes (the BCU's too: frames are authenticated). Ctrl-C or SIGTERM end the
@@ -285,6 +288,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         on_start(_core.rb_hil_runner_port(state), config.session, config.config)
     if on_faults is not None:
         on_faults(switch)
+    if on_live is not None:
+        on_live(LiveView(state, plant.atmosphere))
     rows_per_chunk = chunk_steps // round(config.record_interval / DT) + 2
     chunk = np.zeros((rows_per_chunk, len(names)))
     chunks, events, seen = [], [], 0
