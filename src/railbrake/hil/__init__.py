@@ -15,6 +15,7 @@ import os
 import secrets
 import signal
 import socket
+import sys
 import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -41,6 +42,9 @@ DEFAULT_HOLD_TIME = 0.1    # s
 DEFAULT_LATE_TIME = 0.02   # s
 DEFAULT_PRIORITY = 80      # SCHED_FIFO priority asked for by the plant (0: ask nothing)
 DEFAULT_BCU_PRIORITY = 70  # the reference BCU's: below the plant's, whose deadline comes first on a shared core
+# s: the longest the loop's thread waits for the GIL between two chunks while other Python threads
+# (a dashboard, a control socket) run: Python's default of 5 ms would be 5 periods
+GIL_SWITCH_INTERVAL = 1e-4
 
 
 # ------------------------------------------------------------------ addresses
@@ -299,6 +303,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     interrupted = False
     real_time = RealTime(False)
     gc.disable()   # a garbage collection between two chunks would delay the next step by milliseconds
+    switch_interval = sys.getswitchinterval()
+    sys.setswitchinterval(min(switch_interval, GIL_SWITCH_INTERVAL))
     try:
         with _normal_scheduling_after(), _sigterm_as_interrupt():
             real_time = request_real_time(priority) if paced else RealTime(False)
@@ -321,6 +327,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         _core.rb_hil_runner_result(state, ctypes.byref(result))
         events += _drain_events(state, seen, result.events, None)
     finally:
+        sys.setswitchinterval(switch_interval)
         switch.end()
         kpis = run_kpis(plant, state)   # before the close: the KPIs of what ran, also when interrupted
         _core.rb_hil_runner_close(state)

@@ -30,15 +30,15 @@ def new_token() -> str:
     return secrets.token_hex(16)
 
 
-def answer(switch: FaultSwitch, token: str, line: bytes) -> dict:
+def answer(switch: FaultSwitch, token: str, line: bytes, origin: str = "control") -> dict:
     """The answer to one command line (never raises for bad input: says what is wrong)."""
     try:
-        return {"ok": True, **_execute(switch, token, line)}
+        return {"ok": True, **_execute(switch, token, line, origin)}
     except InputError as exc:
         return {"ok": False, "error": str(exc)}
 
 
-def _execute(switch: FaultSwitch, token: str, line: bytes) -> dict:
+def _execute(switch: FaultSwitch, token: str, line: bytes, origin: str) -> dict:
     try:
         command = json.loads(line)
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
@@ -58,7 +58,7 @@ def _execute(switch: FaultSwitch, token: str, line: bytes) -> dict:
                          f"{', '.join(sorted(COMMAND_KEYS[name]))}")
     if name == "faults":
         return {"changes": [c.as_dict() for c in switch.changes]}
-    change = switch.change(name, command.get("fault"), origin="control")
+    change = switch.change(name, command.get("fault"), origin=origin)
     return {"time_s": change.time_s, "step": change.step, "text": change.text}
 
 

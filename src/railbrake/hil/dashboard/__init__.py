@@ -124,7 +124,7 @@ def _handler(board: Dashboard):
             if path == "/api/fault":
                 if board.switch is None:
                     return self._json(409, {"ok": False, "error": "dashboard: the run has not started"})
-                reply = control.answer(board.switch, board.token, body)
+                reply = control.answer(board.switch, board.token, body, origin="dashboard")
                 return self._json(200 if reply["ok"] else 400, reply)
             if path == "/api/stop":
                 try:
