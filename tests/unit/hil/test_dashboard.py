@@ -5,7 +5,6 @@ is in the recording at its time, and the page's stop ends the run. Assertions re
 
 import json
 import re
-import threading
 import urllib.error
 import urllib.request
 from importlib import resources
@@ -13,7 +12,7 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from railbrake import hil
+from conftest import run_with_dashboard
 from railbrake.hil.dashboard import Dashboard
 
 
@@ -68,13 +67,7 @@ def test_dashboard_api_during_a_paced_run(tmp_path):
             errors.append(repr(exc))
             board.request_stop()
 
-    worker = threading.Thread(target=page)
-    worker.start()
-    result = hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=60.0, priority=0,
-                     key=bytes(16), on_live=lambda view: board.attach(view=view),
-                     on_faults=lambda switch: board.attach(switch=switch), stop=board.stop_requested)
-    worker.join()
-    board.close()
+    result = run_with_dashboard(board, page, 60.0)
     assert not errors, errors
     assert seen["nokey"][0] == 400 and "token" in seen["nokey"][1]["error"]
     assert seen["bad"][0] == 400 and "cars 1..1" in seen["bad"][1]["error"]

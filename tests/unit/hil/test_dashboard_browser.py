@@ -4,12 +4,11 @@ blocked, shows the live speed within 1 % of the recording at the plant time it s
 injected from the page is in the recording from the time the loop applied it."""
 
 import shutil
-import threading
 
 import numpy as np
 import pytest
 
-from railbrake import hil
+from conftest import run_with_dashboard
 from railbrake.hil.dashboard import Dashboard
 from railbrake.units import ms_to_kmh
 
@@ -57,13 +56,7 @@ def drive(board, seen, errors):
 def test_dashboard_in_headless_chromium():
     board = Dashboard(cars=1)
     seen, errors = {}, []
-    worker = threading.Thread(target=drive, args=(board, seen, errors))
-    worker.start()
-    result = hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=120.0, priority=0,
-                     key=bytes(16), on_live=lambda view: board.attach(view=view),
-                     on_faults=lambda switch: board.attach(switch=switch), stop=board.stop_requested)
-    worker.join()
-    board.close()
+    result = run_with_dashboard(board, lambda: drive(board, seen, errors), 120.0)
     assert not errors, errors
     assert seen["blocked"] == []                         # the page needs nothing from the network
     assert result.interrupted                            # the page's stop button ended the run
