@@ -8,15 +8,15 @@ the reports. Every error names the file, the line and the key."""
 from __future__ import annotations
 
 import fnmatch
-import re
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from railbrake import config
+from railbrake import config, scenario
 from railbrake._args import name_or_path
 from railbrake.errors import InputError
 
@@ -24,18 +24,13 @@ FORMAT = "railbrake.sequence/1"
 MAX_TESTS = 50
 MAX_STEPS = 200
 
-# unit -> (dimension, factor to SI, offset: pressures in bar gauge as everywhere at the edges)
-UNITS = {
-    "km/h": ("speed", 1 / 3.6), "m/s": ("speed", 1.0),
-    "s": ("time", 1.0), "ms": ("time", 1e-3),
-    "m": ("length", 1.0), "km": ("length", 1e3),
-    "m/s^2": ("acceleration", 1.0),
-    "bar": ("pressure", 1e5), "kPa": ("pressure", 1e3),
-}
-# the SI unit of a recorded channel -> the dimension its thresholds are written in
-CHANNEL_DIMENSION = {"m/s": "speed", "m": "length", "s": "time", "m/s^2": "acceleration", "m/s²": "acceleration", "Pa": "pressure",
-                     "1": None, "": None}
-_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$")
+# the units a threshold or a time may carry: the scenario file's (pressures are gauge here: the
+# caller adds the plant's atmosphere), by dimension
+UNITS = scenario._UNITS
+_QUANTITY = scenario._QUANTITY
+# the SI unit of a recorded channel or KPI -> the dimension its thresholds are written in
+CHANNEL_DIMENSION = {"m/s": "speed", "m": "length", "s": "time", "m/s^2": "acceleration", "m/s²": "acceleration",
+                     "Pa": "pressure", "1": None, "": None}
 COMPARISONS = ("below", "above", "at_most", "at_least")
 
 
@@ -116,9 +111,10 @@ class Threshold:
     value: float
     written: str
 
-    def holds(self, x: float) -> bool:
-        return {"below": x < self.value, "above": x > self.value, "at_most": x <= self.value,
-                "at_least": x >= self.value}[self.comparison]
+    def holds(self, x):
+        """Whether x (a number or an array) meets the threshold (NaN never does)."""
+        return {"below": np.less, "above": np.greater, "at_most": np.less_equal,
+                "at_least": np.greater_equal}[self.comparison](x, self.value)
 
 
 @dataclass

@@ -252,7 +252,7 @@ def _first(check: _Check, plant: MilPlant, t0: float, t1: float, want: bool):
             row = plant.rows
             inside = (times > t0 + 1e-9) & (times <= t1 + 1e-9)
             times, values = times[inside], values[inside]
-        found = np.flatnonzero(np.array([check.threshold.holds(x) == want for x in values], dtype=bool))
+        found = np.flatnonzero(check.threshold.holds(values) == want)
         if found.size:
             return float(times[found[0]]), float(values[found[0]])
         if plant.t >= t1 - 1e-9 or plant.finished:
@@ -285,7 +285,7 @@ def _judge(expect, plant: MilPlant, where: str):
     if expect.within is None or check.kpi is not None:
         plant.advance(t1)
         times, values = check.values()
-        ok = check.threshold.holds(values[-1])
+        ok = bool(check.threshold.holds(values[-1]))
         text = f"{rule}: {check.describe(times[-1], values[-1])}"
         return ("pass" if ok else "fail"), text, (t0, t1, check.channels, check.threshold)
     hit = _first(check, plant, t0, t1, want=True)
