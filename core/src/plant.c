@@ -138,16 +138,32 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
                        RB_PLANT_KERNEL_AUTO, RB_PLANT_KERNEL_PORTABLE);
     if ((s = rb_bound_check(err, "wall_time", "wall_time", p->wall_time))) return s;
     if ((s = rb_plant_train_check(p, err))) return s;
+    if ((s = rb_rail_check(p, err))) return s;
     return check_faults(p, err);
 }
 
-/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning. */
-static rb_polach_params condition_at_axle(const rb_plant_condition *c, int axle)
+/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning (by
+ * axle index, or by the rail cell the axle stands on). */
+static rb_polach_params condition_at_axle(const rb_plant_params *p, const rb_plant_state *s, int condition, int axle)
 {
+    const rb_plant_condition *c = &p->condition[condition];
     rb_polach_params q = c->polach;
     if (c->recovery_axles > 0.0)
         q.mu0 *= rb_conditioning_factor((double)axle, c->leading_factor, c->recovery_axles);
+    if (c->reference_energy > 0.0)
+        q.mu0 *= rb_rail_factor(p, s, axle, c->leading_factor);
     return q;
+}
+
+void rb_plant_set_axle_adhesion(rb_plant_state *s, int axle, const rb_polach_params *q)
+{
+    rb_plant_derived *d = &s->derived;
+    s->polach[axle] = *q;
+    d->mu_static[axle] = q->mu0 * q->A;
+    d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
+    d->polach_B[axle] = q->B;
+    d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
+    d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
 }
 
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x)
@@ -157,16 +173,16 @@ int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, 
         if (x >= p->zone[z].x_start && x < p->zone[z].x_end) condition = p->zone[z].condition;
     if (condition != s->zone_of[axle]) {
         s->zone_of[axle] = condition;
-        s->polach[axle] = condition_at_axle(&p->condition[condition], axle);
-        rb_plant_derived *d = &s->derived;
-        const rb_polach_params *q = &s->polach[axle];
-        d->mu_static[axle] = q->mu0 * q->A;
-        d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
-        d->polach_B[axle] = q->B;
-        d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
-        d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
+        rb_polach_params q = condition_at_axle(p, s, condition, axle);
+        rb_plant_set_axle_adhesion(s, axle, &q);
     }
     return condition;
+}
+
+void rb_plant_condition_axle(const rb_plant_params *p, rb_plant_state *s, int axle)
+{
+    rb_polach_params q = condition_at_axle(p, s, s->zone_of[axle], axle);
+    rb_plant_set_axle_adhesion(s, axle, &q);
 }
 
 /* Number of links of car c's MR pipe node (the stiff-link limit divides by it). */
@@ -325,6 +341,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     derive_air(p, &s->derived);
     derive_mechanics(p, &s->derived);
     s->kernel = rb_plant_resolve_kernel(p->kernel);
+    rb_rail_init(p, s);   /* before the axles take their adhesion from it */
     double rt = 287.05 * p->temperature;
     double pos = 0.0;
     s->m_mr = p->initial_pressure * p->main_reservoir_volume / rt;

@@ -33,7 +33,7 @@
  *    the pilot volume); per axle a WSP hold valve (output -> cylinder)
  *    and vent valve (cylinder -> atmosphere), each switching after a response delay.
  *  - Wheelsets: J dw/dt = -F r - T_brake - T_ed, F = Q f(creep) from Polach with rail
- *    conditioning by axle index and track zones; the slip velocity is advanced linearly
+ *    conditioning by axle index or by rail cells the axles clean (rail_conditioning.c) and track zones; the slip velocity is advanced linearly
  *    implicitly with the secant creep stiffness (stable at 1 ms down to walking speed); a wheel
  *    whose speed would change sign is locked (static pad friction).
  *  - Cars: one mass per car, couplers, running resistance (rb_vehicle.h laws); symplectic Euler.
@@ -60,6 +60,7 @@ extern "C" {
 #define RB_MAX_FAULTS 16
 #define RB_MAX_COMPRESSORS 4
 #define RB_MAX_GRADIENTS 16
+#define RB_RAIL_MAX_CELLS 2048   /* rail cells under the train (rail_conditioning.c) */
 
 /* Wheelset kernel: the portable C99 one is the reference; the vector one (x86-64 AVX2, chosen at
  * run time when the CPU has it) computes the same operations in the same order, 4 axles at a time,
@@ -109,6 +110,9 @@ typedef struct {
     rb_polach_params polach;
     double leading_factor;    /* rail conditioning: mu0 factor on the leading axle (1: none) */
     double recovery_axles;    /* axles over which conditioning recovers (<= 0: none) */
+    double reference_energy;  /* J/m^2, > 0: the rail is conditioned cell by cell by the energy the
+                                 axles dissipate in the contact (rail_conditioning.c), instead of by
+                                 axle index (recovery_axles must then be 0); 0: not */
 } rb_plant_condition;
 
 /* Track zone: axles between x_start and x_end (m along the track) see condition `condition`. */
@@ -189,6 +193,9 @@ typedef struct {
      * at that pressure; at a lower pressure the air, having less mass, follows the wall faster).
      * 0: isothermal cylinders. */
     double wall_time;
+    /* rail conditioning by dissipated energy (a condition's reference_energy > 0): the rail under
+     * the train as cells of this length (m), at most RB_RAIL_MAX_CELLS over the train's length */
+    double rail_cell_length;
 } rb_plant_params;
 
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
@@ -352,6 +359,12 @@ typedef struct {
     double mt_cyl[RB_PLANT_MAX_AXLES];
     double slip_start[RB_PLANT_MAX_AXLES];   /* m/s: each axle's slip velocity at the start of its last
                                                 wheelset update (plant_kernel.c: the probe's extrapolation) */
+    /* the rail under the train (rail_conditioning.c): a ring of cells, cell i of the track (x in
+     * [i, i + 1) cell lengths) in slot i mod RB_RAIL_MAX_CELLS; rail_front: the foremost cell an
+     * axle has entered (cells ahead of it are as laid) */
+    int rail_active;
+    int64_t rail_front;
+    double rail_contamination[RB_RAIL_MAX_CELLS];   /* 1: as laid, 0: cleaned */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */

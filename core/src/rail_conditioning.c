@@ -1,0 +1,109 @@
+/* Rail conditioning by the energy the axles dissipate in the contact, cell by cell along the track.
+ *
+ * The rail under the train is a ring of cells of rail_cell_length; each carries a contamination
+ * c (1: as laid, 0: cleaned). A cell enters the ring as laid when the leading axle reaches it. In
+ * each step every axle on a conditioned condition (reference_energy > 0) leaves on the rail strip
+ * its two contacts pass (each 2b wide, carrying half the axle's creep force) the energy density
+ * e = |F/2 w| / (2 b v) over its travel v dt (rb_dissipated_energy_density); spread over its cell,
+ * that is e v dt / cell_length, and the cell keeps
+ *     c <- c exp(-e v dt / (cell_length reference_energy)),
+ * so that after the energy E the cell's mu0 factor is 1 - (1 - leading_factor) exp(-E / E_ref):
+ * the law of rb_conditioning_energy_factor (Allotta et al., Tribology International 69 (2014)
+ * 128-140, there of the specific friction power; source and assumptions in rb_contact.h). With the
+ * same e for every axle the axle-count law results, recovery_axles = E_ref / e. The axles behind
+ * then see the cell their predecessors cleaned: the adhesion they find follows what the axles
+ * ahead slid, not their index. */
+#include "plant_internal.h"
+
+#include <math.h>
+
+static int condition_conditions(const rb_plant_condition *c) { return c->reference_energy > 0.0; }
+
+static int rail_in_use(const rb_plant_params *p)
+{
+    for (int i = 0; i < p->n_conditions; ++i)
+        if (condition_conditions(&p->condition[i])) return 1;
+    return 0;
+}
+
+rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
+{
+    for (int i = 0; i < p->n_conditions; ++i) {
+        const rb_plant_condition *c = &p->condition[i];
+        if (!isfinite(c->reference_energy) || c->reference_energy < 0.0)
+            return rb_fail(err, RB_EINVAL, "condition[%d].reference_energy = %g J/m2: must be >= 0 (0: no rail cells)",
+                           i, c->reference_energy);
+        if (c->reference_energy > 0.0 && c->recovery_axles > 0.0)
+            return rb_fail(err, RB_EINVAL,
+                           "condition[%d]: reference_energy = %g J/m2 and recovery_axles = %g both set: the rail is "
+                           "conditioned by energy or by axle index, not both (set one to 0)",
+                           i, c->reference_energy, c->recovery_axles);
+        if (c->reference_energy > 0.0 && (!(c->leading_factor > 0.0) || c->leading_factor > 1.0))
+            return rb_fail(err, RB_EINVAL, "condition[%d].leading_factor = %g: must lie in (0, 1]", i,
+                           c->leading_factor);
+    }
+    if (!rail_in_use(p)) return RB_OK;
+    if (!(p->rail_cell_length >= 0.01 && p->rail_cell_length <= 10.0))
+        return rb_fail(err, RB_EINVAL, "rail_cell_length = %g m: must be in [0.01, 10] m", p->rail_cell_length);
+    double length = 0.0;
+    for (int c = 0; c < p->n_cars; ++c) length += p->car[c].length;
+    /* the train's length (couplers stretch by millimetres) plus a cell at each end */
+    double cells = length / p->rail_cell_length + 3.0;
+    if (cells > RB_RAIL_MAX_CELLS)
+        return rb_fail(err, RB_EINVAL,
+                       "rail_cell_length = %g m: the train's %g m need %.0f cells, more than the %d the plant holds: "
+                       "use cells of at least %g m",
+                       p->rail_cell_length, length, ceil(cells), RB_RAIL_MAX_CELLS,
+                       length / (RB_RAIL_MAX_CELLS - 3.0));
+    return RB_OK;
+}
+
+static double axle_x(const rb_plant_params *p, const rb_plant_state *s, int axle)
+{
+    int c = axle / RB_AXLES_PER_CAR;
+    return s->x[c] - p->car[c].axle_position[axle % RB_AXLES_PER_CAR];
+}
+
+static int64_t cell_of(const rb_plant_params *p, double x) { return (int64_t)floor(x / p->rail_cell_length); }
+
+static int slot_of(int64_t cell)
+{
+    int64_t m = cell % RB_RAIL_MAX_CELLS;
+    return (int)(m < 0 ? m + RB_RAIL_MAX_CELLS : m);
+}
+
+void rb_rail_init(const rb_plant_params *p, rb_plant_state *s)
+{
+    s->rail_active = rail_in_use(p);
+    if (!s->rail_active) return;
+    for (int i = 0; i < RB_RAIL_MAX_CELLS; ++i) s->rail_contamination[i] = 1.0;
+    s->rail_front = cell_of(p, -p->car[0].axle_position[0]);   /* the leading axle; the train's front at 0 */
+}
+
+double rb_rail_factor(const rb_plant_params *p, const rb_plant_state *s, int axle, double leading_factor)
+{
+    /* the cell ahead of the one the axle cleans: the rail as the axles ahead left it, which the
+       contact meets (its own cell would count the axle's own sliding towards what it sees) */
+    int64_t cell = cell_of(p, axle_x(p, s, axle)) + 1;
+    double c = cell > s->rail_front ? 1.0 : s->rail_contamination[slot_of(cell)];   /* ahead: as laid */
+    return 1.0 - (1.0 - leading_factor) * c;
+}
+
+void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    int64_t lead = cell_of(p, axle_x(p, s, 0));
+    while (s->rail_front < lead) s->rail_contamination[slot_of(++s->rail_front)] = 1.0;   /* enters as laid */
+    for (int a = 0; a < n_axles; ++a) {
+        const rb_plant_condition *cond = &p->condition[s->zone_of[a]];
+        if (!condition_conditions(cond)) continue;
+        int c = a / RB_AXLES_PER_CAR;
+        double v = s->v[c], slip = s->omega[a] * s->derived.axle_radius[a] - v;
+        double e = rb_dissipated_energy_density(0.5 * s->force[a], slip, v, 2.0 * p->car[c].contact.b);
+        double cleaned = e * v * dt / (p->rail_cell_length * cond->reference_energy);
+        int64_t cell = cell_of(p, axle_x(p, s, a));
+        if (cell <= s->rail_front) s->rail_contamination[slot_of(cell)] *= exp(-cleaned);
+    }
+    for (int a = 0; a < n_axles; ++a)
+        if (condition_conditions(&p->condition[s->zone_of[a]])) rb_plant_condition_axle(p, s, a);
+}
