@@ -14,8 +14,10 @@
  * then see the cell their predecessors cleaned: the adhesion they find follows what the axles
  * ahead slid, not their index. */
 #include "plant_internal.h"
+#include "railbrake/rb_bounds.h"
 
 #include <math.h>
+#include <stdio.h>
 
 static int condition_conditions(const rb_plant_condition *c) { return c->reference_energy > 0.0; }
 
@@ -33,6 +35,12 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
         if (!isfinite(c->reference_energy) || c->reference_energy < 0.0)
             return rb_fail(err, RB_EINVAL, "condition[%d].reference_energy = %g J/m2: must be >= 0 (0: no rail cells)",
                            i, c->reference_energy);
+        if (c->reference_energy > 0.0) {
+            char name[48];
+            snprintf(name, sizeof name, "condition[%d].reference_energy", i);
+            rb_status st = rb_bound_check(err, "adhesion.reference_energy", name, c->reference_energy);
+            if (st) return st;
+        }
         if (c->reference_energy > 0.0 && c->recovery_axles > 0.0)
             return rb_fail(err, RB_EINVAL,
                            "condition[%d]: reference_energy = %g J/m2 and recovery_axles = %g both set: the rail is "
@@ -43,8 +51,8 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
                            c->leading_factor);
     }
     if (!rail_in_use(p)) return RB_OK;
-    if (!(p->rail_cell_length >= 0.01 && p->rail_cell_length <= 10.0))
-        return rb_fail(err, RB_EINVAL, "rail_cell_length = %g m: must be in [0.01, 10] m", p->rail_cell_length);
+    rb_status st;
+    if ((st = rb_bound_check(err, "adhesion.rail_cell_length", "rail_cell_length", p->rail_cell_length))) return st;
     double length = 0.0;
     for (int c = 0; c < p->n_cars; ++c) length += p->car[c].length;
     /* the train's length (couplers stretch by millimetres) plus a cell at each end */

@@ -50,21 +50,22 @@ static void test_axles_behind_see_more_adhesion(void)
     }
 }
 
-/* An energy no contact reaches (E_ref -> infinity) leaves the rail as laid: the plant brakes as
- * on a condition of mu0 x leading_factor without conditioning. */
+/* An energy far beyond what the contacts leave (E_ref at its bound, 1 GJ/m2) leaves the rail as
+ * laid: the plant brakes as on a condition of mu0 x leading_factor without conditioning. */
 static void test_unreachable_energy_is_the_laid_rail(void)
 {
     static rb_plant_params p, q;
     static rb_plant_state s, t;
-    fill_sliding(&p, 2, 1e300);
+    fill_sliding(&p, 2, 1e9);
     fill_plant(&q, 2, 300 / 3.6);
     q.condition[0] = (rb_plant_condition){HEAVY_RAIN, 1.0, 0.0, 0.0};
     q.condition[0].polach.mu0 *= 0.2;
     CHECK(rb_plant_init(&p, &s, NULL) == RB_OK && rb_plant_init(&q, &t, NULL) == RB_OK);
     brake(&p, &s, 3.0);
     brake(&q, &t, 3.0);
-    CHECK_CLOSE(s.v[0], t.v[0], 1e-12, 0);
-    for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.omega[a], t.omega[a], 1e-9, 1e-9);
+    CHECK_CLOSE(s.v[0], t.v[0], 1e-6, 0);
+    for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.polach[a].mu0, t.polach[a].mu0, 1e-3, 0);
+    for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.omega[a], t.omega[a], 1e-3, 1e-6);
 }
 
 /* Off (no condition with reference_energy): the cell length has no effect at all. */

@@ -275,7 +275,7 @@ class PlantCar(Structure):
 
 
 class PlantCondition(Structure):
-    _fields_ = [("polach", PolachParamsC)] + _doubles("leading_factor", "recovery_axles")
+    _fields_ = [("polach", PolachParamsC)] + _doubles("leading_factor", "recovery_axles", "reference_energy")
 
 
 class TrackZone(Structure):
@@ -306,7 +306,7 @@ class PlantParams(Structure):
                    ("compressor_delivery", c_double * MAX_COMPRESSORS),
                    ("n_gradients", c_int), ("gradient_start", c_double * MAX_GRADIENTS),
                    ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)]
-                + [("wall_time", c_double)])
+                + [("wall_time", c_double), ("rail_cell_length", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.

@@ -161,6 +161,10 @@ class Zone(_Strict):
 class Adhesion(_Strict):
     condition: str = "dry-medium"
     zones: list[Zone] = Field(default_factory=list, max_length=8)
+    # how a condition's rail conditioning acts in the plant: "axles", the fixed factor by axle
+    # index, or "cells", the rail under the train cleaned cell by cell by the energy each axle
+    # dissipates (where the condition's file gives conditioning.cells; core/src/rail_conditioning.c)
+    rail_conditioning: Literal["axles", "cells"] = "axles"
 
 
 class WspSettings(_Strict):

@@ -135,16 +135,26 @@ def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
         p.gradient_start[i], p.gradient[i] = g.start, g.gradient
 
 
-def _condition(name: str, initial_speed: float) -> _core.PlantCondition:
+def _condition(name: str, initial_speed: float, cells: bool) -> _core.PlantCondition:
     cond = load_condition(name)
     # A stop passes every speed below the initial one; only starting above the range is flagged.
     if cond.validity is not None and ms_to_kmh(initial_speed) > cond.validity.speed_max_kmh:
         warn_outside_range(cond, ms_to_kmh(initial_speed), "run from")
     c = _core.PlantCondition()
     c.polach = cond.params.to_c()
-    c.leading_factor = cond.conditioning.leading_factor if cond.conditioning else 1.0
-    c.recovery_axles = cond.conditioning.recovery_axles if cond.conditioning else 0.0
+    k = cond.conditioning
+    c.leading_factor = k.leading_factor if k else 1.0
+    if k and cells and k.reference_energy > 0.0:   # the rail cleaned cell by cell (rail_conditioning.c)
+        c.reference_energy = k.reference_energy
+    else:
+        c.recovery_axles = k.recovery_axles if k else 0.0
     return c
+
+
+def _rail_cells(names: list, p: _core.PlantParams) -> None:
+    """The finest cell length of the conditions conditioned cell by cell (their files')."""
+    lengths = [k.cell_length for k in (load_condition(n).conditioning for n in names) if k and k.reference_energy > 0.0]
+    p.rail_cell_length = min(lengths) if lengths else 0.0
 
 
 _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
@@ -217,8 +227,11 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
     if len(unique) > _core.MAX_CONDITIONS:
         raise InputError(f"{scenario.where('adhesion', 'zones')}: at most {_core.MAX_CONDITIONS} conditions")
     p.n_conditions = len(unique)
+    cells = spec.adhesion.rail_conditioning == "cells"
     for i, name in enumerate(unique):
-        p.condition[i] = _condition(name, spec.initial_speed)
+        p.condition[i] = _condition(name, spec.initial_speed, cells)
+    if cells:
+        _rail_cells(unique, p)
     p.n_zones = len(spec.adhesion.zones)
     for i, z in enumerate(spec.adhesion.zones):
         p.zone[i] = _core.TrackZone(z.start, z.end, unique.index(z.condition))
