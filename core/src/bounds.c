@@ -55,6 +55,13 @@ static const rb_bound bounds[] = {
     {"wsp.filter_time", "s", 1e-3, 1.0, "a filter of 1 ms to 1 s"},
     {"wsp.safety_time", "s", 0.5, 30.0, "0.5 to 30 s of continuous venting (typically 5-10 s [T]); 0 isolates every axle"},
     {"wsp.min_speed", "m/s", 0.0, 10.0, "WSP active down to at most 36 km/h"},
+    {"wsp.controller", "1", 0.0, 1.0, "0: threshold state machine, 1: slip set-point"},
+    {"wsp.setpoint_speed", "m/s", 0.01, 10.0, "a slip-velocity set-point of 0.04 to 36 km/h"},
+    {"wsp.setpoint_slip", "1", 0.0, 0.5, "up to 50 % of the reference speed"},
+    {"wsp.setpoint_band", "1", 0.0, 0.9, "a hold band of up to +-90 % of the set-point"},
+    {"wsp.lead_time", "s", 0.0, 1.0, "the slip predicted up to 1 s ahead"},
+    {"wsp.ref_decel_margin", "m/s2", 0.0, 5.0, "a speed estimate falling up to 5 m/s2 faster than the body"},
+    {"wsp.setpoint_release", "s", 0.0, 600.0, "an axle let go after up to 10 min braked as demanded"},
 
     /* The files' quantities (train, scenario, valve files) that the plant gets only through others:
      * checked by the Python schemas (railbrake._core.bound) in the file's unit, so that a value is
@@ -265,5 +272,12 @@ rb_status rb_wsp_check(const rb_wsp_params *w, rb_error *err)
     WSP_BOUND(filter_time);
     WSP_BOUND(safety_time);
     WSP_BOUND(min_speed);
+    WSP_BOUND(controller);
+    WSP_BOUND(setpoint_speed);
+    WSP_BOUND(setpoint_slip);
+    WSP_BOUND(setpoint_band);
+    WSP_BOUND(lead_time);
+    WSP_BOUND(ref_decel_margin);
+    WSP_BOUND(setpoint_release);
     return RB_OK;
 }

@@ -316,7 +316,7 @@ KERNELS = {"auto": 0, "portable": 1}
 class WspInputs(Structure):
     _fields_ = (_doubles("time", "cycle") + [("n_axles", c_int)]
                 + [(n, c_double * PLANT_MAX_AXLES) for n in ("wheel_speed", "cylinder", "demand")]
-                + [("atmosphere", c_double)])
+                + [("atmosphere", c_double), ("body_decel", c_double)])
 
 
 class WspCommands(Structure):
@@ -330,7 +330,8 @@ class WspParams(Structure):
     _fields_ = _doubles("ref_decel_max", "ref_accel_max", "speed_threshold", "slip_threshold",
                         "decel_threshold", "reaccel_threshold", "release_fraction", "reapply_on",
                         "reapply_off", "reapply_time", "filter_time",
-                        "safety_time", "min_speed")
+                        "safety_time", "min_speed") + [("controller", c_int)] + _doubles(
+        "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release")
 
 
 class BcuParams(Structure):

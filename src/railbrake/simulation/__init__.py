@@ -275,16 +275,20 @@ def _air_supply(train, n_cars: int, p: _core.PlantParams) -> None:
     p.initial_pressure = p.atmosphere + air.charged_bar * BAR
 
 
+WSP_CONTROLLERS = ("threshold", "slip_setpoint")   # rb_wsp_controller's order (rb_bcu.h)
+
+
 def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     w = _core.WspParams()
     _core.rb_wsp_default_params(ctypes.byref(w))
     if scenario is not None:
         instance("scenario", scenario, Scenario)
         for key in ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold",
-                    "ref_decel_max", "safety_time"):
+                    "ref_decel_max", "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time"):
             value = getattr(scenario.spec.wsp, key)
             if value is not None:
                 setattr(w, key, value)
+        w.controller = WSP_CONTROLLERS.index(scenario.spec.wsp.controller)
     return w
 
 
