@@ -189,9 +189,10 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err);
 void rb_rail_init(const rb_plant_params *p, rb_plant_state *s);
 /* mu0 factor of the cell under axle: 1 - (1 - leading_factor) x its contamination. */
 double rb_rail_factor(const rb_plant_params *p, const rb_plant_state *s, int axle, double leading_factor);
-/* After a mechanics step of dt: each axle's friction energy of the step cleans its cell, then each
- * axle on a conditioned condition takes the adhesion of its cell. Nothing without conditioning. */
-void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, double dt);
+/* After a mechanics step of dt: each axle's friction energy of the step cleans its cell, the
+ * sanders that are on sand the cells ahead of their axles, then each axle on a conditioned
+ * condition takes the adhesion of its cell. Nothing without conditioning. */
+void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in, double dt);
 
 /* Faults in force at a time, per axle and per car. */
 typedef struct {

@@ -12,7 +12,14 @@
  * 128-140, there of the specific friction power; source and assumptions in rb_contact.h). With the
  * same e for every axle the axle-count law results, recovery_axles = E_ref / e. The axles behind
  * then see the cell their predecessors cleaned: the adhesion they find follows what the axles
- * ahead slid, not their index. */
+ * ahead slid, not their index.
+ *
+ * Sanders are a second source: the sand a sander drops in front of its axle (m kg per metre of
+ * track in a cell) multiplies the cell's contamination by exp(-m / sand_reference), so its axle
+ * and every axle behind brake on the sanded rail. The law's form mirrors the energy law; its one
+ * parameter has no published value (sand rates and their adhesion gain are not public in the
+ * sources found, src/railbrake/data/references/sander_tests.yaml): an input [T], the one to
+ * calibrate on a full-scale sander test. */
 #include "plant_internal.h"
 #include "railbrake/rb_bounds.h"
 
@@ -50,6 +57,25 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
             return rb_fail(err, RB_EINVAL, "condition[%d].leading_factor = %g: must lie in (0, 1]", i,
                            c->leading_factor);
     }
+    if (p->n_sanders < 0 || p->n_sanders > RB_MAX_SANDERS)
+        return rb_fail(err, RB_EINVAL, "n_sanders = %d: must be in [0, %d]", p->n_sanders, RB_MAX_SANDERS);
+    if (p->n_sanders > 0 && !rail_in_use(p))
+        return rb_fail(err, RB_EINVAL, "n_sanders = %d: sand conditions the rail cells, which no condition uses "
+                       "(give a condition a reference_energy > 0)", p->n_sanders);
+    for (int i = 0; i < p->n_sanders; ++i) {
+        if (p->sander_axle[i] < 0 || p->sander_axle[i] >= p->n_cars * RB_AXLES_PER_CAR)
+            return rb_fail(err, RB_EINVAL, "sander[%d].axle = %d: must be in [0, %d]", i, p->sander_axle[i],
+                           p->n_cars * RB_AXLES_PER_CAR - 1);
+        if (p->sander_trigger[i] != RB_SAND_DRIVER && p->sander_trigger[i] != RB_SAND_WSP)
+            return rb_fail(err, RB_EINVAL, "sander[%d].trigger = %d: must be %d (driver) or %d (WSP)", i,
+                           p->sander_trigger[i], RB_SAND_DRIVER, RB_SAND_WSP);
+        if (!(p->sander_rate[i] > 0.0 && p->sander_rate[i] <= 1.0))
+            return rb_fail(err, RB_EINVAL, "sander[%d].rate = %g kg/s: must be in (0, 1] kg/s", i, p->sander_rate[i]);
+        if (!(p->sander_start[i] >= 0.0 && isfinite(p->sander_start[i])))
+            return rb_fail(err, RB_EINVAL, "sander[%d].start = %g s: must be >= 0", i, p->sander_start[i]);
+    }
+    if (p->n_sanders > 0 && !(p->sand_reference > 0.0 && p->sand_reference <= 10.0))
+        return rb_fail(err, RB_EINVAL, "sand_reference = %g kg/m: must be in (0, 10] kg/m", p->sand_reference);
     if (!rail_in_use(p)) return RB_OK;
     rb_status st;
     if ((st = rb_bound_check(err, "adhesion.rail_cell_length", "rail_cell_length", p->rail_cell_length))) return st;
@@ -97,11 +123,39 @@ double rb_rail_factor(const rb_plant_params *p, const rb_plant_state *s, int axl
     return 1.0 - (1.0 - leading_factor) * c;
 }
 
-void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, double dt)
+/* Cells up to `cell` enter the ring as laid. */
+static void enter_cells(rb_plant_state *s, int64_t cell)
+{
+    while (s->rail_front < cell) s->rail_contamination[slot_of(++s->rail_front)] = 1.0;
+}
+
+/* Whether sander i drops sand in this step: the driver's from its start time, the WSP's while any
+ * WSP valve is commanded. */
+static int sander_on(const rb_plant_params *p, const rb_plant_state *s, const rb_plant_inputs *in, int i)
+{
+    if (p->sander_trigger[i] == RB_SAND_DRIVER) return s->time >= p->sander_start[i];
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
+        if (in->hold[a] || in->vent[a]) return 1;
+    return 0;
+}
+
+/* The sand of a step falls on the cell ahead of the axle's (the rail its contact meets next). */
+static void sand(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in, double dt)
+{
+    for (int i = 0; i < p->n_sanders; ++i) {
+        if (!sander_on(p, s, in, i)) continue;
+        double mass = p->sander_rate[i] * dt;
+        int64_t cell = cell_of(p, axle_x(p, s, p->sander_axle[i])) + 1;
+        enter_cells(s, cell);   /* the leading axle's sander sands the rail just ahead of the train */
+        s->rail_contamination[slot_of(cell)] *= exp(-mass / (p->rail_cell_length * p->sand_reference));
+        s->sand_used += mass;
+    }
+}
+
+void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in, double dt)
 {
     const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    int64_t lead = cell_of(p, axle_x(p, s, 0));
-    while (s->rail_front < lead) s->rail_contamination[slot_of(++s->rail_front)] = 1.0;   /* enters as laid */
+    enter_cells(s, cell_of(p, axle_x(p, s, 0)));
     for (int a = 0; a < n_axles; ++a) {
         const rb_plant_condition *cond = &p->condition[s->zone_of[a]];
         if (!condition_conditions(cond)) continue;
@@ -112,6 +166,7 @@ void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, double dt)
         int64_t cell = cell_of(p, axle_x(p, s, a));
         if (cell <= s->rail_front) s->rail_contamination[slot_of(cell)] *= exp(-cleaned);
     }
+    sand(p, s, in, dt);
     for (int a = 0; a < n_axles; ++a)
         if (condition_conditions(&p->condition[s->zone_of[a]])) rb_plant_condition_axle(p, s, a);
 }

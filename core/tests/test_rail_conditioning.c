@@ -115,6 +115,35 @@ static void test_energy_and_air_balance(void)
     CHECK_CLOSE(rb_plant_air_mass(&p, &s) + s.m_vented - s.m_compressed, s.m_initial, 1e-10, 0);
 }
 
+/* A sander in front of the leading axle: the sand it drops (rate x time, booked) cleans the rail the
+ * leading axle meets, which then brakes on more adhesion than on the rail as laid; the train stops
+ * sooner. A WSP-triggered sander sands only while a WSP valve is commanded. */
+static void test_sand_conditions_the_rail(void)
+{
+    static rb_plant_params p, q;
+    static rb_plant_state s, t;
+    fill_sliding(&p, 2, 2.0e5);
+    q = p;
+    p.n_sanders = 1;
+    p.sander_axle[0] = 0; p.sander_trigger[0] = RB_SAND_DRIVER; p.sander_rate[0] = 0.02; p.sander_start[0] = 0.0;
+    p.sand_reference = 2e-4;   /* kg/m: about 2.4e-4 kg/m fall at 300 km/h, cleaning 70 % */
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK && rb_plant_init(&q, &t, NULL) == RB_OK);
+    brake(&p, &s, 4.0);
+    brake(&q, &t, 4.0);
+    CHECK_CLOSE(s.sand_used, 0.02 * 4.0, 1e-9, 0);
+    CHECK(s.polach[0].mu0 > 2.0 * t.polach[0].mu0);   /* sanded against as laid (0.2 mu0) */
+    CHECK(s.v[0] < t.v[0]);
+    p.sander_trigger[0] = RB_SAND_WSP;   /* no WSP command in brake(): no sand */
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    brake(&p, &s, 1.0);
+    CHECK(s.sand_used == 0.0);
+    rb_plant_inputs in;
+    memset(&in, 0, sizeof in);
+    in.hold[5] = 1;
+    for (int i = 0; i < 100; ++i) rb_plant_step(&p, &s, &in);
+    CHECK_CLOSE(s.sand_used, 0.02 * 0.1, 1e-9, 0);
+}
+
 static void test_bad_parameters(void)
 {
     static rb_plant_params p;
@@ -131,6 +160,16 @@ static void test_bad_parameters(void)
     fill_sliding(&p, 2, -1.0);
     CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
     CHECK(strstr(err.message, "condition[0].reference_energy = -1") != NULL);
+    fill_sliding(&p, 2, 2.0e5);
+    p.n_sanders = 1;
+    p.sander_axle[0] = 8;   /* two cars: axles 0 to 7 */
+    p.sander_rate[0] = 0.01; p.sand_reference = 1e-3;
+    CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "sander[0].axle = 8") != NULL);
+    fill_plant(&p, 2, 10.0);   /* no rail cells: sand would act on nothing */
+    p.n_sanders = 1; p.sander_rate[0] = 0.01; p.sand_reference = 1e-3;
+    CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "no condition uses") != NULL);
 }
 
 int main(void)
@@ -139,6 +178,7 @@ int main(void)
     test_unreachable_energy_is_the_laid_rail();
     test_off_leaves_the_plant_as_it_was();
     test_energy_and_air_balance();
+    test_sand_conditions_the_rail();
     test_bad_parameters();
     return rb_test_summary("test_rail_conditioning");
 }

@@ -256,6 +256,7 @@ MAX_ZONES = 8
 MAX_FAULTS = 16
 MAX_DEMAND_STEPS = 16
 MAX_GRADIENTS = 16
+MAX_SANDERS = 8
 
 
 def _doubles(*names):
@@ -306,7 +307,10 @@ class PlantParams(Structure):
                    ("compressor_delivery", c_double * MAX_COMPRESSORS),
                    ("n_gradients", c_int), ("gradient_start", c_double * MAX_GRADIENTS),
                    ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)]
-                + [("wall_time", c_double), ("rail_cell_length", c_double)])
+                + [("wall_time", c_double), ("rail_cell_length", c_double)]
+                + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
+                   ("sander_rate", c_double * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
+                   ("sand_reference", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.

@@ -61,6 +61,7 @@ extern "C" {
 #define RB_MAX_COMPRESSORS 4
 #define RB_MAX_GRADIENTS 16
 #define RB_RAIL_MAX_CELLS 2048   /* rail cells under the train (rail_conditioning.c) */
+#define RB_MAX_SANDERS 8
 
 /* Wheelset kernel: the portable C99 one is the reference; the vector one (x86-64 AVX2, chosen at
  * run time when the CPU has it) computes the same operations in the same order, 4 axles at a time,
@@ -196,7 +197,20 @@ typedef struct {
     /* rail conditioning by dissipated energy (a condition's reference_energy > 0): the rail under
      * the train as cells of this length (m), at most RB_RAIL_MAX_CELLS over the train's length */
     double rail_cell_length;
+    /* sanders (rail_conditioning.c), a conditioning source of the rail cells: sander i drops
+     * sander_rate[i] kg/s in front of axle sander_axle[i] (global index) while it is on: from
+     * sander_start[i] s (trigger RB_SAND_DRIVER), or while any WSP valve of the train is commanded
+     * (RB_SAND_WSP). The sand a cell gets, m kg per metre of track, multiplies its contamination by
+     * exp(-m / sand_reference). */
+    int n_sanders;
+    int sander_axle[RB_MAX_SANDERS];
+    int sander_trigger[RB_MAX_SANDERS];
+    double sander_rate[RB_MAX_SANDERS];
+    double sander_start[RB_MAX_SANDERS];
+    double sand_reference;    /* kg/m */
 } rb_plant_params;
+
+typedef enum { RB_SAND_DRIVER = 0, RB_SAND_WSP = 1 } rb_sand_trigger;
 
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
 
@@ -365,6 +379,7 @@ typedef struct {
     int rail_active;
     int64_t rail_front;
     double rail_contamination[RB_RAIL_MAX_CELLS];   /* 1: as laid, 0: cleaned */
+    double sand_used;         /* kg the sanders dropped since t = 0 */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
