@@ -31,7 +31,7 @@ void rb_wsp_default_reset(rb_wsp_default *w, const rb_wsp_params *p)
     w->p = *p;
 }
 
-void rb_wsp_update_reference(rb_wsp_default *w, const rb_wsp_inputs *in)
+void rb_wsp_update_reference(rb_wsp_default *w, const rb_wsp_inputs *in, double fall)
 {
     double fastest = -1.0;
     for (int a = 0; a < in->n_axles; ++a)
@@ -43,7 +43,7 @@ void rb_wsp_update_reference(rb_wsp_default *w, const rb_wsp_inputs *in)
         w->initialised = 1;
         return;
     }
-    double lo = w->reference - w->p.ref_decel_max * in->cycle, hi = w->reference + w->p.ref_accel_max * in->cycle;
+    double lo = w->reference - fall * in->cycle, hi = w->reference + w->p.ref_accel_max * in->cycle;
     w->reference = fastest < lo ? lo : (fastest > hi ? hi : fastest);
     if (w->reference < 0.0) w->reference = 0.0;
 }
@@ -121,7 +121,7 @@ void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands
         rb_wsp_setpoint_step(context, in, out);
         return;
     }
-    rb_wsp_update_reference(w, in);
+    rb_wsp_update_reference(w, in, p->ref_decel_max);
     double dt = in->cycle > 0.0 ? in->cycle : 1e-3;
     for (int a = 0; a < in->n_axles; ++a) {
         if (!rb_wsp_axle_guard(w, in, out, a, dt)) continue;

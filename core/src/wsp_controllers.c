@@ -39,25 +39,11 @@ void rb_wsp_setpoint_defaults(rb_wsp_params *p)
 
 /* Vehicle-speed estimate: the fastest measured wheel, its fall limited to the body's measured
  * deceleration plus a margin (ref_decel_max without an accelerometer), so that wheels sliding
- * together do not drag it down with them; its rise to ref_accel_max. */
-static void estimate_speed(rb_wsp_default *w, const rb_wsp_inputs *in, double dt)
+ * together do not drag it down with them. */
+static double estimate_fall(const rb_wsp_params *p, const rb_wsp_inputs *in)
 {
-    const rb_wsp_params *p = &w->p;
-    double fastest = -1.0;
-    for (int a = 0; a < in->n_axles; ++a)
-        if (in->wheel_speed[a] > fastest) fastest = in->wheel_speed[a];
-    if (fastest < 0.0) return;
-    if (!w->initialised) {
-        w->reference = fastest;
-        for (int a = 0; a < in->n_axles; ++a) w->last_speed[a] = in->wheel_speed[a];
-        w->initialised = 1;
-        return;
-    }
-    double body = in->body_decel > 0.0 ? in->body_decel : 0.0;
-    double fall = in->body_decel == in->body_decel ? body + p->ref_decel_margin : p->ref_decel_max;
-    double lo = w->reference - fall * dt, hi = w->reference + p->ref_accel_max * dt;
-    w->reference = fastest < lo ? lo : (fastest > hi ? hi : fastest);
-    if (w->reference < 0.0) w->reference = 0.0;
+    if (in->body_decel != in->body_decel) return p->ref_decel_max;   /* NaN: no accelerometer */
+    return (in->body_decel > 0.0 ? in->body_decel : 0.0) + p->ref_decel_margin;
 }
 
 /* Engaged on a detected slide (the threshold controller's criteria), released after
@@ -91,7 +77,7 @@ void rb_wsp_setpoint_step(void *context, const rb_wsp_inputs *in, rb_wsp_command
     double dt = in->cycle > 0.0 ? in->cycle : 1e-3;
     int first = !w->initialised;
     double before = w->reference;
-    estimate_speed(w, in, dt);
+    rb_wsp_update_reference(w, in, estimate_fall(p, in));
     double reference_rate = first ? 0.0 : (w->reference - before) / dt;
     for (int a = 0; a < in->n_axles; ++a) {
         if (!rb_wsp_axle_guard(w, in, out, a, dt)) continue;

@@ -4,8 +4,9 @@
 
 #include "railbrake/rb_bcu.h"
 
-/* Reference (vehicle) speed from the fastest measured axle, its fall and rise rate-limited. */
-void rb_wsp_update_reference(rb_wsp_default *w, const rb_wsp_inputs *in);
+/* Reference (vehicle) speed from the fastest measured axle, falling at most at `fall` (m/s^2) and
+ * rising at most at ref_accel_max. */
+void rb_wsp_update_reference(rb_wsp_default *w, const rb_wsp_inputs *in, double fall);
 /* A cylinder far below its demand with no WSP command: a vent valve open on its own. */
 int rb_wsp_stuck_vent_suspected(const rb_wsp_inputs *in, int a);
 /* Every controller's guard of axle a at the start of its cycle: commands cleared; an isolated axle

@@ -151,6 +151,27 @@ def _condition(name: str, initial_speed: float, cells: bool) -> _core.PlantCondi
     return c
 
 
+def _sanders(train, n_cars: int, p: _core.PlantParams) -> None:
+    """The train file's sanders; they condition the rail cells, so without them they act on nothing
+    (said, not dropped silently)."""
+    sanders = train.spec.sanders
+    if sanders is None:
+        return
+    if p.rail_cell_length <= 0.0:
+        warnings.warn(f"train {train.name}: its sanders act on the rail cells, which this run does not use "
+                      "(adhesion.rail_conditioning: cells with a condition that has conditioning.cells)", stacklevel=3)
+        return
+    for i, s in enumerate(sanders.units):
+        if s.car > n_cars:
+            raise InputError(f"train {train.name}: sanders.units[{i}].car = {s.car}: the run has cars 1..{n_cars}")
+        p.sander_axle[i] = (s.car - 1) * _core.AXLES_PER_CAR + s.axle - 1
+        p.sander_trigger[i] = ("driver", "wsp").index(s.trigger)
+        p.sander_rate[i] = s.rate_kg_min / 60.0
+        p.sander_start[i] = s.start_s
+    p.n_sanders = len(sanders.units)
+    p.sand_reference = sanders.sand_reference_kg_m
+
+
 def _rail_cells(names: list, p: _core.PlantParams) -> None:
     """The finest cell length of the conditions conditioned cell by cell (their files')."""
     lengths = [k.cell_length for k in (load_condition(n).conditioning for n in names) if k and k.reference_energy > 0.0]
@@ -232,6 +253,7 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
         p.condition[i] = _condition(name, spec.initial_speed, cells)
     if cells:
         _rail_cells(unique, p)
+    _sanders(train, n_cars, p)
     p.n_zones = len(spec.adhesion.zones)
     for i, z in enumerate(spec.adhesion.zones):
         p.zone[i] = _core.TrackZone(z.start, z.end, unique.index(z.condition))
