@@ -129,10 +129,10 @@ static inline double rb_plant_link_mass_capped(const rb_plant_derived *d, double
 }
 
 /* R T / V of car c's pilot volume, which the relay membrane's stroke sweeps (relay_sweep per unit
- * of stroke): p_pilot = m_pilot times this. */
+ * of stroke), at its air's temperature (pilot_theta, plant_pilot.c): p_pilot = m_pilot times this. */
 static inline double rb_plant_pilot_stiffness(const rb_plant_state *s, int c)
 {
-    return s->derived.k_pilot[c] / (1.0 + s->relay_stroke[c] * s->derived.sweep_ratio[c]);
+    return s->derived.k_pilot[c] * s->pilot_theta[c] / (1.0 + s->relay_stroke[c] * s->derived.sweep_ratio[c]);
 }
 
 /* The bits of x, its sign in the top one: ORed over a pass, (x - lo) | ~(x - hi) is negative when
@@ -245,7 +245,9 @@ double rb_plant_gradient_force(const rb_plant_params *p, const rb_plant_state *s
 /* Friction brake energy and disc temperature of every axle over a sub-step dt, from the friction
  * torque the wheelset kernel applied in it (s->brake_torque). */
 void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt);
-/* The outputs of plant_train.c. */
-void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
+/* The relay control chambers' energy balance (plant_pilot.c): their constants and temperatures at
+ * init; after the valves' phase of a sub-step, from each chamber's mass before it (m_before). */
+void rb_plant_pilot_init(const rb_plant_params *p, rb_plant_state *s);
+void rb_plant_pilot_energy(const rb_plant_params *p, rb_plant_state *s, const double *m_before);
 
 #endif

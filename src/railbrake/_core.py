@@ -272,7 +272,8 @@ class PlantCar(Structure):
                            "relay_travel",
                            "hold_area", "vent_area", "valve_delay",
                            "pipe_area", "disc_heat_capacity")
-                + [("disc_cooling", SpeedTable)])
+                + [("disc_cooling", SpeedTable)]
+                + _doubles("emergency_delay", "emergency_area", "emergency_limit"))
 
 
 class PlantCondition(Structure):
@@ -578,7 +579,7 @@ RT_FIFO_PRIORITY = 2
 
 class PlantInputs(Structure):
     _fields_ = [(n, c_double * PLANT_MAX_CARS) for n in ("pressure_demand", "ed_demand")] + [
-        (n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent")]
+        (n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent")] + [("emergency", c_double)]
 
 
 class HilConfig(Structure):

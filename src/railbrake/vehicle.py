@@ -121,6 +121,16 @@ class _BrakeStep(_Strict):
     source: str
 
 
+class _EmergencyLoop(_Strict):
+    """How the emergency command reaches each car: every car's loop relay drops out drop_out_s
+    after the loop opens at the leading car; a command that travels (a brake pipe, a train line of
+    relays in series) reaches car c's front after its distance / propagation_m_per_s (none: an
+    electric loop, at once)."""
+    drop_out_s: float = _num("train.emergency_drop_out")
+    propagation_m_per_s: Optional[float] = _num("train.emergency_propagation", default=None)
+    source: str
+
+
 class _BrakeSteps(_Strict):
     emergency: _BrakeStep
     service: _BrakeStep
@@ -229,6 +239,23 @@ class _RelayValve(_Strict):
     travel: float = _num("car.relay_travel")    # membrane's travel over that stroke (its stops)
 
 
+class _LoadLimit(_Strict):
+    """The load-weighing valve's limit of the emergency control pressure (bar gauge) at the tare
+    and the crush mass of the car; linear in the car's mass between them (its air-spring pressure)."""
+    tare: float = _num("train.emergency_limit", BAR)
+    crush: float = _num("train.emergency_limit", BAR)
+
+
+class _EmergencyValve(_Strict):
+    """The car's emergency circuit beside the EP valve (rb_plant_car.emergency_*): its solenoid
+    valve, the choke into the relay valve's control chamber that sets the filling rate, and the
+    load-weighing valve that limits the pressure."""
+    response_s: float = _num("train.emergency_valve_response")
+    choke_diameter_mm: float = _num("train.emergency_choke", MM)
+    limit_bar: _LoadLimit
+    source: str
+
+
 class _WspValves(_Strict):
     hold_area_mm2: float = _num("car.hold_area", MM2)
     vent_area_mm2: float = _num("car.vent_area", MM2)
@@ -268,6 +295,7 @@ class _CarType(_Strict):
     ep_valve: _EpValve
     relay_valve: _RelayValve
     wsp_valves: _WspValves
+    emergency_valve: Optional[_EmergencyValve] = None   # none: the EP valve brakes in emergency too
 
     @field_validator("axles")
     @classmethod
@@ -319,6 +347,7 @@ class _TrainFile(_Strict):
     running_resistance: _Resistance
     ed_brake: Optional[_EdBrake] = None
     brake_steps: _BrakeSteps
+    emergency_loop: Optional[_EmergencyLoop] = None
     air_supply: _AirSupply
     pneumatics: _Pneumatics
     coupler: _Coupler
@@ -333,6 +362,10 @@ class _TrainFile(_Strict):
             if name not in self.car_types:
                 raise ValueError(f"formation[{i}] = {name!r}: not one of car_types "
                                  f"({', '.join(self.car_types)})")
+        fitted = [name for name, t in self.car_types.items() if t.emergency_valve is not None]
+        if fitted and self.emergency_loop is None:
+            raise ValueError(f"car_types {', '.join(fitted)} have an emergency_valve: the train needs an "
+                             "emergency_loop (how the command reaches the cars)")
         for i, c in enumerate(self.air_supply.compressors):
             if c.car > len(self.formation):
                 raise ValueError(f"air_supply.compressors[{i}].car = {c.car}: the formation has cars "

@@ -160,7 +160,12 @@ rb_status rb_bcu_retune_wsp(rb_bcu_state *s, const rb_wsp_params *wsp, rb_error 
 /* Linear demand -> pressure map of each car from the plant's own brake law at nominal pad
  * friction (load-weighed by the car's mass): pressure_offset, pressure_gain, pressure_max. */
 void rb_bcu_pressure_map(const rb_plant_params *plant, double pressure_max, rb_bcu_params *p);
-/* Runs the BCU if a cycle is due at out->time and writes the plant's inputs (held otherwise). */
+/* Runs the BCU if a cycle is due at out->time: s->command holds the plant's inputs, changed only
+ * by a cycle, except the emergency loop (a train line), which follows the demand at once. 1: the
+ * inputs changed (a cycle ran or the loop switched); 0: they did not. */
+int rb_bcu_update(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *demand,
+                  const rb_plant_outputs *out);
+/* rb_bcu_update, then writes the plant's inputs (held between cycles) to *in. */
 void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *demand,
                  const rb_plant_outputs *out, rb_plant_inputs *in);
 /* The BCU's speed: the fastest measured wheel (a lost sensor reads < 0 and is ignored). */

@@ -105,6 +105,18 @@ typedef struct {
     /* brake discs of one axle, lumped (plant_train.c): heat capacity and cooling over speed */
     double disc_heat_capacity;        /* J/K per axle (0: no disc temperature) */
     rb_speed_table disc_cooling;      /* W/K per axle over the car's speed (n = 0: none) */
+    /* emergency circuit (emergency_circuit.c): when the train's emergency loop opens
+     * (rb_plant_inputs.emergency), the car's EP valve is cut off the relay's control chamber (the
+     * loop de-energises it) and the car's emergency valve acts emergency_delay later (the loop's
+     * propagation to this car, its relay's drop-out, the valve's response). Main-reservoir air then
+     * goes through the load-weighing valve, which regulates it to the BCU's emergency demand but
+     * never above its limit (emergency_limit, set by the car's load), and through a choke
+     * (emergency_area: the nozzle that sets the filling rate) into the control chamber; the relay
+     * valve amplifies the flow into the cylinders. emergency_area = 0: no emergency circuit, the
+     * EP valve brakes in emergency too. */
+    double emergency_delay;   /* s, >= 0 */
+    double emergency_area;    /* m^2, >= 0 */
+    double emergency_limit;   /* Pa absolute */
 } rb_plant_car;
 
 typedef struct {
@@ -219,6 +231,8 @@ typedef struct {
     double ed_demand[RB_PLANT_MAX_CARS];       /* N, ED brake force demand per car (>= 0) */
     uint8_t hold[RB_PLANT_MAX_AXLES];          /* 1: hold valve closed */
     uint8_t vent[RB_PLANT_MAX_AXLES];          /* 1: vent valve open */
+    double emergency;                          /* 1: the train's emergency loop is open (a train line,
+                                                  not a BCU output: the BCU only relays the demand) */
 } rb_plant_inputs;
 
 typedef struct {
@@ -269,6 +283,8 @@ typedef struct {
     double relay_lag[RB_PLANT_MAX_CARS]; /* 1 - exp(-h / relay_tau): the relay stroke's step (1: none) */
     double sweep_ratio[RB_PLANT_MAX_CARS]; /* relay_sweep / pilot_volume */
     double relay_travel[RB_PLANT_MAX_CARS];
+    double g_emergency[RB_PLANT_MAX_CARS];   /* kg/(s Pa), the emergency choke's conductance */
+    double pilot_heat[RB_PLANT_MAX_CARS];    /* kg: h x the control chamber wall's h A / cv (plant_pilot.c) */
     /* mechanics per car */
     double inv_mass[RB_PLANT_MAX_CARS];
     double mass_share[RB_PLANT_MAX_CARS];    /* car mass / train mass */
@@ -380,6 +396,18 @@ typedef struct {
     int64_t rail_front;
     double rail_contamination[RB_RAIL_MAX_CELLS];   /* 1: as laid, 0: cleaned */
     double sand_used;         /* kg the sanders dropped since t = 0 */
+    /* emergency circuit (emergency_circuit.c) */
+    double loop_open_time;                        /* s, when the emergency loop opened; < 0: closed */
+    double emergency_open[RB_PLANT_MAX_CARS];     /* 1: the loop is open and the car has the circuit:
+                                                     its EP valve is cut off (a double: read in the
+                                                     valves' vector loops) */
+    double emergency_g[RB_PLANT_MAX_CARS];        /* kg/(s Pa), the choke's conductance once the car's
+                                                     emergency valve acts, 0 before */
+    double emergency_target[RB_PLANT_MAX_CARS];   /* Pa, the control pressure it fills to */
+    double pilot_theta[RB_PLANT_MAX_CARS];        /* the control chamber air's temperature over the
+                                                     wall's (plant_pilot.c; 1: isothermal) */
+    double pilot_volume[RB_PLANT_MAX_CARS];       /* its volume over the volume at rest at the last
+                                                     update (the membrane's sweep) */
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
@@ -395,6 +423,10 @@ void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
 /* The same into outputs that rb_plant_get_outputs filled for this plant before (a loop's own
  * copy): the cars' and axles' entries, without clearing the unused rest each step. */
 void rb_plant_update_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
+/* Only what a run reads after every step (rb_run_advance): time, speed, position, main_reservoir,
+ * supply, car_speed, wheel_speed, slip, cylinder, hold, vent, disc_temperature; the rest keeps
+ * its last values until rb_plant_update_outputs. */
+void rb_plant_update_step_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out);
 /* Air mass in every volume of the plant, kg. */
 double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
 /* Brake torque of one axle at cylinder pressure p_cyl and wheel peripheral speed (N m). */
