@@ -430,6 +430,7 @@ static void take_commands(const rb_plant_params *p, rb_hil_runner *r, const rb_b
     r->last_demand = f->brake_demand;
     memset(&r->last, 0, sizeof r->last);
     for (int k = 0; k < p->n_cars; ++k) r->last.pressure_demand[k] = f->pressure_demand[k];
+    r->last.emergency = f->brake_demand > 1.0f ? 1.0 : 0.0;   /* above 1: emergency, the BCU opens the loop */
     memcpy(r->last.hold, f->hold, (size_t)n_axles);
     memcpy(r->last.vent, f->vent, (size_t)n_axles);
 }

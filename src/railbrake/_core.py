@@ -256,6 +256,7 @@ MAX_ZONES = 8
 MAX_FAULTS = 16
 MAX_DEMAND_STEPS = 16
 MAX_GRADIENTS = 16
+MAX_SANDERS = 8
 
 
 def _doubles(*names):
@@ -271,11 +272,12 @@ class PlantCar(Structure):
                            "relay_travel",
                            "hold_area", "vent_area", "valve_delay",
                            "pipe_area", "disc_heat_capacity")
-                + [("disc_cooling", SpeedTable)])
+                + [("disc_cooling", SpeedTable)]
+                + _doubles("emergency_delay", "emergency_area", "emergency_limit"))
 
 
 class PlantCondition(Structure):
-    _fields_ = [("polach", PolachParamsC)] + _doubles("leading_factor", "recovery_axles")
+    _fields_ = [("polach", PolachParamsC)] + _doubles("leading_factor", "recovery_axles", "reference_energy")
 
 
 class TrackZone(Structure):
@@ -306,7 +308,10 @@ class PlantParams(Structure):
                    ("compressor_delivery", c_double * MAX_COMPRESSORS),
                    ("n_gradients", c_int), ("gradient_start", c_double * MAX_GRADIENTS),
                    ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)]
-                + [("wall_time", c_double)])
+                + [("wall_time", c_double), ("rail_cell_length", c_double)]
+                + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
+                   ("sander_rate", c_double * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
+                   ("sand_reference", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.
@@ -316,7 +321,7 @@ KERNELS = {"auto": 0, "portable": 1}
 class WspInputs(Structure):
     _fields_ = (_doubles("time", "cycle") + [("n_axles", c_int)]
                 + [(n, c_double * PLANT_MAX_AXLES) for n in ("wheel_speed", "cylinder", "demand")]
-                + [("atmosphere", c_double)])
+                + [("atmosphere", c_double), ("body_decel", c_double)])
 
 
 class WspCommands(Structure):
@@ -330,7 +335,8 @@ class WspParams(Structure):
     _fields_ = _doubles("ref_decel_max", "ref_accel_max", "speed_threshold", "slip_threshold",
                         "decel_threshold", "reaccel_threshold", "release_fraction", "reapply_on",
                         "reapply_off", "reapply_time", "filter_time",
-                        "safety_time", "min_speed")
+                        "safety_time", "min_speed") + [("controller", c_int)] + _doubles(
+        "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release")
 
 
 class BcuParams(Structure):
@@ -575,7 +581,7 @@ RT_FIFO_PRIORITY = 2
 
 class PlantInputs(Structure):
     _fields_ = [(n, c_double * PLANT_MAX_CARS) for n in ("pressure_demand", "ed_demand")] + [
-        (n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent")]
+        (n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent")] + [("emergency", c_double)]
 
 
 class HilConfig(Structure):

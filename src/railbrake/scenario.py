@@ -106,6 +106,10 @@ Q_SCENARIO_MAX_TIME = _quantity("time", "scenario.max_time")
 Q_SCENARIO_RECORD_INTERVAL = _quantity("time", "scenario.record_interval")
 Q_WSP_SAFETY_TIME = _quantity("time", "wsp.safety_time")
 Q_WSP_SLIP_THRESHOLD = _bounded("wsp.slip_threshold")
+Q_WSP_SETPOINT_SPEED = _quantity("speed", "wsp.setpoint_speed")
+Q_WSP_SETPOINT_SLIP = _bounded("wsp.setpoint_slip")
+Q_WSP_SETPOINT_BAND = _bounded("wsp.setpoint_band")
+Q_WSP_LEAD_TIME = _quantity("time", "wsp.lead_time")
 Position = Q_SCENARIO_TRACK_POSITION   # along the track, the front at 0 m at t = 0
 EventTime = Q_SCENARIO_EVENT_TIME
 
@@ -161,6 +165,10 @@ class Zone(_Strict):
 class Adhesion(_Strict):
     condition: str = "dry-medium"
     zones: list[Zone] = Field(default_factory=list, max_length=8)
+    # how a condition's rail conditioning acts in the plant: "axles", the fixed factor by axle
+    # index, or "cells", the rail under the train cleaned cell by cell by the energy each axle
+    # dissipates (where the condition's file gives conditioning.cells; core/src/rail_conditioning.c)
+    rail_conditioning: Literal["axles", "cells"] = "axles"
 
 
 class WspSettings(_Strict):
@@ -174,6 +182,13 @@ class WspSettings(_Strict):
     ref_decel_max: Q_WSP_REF_DECEL_MAX | None = None
     safety_time: Q_WSP_SAFETY_TIME | None = None
     cycle: Q_BCU_CYCLE = 0.01
+    # the controller (core/src/wsp_controllers.c): the threshold state machine or the slip
+    # set-point controller, with the latter's overrides of its C defaults
+    controller: Literal["threshold", "slip_setpoint"] = "threshold"
+    setpoint_speed: Q_WSP_SETPOINT_SPEED | None = None
+    setpoint_slip: Q_WSP_SETPOINT_SLIP | None = None
+    setpoint_band: Q_WSP_SETPOINT_BAND | None = None
+    lead_time: Q_WSP_LEAD_TIME | None = None
 
 
 FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
