@@ -10,7 +10,7 @@ OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
 .PHONY: demo test install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
-        fuzz-frames fuzz-python wine wheel
+        fuzz-frames fuzz-python wine wheel browser
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -26,8 +26,9 @@ demo: install
 test: ctest ctest-sanitize docs-fast pytest pytest-sanitize
 
 # The documentation site (docs/conf.py: Sphinx + MyST-NB): every page's code cells run at build and
-# the figures in the prose come from them; executions are cached in $(BUILD)/docs/jupyter_cache, so
-# an unchanged page is not run again. Warnings are errors. Offline: everything is in .venv.
+# the figures in the prose come from them; executions are cached in $(BUILD)/docs/jupyter_cache under
+# a digest of the installed package, so an unchanged page of unchanged code is not run again, and a
+# model change re-measures every page. Warnings are errors. Offline: everything is in .venv.
 # docs-fast (part of `make test`): the quick executed pages and the API reference only.
 SPHINX := $(VENV)/bin/sphinx-build -q -W --keep-going -b html
 
@@ -65,7 +66,13 @@ wine:
 
 # One worker more than cores: the paced 8-car HIL stop (tests/unit/hil/test_loopback.py, 170 s on the
 # wall clock, a few per cent of a core) would otherwise leave its worker's core idle that long.
-pytest: install wine
+# Debian's chromium for the dashboard's browser test (tests/unit/hil/test_dashboard_browser.py; skipped
+# with the reason when it is missing and cannot be installed here, e.g. without root)
+browser:
+	command -v chromium >/dev/null || { [ "$$(id -u)" = 0 ] && apt-get update -qq && apt-get install -y -qq chromium; } || \
+	    echo "note: chromium not installed (needs root): the dashboard's browser test will be skipped"
+
+pytest: install wine browser
 	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile
 
 # The Python tests again, with the C core built under AddressSanitizer and UBSan.
@@ -82,38 +89,45 @@ pytest-sanitize: install ctest-sanitize
 # the Markdown summary into docs/validation.md. Failing validation cases are findings, so only a
 # failing verification case or a broken case folder fails the target (--strict).
 validate: install
-	$(VENV)/bin/railbrake validate --report $(OUT)/validation.html --markdown docs/validation.md --strict
+	$(VENV)/bin/railbrake validate --report $(OUT)/validation.html --markdown $(OUT)/validation.md --strict
 
 # The fuzz suite, long runs (bounded smoke runs of each are part of `make test`): FMI call sequences
 # (10^6 calls per FMI version), the HIL frame decoder (libFuzzer with clang, else a gcc mutational
-# loop), the configuration mutator and the Python API argument fuzzer.
+# loop), the configuration mutator and the Python API argument fuzzer. Each target's figures, with
+# the date and the command, go to $(FUZZ_RESULTS) (tools/fuzz_record.py), which docs/robustness.md
+# reads when the docs are built; a failing run records nothing.
 FUZZ_FMI_CALLS ?= 1000000
 FUZZ_FRAMES ?= 20000000
 FUZZ_CONFIG_VARIANTS ?= 20000
 FUZZ_API_CALLS ?= 50000
 FUZZ_SANITIZE := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FUZZ_RESULTS ?= docs/results/fuzz.json
+FUZZ_RECORD = $(PYTHON) tools/fuzz_record.py $(FUZZ_RESULTS)
 
 fuzz: fuzz-fmi fuzz-frames fuzz-python
 
 fuzz-fmi: install
-	RAILBRAKE_FUZZ_FMI_CALLS=$(FUZZ_FMI_CALLS) $(PY) -m pytest -q -s -p no:cacheprovider tests/unit/fmu/test_fmu_fuzz.py
+	RAILBRAKE_FUZZ_FMI_CALLS=$(FUZZ_FMI_CALLS) $(FUZZ_RECORD) "make fuzz-fmi FUZZ_FMI_CALLS=$(FUZZ_FMI_CALLS)" -- \
+	  $(PY) -m pytest -q -s -p no:cacheprovider tests/unit/fmu/test_fmu_fuzz.py
 
 fuzz-frames:
 	mkdir -p $(BUILD)/fuzz
 	if command -v clang >/dev/null 2>&1; then \
 	  clang -std=c99 $(FUZZ_SANITIZE) -fsanitize=fuzzer -DRB_LIBFUZZER -Icore/include core/tests/fuzz_hil_frame.c \
 	    core/src/hil_frame.c core/src/hil_mac.c core/src/common.c -o $(BUILD)/fuzz/hil_frame_fuzz -lm && \
-	  $(BUILD)/fuzz/hil_frame_fuzz -runs=$(FUZZ_FRAMES) -max_len=1024; \
+	  $(FUZZ_RECORD) "make fuzz-frames FUZZ_FRAMES=$(FUZZ_FRAMES)" -- \
+	    $(BUILD)/fuzz/hil_frame_fuzz -runs=$(FUZZ_FRAMES) -max_len=1024; \
 	else \
 	  echo "clang not found: the gcc mutational loop instead of libFuzzer"; \
 	  gcc -std=c99 $(FUZZ_SANITIZE) -Icore/include core/tests/fuzz_hil_frame.c core/src/hil_frame.c core/src/hil_mac.c \
 	    core/src/common.c -o $(BUILD)/fuzz/hil_frame_fuzz -lm && \
-	  $(BUILD)/fuzz/hil_frame_fuzz $(FUZZ_FRAMES); \
+	  $(FUZZ_RECORD) "make fuzz-frames FUZZ_FRAMES=$(FUZZ_FRAMES)" -- $(BUILD)/fuzz/hil_frame_fuzz $(FUZZ_FRAMES); \
 	fi
 
 fuzz-python: install
 	RAILBRAKE_FUZZ_CONFIG_VARIANTS=$(FUZZ_CONFIG_VARIANTS) RAILBRAKE_FUZZ_API_CALLS=$(FUZZ_API_CALLS) \
-	$(PY) -m pytest -q -p no:cacheprovider tests/unit/fuzz
+	$(FUZZ_RECORD) "make fuzz-python FUZZ_CONFIG_VARIANTS=$(FUZZ_CONFIG_VARIANTS) FUZZ_API_CALLS=$(FUZZ_API_CALLS)" -- \
+	  $(PY) -m pytest -q -s -p no:cacheprovider tests/unit/fuzz
 
 # The wheel and sdist into dist/: py3-none-<platform> (the core is loaded with ctypes), then checked and
 # retagged manylinux by auditwheel (the core needs only libc and libm); LICENSE is in both.

@@ -3,11 +3,19 @@ by FMPy's low-level classes, one 1 ms doStep per call as a HIL target would and 
 against the native run of the same scenario and seconds (rb_run_advance: BCU + plant, plus the
 KPI bookkeeping the FMU does not do, so a ratio below 1 is possible). Prints plant steps per second,
 the real-time factor and the overhead ratio (native rate / FMU rate); best of REPEAT on a shared
-machine. The plant alone with the brakes applied (rb_plant_bench) is printed for reference."""
+machine. The plant alone with the brakes applied (rb_plant_bench) is printed for reference.
 
+`python bench/bench_fmu.py --json docs/measured/bench_fmu.json` also writes the figures, with the
+date and the command, for docs/fmu.md's timing table."""
+
+import argparse
 import ctypes
+import json
+import os
+import subprocess
 import tempfile
 import time
+from datetime import datetime, timezone
 import zipfile
 from pathlib import Path
 
@@ -68,18 +76,33 @@ def best(function, *args) -> float:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description="FMU timing against the native run")
+    parser.add_argument("--json", type=Path, help="also write the figures to this file (docs/measured/bench_fmu.json)")
+    args = parser.parse_args()
+    native, fmu, load = [], [], os.getloadavg()[0]     # a shared machine: say how busy it was
     with tempfile.TemporaryDirectory() as tmp:
         for cars in (1, 8):
             plant = 1e6 / simulation.bench_plant(cars=cars, steps=20000)["step_us_cpu_mean"]   # its fastest run
             run = best(native_run_steps_per_second, cars)
+            native.append({"cars": cars, "run_steps_per_s": run, "plant_steps_per_s": plant})
             print(f"{cars} cars, {SCENARIO}, first {SIMULATED:.0f} s: native BCU + plant (rb_run_advance) "
                   f"{run:9.0f} steps/s; plant alone, brakes applied (rb_plant_bench) {plant:9.0f} steps/s")
             for version in ("2", "3"):
                 path = export_fmu(SCENARIO, Path(tmp) / f"fmi{version}_{cars}.fmu", version, cars=cars)
                 for step in (1e-3, 1e-2):
                     rate = best(fmu_steps_per_second, path, version, step)
+                    fmu.append({"cars": cars, "fmi": version, "do_step_s": step, "steps_per_s": rate,
+                                "overhead_vs_native": run / rate})
                     print(f"  FMI {version}.0 via FMPy, doStep {step * 1e3:3.0f} ms: {rate:9.0f} steps/s, "
                           f"{rate * 1e-3:5.0f}x real time, overhead x{run / rate:5.2f} vs the native run")
+    if args.json:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                                cwd=Path(__file__).parent).stdout.strip()
+        args.json.write_text(json.dumps({
+            "made": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "railbrake_commit": commit,
+            "command": f"python bench/bench_fmu.py --json {args.json}", "scenario": SCENARIO,
+            "simulated_s": SIMULATED, "repeat": REPEAT, "load_average_1min": load, "native": native, "fmu": fmu},
+            indent=1) + "\n")
 
 
 if __name__ == "__main__":

@@ -46,8 +46,25 @@ myst_links_external_by_default = False
 
 # MyST-NB: every code cell runs at build; an error fails the build; results cached.
 nb_execution_mode = "cache"
-nb_execution_cache_path = os.environ.get("RAILBRAKE_DOCS_CACHE", os.path.join(
-    os.path.dirname(os.path.abspath(__file__)), "..", "build", "docs", "jupyter_cache"))
+
+
+def _installed_code_digest() -> str:
+    """SHA-256 over the installed package (Python, C core library, data files): jupyter-cache keys a
+    page on its code cells only, so the cache lives under this digest and a change to the model
+    runs every page again, re-measuring its figures."""
+    import hashlib
+    from pathlib import Path
+    import railbrake
+    digest = hashlib.sha256()
+    for path in sorted(Path(railbrake.__file__).parent.rglob("*")):
+        if path.is_file() and "__pycache__" not in path.parts:
+            digest.update(path.as_posix().encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+nb_execution_cache_path = os.path.join(os.environ.get("RAILBRAKE_DOCS_CACHE", os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "build", "docs", "jupyter_cache")), _installed_code_digest())
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_execution_timeout = 600

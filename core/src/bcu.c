@@ -127,6 +127,7 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
     w->cycle = out->time - s->last_cycle;
     w->n_axles = p->n_cars * RB_AXLES_PER_CAR;
     w->atmosphere = p->atmosphere;
+    w->body_decel = out->deceleration;
     for (int c = 0; c < p->n_cars; ++c) {
         int wsp_active = 0;
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) wsp_active |= s->wsp.active[c * RB_AXLES_PER_CAR + k];
@@ -154,13 +155,23 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
     s->last_cycle = out->time;
 }
 
+int rb_bcu_update(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *demand,
+                  const rb_plant_outputs *out)
+{
+    /* the emergency loop is a train line: it acts at once, not at the BCU's next cycle */
+    double loop = demand->emergency > 0.5 ? 1.0 : 0.0;
+    int changed = loop != s->command.emergency;
+    s->command.emergency = loop;
+    if (out->time < s->next_cycle - 1e-9) return changed;
+    run_cycle(p, s, demand, out);
+    s->next_cycle += p->cycle;
+    return 1;
+}
+
 void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *demand,
                  const rb_plant_outputs *out, rb_plant_inputs *in)
 {
-    if (out->time >= s->next_cycle - 1e-9) {
-        run_cycle(p, s, demand, out);
-        s->next_cycle += p->cycle;
-    }
+    rb_bcu_update(p, s, demand, out);
     *in = s->command;
 }
 

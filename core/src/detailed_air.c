@@ -125,6 +125,15 @@ void rb_det_build_car(const rb_plant_params *p, const rb_detailed_params *d, int
         link(&l[CL_VENT + a], RB_LINK_FIXED, CN_CYL + a, CN_ATM, car->vent_area, p);
         l[CL_HOLD + a].opening.n = l[CL_VENT + a].opening.n = 1;
     }
+    /* the emergency valve's choke between the load-weighing valve's regulated output and the
+       control chamber (emergency_circuit.c); the EP valve's seats are cut off while the loop is
+       open. The air the regulated node gives is taken from the supply after each solve
+       (detailed_run.c), what it takes back is vented (its exhaust). */
+    k->node[CN_REGULATED] = k->node[CN_ATM];
+    link(&l[CL_EMERGENCY], RB_LINK_FIXED, CN_CONTROL, CN_REGULATED, car->emergency_area, p);
+    l[CL_EMERGENCY].opening.n = 1;
+    l[CL_EPV_INLET].opening.n = l[CL_EPV_EXHAUST].opening.n = 1;
+    k->emergency_switch = INFINITY;
 
     rb_net_body *b = &k->body[CB_ARMATURE];
     body(b, d->armature_mass, d->armature_spring_rate, d->armature_preload, d->armature_damping, 0.0,
@@ -155,6 +164,8 @@ void rb_det_apply_commands(rb_detailed_car *k)
         k->link[CL_VENT + a].opening.value[0] = k->vent[a] ? 1.0 : 0.0;
     }
     k->body[CB_ARMATURE].current.value[0] = k->current;
+    k->link[CL_EPV_INLET].opening.value[0] = k->link[CL_EPV_EXHAUST].opening.value[0] = k->emergency_cut ? 0.0 : 1.0;
+    k->link[CL_EMERGENCY].opening.value[0] = k->emergency ? 1.0 : 0.0;
 }
 
 void rb_det_car_system(rb_detailed_car *k, const rb_detailed_params *d, const rb_membrane *membrane,

@@ -5,9 +5,10 @@
 #include "railbrake/rb_detailed.h"
 
 /* Car network node and link indices. */
-enum { CN_SUPPLY, CN_PILOT, CN_CONTROL, CN_RELAY, CN_CYL, CN_ATM = CN_CYL + RB_AXLES_PER_CAR };
+enum { CN_SUPPLY, CN_PILOT, CN_CONTROL, CN_RELAY, CN_CYL, CN_ATM = CN_CYL + RB_AXLES_PER_CAR,
+       CN_REGULATED };   /* the load-weighing valve's output (a reservoir at its regulated pressure) */
 enum { CL_PILOT_ORIFICE, CL_NOZZLE, CL_EPV_INLET, CL_EPV_EXHAUST, CL_RELAY_INLET, CL_RELAY_EXHAUST,
-       CL_HOLD, CL_VENT = CL_HOLD + RB_AXLES_PER_CAR };
+       CL_HOLD, CL_VENT = CL_HOLD + RB_AXLES_PER_CAR, CL_EMERGENCY = CL_VENT + RB_AXLES_PER_CAR };
 enum { CB_ARMATURE, CB_PISTON, CB_MEMBRANE };
 /* Car state layout: (m, T) per volume node in node order, (x, v) per body, then the vented mass. */
 enum { CS_BODIES = 2 * CN_ATM, CS_VENTED = CS_BODIES + 2 * RB_DET_CAR_BODIES };

@@ -1,5 +1,6 @@
 /* Detailed model: train line, BCU cycles, mechanics sub-steps, outputs and KPIs. */
 #include "detailed_internal.h"
+#include "emergency_circuit.h"
 #include "plant_internal.h"
 #include "run_internal.h"
 
@@ -162,6 +163,8 @@ static double sub_time(const rb_detailed_state *s, double t0, int i) { return t0
 static double settle_valves(rb_detailed_car *k, double t)
 {
     double next = INFINITY;
+    k->emergency = k->emergency_switch <= t + 1e-12;
+    if (!k->emergency) next = k->emergency_switch;
     for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
         if (k->hold[a] != k->hold_pending[a]) {
             if (k->hold_switch[a] <= t + 1e-12) k->hold[a] = k->hold_pending[a];
@@ -174,6 +177,23 @@ static double settle_valves(rb_detailed_car *k, double t)
     }
     rb_det_apply_commands(k);
     return next;
+}
+
+/* Air in car k's volumes and vented by it (kg): what changes it is the load-weighing valve's
+   regulated node (every other link stays inside the car or vents). */
+static double car_air(const rb_detailed_car *k)
+{
+    double m = k->y[CS_VENTED];
+    for (int i = 0; i < CN_ATM; ++i) m += k->y[2 * i];
+    return m;
+}
+
+/* The regulated node gave the car `gained` kg over a solve: from the supply reservoir it draws on
+   (where it took air back, its exhaust vented it). */
+static void book_regulated(rb_detailed_car *k, double gained)
+{
+    if (gained > 0.0) k->y[2 * CN_SUPPLY] -= gained;
+    else k->y[CS_VENTED] -= gained;
 }
 
 /* Car c over the cycle [t0, t0 + n_sub dt], restarting the solver at each valve switching; fills the
@@ -198,9 +218,11 @@ static rb_status advance_car(const rb_plant_params *p, const rb_detailed_params 
             s->t_out[m++] = sub_time(s, t0, next_sub++);
         if (m == 0 || s->t_out[m - 1] < end - 1e-12) s->t_out[m++] = end;
         else s->t_out[m - 1] = end;   /* the same time to round-off */
+        double before = car_air(k);
         if ((st = rb_det_solve(&sys, d, t, k->y, s->t_out, m, s->y_out, &k->h_last, s->scale, s->work, s->iwork,
                                &s->stats, err)))
             return st;
+        book_regulated(k, car_air(k) - before);
         for (int i = first; i < next_sub; ++i) {
             const double *row = s->y_out + (size_t)(i - first) * n;
             *buf(s, i, B_SUPPLY, c) = row[0] * RB_AIR_R * row[1] / p->car[c].supply_volume;
@@ -346,6 +368,20 @@ static double now(const rb_detailed_state *s, const rb_bcu_params *bcu)
     return s->cycle < 0 ? 0.0 : s->cycle * bcu->cycle + s->substep * s->dt_mech;
 }
 
+/* Car c's emergency circuit at a new cycle: when its valve acts (the loop's opening time is kept
+   in the mechanics' plant state), and the load-weighing valve's regulated output (the demand within
+   its limit, at most the supply at the cycle's start). */
+static void emergency_cycle(const rb_plant_params *p, rb_detailed_state *s, int c)
+{
+    rb_detailed_car *k = &s->car[c];
+    const rb_plant_car *car = &p->car[c];
+    k->emergency_switch = rb_emergency_switch_time(car, s->mech.loop_open_time);
+    k->emergency_cut = k->emergency_switch < INFINITY;
+    double target = rb_emergency_target(car, s->in.pressure_demand[c], p->atmosphere);
+    double supply = s->out.supply[c];
+    k->node[CN_REGULATED].pressure = target < supply ? target : supply;
+}
+
 /* EP currents (static inverse + trimmed) and WSP valve commands of a new cycle. */
 static void apply_bcu(const rb_plant_params *p, const rb_detailed_params *d, const rb_bcu_params *bcu,
                       rb_detailed_state *s, double t)
@@ -368,6 +404,7 @@ static void apply_bcu(const rb_plant_params *p, const rb_detailed_params *d, con
             if (hold != k->hold_pending[a]) { k->hold_pending[a] = hold; k->hold_switch[a] = at; }
             if (vent != k->vent_pending[a]) { k->vent_pending[a] = vent; k->vent_switch[a] = at; }
         }
+        emergency_cycle(p, s, c);
         rb_det_apply_commands(k);
     }
 }
@@ -394,6 +431,7 @@ static rb_status start_cycle(const rb_plant_params *p, const rb_detailed_params 
         s->brake_speed = s->out.speed;
     }
     rb_bcu_step(bcu, &s->bcu, &dem, &s->out, &s->in);
+    s->mech.loop_open_time = rb_emergency_loop(s->mech.loop_open_time, s->in.emergency, t0);
     apply_bcu(p, d, bcu, s, t0);
     /* rows recorded inside the cycle get exact control and relay pressures */
     uint8_t full[RB_DET_MAX_SUBSTEPS] = {0};

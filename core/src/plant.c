@@ -1,5 +1,6 @@
 /* Whole-train plant: parameter checks, initial state, outputs (the step is in plant_step.c). */
 #include "plant_internal.h"
+#include "emergency_circuit.h"
 #include "railbrake/rb_bounds.h"
 
 #include <math.h>
@@ -63,23 +64,38 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
     return RB_OK;
 }
 
+const char *rb_fault_kind_name(int kind)
+{
+    static const char *const names[RB_FAULT_KINDS] = {
+        "hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed", "sensor_lost",
+        "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost", "car_isolated", "compressor_off"};
+    return kind >= 0 && kind < RB_FAULT_KINDS ? names[kind] : "unknown";
+}
+
+rb_status rb_fault_check(const rb_fault *f, int n_cars, const char *name, rb_error *err)
+{
+    if (f->kind < 0 || f->kind >= RB_FAULT_KINDS)
+        return rb_fail(err, RB_EINVAL, "%s.kind = %d: must be in [0, %d]", name, f->kind, RB_FAULT_KINDS - 1);
+    if (f->car < 0 || f->car >= n_cars)
+        return rb_fail(err, RB_EINVAL, "%s.car = %d: the train has cars 0..%d", name, f->car, n_cars - 1);
+    if (f->axle < -1 || f->axle >= RB_AXLES_PER_CAR)
+        return rb_fail(err, RB_EINVAL, "%s.axle = %d: must be -1 (all) or 0..%d", name, f->axle,
+                       RB_AXLES_PER_CAR - 1);
+    if (!isfinite(f->start_time) || f->start_time < 0.0)
+        return rb_fail(err, RB_EINVAL, "%s.start_time = %g: must be finite and >= 0 s", name, f->start_time);
+    if (!isfinite(f->value) || f->value < 0.0)
+        return rb_fail(err, RB_EINVAL, "%s.value = %g: must be finite and >= 0", name, f->value);
+    return RB_OK;
+}
+
 static rb_status check_faults(const rb_plant_params *p, rb_error *err)
 {
     if (p->n_faults < 0 || p->n_faults > RB_MAX_FAULTS)
         return rb_fail(err, RB_EINVAL, "n_faults = %d: must be in [0, %d]", p->n_faults, RB_MAX_FAULTS);
     for (int i = 0; i < p->n_faults; ++i) {
-        const rb_fault *f = &p->fault[i];
-        if (f->kind < 0 || f->kind >= RB_FAULT_KINDS)
-            return rb_fail(err, RB_EINVAL, "fault[%d].kind = %d: must be in [0, %d]", i, f->kind, RB_FAULT_KINDS - 1);
-        if (f->car < 0 || f->car >= p->n_cars)
-            return rb_fail(err, RB_EINVAL, "fault[%d].car = %d: the train has cars 0..%d", i, f->car, p->n_cars - 1);
-        if (f->axle < -1 || f->axle >= RB_AXLES_PER_CAR)
-            return rb_fail(err, RB_EINVAL, "fault[%d].axle = %d: must be -1 (all) or 0..%d", i, f->axle,
-                           RB_AXLES_PER_CAR - 1);
-        if (!isfinite(f->start_time) || f->start_time < 0.0)
-            return rb_fail(err, RB_EINVAL, "fault[%d].start_time = %g: must be finite and >= 0 s", i, f->start_time);
-        if (!isfinite(f->value) || f->value < 0.0)
-            return rb_fail(err, RB_EINVAL, "fault[%d].value = %g: must be finite and >= 0", i, f->value);
+        char name[24];
+        snprintf(name, sizeof name, "fault[%d]", i);
+        if (rb_fault_check(&p->fault[i], p->n_cars, name, err)) return RB_EINVAL;
     }
     return RB_OK;
 }
@@ -120,7 +136,7 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
     if ((s = rb_check_range(err, "discharge_coefficient", p->discharge_coefficient, 0.01, 1.0))) return s;
     if ((s = rb_check_range(err, "critical_ratio", p->critical_ratio, 0.0, 0.99))) return s;
     for (int i = 0; i < p->n_cars; ++i)
-        if ((s = check_car(&p->car[i], i, err))) return s;
+        if ((s = check_car(&p->car[i], i, err)) || (s = rb_emergency_check(&p->car[i], i, p->atmosphere, err))) return s;
     if (p->n_cars > 1 && (s = rb_coupler_check(&p->coupler, err))) return s;
     if ((s = rb_resistance_check(&p->resistance, err))) return s;
     if (p->compressor_car < 0 || p->compressor_car >= p->n_cars)
@@ -138,16 +154,32 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
                        RB_PLANT_KERNEL_AUTO, RB_PLANT_KERNEL_PORTABLE);
     if ((s = rb_bound_check(err, "wall_time", "wall_time", p->wall_time))) return s;
     if ((s = rb_plant_train_check(p, err))) return s;
+    if ((s = rb_rail_check(p, err))) return s;
     return check_faults(p, err);
 }
 
-/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning. */
-static rb_polach_params condition_at_axle(const rb_plant_condition *c, int axle)
+/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning (by
+ * axle index, or by the rail cell the axle stands on). */
+static rb_polach_params condition_at_axle(const rb_plant_params *p, const rb_plant_state *s, int condition, int axle)
 {
+    const rb_plant_condition *c = &p->condition[condition];
     rb_polach_params q = c->polach;
     if (c->recovery_axles > 0.0)
         q.mu0 *= rb_conditioning_factor((double)axle, c->leading_factor, c->recovery_axles);
+    if (c->reference_energy > 0.0)
+        q.mu0 *= rb_rail_factor(p, s, axle, c->leading_factor);
     return q;
+}
+
+void rb_plant_set_axle_adhesion(rb_plant_state *s, int axle, const rb_polach_params *q)
+{
+    rb_plant_derived *d = &s->derived;
+    s->polach[axle] = *q;
+    d->mu_static[axle] = q->mu0 * q->A;
+    d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
+    d->polach_B[axle] = q->B;
+    d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
+    d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
 }
 
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x)
@@ -157,16 +189,16 @@ int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, 
         if (x >= p->zone[z].x_start && x < p->zone[z].x_end) condition = p->zone[z].condition;
     if (condition != s->zone_of[axle]) {
         s->zone_of[axle] = condition;
-        s->polach[axle] = condition_at_axle(&p->condition[condition], axle);
-        rb_plant_derived *d = &s->derived;
-        const rb_polach_params *q = &s->polach[axle];
-        d->mu_static[axle] = q->mu0 * q->A;
-        d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
-        d->polach_B[axle] = q->B;
-        d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
-        d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
+        rb_polach_params q = condition_at_axle(p, s, condition, axle);
+        rb_plant_set_axle_adhesion(s, axle, &q);
     }
     return condition;
+}
+
+void rb_plant_condition_axle(const rb_plant_params *p, rb_plant_state *s, int axle)
+{
+    rb_polach_params q = condition_at_axle(p, s, s->zone_of[axle], axle);
+    rb_plant_set_axle_adhesion(s, axle, &q);
 }
 
 /* Number of links of car c's MR pipe node (the stiff-link limit divides by it). */
@@ -250,6 +282,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->relay_lag[c] = car->relay_tau > 0.0 ? -expm1(-d->h / car->relay_tau) : 1.0;
         d->sweep_ratio[c] = car->relay_sweep / car->pilot_volume;
         d->relay_travel[c] = car->relay_travel;
+        d->g_emergency[c] = d->g_unit * car->emergency_area;
         d->fill_pipe[c] = rb_plant_link_laminar_fill(d, d->g_pipe[c], d->ik_pipe[c]);
         d->fill_charge[c] = rb_plant_link_laminar_fill(d, d->g_charge[c], d->ik_charge[c]);
     }
@@ -325,6 +358,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     derive_air(p, &s->derived);
     derive_mechanics(p, &s->derived);
     s->kernel = rb_plant_resolve_kernel(p->kernel);
+    rb_rail_init(p, s);   /* before the axles take their adhesion from it */
     double rt = 287.05 * p->temperature;
     double pos = 0.0;
     s->m_mr = p->initial_pressure * p->main_reservoir_volume / rt;
@@ -348,6 +382,8 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
         }
     }
     s->compressor_on = p->initial_pressure < p->governor_on;
+    s->loop_open_time = -1.0;   /* emergency loop closed */
+    rb_plant_pilot_init(p, s);
     s->rng = p->noise_seed ? p->noise_seed : 0x9E3779B97F4A7C15ULL;
     s->m_initial = rb_plant_air_mass(p, s);
     rb_plant_train_init(p, s);
@@ -366,16 +402,6 @@ rb_status rb_plant_retune_adhesion(const rb_plant_params *p, rb_plant_state *s, 
             rb_plant_zone_update(p, s, a, s->x[c] - p->car[c].axle_position[k]);
         }
     return RB_OK;
-}
-
-double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s)
-{
-    double m = s->m_mr;
-    for (int c = 0; c < p->n_cars; ++c) {
-        m += s->m_pipe[c] + s->m_supply[c] + s->m_pilot[c] + s->m_relay[c];
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) m += s->m_cyl[c * RB_AXLES_PER_CAR + k];
-    }
-    return m;
 }
 
 double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double wheel_speed)
@@ -404,44 +430,3 @@ double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_sta
                   : rb_polach_peak_track(v, wheel_load, &car->contact, &s->polach[axle], log_creep);
 }
 
-void rb_plant_get_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
-{
-    memset(out, 0, sizeof *out);
-    rb_plant_update_outputs(p, s, out);
-}
-
-void rb_plant_update_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
-{
-    double rt = 287.05 * p->temperature;
-    out->time = s->time;
-    out->speed = s->v[0];
-    out->position = s->x[0];
-    out->deceleration = -s->a[0];
-    out->main_reservoir = s->m_mr * rt / p->main_reservoir_volume;
-    out->pipe_end = s->m_pipe[p->n_cars - 1] * rt / p->car[p->n_cars - 1].pipe_volume;
-    out->compressor_on = s->compressor_on;
-    for (int c = 0; c < p->n_cars; ++c) {
-        const rb_plant_car *car = &p->car[c];
-        out->supply[c] = s->m_supply[c] * rt / car->supply_volume;
-        out->pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
-        out->relay[c] = s->m_relay[c] * rt / car->relay_volume;
-        out->ed_force[c] = s->ed_force[c];
-        out->car_speed[c] = s->v[c];
-        double vr = s->v[c] > p->creep_speed_min ? s->v[c] : p->creep_speed_min;
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
-            int a = c * RB_AXLES_PER_CAR + k;
-            double w = s->omega[a] * car->vehicle.wheelset.wheel_radius;
-            out->wheel_speed[a] = w;
-            out->wheel_speed_measured[a] = s->sensor_lost[a] ? -1.0 : w + s->noise[a];
-            out->slip[a] = (w - s->v[c]) / vr;
-            out->adhesion[a] = s->coefficient[a];
-            out->cylinder[a] = s->mt_cyl[a] * s->derived.r_cyl[c];
-            out->hold[a] = s->hold_effective[a];
-            out->vent[a] = s->vent_effective[a];
-        }
-    }
-    out->air_in_system = rb_plant_air_mass(p, s);
-    out->air_vented = s->m_vented;
-    out->air_compressed = s->m_compressed;
-    rb_plant_train_outputs(p, s, out);
-}

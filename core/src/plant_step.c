@@ -1,5 +1,6 @@
 /* One fixed step of the whole-train plant: faults, air system, wheelsets, cars. */
 #include "plant_internal.h"
+#include "emergency_circuit.h"
 
 #include <math.h>
 #include <string.h>
@@ -195,13 +196,24 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
     double bled[RB_PLANT_MAX_CARS];
     double k_pilot[RB_PLANT_MAX_CARS];
     valves_start(p, s, k_pilot, bled);
+    double m_before[RB_PLANT_MAX_CARS];   /* the chambers' air before their links (plant_pilot.c) */
+    memcpy(m_before, s->m_pilot, sizeof m_before);
     for (int c = 0; c < p->n_cars; ++c) {
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
         p_pilot[c] = s->m_pilot[c] * k_pilot[c];
         ep_vented[c] = 0.0;
-        if (f->ep_failed[c] > 0.0) continue;
         double p_supply = s->m_supply[c] * d->k_supply[c], ceiling = p_supply - d->ep_supply_margin[c];
+        if (s->emergency_open[c] > 0.0) {   /* the emergency valve's choke instead of the EP valve */
+            double source = rb_emergency_source(s, c, p_supply);
+            double dm = rb_plant_link_mass(d, source, p_pilot[c], s->emergency_g[c], d->ik_ep_out[c]);
+            s->m_supply[c] -= dm > 0.0 ? dm : 0.0;
+            s->m_pilot[c] += dm;
+            ep_vented[c] = dm < 0.0 ? -dm : 0.0;
+            p_pilot[c] = s->m_pilot[c] * k_pilot[c];
+            continue;
+        }
+        if (f->ep_failed[c] > 0.0) continue;
         double target = s->ep_demand_lag[c] < ceiling ? s->ep_demand_lag[c] : ceiling;
         double e = (target - p_pilot[c]) * d->inv_ep_band[c];
         if (e > 0.0) {
@@ -215,6 +227,8 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
         }
         p_pilot[c] = s->m_pilot[c] * k_pilot[c];
     }
+    rb_plant_pilot_energy(p, s, m_before);   /* the relays see the chambers at their new temperature */
+    for (int c = 0; c < p->n_cars; ++c) p_pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
     for (int c = 0; c < p->n_cars; ++c) {
         double p_relay = s->m_relay[c] * d->k_relay[c];
         double e = (((f->isolated[c] > 0.0) ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
@@ -295,6 +309,8 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     double ik[RB_PLANT_MAX_CARS], dm[RB_PLANT_MAX_CARS], bled[RB_PLANT_MAX_CARS];
     double k_pilot[RB_PLANT_MAX_CARS];
     valves_start(p, s, k_pilot, bled);
+    double m_before[RB_PLANT_MAX_CARS];   /* the chambers' air before their links (plant_pilot.c) */
+    memcpy(m_before, s->m_pilot, sizeof m_before);
     for (int c = 0; c < n; ++c) {   /* EP valves: inlet where dir > 0, exhaust where dir < 0 */
         double demand = in->pressure_demand[c] > patm ? in->pressure_demand[c] : patm;
         s->ep_demand_lag[c] += (demand - s->ep_demand_lag[c]) * d->ep_lag[c];
@@ -303,15 +319,19 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
         double target = s->ep_demand_lag[c] < ceiling ? s->ep_demand_lag[c] : ceiling;
         double e = (target - p_now) * d->inv_ep_band[c];
         double ik_in = d->ik_ep_in[c], ik_out = d->ik_ep_out[c], g_open = d->g_ep[c] * clamp01(e > 0.0 ? e : -e);
-        dir[c] = f->ep_failed[c] > 0.0 ? 0.0 : e;
-        pi[c] = e > 0.0 ? p_supply : p_now;
-        pj[c] = e > 0.0 ? p_now : patm;
-        ik[c] = e > 0.0 ? ik_in : ik_out;
+        /* the emergency valve's choke instead: between the regulated source and the chamber */
+        double em = s->emergency_open[c], source = rb_emergency_source(s, c, p_supply), e_em = source - p_now;
+        dir[c] = em > 0.0 ? e_em : (f->ep_failed[c] > 0.0 ? 0.0 : e);
+        pi[c] = em > 0.0 ? (e_em > 0.0 ? source : p_now) : (e > 0.0 ? p_supply : p_now);
+        pj[c] = em > 0.0 ? (e_em > 0.0 ? p_now : source) : (e > 0.0 ? p_now : patm);
+        ik[c] = em > 0.0 ? ik_out : (e > 0.0 ? ik_in : ik_out);
+        g_open = em > 0.0 ? s->emergency_g[c] : g_open;
         g[c] = dir[c] > 0.0 ? g_open : (dir[c] < 0.0 ? g_open : 0.0);
     }
     links_select(&law, n, pi, pj, g, ik, dm);
     apply_valve_links(n, dir, dm, s->m_supply, s->m_pilot, ep_vented);
-    for (int c = 0; c < n; ++c) p_pilot[c] = s->m_pilot[c] * k_pilot[c];
+    rb_plant_pilot_energy(p, s, m_before);   /* the relays see the chambers at their new temperature */
+    for (int c = 0; c < n; ++c) p_pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
     for (int c = 0; c < n; ++c) {   /* relay valves: supply where dir > 0, exhaust where dir < 0 */
         double p_relay = s->m_relay[c] * d->k_relay[c], p_supply = s->m_supply[c] * d->k_supply[c];
         double isolated = f->isolated[c];
@@ -539,6 +559,7 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
         if (s->v[c] < 0.0) s->v[c] = 0.0;   /* brakes hold a stopped train */
         s->x[c] += dt * s->v[c];
     }
+    if (s->rail_active) rb_rail_step(p, s, in, dt);
 }
 
 /* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
@@ -582,6 +603,7 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
         gather_faults(p, s, &gathered);
         f = &gathered;
     }
+    rb_emergency_plant_update(p, s, in);
     for (int k = 0; k < p->substeps; ++k) {
         /* air, in phases */
         air_supply(p, s, f);

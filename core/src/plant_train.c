@@ -164,14 +164,3 @@ void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt)
     discs_portable(p, s, dt);
 }
 
-void rb_plant_train_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_plant_outputs *out)
-{
-    double m = s->m_mr;
-    for (int c = 0; c < p->n_cars; ++c) m += s->m_pipe[c];
-    /* the main reservoir and pipe lose air only through the supply-reservoir check valves */
-    out->air_drawn = s->m_supply_side_initial + s->m_compressed - m;
-    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
-        out->disc_temperature[a] = s->disc_temperature[a];
-        out->brake_energy[a] = s->brake_energy[a];
-    }
-}

@@ -2,12 +2,13 @@
 #include "run_internal.h"
 #include "railbrake/rb_bounds.h"
 #include "channels_internal.h"
+#include "plant_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
-#define RB_G 9.80665
 #define LOCK_SPEED (10.0 / 3.6)   /* m/s: locks count above 10 km/h */
 #define SLIDE_SLIP 0.02           /* |slip| above which an axle slid (worst_axle) [T] */
 
@@ -91,14 +92,14 @@ rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, co
 void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
 {
     run->min_main_reservoir = run->out.main_reservoir;
-    run->min_supply = HUGE_VAL;
-    for (int c = 0; c < plant->n_cars; ++c)
-        if (run->out.supply[c] < run->min_supply) run->min_supply = run->out.supply[c];
-    run->min_supply_margin = HUGE_VAL;
-    run->max_disc_temperature = plant->ambient_temperature;
     run->total_mass = 0.0;
-    for (int c = 0; c < plant->n_cars; ++c) run->total_mass += plant->car[c].vehicle.mass;
+    for (int c = 0; c < plant->n_cars; ++c) {
+        run->car_min_supply[c] = run->out.supply[c];
+        run->car_min_supply_margin[c] = HUGE_VAL;
+        run->total_mass += plant->car[c].vehicle.mass;
+    }
     for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a) {
+        run->axle_max_disc_temperature[a] = plant->ambient_temperature;
         run->adhesion_axle[a] = !rb_run_car_isolated(plant, a / RB_AXLES_PER_CAR);
         run->peak_log_creep[a] = NAN;
         run->peak_zone[a] = -1;
@@ -170,30 +171,44 @@ static double mean_peak_adhesion(const rb_plant_params *p, rb_run_state *r)
     return n > 0 ? sum / n : -1.0;
 }
 
-/* One car's axles after a braking step: rail force, slips above 10 km/h, locks, cylinder
- * shortfalls (a cylinder short of its car's demand with the WSP valves at rest: the air did not
- * get there). The rail force is summed into *rail axle by axle, in the train's order. */
-static void accumulate_axles(const rb_plant_params *p, rb_run_state *r, int c, double *rail)
+static inline double larger(double x, double y) { return x > y ? x : y; }
+static inline double smaller(double x, double y) { return x < y ? x : y; }
+
+/* The axles after a braking step, over the train in simple loops (vectors; the cars' figures
+ * repeated per axle first): slips above 10 km/h, locks, cylinder shortfalls (a cylinder short of
+ * its car's demand with the WSP valves at rest: the air did not get there); each axle's extremes,
+ * the train's taken at the end. The lock events that began in the step are returned. */
+static inline int accumulate_axles(const rb_plant_params *p, rb_run_state *r)
 {
     const rb_plant_outputs *o = &r->out;
-    double v = o->car_speed[c], demand = r->in.pressure_demand[c], dt = p->dt;
-    int counts = v > LOCK_SPEED;
-    for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-        *rail -= r->plant.force[a];
-        int short_of = (o->hold[a] | o->vent[a]) == 0 && demand - o->cylinder[a] > RB_SHORTFALL_PA;
-        r->shortfall_time[a] = short_of ? r->shortfall_time[a] + dt : 0.0;
-        if (r->shortfall_time[a] > r->max_shortfall) r->max_shortfall = r->shortfall_time[a];
-        if (!counts) continue;
-        double slip = fabs(o->slip[a]);
-        if (slip > r->axle_max_slip[a]) r->axle_max_slip[a] = slip;
-        if (o->wheel_speed[a] < 0.1 * v) {
-            if (r->lock_time[a] == 0.0) { r->lock_events++; r->axle_locks[a]++; }
-            r->lock_time[a] += dt;
-            if (r->lock_time[a] > r->max_lock) r->max_lock = r->lock_time[a];
-        } else {
-            r->lock_time[a] = 0.0;
+    /* flags as wide as the doubles they select between: no packing between lane widths */
+    double demand[RB_PLANT_MAX_AXLES], lock_speed[RB_PLANT_MAX_AXLES], dt = p->dt;
+    int64_t counts[RB_PLANT_MAX_AXLES], events = 0;
+    int n = p->n_cars * RB_AXLES_PER_CAR;
+    for (int c = 0; c < p->n_cars; ++c)
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            demand[a] = r->in.pressure_demand[c];
+            lock_speed[a] = 0.1 * o->car_speed[c];
+            counts[a] = o->car_speed[c] > LOCK_SPEED;
         }
+    for (int a = 0; a < n; ++a) {
+        int64_t short_of = ((o->hold[a] | o->vent[a]) == 0) & (demand[a] - o->cylinder[a] > RB_SHORTFALL_PA);
+        r->shortfall_time[a] = short_of ? r->shortfall_time[a] + dt : 0.0;
+        r->axle_max_shortfall[a] = larger(r->shortfall_time[a], r->axle_max_shortfall[a]);
     }
+    for (int a = 0; a < n; ++a) {
+        double slip = fabs(o->slip[a]);
+        r->axle_max_slip[a] = counts[a] ? larger(slip, r->axle_max_slip[a]) : r->axle_max_slip[a];
+    }
+    for (int a = 0; a < n; ++a) {
+        int64_t locked = counts[a] & (o->wheel_speed[a] < lock_speed[a]);
+        int64_t begins = locked & (r->lock_time[a] == 0.0);
+        events += begins;
+        r->axle_locks[a] += begins ? 1.0 : 0.0;
+        r->lock_time[a] = locked ? r->lock_time[a] + dt : (counts[a] ? 0.0 : r->lock_time[a]);
+        r->axle_max_lock[a] = larger(r->lock_time[a], r->axle_max_lock[a]);
+    }
+    return (int)events;
 }
 
 /* The speed marks the train passed in this step, each placed linearly between the last step's
@@ -216,23 +231,24 @@ static void pass_marks(const rb_scenario *sc, rb_run_state *r)
 
 /* KPI accumulation after one step: air supply minima and the hottest disc always; while
  * braking, the supply margin, the axles and the sampled available adhesion. */
-static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
+static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
 {
     const rb_plant_outputs *o = &r->out;
-    double rail = 0.0;
-    if (o->main_reservoir < r->min_main_reservoir) r->min_main_reservoir = o->main_reservoir;
-    for (int c = 0; c < p->n_cars; ++c)
-        if (o->supply[c] < r->min_supply) r->min_supply = o->supply[c];
-    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
-        if (o->disc_temperature[a] > r->max_disc_temperature) r->max_disc_temperature = o->disc_temperature[a];
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    r->min_main_reservoir = smaller(o->main_reservoir, r->min_main_reservoir);
+    for (int c = 0; c < p->n_cars; ++c) r->car_min_supply[c] = smaller(o->supply[c], r->car_min_supply[c]);
+    for (int a = 0; a < n_axles; ++a)
+        r->axle_max_disc_temperature[a] = larger(o->disc_temperature[a], r->axle_max_disc_temperature[a]);
     if (!r->braking) return;   /* before braking every shortfall, slip and lock is 0 */
     pass_marks(sc, r);
     for (int c = 0; c < p->n_cars; ++c) {
-        double demand = r->in.pressure_demand[c];
-        if (demand > p->atmosphere && o->supply[c] - demand < r->min_supply_margin)
-            r->min_supply_margin = o->supply[c] - demand;
-        accumulate_axles(p, r, c, &rail);
+        double demand = r->in.pressure_demand[c], margin = o->supply[c] - demand;
+        r->car_min_supply_margin[c] = demand > p->atmosphere ? smaller(margin, r->car_min_supply_margin[c])
+                                                            : r->car_min_supply_margin[c];
     }
+    r->lock_events += accumulate_axles(p, r);
+    double rail = 0.0;   /* summed axle by axle, in the train's order */
+    for (int a = 0; a < n_axles; ++a) rail -= r->plant.force[a];
     r->rail_decel_sum += rail / r->total_mass * p->dt;
     r->rail_decel_time += p->dt;
     if (o->time >= r->next_adhesion - 1e-9 && o->speed > LOCK_SPEED) {
@@ -240,6 +256,31 @@ static void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_s
         if (peak >= 0.0) { r->peak_sum += peak; r->peak_samples++; }
         r->next_adhesion += sc->adhesion_interval;
     }
+}
+
+/* accumulate, flattened and built for the plant's kernel (as the plant's step, plant_step.c) */
+RB_FLATTEN static void accumulate_portable(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
+{
+    accumulate(p, sc, r);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2"), flatten))
+static void accumulate_avx2(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
+{
+    accumulate(p, sc, r);
+}
+#endif
+
+static void accumulate_step(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
+{
+#if RB_PLANT_HAVE_AVX2
+    if (r->plant.kernel == RB_PLANT_KERNEL_AVX2) {
+        accumulate_avx2(p, sc, r);
+        return;
+    }
+#endif
+    accumulate_portable(p, sc, r);
 }
 
 rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_scenario *sc,
@@ -264,13 +305,17 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
             r->next_adhesion = r->out.time;
             r->last_time = r->out.time, r->last_speed = r->out.speed, r->last_position = r->out.position;
         }
-        rb_bcu_step(bcu, &r->bcu, &d, &r->out, &r->in);
+        if (rb_bcu_update(bcu, &r->bcu, &d, &r->out)) r->in = r->bcu.command;   /* held between cycles */
         rb_plant_step(plant, &r->plant, &r->in);
-        rb_plant_update_outputs(plant, &r->plant, &r->out);
-        accumulate(plant, sc, r);
+        rb_plant_update_step_outputs(plant, &r->plant, &r->out);
+        accumulate_step(plant, sc, r);
         r->stopped = r->braking && r->out.speed <= sc->stop_speed;
-        if (r->stopped || r->out.time >= sc->max_time - 1e-9) {
-            r->finished = 1;
+        r->finished = r->stopped || r->out.time >= sc->max_time - 1e-9;
+        /* the rest of the outputs where they are read: by the next BCU cycle, a record, the end */
+        int read = r->finished || r->out.time >= r->bcu.next_cycle - 1e-9 || r->out.time >= t_until - 1e-9 ||
+                   (series && r->out.time >= r->next_record - 1e-9);
+        if (read) rb_plant_update_outputs(plant, &r->plant, &r->out);
+        if (r->finished) {
             if (series && r->rows < max_rows) {
                 rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
                 r->rows++;
@@ -283,7 +328,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
 
 void rb_run_accumulate(const rb_plant_params *plant, const rb_scenario *scenario, rb_run_state *run)
 {
-    accumulate(plant, scenario, run);
+    accumulate_step(plant, scenario, run);
 }
 
 void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k)
@@ -296,11 +341,18 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
         k->stopping_time_s = o->time - r->brake_time;
         k->mean_deceleration = k->stopping_time_s > 0.0 ? (r->brake_speed - o->speed) / k->stopping_time_s : 0.0;
     }
-    k->max_slip = 0.0;   /* the largest of the axles' */
-    for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a)
-        if (r->axle_max_slip[a] > k->max_slip) k->max_slip = r->axle_max_slip[a];
+    int n_axles = plant->n_cars * RB_AXLES_PER_CAR;
+    double max_lock = 0.0, max_shortfall = 0.0;   /* the largest of the axles' */
+    k->max_slip = 0.0;
+    k->max_disc_temperature = plant->ambient_temperature;
+    for (int a = 0; a < n_axles; ++a) {
+        k->max_slip = larger(r->axle_max_slip[a], k->max_slip);
+        max_lock = larger(r->axle_max_lock[a], max_lock);
+        max_shortfall = larger(r->axle_max_shortfall[a], max_shortfall);
+        k->max_disc_temperature = larger(r->axle_max_disc_temperature[a], k->max_disc_temperature);
+    }
     k->wheel_lock_events = r->lock_events;
-    k->max_lock_duration_s = r->max_lock;
+    k->max_lock_duration_s = max_lock;
     k->air_consumed_kg = o->air_vented;
     double peak = r->peak_samples ? r->peak_sum / r->peak_samples : 0.0;
     double rail = r->rail_decel_time > 0.0 ? r->rail_decel_sum / r->rail_decel_time : 0.0;
@@ -309,13 +361,18 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
     double m0 = r->plant.m_initial;
     k->air_balance_error = fabs(o->air_in_system + o->air_vented - o->air_compressed - m0) / m0;
     k->min_main_reservoir = r->min_main_reservoir;
-    k->min_supply = r->min_supply;
+    k->min_supply = HUGE_VAL;
+    double min_margin = HUGE_VAL;
+    for (int c = 0; c < plant->n_cars; ++c) {
+        k->min_supply = smaller(r->car_min_supply[c], k->min_supply);
+        min_margin = smaller(r->car_min_supply_margin[c], min_margin);
+    }
     k->air_drawn_kg = o->air_drawn;
     k->air_vented_kg = o->air_vented;
-    k->cylinder_shortfall_s = r->max_shortfall;
+    k->cylinder_shortfall_s = max_shortfall;
     k->worst_axle = -1.0;
     double worst_locks = 0.0, worst_slip = 0.0;
-    for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a) {
+    for (int a = 0; a < n_axles; ++a) {
         k->brake_energy += o->brake_energy[a];
         int worse = r->axle_locks[a] > worst_locks ||
                     (r->axle_locks[a] == worst_locks && r->axle_max_slip[a] > worst_slip);
@@ -325,11 +382,10 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
             worst_slip = r->axle_max_slip[a];
         }
     }
-    k->max_disc_temperature = r->max_disc_temperature;
     for (int i = 0; i < RB_MAX_SPEED_MARKS; ++i) {
         int passed = i < r->marks_passed;
         k->mark_time_s[i] = passed ? r->mark_time[i] - r->brake_time : -1.0;
         k->mark_distance_m[i] = passed ? r->mark_position[i] - r->brake_position : -1.0;
     }
-    k->min_supply_margin = r->min_supply_margin == HUGE_VAL ? 0.0 : r->min_supply_margin;
+    k->min_supply_margin = min_margin == HUGE_VAL ? 0.0 : min_margin;
 }

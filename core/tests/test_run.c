@@ -45,7 +45,7 @@ static void test_conditioned_rail_with_a_zone(void)
     fill_plant(&p, 4, 300 / 3.6);
     p.n_conditions = 2;
     p.condition[1] = p.condition[0];   /* the fixture's: Polach dry */
-    p.condition[0] = (rb_plant_condition){{0.126, 0.126, 1.37, 0.30, 0.10}, 0.2, 8.7};
+    p.condition[0] = (rb_plant_condition){{0.126, 0.126, 1.37, 0.30, 0.10}, 0.2, 8.7, 0.0};
     p.n_zones = 1;
     p.zone[0] = (rb_track_zone){1500.0, 2500.0, 1};
     double difference = followed_against_full(&p, 400.0);
@@ -62,7 +62,7 @@ static void test_second_branch(void)
 {
     static rb_plant_params p;
     fill_plant(&p, 1, 120 / 3.6);
-    p.condition[0] = (rb_plant_condition){{0.460578, 0.172817, 1.21811, 0.445929, 0.105872}, 1.0, 0.0};
+    p.condition[0] = (rb_plant_condition){{0.460578, 0.172817, 1.21811, 0.445929, 0.105872}, 1.0, 0.0, 0.0};
     double difference = followed_against_full(&p, 400.0);
     printf("second branch: followed peaks against full searches %.2e\n", difference);
     CHECK(difference <= 1e-10);

@@ -121,6 +121,16 @@ class _BrakeStep(_Strict):
     source: str
 
 
+class _EmergencyLoop(_Strict):
+    """How the emergency command reaches each car: every car's loop relay drops out drop_out_s
+    after the loop opens at the leading car; a command that travels (a brake pipe, a train line of
+    relays in series) reaches car c's front after its distance / propagation_m_per_s (none: an
+    electric loop, at once)."""
+    drop_out_s: float = _num("train.emergency_drop_out")
+    propagation_m_per_s: Optional[float] = _num("train.emergency_propagation", default=None)
+    source: str
+
+
 class _BrakeSteps(_Strict):
     emergency: _BrakeStep
     service: _BrakeStep
@@ -229,6 +239,23 @@ class _RelayValve(_Strict):
     travel: float = _num("car.relay_travel")    # membrane's travel over that stroke (its stops)
 
 
+class _LoadLimit(_Strict):
+    """The load-weighing valve's limit of the emergency control pressure (bar gauge) at the tare
+    and the crush mass of the car; linear in the car's mass between them (its air-spring pressure)."""
+    tare: float = _num("train.emergency_limit", BAR)
+    crush: float = _num("train.emergency_limit", BAR)
+
+
+class _EmergencyValve(_Strict):
+    """The car's emergency circuit beside the EP valve (rb_plant_car.emergency_*): its solenoid
+    valve, the choke into the relay valve's control chamber that sets the filling rate, and the
+    load-weighing valve that limits the pressure."""
+    response_s: float = _num("train.emergency_valve_response")
+    choke_diameter_mm: float = _num("train.emergency_choke", MM)
+    limit_bar: _LoadLimit
+    source: str
+
+
 class _WspValves(_Strict):
     hold_area_mm2: float = _num("car.hold_area", MM2)
     vent_area_mm2: float = _num("car.vent_area", MM2)
@@ -268,6 +295,7 @@ class _CarType(_Strict):
     ep_valve: _EpValve
     relay_valve: _RelayValve
     wsp_valves: _WspValves
+    emergency_valve: Optional[_EmergencyValve] = None   # none: the EP valve brakes in emergency too
 
     @field_validator("axles")
     @classmethod
@@ -291,6 +319,22 @@ class _CarType(_Strict):
         return self
 
 
+class _Sander(_Strict):
+    car: int = Field(ge=1, le=_core.MAX_CARS)            # 1-based position in the train
+    axle: int = Field(ge=1, le=4)                       # 1-based within the car: sand falls in front of it
+    rate_kg_min: float = Field(gt=0.0, le=60.0)         # fixed sand rate of the sander (both rails)
+    trigger: Literal["driver", "wsp"] = "wsp"           # driver: from start_s on; wsp: while a WSP valve acts
+    start_s: float = Field(default=0.0, ge=0.0, le=3600.0)
+
+
+class _Sanders(_Strict):
+    """Sanders, a conditioning source of the rail cells (core/src/rail_conditioning.c): they act in
+    runs whose adhesion condition cleans the rail cell by cell (scenario rail_conditioning: cells)."""
+    units: list[_Sander] = Field(min_length=1, max_length=_core.MAX_SANDERS)
+    sand_reference_kg_m: float = Field(gt=0.0, le=10.0)  # sand per metre of track that removes 63 % of the contamination
+    source: str
+
+
 class _TrainFile(_Strict):
     schema_: str = Field(alias="schema")
     name: str
@@ -303,12 +347,14 @@ class _TrainFile(_Strict):
     running_resistance: _Resistance
     ed_brake: Optional[_EdBrake] = None
     brake_steps: _BrakeSteps
+    emergency_loop: Optional[_EmergencyLoop] = None
     air_supply: _AirSupply
     pneumatics: _Pneumatics
     coupler: _Coupler
     load_case: Literal["tare", "normal", "crush"] = "normal"
     car_types: dict[str, _CarType]
     formation: list[str] = Field(min_length=1, max_length=_core.MAX_CARS)
+    sanders: Optional[_Sanders] = None
 
     @model_validator(mode="after")
     def _known_types(self):
@@ -316,6 +362,10 @@ class _TrainFile(_Strict):
             if name not in self.car_types:
                 raise ValueError(f"formation[{i}] = {name!r}: not one of car_types "
                                  f"({', '.join(self.car_types)})")
+        fitted = [name for name, t in self.car_types.items() if t.emergency_valve is not None]
+        if fitted and self.emergency_loop is None:
+            raise ValueError(f"car_types {', '.join(fitted)} have an emergency_valve: the train needs an "
+                             "emergency_loop (how the command reaches the cars)")
         for i, c in enumerate(self.air_supply.compressors):
             if c.car > len(self.formation):
                 raise ValueError(f"air_supply.compressors[{i}].car = {c.car}: the formation has cars "

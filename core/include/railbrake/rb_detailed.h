@@ -65,7 +65,7 @@ typedef struct {
     double mechanics_dt;            /* s, largest mechanics step (rounded to divide the BCU cycle) */
 } rb_detailed_params;
 
-enum { RB_DET_CAR_NODES = 9, RB_DET_CAR_LINKS = 14, RB_DET_CAR_BODIES = 3 };
+enum { RB_DET_CAR_NODES = 10, RB_DET_CAR_LINKS = 15, RB_DET_CAR_BODIES = 3 };
 enum { RB_DET_CAR_STATES = 2 * 8 + 2 * RB_DET_CAR_BODIES + 1 };   /* + vented mass */
 enum { RB_DET_LINE_NODES = 2 * RB_PLANT_MAX_CARS + 1, RB_DET_LINE_LINKS = 2 * RB_PLANT_MAX_CARS };
 enum { RB_DET_LINE_STATES = 2 * (RB_PLANT_MAX_CARS + 1) + RB_PLANT_MAX_CARS };
@@ -83,6 +83,10 @@ typedef struct {
     uint8_t hold[RB_AXLES_PER_CAR], vent[RB_AXLES_PER_CAR];       /* actual valve states */
     uint8_t hold_pending[RB_AXLES_PER_CAR], vent_pending[RB_AXLES_PER_CAR];
     double hold_switch[RB_AXLES_PER_CAR], vent_switch[RB_AXLES_PER_CAR]; /* s, when pending acts */
+    /* emergency circuit (emergency_circuit.h) */
+    uint8_t emergency_cut;          /* 1: the loop is open, the EP valve's seats cut off */
+    uint8_t emergency;              /* 1: the emergency valve acts: its choke is open */
+    double emergency_switch;        /* s; INFINITY: the loop is closed */
 } rb_detailed_car;
 
 typedef struct {

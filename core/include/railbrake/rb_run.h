@@ -72,14 +72,16 @@ typedef struct {
     double next_record, next_adhesion;
     double rail_decel_sum, rail_decel_time;      /* time integral of the rail deceleration */
     double peak_sum; long peak_samples;
-    double max_lock;
-    double lock_time[RB_PLANT_MAX_AXLES];
     int lock_events;
     size_t rows;
-    double min_main_reservoir, min_supply, min_supply_margin, max_disc_temperature, max_shortfall;
-    double shortfall_time[RB_PLANT_MAX_AXLES];
+    double min_main_reservoir;
+    /* extremes kept per car and per axle (one vector per car), the train's taken at the end */
+    double car_min_supply[RB_PLANT_MAX_CARS], car_min_supply_margin[RB_PLANT_MAX_CARS];
+    double lock_time[RB_PLANT_MAX_AXLES], axle_max_lock[RB_PLANT_MAX_AXLES];
+    double shortfall_time[RB_PLANT_MAX_AXLES], axle_max_shortfall[RB_PLANT_MAX_AXLES];
     double axle_max_slip[RB_PLANT_MAX_AXLES];
     double axle_locks[RB_PLANT_MAX_AXLES];
+    double axle_max_disc_temperature[RB_PLANT_MAX_AXLES];
     /* constant over the run (rb_run_start_kpis): the train's mass, which axles count for adhesion */
     double total_mass;
     uint8_t adhesion_axle[RB_PLANT_MAX_AXLES];   /* 1: its car is not isolated */

@@ -45,6 +45,13 @@ def _utilisation_applies(row: dict, criteria, reference: dict, is_reference: boo
     return any(row.get(k) in criteria.utilisation_cases for k in reference)
 
 
+def _below(value: float, limit: float, decimals: int = 3) -> str:
+    """`value` with the decimals (at least `decimals`) that show it below `limit`: 0.8497, not 0.850."""
+    while round(value, decimals) >= limit and decimals < 12:
+        decimals += 1
+    return f"{value:.{decimals}f}"
+
+
 def _reasons(row: dict, criteria, utilisation_applies: bool) -> list[str]:
     reasons = []
     if (row.get("wheel_lock_events") or 0) > criteria.max_lock_events:
@@ -53,7 +60,8 @@ def _reasons(row: dict, criteria, utilisation_applies: bool) -> list[str]:
         reasons.append(f"{row['safety_timer_trips']:.0f} safety-timer trips > {criteria.max_safety_timer_trips}")
     utilisation = row.get("adhesion_utilisation")
     if utilisation_applies and utilisation is not None and utilisation < criteria.min_utilisation:
-        reasons.append(f"adhesion utilisation {utilisation:.3f} < {criteria.min_utilisation}")
+        reasons.append(f"adhesion utilisation {_below(utilisation, criteria.min_utilisation)} < "
+                       f"{criteria.min_utilisation}")
     ds = row.get("delta_s_pct")
     if criteria.max_delta_s_pct is not None and ds is not None and ds > criteria.max_delta_s_pct:
         reasons.append(f"dS {ds:.1f} % > {criteria.max_delta_s_pct} %")

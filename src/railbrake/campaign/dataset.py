@@ -96,8 +96,13 @@ def write_batch(out: Path, rows: list[dict], sch: pa.Schema) -> Path:
     final = folder / batch_name(keys)
     temporary = folder / f".{final.name}.{os.getpid()}.tmp"
     pq.write_table(table(rows, sch), temporary)
-    _append_part(out, final.name, _sha256(temporary), keys)   # listed first: a part never unlisted
-    os.replace(temporary, final)   # atomic: a reader sees the whole batch or none of it
+    sha = _sha256(temporary)
+    _append_part(out, final.name, sha, keys)   # listed first: a part never unlisted
+    try:
+        os.replace(temporary, final)   # atomic: a reader sees the whole batch or none of it
+    except FileNotFoundError:   # a resume reading the dataset meanwhile completed the rename (_recover)
+        if not (final.is_file() and _sha256(final) == sha):
+            raise
     return final
 
 

@@ -20,6 +20,11 @@ from railbrake.campaign.study import StudyFile
 
 PLOTTED = ("delta_s_pct", "kwet", "adhesion_utilisation", "air_drawn_kg", "air_consumed_kg",
            "stopping_distance_m", "min_supply_bar", "max_slip")
+# short column labels of the assessed cases (EN 15595's symbols), so the table fits a page
+LABELS = {"stopping_distance_m": "s", "deceleration_distance_m": "s_d", "delta_s_pct": "dS", "kwet": "Kwet",
+          "adhesion_utilisation": "utilisation", "air_drawn_kg": "air", "air_consumed_kg": "air used",
+          "min_supply_bar": "min supply", "max_slip": "slip", "wheel_lock_events": "locks",
+          "safety_timer_trips": "timer trips"}
 UNITS = {"stopping_distance_m": "m", "deceleration_distance_m": "m", "delta_s_pct": "%", "air_drawn_kg": "kg",
          "air_consumed_kg": "kg", "min_supply_bar": "bar", "stopping_time_s": "s"}
 LEVELS_AS_CELLS = 8     # a numeric factor with this many levels or fewer gets one heat-map cell per level
@@ -168,22 +173,28 @@ def sobol(c: Campaign, kpis: list[str]) -> dict | None:
     return out
 
 
+GROUP = "\u00a0"   # thousands are grouped with a no-break space: 13 380, never 1.338e+04
+
+
 def _fmt(value) -> str:
     if value is None:
         return ""
     if isinstance(value, bool):
         return "yes" if value else "no"
     if isinstance(value, float):
-        return "inf" if math.isinf(value) else f"{value:.4g}"
+        if not math.isfinite(value):
+            return str(value)
+        if abs(value) >= 1000:      # long distances, air masses: whole units, digits grouped
+            return f"{value:,.0f}".replace(",", GROUP)
+        return f"{value:.4g}"
     return str(value)
 
 
 def _case_columns(c: Campaign) -> list[str]:
     air = next((k for k in ("air_drawn_kg", "air_consumed_kg") if k in c.kpis), None)
-    return c.factors + ["stopping_distance_m", "deceleration_distance_m", "delta_s_pct", "kwet",
+    return ["passed"] + c.factors + ["stopping_distance_m", "deceleration_distance_m", "delta_s_pct", "kwet",
                         "adhesion_utilisation"] + ([air] if air else []) + \
-        [k for k in ("min_supply_bar", "max_slip", "wheel_lock_events", "safety_timer_trips") if k in c.kpis] + \
-        ["passed"]
+        [k for k in ("min_supply_bar", "max_slip", "wheel_lock_events", "safety_timer_trips") if k in c.kpis]
 
 
 def _display_row(c: Campaign, row: dict, columns: list[str]) -> list[str]:
@@ -196,10 +207,11 @@ def _display_row(c: Campaign, row: dict, columns: list[str]) -> list[str]:
     return cells
 
 
-def _header(c: Campaign, col: str) -> str:
+def _header(c: Campaign, col: str, labels: dict | None = None) -> str:
     if col in c.units and c.units[col]:
         return f"{col} ({SI_TO_DISPLAY.get(c.units[col], (c.units[col],))[0]})"
-    return f"{col} ({UNITS[col]})" if col in UNITS else col
+    name = (labels or {}).get(col, col)
+    return f"{name} ({UNITS[col]})" if col in UNITS else name
 
 
 def _html_table(headers, rows) -> str:
@@ -235,10 +247,14 @@ def sections(c: Campaign) -> tuple[list[tuple[str, list, list]], dict]:
     summary = {"study": c.study.name, "runs": len(c.rows), "ok": len(c.ok()), "failed": len(c.failed())}
     cases = c.assessed()
     if cases is not None:
-        columns = _case_columns(c)
-        rows = [_display_row(c, case, columns) + ["; ".join(case["reasons"])] for case in cases]
-        tables.append(("Assessed cases (EN 15595 style)", [_header(c, k) for k in columns] + ["why not"], rows))
+        columns = _case_columns(c)   # the verdict first: on the page whatever the table's width
+        ordered = sorted(cases, key=lambda case: case["passed"])      # failed cases first (stable)
+        rows = [_display_row(c, case, columns) + ["; ".join(case["reasons"])] for case in ordered]
+        tables.append(("Assessed cases (EN 15595 style), failed first",
+                       [_header(c, k, LABELS) for k in columns] + ["why not"], rows))
         summary["assessment"] = worst(cases)
+        summary["cases"] = len(cases)
+        summary["failed_cases"] = sum(not case["passed"] for case in cases)
     else:
         tables.append(_points_table(c))
     tuning = c.folder / "tuning" / "summary.json"
@@ -262,8 +278,34 @@ def sections(c: Campaign) -> tuple[list[tuple[str, list, list]], dict]:
     return tables, summary
 
 
+def headline(summary: dict) -> str:
+    """The verdict first: failed assessments (when the study has an assessment), then the runs."""
+    runs = f"{summary['runs']} runs, {summary['failed']} of them failed to run"
+    if "cases" not in summary:
+        return f"{'FAILED' if summary['failed'] else 'All ran'}: {runs}."
+    if summary["failed_cases"]:
+        return f"FAILED: {summary['failed_cases']} of {summary['cases']} assessed cases fail; {runs}."
+    return f"PASSED: all {summary['cases']} assessed cases pass; {runs}."
+
+
+# A 1400 px screen and an A4 page: the verdict is the first column, cells wrap their headers, the
+# table may scroll sideways on screen; in print it shrinks to the page in landscape.
+STYLE = ("body{font-family:sans-serif;margin:1.5em;max-width:1400px}"
+         ".wide{overflow-x:auto;max-width:100%}table{border-collapse:collapse;font-size:12px}"
+         "td,th{border:1px solid #bbb;padding:2px 4px;text-align:right}th{overflow-wrap:anywhere;max-width:9em}"
+         "td:first-child,th:first-child{text-align:center;font-weight:bold}img{max-width:100%}"
+         ".verdict{font-size:1.3em;font-weight:bold}"
+         "@page{size:A4 landscape;margin:10mm}"
+         "@media print{body{margin:0;max-width:none}table{font-size:8px;width:100%}.wide{overflow:visible}"
+         "img{max-width:100%;page-break-inside:avoid}tr{page-break-inside:avoid}}")
+
+
 def write(folder: Path, output: Path) -> dict:
-    c = Campaign(folder)
+    return render(Campaign(folder), output)
+
+
+def render(c: Campaign, output: Path) -> dict:
+    """The HTML report at `output` and its Markdown summary beside it; returns the JSON summary."""
     tables, summary = sections(c)
     cases = c.assessed()
     rows = cases if cases is not None else c.ok()
@@ -274,24 +316,23 @@ def write(folder: Path, output: Path) -> dict:
         if figure:
             figures.append(figure)
     title = c.study.title or c.study.name
+    verdict = headline(summary)
     intro = (f"Study <b>{html.escape(c.study.name)}</b> on <code>{html.escape(c.study.base)}</code>: "
-             f"{c.study.design.kind} design, factors {html.escape(', '.join(c.factors))}; "
-             f"{summary['runs']} runs, {summary['failed']} failed. railbrake "
+             f"{c.study.design.kind} design, factors {html.escape(', '.join(c.factors))}. railbrake "
              f"{html.escape(str(c.manifest.get('railbrake_version')))}, core "
              f"{html.escape(str(c.manifest.get('core_build_hash'))[:12])}.")
-    body = [f"<h1>{html.escape(title)}</h1><p>{intro}</p>"]
+    body = [f"<h1>{html.escape(title)}</h1><p class='verdict'>{html.escape(verdict)}</p><p>{intro}</p>"]
     for name, headers, table_rows in tables:
-        body.append(f"<h2>{html.escape(name)}</h2>" + (_html_table(headers, table_rows) if table_rows else "<p>none</p>"))
+        table = f"<div class='wide'>{_html_table(headers, table_rows)}</div>" if table_rows else "<p>none</p>"
+        body.append(f"<h2>{html.escape(name)}</h2>" + table)
     for name, image in figures:
         body.append(f"<h2>{html.escape(name)}</h2><img alt='{html.escape(name)}' src='data:image/png;base64,{image}'>")
-    style = ("body{font-family:sans-serif;margin:2em}table{border-collapse:collapse;font-size:13px}"
-             "td,th{border:1px solid #bbb;padding:3px 6px;text-align:right}img{max-width:100%}")
     output = Path(output)
     output.parent.mkdir(parents=True, exist_ok=True)
     output.write_text(f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-                      f"<style>{style}</style></head><body>{''.join(body)}</body></html>")
-    md = [f"# {title}", "", f"Study `{c.study.name}` on `{c.study.base}`: {c.study.design.kind} design, "
-          f"{summary['runs']} runs, {summary['failed']} failed. Plots: {output.name}.", ""]
+                      f"<style>{STYLE}</style></head><body>{''.join(body)}</body></html>")
+    md = [f"# {title}", "", f"**{verdict}**", "",
+          f"Study `{c.study.name}` on `{c.study.base}`: {c.study.design.kind} design. Plots: {output.name}.", ""]
     for name, headers, table_rows in tables:
         md += [f"## {name}", "", _md_table(headers, table_rows) if table_rows else "none", ""]
     output.with_suffix(".md").write_text("\n".join(md))

@@ -61,6 +61,29 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
     return result
 
 
+def measured_build_up(result, resolved):
+    """EN 14531 ta, tb, te of the run's brake as measured on it (railbrake.simulation.response) and
+    whether the WSP vented within the window, when the run starts braking at t = 0 and lasts the
+    measurement's window; else None."""
+    from railbrake.simulation import response
+    first = resolved.scenario.spec.demand[0]
+    braking = first.time == 0.0 and (first.emergency or first.service > 0.0)
+    window = response.settings()["window_s"]
+    if not braking or result.time.size < 2 or result.time[-1] < window:
+        return None
+    inside = result.time <= window
+    wsp = any(result.outputs[n][inside].any() for n in result.outputs if n.startswith("vent_c"))
+    return response.measure(result, resolved.train), wsp
+
+
+def print_build_up(measured) -> None:
+    if measured is not None:
+        b, wsp = measured
+        typer.echo(f"build-up (EN 14531-1, measured on this run): ta {b.delay:.2f} s, tb {b.build_up:.2f} s, "
+                   f"te {b.response:.2f} s; cylinders filled (95 %) in {b.filling:.2f} s; largest jerk "
+                   f"{b.jerk:.2f} m/s3" + ("; the WSP vented within it: not the brake's own build-up" if wsp else ""))
+
+
 def print_kpis(result) -> None:
     table = Table(title=f"{result.scenario}: {cars_text(result.cars)}, WSP {'on' if result.wsp else 'off'}")
     table.add_column("KPI")
@@ -101,10 +124,12 @@ def register(app: typer.Typer) -> None:
         result = run_scenario(scenario, cars, not no_wsp, out, quiet=json, axles=axles, window=window,
                               formats=formats, sets=sets, kernel=kernel)
         print_warnings(result)
+        build_up = measured_build_up(result, result.resolved)
         if json:
             print_json(result.kpis)
             return
         print_kpis(result)
+        print_build_up(build_up)
         if out is not None:
             typer.echo(f"outputs: {out}/")
 

@@ -97,8 +97,9 @@ def register(app: typer.Typer) -> None:
                                                           "train's emergency brake step)."),
         deceleration_ms2: Optional[float] = typer.Option(None, help="Hand check: constant deceleration."),
         response_time_s: Optional[float] = typer.Option(None, help="Equivalent response time te, s."),
-        simulated_response: bool = typer.Option(False, "--simulated-response",
-                                                help="Take ta and tb from the simulated EP chain (a 6 s run)."),
+        profile_response: bool = typer.Option(False, "--profile-response",
+                                              help="Take ta and tb from the profile instead of the train's own "
+                                              "simulated build-up (EN 14531 on a 6 s run of the plant)."),
         gradient_permille: float = typer.Option(0.0, "--gradient-permille",
                                                 help="Gradient, per mille, uphill positive (train mode)."),
         load: Optional[str] = typer.Option(None, help="Load case: tare, normal, crush (default: the train file's)."),
@@ -122,9 +123,11 @@ def register(app: typer.Typer) -> None:
                 raise InputError(f"--v0-kmh = {v0_kmh:g}: above the maximum speed of train {t.name}, "
                                  f"{ms_to_kmh(t.max_speed):g} km/h")
             delay = build_up = None
+            simulated_response = not profile_response and response_time_s is None and profile is None
             if simulated_response:
-                from railbrake.simulation import simulated_response as measure
-                delay, build_up = measure(train, kmh_to_ms(v0_kmh), load)
+                from railbrake.simulation import response
+                measured = response.simulated(t, kmh_to_ms(v0_kmh), preset=train)
+                delay, build_up = measured.delay, measured.build_up
             result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=t, profile=profile,
                                               response_time=response_time_s, delay=delay, build_up=build_up,
                                               gradient=gradient_permille * 1e-3,
@@ -132,7 +135,8 @@ def register(app: typer.Typer) -> None:
             name = profile or t.brake_step("emergency").profile
             title = f"{train} ({t.load_case} load), {name}"
             if simulated_response:
-                title += f", simulated response ta {delay:.2f} s, tb {build_up:.2f} s"
+                title += (f", simulated build-up ta {delay:.2f} s, tb {build_up:.2f} s, "
+                          f"te {delay + 0.5 * build_up:.2f} s")
         if plot:
             from railbrake.plots.sizing import plot_stopping
             plot_stopping(result, f"{title} from {v0_kmh:g} km/h", prepare_plot(plot))

@@ -29,6 +29,7 @@ from railbrake.resolve import resolve
 from railbrake.results import scripting
 from railbrake.scenario import Scenario, load
 from railbrake.simulation import changes as run_changes
+from railbrake.simulation import response
 from railbrake.simulation.changes import Change  # noqa: F401 (the run API's)
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import LOAD_CASES, Train, load_train, with_cars
@@ -125,7 +126,28 @@ def _car(train, index: int) -> _core.PlantCar:
     cooling = discs.cooling_W_per_K
     car.disc_cooling = _core.speed_table(np.asarray(cooling.speed_kmh) * KMH,
                                          discs.per_axle * np.asarray(cooling.value))
+    _emergency_circuit(train, index, car)
     return car
+
+
+def _emergency_circuit(train, index: int, car: _core.PlantCar) -> None:
+    """Car `index`'s emergency circuit (rb_plant_car.emergency_*) from the train file: the delay
+    from the loop's opening at the leading car (propagation to the car's front, relay drop-out,
+    valve response), the choke and the load-weighing valve's limit at the car's mass."""
+    entry = train.cars[index]
+    valve, loop = entry.equipment.emergency_valve, train.spec.emergency_loop
+    if valve is None:
+        car.emergency_area = 0.0   # the EP valve brakes in emergency too
+        return
+    front = sum(c.equipment.length_m for c in train.cars[:index])
+    travel = front / loop.propagation_m_per_s if loop.propagation_m_per_s else 0.0
+    car.emergency_delay = travel + loop.drop_out_s + valve.response_s
+    car.emergency_area = math.pi / 4 * (valve.choke_diameter_mm * 1e-3) ** 2
+    tare = entry.tare
+    crush = tare + entry.equipment.payload_t.crush * 1e3
+    share = min(max((entry.mass - tare) / (crush - tare), 0.0), 1.0) if crush > tare else 1.0
+    limit = valve.limit_bar.tare + share * (valve.limit_bar.crush - valve.limit_bar.tare)
+    car.emergency_limit = train.atmospheric_pressure + limit * BAR
 
 
 def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
@@ -135,16 +157,47 @@ def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
         p.gradient_start[i], p.gradient[i] = g.start, g.gradient
 
 
-def _condition(name: str, initial_speed: float) -> _core.PlantCondition:
+def _condition(name: str, initial_speed: float, cells: bool) -> _core.PlantCondition:
     cond = load_condition(name)
     # A stop passes every speed below the initial one; only starting above the range is flagged.
     if cond.validity is not None and ms_to_kmh(initial_speed) > cond.validity.speed_max_kmh:
         warn_outside_range(cond, ms_to_kmh(initial_speed), "run from")
     c = _core.PlantCondition()
     c.polach = cond.params.to_c()
-    c.leading_factor = cond.conditioning.leading_factor if cond.conditioning else 1.0
-    c.recovery_axles = cond.conditioning.recovery_axles if cond.conditioning else 0.0
+    k = cond.conditioning
+    c.leading_factor = k.leading_factor if k else 1.0
+    if k and cells and k.reference_energy > 0.0:   # the rail cleaned cell by cell (rail_conditioning.c)
+        c.reference_energy = k.reference_energy
+    else:
+        c.recovery_axles = k.recovery_axles if k else 0.0
     return c
+
+
+def _sanders(train, n_cars: int, p: _core.PlantParams) -> None:
+    """The train file's sanders; they condition the rail cells, so without them they act on nothing
+    (said, not dropped silently)."""
+    sanders = train.spec.sanders
+    if sanders is None:
+        return
+    if p.rail_cell_length <= 0.0:
+        warnings.warn(f"train {train.name}: its sanders act on the rail cells, which this run does not use "
+                      "(adhesion.rail_conditioning: cells with a condition that has conditioning.cells)", stacklevel=3)
+        return
+    for i, s in enumerate(sanders.units):
+        if s.car > n_cars:
+            raise InputError(f"train {train.name}: sanders.units[{i}].car = {s.car}: the run has cars 1..{n_cars}")
+        p.sander_axle[i] = (s.car - 1) * _core.AXLES_PER_CAR + s.axle - 1
+        p.sander_trigger[i] = ("driver", "wsp").index(s.trigger)
+        p.sander_rate[i] = s.rate_kg_min / 60.0
+        p.sander_start[i] = s.start_s
+    p.n_sanders = len(sanders.units)
+    p.sand_reference = sanders.sand_reference_kg_m
+
+
+def _rail_cells(names: list, p: _core.PlantParams) -> None:
+    """The finest cell length of the conditions conditioned cell by cell (their files')."""
+    lengths = [k.cell_length for k in (load_condition(n).conditioning for n in names) if k and k.reference_energy > 0.0]
+    p.rail_cell_length = min(lengths) if lengths else 0.0
 
 
 _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
@@ -217,8 +270,12 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
     if len(unique) > _core.MAX_CONDITIONS:
         raise InputError(f"{scenario.where('adhesion', 'zones')}: at most {_core.MAX_CONDITIONS} conditions")
     p.n_conditions = len(unique)
+    cells = spec.adhesion.rail_conditioning == "cells"
     for i, name in enumerate(unique):
-        p.condition[i] = _condition(name, spec.initial_speed)
+        p.condition[i] = _condition(name, spec.initial_speed, cells)
+    if cells:
+        _rail_cells(unique, p)
+    _sanders(train, n_cars, p)
     p.n_zones = len(spec.adhesion.zones)
     for i, z in enumerate(spec.adhesion.zones):
         p.zone[i] = _core.TrackZone(z.start, z.end, unique.index(z.condition))
@@ -262,16 +319,20 @@ def _air_supply(train, n_cars: int, p: _core.PlantParams) -> None:
     p.initial_pressure = p.atmosphere + air.charged_bar * BAR
 
 
+WSP_CONTROLLERS = ("threshold", "slip_setpoint")   # rb_wsp_controller's order (rb_bcu.h)
+
+
 def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     w = _core.WspParams()
     _core.rb_wsp_default_params(ctypes.byref(w))
     if scenario is not None:
         instance("scenario", scenario, Scenario)
         for key in ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold",
-                    "ref_decel_max", "safety_time"):
+                    "ref_decel_max", "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time"):
             value = getattr(scenario.spec.wsp, key)
             if value is not None:
                 setattr(w, key, value)
+        w.controller = WSP_CONTROLLERS.index(scenario.spec.wsp.controller)
     return w
 
 
@@ -317,8 +378,14 @@ def _scenario_struct(scenario: Scenario) -> _core.Scenario:
 
 
 def channels(n_cars: int) -> list[tuple[str, str]]:
-    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
-    return _core.channel_list(_core.rb_run_channel_count, _core.rb_run_channel_info, n_cars)
+    """(name, SI unit) of each recorded channel of a run of n_cars cars."""
+    return list(_channels(whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)))
+
+
+@cache
+def _channels(n_cars: int) -> tuple:
+    """The C layout's names, asked once per train length (a call per channel: 6 ms for 16 cars)."""
+    return tuple(_core.channel_list(_core.rb_run_channel_count, _core.rb_run_channel_info, n_cars))
 
 
 # ------------------------------------------------------------------ running
@@ -474,7 +541,7 @@ from railbrake.simulation.timing import bench, bench_plant  # noqa: E402  (they 
 
 # ------------------------------------------------------------------ response of the simulated chain
 
-RESPONSE_WINDOW = 5.0   # s of emergency braking over which the build-up is measured
+RESPONSE_WINDOW = response.settings()["window_s"]   # s of emergency braking the build-up is measured over
 
 
 def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-medium",
@@ -495,25 +562,21 @@ def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-m
     return from_data(data, f"emergency stop of {train}", {})
 
 
-def response_times(result: Result, window: float = RESPONSE_WINDOW) -> tuple[float, float]:
-    """EN 14531-1 delay ta and build-up tb of a run's brake (mean cylinder gauge pressure of all
-    axles): ta from the demand to 10 % of its value at the end of the build-up (the highest over
-    the first `window` s), tb from 10 % to 90 %."""
+def response_times(result: Result, train=None) -> tuple[float, float]:
+    """EN 14531-1 delay ta and build-up tb of a run's brake, measured on its total brake force
+    (railbrake.simulation.response); train: the run's (default: its resolved configuration's)."""
     instance("result", result, Result)
-    window = real("window", window, 0.0, low_open=True)
-    atmosphere = result.atmosphere
-    cylinder = np.mean([result.outputs[n] for n in result.axle_channels("cylinder")], axis=0) - atmosphere
-    t = result.time
-    reference = cylinder[t <= window].max()
-    if not reference > 0.0:
-        raise InputError(f"scenario {result.scenario}: no cylinder pressure within {window:g} s of the demand")
-    t10 = t[np.argmax(cylinder >= 0.1 * reference)]
-    t90 = t[np.argmax(cylinder >= 0.9 * reference)]
-    return float(t10), float(t90 - t10)
+    if train is None:
+        if result.resolved is None:
+            raise InputError("response_times: give the train of a run made with a train of its own")
+        train = result.resolved.train
+    b = response.measure(result, train)
+    return b.delay, b.build_up
 
 
 def simulated_response(train: str, initial_speed: float, load: str | None = None) -> tuple[float, float]:
-    """(ta, tb) of the simulated EP chain of `train` in an emergency stop from initial_speed (m/s)
-    on dry rail: the first RESPONSE_WINDOW s of a run."""
-    sc = emergency_scenario(train, initial_speed, max_time=RESPONSE_WINDOW + 1.0, load=load)
-    return response_times(run(sc))
+    """(ta, tb) of `train`'s simulated emergency brake from initial_speed (m/s) on dry rail: the
+    first RESPONSE_WINDOW s of a run (railbrake.simulation.response.simulated)."""
+    train = name_or_path("train", train)
+    b = response.simulated(load_train(train, load or True), initial_speed, preset=str(train))
+    return b.delay, b.build_up

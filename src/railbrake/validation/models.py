@@ -192,16 +192,44 @@ def caliper_force(inputs, x, case):
     return ModelOutput(values)
 
 
+BUILD_UP_QUANTITIES = ("delay", "build_up", "response", "filling", "jerk")
+RESPONSES = ("profile", "simulated")
+
+
+def _build_up(inputs, train, v: float):
+    from railbrake.simulation import response
+    return response.simulated(train, units.kmh_to_ms(v), preset=str(_need(inputs, "train")))
+
+
 def train_stopping_distance(inputs, x, case):
-    """Emergency stopping distance (m) of a train preset from v0 = x (km/h), EN 14531 manner."""
+    """Emergency stopping distance (m) of a train preset from v0 = x (km/h), EN 14531 manner;
+    inputs.response: "profile" (the profile's ta, tb; default) or "simulated" (the train's own
+    build-up measured on the plant, as `railbrake stopping-distance` does by default)."""
     train = vehicle.load_train(_need(inputs, "train"))
     profile = inputs.get("profile", "emergency")
+    mode = inputs.get("response", "profile")
+    if mode not in RESPONSES:
+        raise InputError(f"model.inputs.response = {mode!r}: must be one of {', '.join(RESPONSES)}")
     out, warns = [], []
     for v in _x(x, "v0, km/h"):
-        r = sizing.stopping_distance(units.kmh_to_ms(v), train=train, profile=profile)
+        b = _build_up(inputs, train, v) if mode == "simulated" else None
+        r = sizing.stopping_distance(units.kmh_to_ms(v), train=train, profile=profile,
+                                     delay=b.delay if b else None, build_up=b.build_up if b else None)
         out.append(r.distance)
         warns += r.warnings
     return ModelOutput(out, {"train": train.name, "profile": str(profile), "sizing_warnings": sorted(set(warns))})
+
+
+def train_build_up(inputs, x, case):
+    """EN 14531 build-up of a train preset's emergency brake, measured on the 1 ms plant from
+    v0 = x (km/h) (railbrake.simulation.response): inputs.quantity one of delay (ta, s), build_up
+    (tb, s), response (te, s), filling (s), jerk (m/s^3); inputs.load: the load case."""
+    train = vehicle.load_train(_need(inputs, "train"), inputs.get("load") or True)
+    quantity = _need(inputs, "quantity")
+    if quantity not in BUILD_UP_QUANTITIES:
+        raise InputError(f"model.inputs.quantity = {quantity!r}: must be one of {', '.join(BUILD_UP_QUANTITIES)}")
+    values = [getattr(_build_up(inputs, train, v), quantity) for v in _x(x, "v0, km/h")]
+    return ModelOutput(values, {"train": train.name, "load": train.load_case})
 
 
 def _car_of_type(train, kind: str):
@@ -316,5 +344,5 @@ def kdry_equal_units(inputs, x, case):
 
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, kdry_equal_units,
     hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
-    tank_pressure, stop_constant, caliper_force, train_stopping_distance, solenoid_c_core, pad_friction, pad_friction_drop, ed_brake_force,
+    tank_pressure, stop_constant, caliper_force, train_stopping_distance, train_build_up, solenoid_c_core, pad_friction, pad_friction_drop, ed_brake_force,
     running_resistance, plant_order)}

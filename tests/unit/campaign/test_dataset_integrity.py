@@ -134,3 +134,20 @@ def test_a_torn_last_line_is_dropped_on_resume_and_refused_by_the_report(tmp_pat
     manifest.write_bytes(b"garbage\n" + whole)   # damage inside the file: refused even on resume
     with pytest.raises(InputError, match=rf"{manifest}, line 1: damaged"):
         dataset.existing_keys(tmp_path)
+
+
+def test_a_resume_that_reads_while_a_batch_is_renamed_loses_nothing(tmp_path, monkeypatch):
+    """A second process reading the dataset between a part's line and its rename completes the
+    rename itself (existing_keys); the writer then finds its part in place and goes on."""
+    _dataset(tmp_path)
+    sch = dataset.schema(FACTORS, KPIS, {"name": "t"})
+    replace = dataset.os.replace
+
+    def reader_first(source, target):
+        monkeypatch.setattr(dataset.os, "replace", replace)
+        dataset.existing_keys(tmp_path)   # the other process: it renames the part
+        replace(source, target)           # now the writer's own rename: its file is gone
+    monkeypatch.setattr(dataset.os, "replace", reader_first)
+    dataset.write_batch(tmp_path, _rows("k", 2, 4), sch)
+    monkeypatch.undo()
+    assert dataset.read(tmp_path).column("key").to_pylist() == [f"k{i:04d}" for i in range(6)]

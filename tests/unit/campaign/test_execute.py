@@ -107,23 +107,35 @@ def test_rerun_skips_every_key_already_there(reference):
 @pytest.mark.slow
 def test_sigkill_part_way_then_rerun_holds_each_key_once_with_the_same_kpis(reference, dask_cli_cluster,
                                                                            two_workers, tmp_path):
-    """`campaign run` on the one-worker cluster, killed once two runs are in; rerun on two workers."""
-    command = [sys.executable, "-c", "from railbrake.cli import main; main()", "campaign", "run", str(SMALL),
-               "--out", str(tmp_path), "--scheduler", dask_cli_cluster, "--batch-size", "1", "--json"]
-    process = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
+    """`campaign run` on the one-worker cluster, killed once two runs are in; rerun on two workers.
+    The study has 32 runs in batches of one, so the kill lands well before its end (8 runs of
+    ~40 ms each once finished between two polls on a fast machine). `reference` first: the CLI waits
+    10 s for the scheduler's worker, which a loaded machine may not have started yet by itself."""
+    study_file = tmp_path / "study.yaml"
+    study_file.write_text(SMALL.read_text().replace("seeds: 2", "seeds: 8"))
+    out = tmp_path / "killed"
+    command = [sys.executable, "-c", "from railbrake.cli import main; main()", "campaign", "run", str(study_file),
+               "--out", str(out), "--scheduler", dask_cli_cluster, "--batch-size", "1", "--json"]
+    log = tmp_path / "stderr.txt"
+    with log.open("w") as stderr:
+        process = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=stderr)
     deadline = time.monotonic() + 180
-    while len(dataset.existing_keys(tmp_path)) < 2 and time.monotonic() < deadline and process.poll() is None:
-        time.sleep(0.02)
+    while len(list(out.glob("runs/part-*.parquet"))) < 2 and time.monotonic() < deadline \
+            and process.poll() is None:   # only look: existing_keys would complete the CLI's renames
+        time.sleep(0.005)
+    assert process.poll() is None, \
+        f"`campaign run` ended (status {process.returncode}) before the kill: {log.read_text()[-2000:]}"
     os.killpg(process.pid, signal.SIGKILL)
     process.wait()
-    partial = dataset.existing_keys(tmp_path)
-    assert 2 <= len(partial) < 8, "the kill came too late to test a resume"
-    summary = execute.run_study(study.load(SMALL), tmp_path, scheduler=two_workers, connect_timeout=60.0)
-    assert summary.skipped == len(partial) and summary.done == 8 - len(partial)
-    keys = content(tmp_path)["key"]
-    assert len(keys) == len(set(keys)) == 8
-    assert content(tmp_path) == content(reference[0])
+    partial = dataset.existing_keys(out)
+    assert 2 <= len(partial) < 32, "the kill came too late to test a resume"
+    summary = execute.run_study(study.load(study_file), out, scheduler=two_workers, connect_timeout=60.0)
+    assert summary.skipped == len(partial) and summary.done == 32 - len(partial)
+    keys = content(out)["key"]
+    assert len(keys) == len(set(keys)) == 32
+    uninterrupted = tmp_path / "uninterrupted"
+    execute.run_study(study.load(study_file), uninterrupted, scheduler=two_workers, connect_timeout=60.0)
+    assert content(out) == content(uninterrupted)
 
 
 def test_a_scheduler_that_does_not_answer_fails_before_any_run(tmp_path):

@@ -65,7 +65,8 @@ def test_every_page_is_executed_or_listed_as_still_typed():
     executed = {p.name for p in executed_pages()}
     others = {p.name for p in DOCS.glob("*.md")} - executed - {"CONVERSION.md", "index.md", "api.md"}
     partly = {p.name for p in executed_pages() if "<!-- typed: not yet converted" in p.read_text()}
-    assert {"scripting.md", "vehicle.md", "simulation.md"} <= executed
+    assert {"scripting.md", "vehicle.md", "simulation.md", "campaigns.md", "hil.md", "detailed.md", "pneumatics.md",
+            "contact.md", "validation.md", "validation-cases.md", "hil-interface.md", "references.md"} <= executed
     assert listed_pages() == others | partly, "docs/CONVERSION.md must list exactly the pages not executed yet"
 
 

@@ -6,8 +6,11 @@ core's bounds table (core/src/bounds.c). And doStep never passes the stopTime of
 
 import math
 
-from fmi_session import SCENARIO
+import pytest
+
+from fmi_session import SCENARIO, Session
 from railbrake import _core, simulation
+from railbrake.fmu import export_fmu
 from railbrake.fmu.variables import bound_name, table
 
 # Two parameters bound to each other, which min/max cannot state: governor_off >= governor_on
@@ -40,9 +43,10 @@ def _set_and_initialise(session, name, value):
     session.fmu.reset()
 
 
-def test_declared_ends_are_accepted_and_beyond_refused(session):
+def check_declared_ends(session):
+    """Each ranged variable's declared ends pass setReal, initialisation and a step; the nearest
+    doubles outside are refused, naming the variable and its range. Returns how many were checked."""
     variables = ranged(session.md)
-    assert len(variables) > 20
     for v in variables:
         low, high = float(v.min), float(v.max)
         assert math.isfinite(low) and math.isfinite(high) and low <= float(v.start) <= high, v.name
@@ -51,6 +55,27 @@ def test_declared_ends_are_accepted_and_beyond_refused(session):
         for outside in (math.nextafter(low, -math.inf), math.nextafter(high, math.inf)):
             session.fails(session.set_real, v.name, outside, words=(v.name, "must be a finite number in ["))
             session.fmu.reset()
+    return len(variables)
+
+
+def test_declared_ends_are_accepted_and_beyond_refused(session):
+    assert check_declared_ends(session) > 20
+
+
+@pytest.fixture(scope="module")
+def two_cars(tmp_path_factory):
+    """The 2-car plant (FMI 2): the coupler's parameters exist only between two cars."""
+    return export_fmu(SCENARIO, tmp_path_factory.mktemp("fmi2-two-cars") / "plant.fmu", "2", cars=2)
+
+
+def test_declared_ends_of_the_coupler_parameters_too(two_cars, tmp_path):
+    session = Session("2", two_cars, tmp_path / "unzipped")
+    try:
+        names = {v.name for v in ranged(session.md)}
+        assert any("coupler" in name for name in names), sorted(names)
+        assert check_declared_ends(session) == len(names)
+    finally:
+        session.fmu.freeInstance()
 
 
 def test_declared_parameter_ranges_are_the_bounds_table(session):

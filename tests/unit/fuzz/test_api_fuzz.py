@@ -8,6 +8,7 @@ calls with several bad arguments at once: RAILBRAKE_FUZZ_API_CALLS (500 here, 50
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import os
 import random
@@ -111,6 +112,7 @@ def test_every_argument_alone():
     print(f"{calls} calls with one bad argument, {len(problems)} problems")
     assert calls > 500
     assert not problems, problems[:15]
+    print("fuzz-result", json.dumps({"target": "api_single", "calls": calls, "problems": 0}))
 
 
 def test_random_bad_arguments():
@@ -125,6 +127,8 @@ def test_random_bad_arguments():
         if got not in (None, "accepted"):
             problems.append(f"{label(function, kwargs)}: {got}")
     assert not problems, problems[:15]
+    print("fuzz-result", json.dumps({"target": "api_random", "calls": CALLS, "problems": 0,
+                                     "seed": os.environ.get("RAILBRAKE_FUZZ_SEED", "1")}))
 
 
 @pytest.mark.parametrize("call, expected", [

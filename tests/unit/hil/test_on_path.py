@@ -15,7 +15,8 @@ from railbrake.hil.frames import frame_header
 from conftest import SECRET
 
 SCENARIO = "emergency-300-heavy-rain"
-CUT_STEP = 1200   # the relay stops passing the BCU's frames here; the plant runs on to 1600
+FRAMES = 120   # the relay passes this many of the BCU's frames (however long a loaded machine takes),
+TAIL = 400     # then none, while the plant runs on for this many steps
 
 
 class Relay(threading.Thread):
@@ -32,7 +33,7 @@ class Relay(threading.Thread):
         self.bcu, self.plant, self.faults = ("127.0.0.1", bcu_port), None, faults
         self.recorded, self.sent, self.held = [], [], None
         self.swaps = self.duplicates = self.replays_old = self.replays_recent = 0
-        self.max_forwarded, self.plant_step, self.done = -1, 0, False
+        self.max_forwarded, self.plant_step, self.done, self.cut_step = -1, 0, False, None
 
     def to_plant(self, data):
         self.sock.sendto(data, self.plant)
@@ -43,7 +44,8 @@ class Relay(threading.Thread):
         if h["type"] != "bcu" or not self.faults:
             self.sock.sendto(data, self.plant)
             return
-        if self.plant_step >= CUT_STEP:
+        if len(self.sent) >= FRAMES:
+            self.cut_step = self.cut_step or self.plant_step
             return
         k = len(self.sent)
         self.sent.append(data)
@@ -92,7 +94,8 @@ def through(relay, duration, **kwargs):
 def test_counters_stay_exact_under_duplication_swaps_and_replay(bcu_process):
     bcu, port = bcu_process(SCENARIO, "--cars", "1", "--idle-timeout", "0.5")
     relay = Relay(port)
-    result = through(relay, 1.6, hold_time=1.0)
+    result = through(relay, 60.0, hold_time=1.0,
+                     stop=lambda: relay.cut_step is not None and relay.plant_step >= relay.cut_step + TAIL)
     c = result.counters
     print(f"relay: swaps {relay.swaps}, duplicates {relay.duplicates}, replays {relay.replays_old} old, "
           f"{relay.replays_recent} recent; plant: {c}")

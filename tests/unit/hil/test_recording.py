@@ -101,11 +101,14 @@ def test_two_ctrl_c_keep_the_recording_and_the_summary(bcu_process, tmp_path):
 
 def test_ctrl_c_at_any_moment_gives_no_traceback(tmp_path):
     """From the process's start (imports included) to well into the run, against a BCU that is not
-    there: status 130 (or 3 once the BCU counts as lost, if the run ended first), never a traceback."""
+    there: status 130, never a traceback. A SIGINT that arrives before the interpreter has installed
+    its handler (the first tens of ms, longer on a loaded machine) ends the process by the signal
+    itself (-SIGINT here, 130 in a shell), silently: no program can answer a signal before it runs."""
     for k, moment in enumerate((0.05, 0.15, 0.3, 0.5, 0.8, 1.2, 2.0)):
         plant = start_plant(9, tmp_path / f"early-{k}.mf4", "--duration", "30")
         time.sleep(moment)
         plant.send_signal(signal.SIGINT)
         _, err = plant.communicate(timeout=60)
         assert "Traceback" not in err, (moment, err)
-        assert plant.returncode == 130, (moment, plant.returncode, err)
+        assert plant.returncode == 130 or (plant.returncode == -signal.SIGINT and not err), \
+            (moment, plant.returncode, err)

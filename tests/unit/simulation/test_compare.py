@@ -106,7 +106,9 @@ def test_step_size_study_converges_and_is_stable(compared):
     assert all(r["stable"] for r in steps)
     rms = [r["cylinder_rms_bar"] for r in steps if r["substeps"] == 1]   # 0.25, 0.5, 1, 2, 5 ms
     assert rms[2:] == sorted(rms[2:]) and rms[4] > 1.2 * rms[2]   # the error grows with the bare step
-    assert max(rms[:3]) < 1.02 * min(rms[:3])                    # up to 1 ms converged (the models' difference)
+    # up to 1 ms converged: the emergency circuit's choke fills both models alike, so what is left
+    # is the step's own error, below 0.001 bar RMS (before it the models' difference, flat in the step)
+    assert max(rms[:3]) < 1e-3
     assert steps[2]["stopping_distance_m"] == pytest.approx(c.summary["stopping_distance_rt_m"])
 
 

@@ -2,8 +2,9 @@
 
 - The BCU's per-car tables invert the same brake law as railbrake.sizing: at their nodes they
   give the sizing's target pressure exactly.
-- run vs stopping-distance (EN 14531-1 integration) within 3 % for every preset from 200, 250,
-  300 and 350 km/h on dry level rail, with the response time of the simulated EP chain.
+- run vs stopping-distance (EN 14531-1 integration) within 3 % for every preset, both load cases
+  (normal, crush) and every 40 km/h from 160 km/h to its maximum on dry level rail, with the
+  response time measured on the run's own build-up (issue 27).
 - CRH380A-8 from 300 km/h on dry rail: within 10 % of the measured 3760 m (its emergency profile
   is calibrated on that figure: a consistency check, see data/profiles/emergency-crh380a.yaml).
 - Energy: the friction brake energy equals the kinetic energy less the work of the running
@@ -36,21 +37,22 @@ def test_bcu_tables_give_the_sizing_target_pressure():
         assert pressure == pytest.approx(expected, rel=1e-9)
 
 
-def _stop(train: str, kmh: float):
-    r = simulation.run(simulation.emergency_scenario(train, kmh * KMH, max_time=400.0))
+def _stop(train: str, kmh: float, load: str | None = None):
+    r = simulation.run(simulation.emergency_scenario(train, kmh * KMH, max_time=400.0, load=load))
     ta, tb = simulation.response_times(r)
-    calc = sizing.stopping_distance(kmh * KMH, train=train, delay=ta, build_up=tb)
+    calc = sizing.stopping_distance(kmh * KMH, train=vehicle.load_train(train, load or True), delay=ta, build_up=tb)
     return r, calc, ta, tb
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("load", ["normal", "crush"])
 @pytest.mark.parametrize("train", PRESETS)
-def test_run_agrees_with_stopping_distance_within_3_percent(train):
-    for kmh in (200, 250, 300, vehicle.load_train(train).max_speed / KMH):
-        r, calc, ta, tb = _stop(train, kmh)
+def test_run_agrees_with_stopping_distance_within_3_percent(train, load):
+    top = vehicle.load_train(train).max_speed / KMH
+    for kmh in [*range(160, int(top), 40), top]:
+        r, calc, ta, tb = _stop(train, kmh, load)
         assert r.kpis["stopped"] and r.kpis["wheel_lock_events"] == 0
-        assert r.kpis["stopping_distance_m"] == pytest.approx(calc.distance, rel=0.03), (train, kmh)
-        assert 0.0 < ta < 1.0 and 0.0 < tb < 2.0
+        assert r.kpis["stopping_distance_m"] == pytest.approx(calc.distance, rel=0.03), (train, load, kmh)
 
 
 def test_crh380a_from_300_within_10_percent_of_the_measured_3760_m():

@@ -32,8 +32,8 @@ def test_rail_forces_balance_translational_mass_and_resistance():
 
 
 def test_pad_friction_rise_lowers_the_trailer_pressure_below_100_kmh():
-    # constant 1.0 m/s^2: (p - p_threshold) scales with demand / lambda, lambda 0.42 at 0 and 0.35
-    # at 100 km/h [T]; the demand differs only by the trailers' share of resistance.
+    # constant 1.0 m/s^2: (p - p_threshold) scales with demand / lambda, lambda from the preset's
+    # pad table at 0 and 100 km/h; the demand differs only by the trailers' share of resistance.
     train = vehicle.load_train("crh380a-8")
     v = np.array([0.0, 100.0 / 3.6])
     r = sizing.target_pressure(train, 1.0, speeds=v)
@@ -43,7 +43,9 @@ def test_pad_friction_rise_lowers_the_trailer_pressure_below_100_kmh():
     demand = m_eff * 1.0 - share * train.running_resistance(v)
     threshold = vehicle.P_ATM + 700.0 / 0.020  # return spring over cylinder area (preset)
     ratio = (r.p_trailer[0] - threshold) / (r.p_trailer[1] - threshold)
-    assert ratio == pytest.approx(demand[0] / demand[1] * 0.35 / 0.42, rel=1e-9)
+    pad = vehicle.pad_friction_of(trailers[0], v)
+    assert pad[0] > pad[1]
+    assert ratio == pytest.approx(demand[0] / demand[1] * pad[1] / pad[0], rel=1e-9)
     frozen = sizing.target_pressure(vehicle.with_constant_pad_friction(train), 1.0, speeds=v)
     assert frozen.p_trailer[0] > r.p_trailer[0]
 
