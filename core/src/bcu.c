@@ -127,6 +127,7 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
     w->cycle = out->time - s->last_cycle;
     w->n_axles = p->n_cars * RB_AXLES_PER_CAR;
     w->atmosphere = p->atmosphere;
+    w->body_decel = out->deceleration;
     for (int c = 0; c < p->n_cars; ++c) {
         int wsp_active = 0;
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) wsp_active |= s->wsp.active[c * RB_AXLES_PER_CAR + k];

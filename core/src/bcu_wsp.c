@@ -1,6 +1,7 @@
 /* Default wheel-slide protection: structure after EN 15595 (Railway applications - Braking - Wheel
  * slide protection) and UIC 541-05; thresholds are typical values [T] (docs/references.md). */
 #include "railbrake/rb_bcu.h"
+#include "wsp_internal.h"
 
 #include <string.h>
 
@@ -21,6 +22,7 @@ void rb_wsp_default_params(rb_wsp_params *p)
     p->filter_time = 0.02;
     p->safety_time = 5.0;             /* 5-10 s [T] */
     p->min_speed = 1.5;
+    rb_wsp_setpoint_defaults(p);
 }
 
 void rb_wsp_default_reset(rb_wsp_default *w, const rb_wsp_params *p)
@@ -29,7 +31,7 @@ void rb_wsp_default_reset(rb_wsp_default *w, const rb_wsp_params *p)
     w->p = *p;
 }
 
-static void update_reference(rb_wsp_default *w, const rb_wsp_inputs *in)
+void rb_wsp_update_reference(rb_wsp_default *w, const rb_wsp_inputs *in, double fall)
 {
     double fastest = -1.0;
     for (int a = 0; a < in->n_axles; ++a)
@@ -41,13 +43,13 @@ static void update_reference(rb_wsp_default *w, const rb_wsp_inputs *in)
         w->initialised = 1;
         return;
     }
-    double lo = w->reference - w->p.ref_decel_max * in->cycle, hi = w->reference + w->p.ref_accel_max * in->cycle;
+    double lo = w->reference - fall * in->cycle, hi = w->reference + w->p.ref_accel_max * in->cycle;
     w->reference = fastest < lo ? lo : (fastest > hi ? hi : fastest);
     if (w->reference < 0.0) w->reference = 0.0;
 }
 
 /* A cylinder far below its demand with no WSP command: a vent valve open on its own. */
-static int stuck_vent_suspected(const rb_wsp_inputs *in, int a)
+int rb_wsp_stuck_vent_suspected(const rb_wsp_inputs *in, int a)
 {
     double demand = in->demand[a] - in->atmosphere, cylinder = in->cylinder[a] - in->atmosphere;
     return demand > 0.5e5 && cylinder < 0.4 * demand;
@@ -81,35 +83,52 @@ static int reapply_holds(const rb_wsp_default *w, int a)
     return phase >= w->p.reapply_on;
 }
 
+int rb_wsp_axle_guard(rb_wsp_default *w, const rb_wsp_inputs *in, rb_wsp_commands *out, int a, double dt)
+{
+    const rb_wsp_params *p = &w->p;
+    double v = in->wheel_speed[a];
+    out->hold[a] = out->vent[a] = out->active[a] = 0;
+    if (w->mode[a] == RB_WSP_ISOLATED) { out->hold[a] = 1; return 0; }
+    if (v < 0.0) { w->mode[a] = RB_WSP_APPLY; return 0; }   /* sensor lost: no WSP on this axle */
+    w->accel[a] += ((v - w->last_speed[a]) / dt - w->accel[a]) * dt / (p->filter_time + dt);
+    w->last_speed[a] = v;
+    w->low_time[a] = w->mode[a] == RB_WSP_APPLY && rb_wsp_stuck_vent_suspected(in, a) ? w->low_time[a] + dt : 0.0;
+    if (w->low_time[a] > p->safety_time) {   /* isolate the axle: save the car's air */
+        w->mode[a] = RB_WSP_ISOLATED;
+        w->trips++;
+        out->hold[a] = 1;
+        return 0;
+    }
+    return w->mode[a] != RB_WSP_INHIBITED;
+}
+
+int rb_wsp_safety_trip(rb_wsp_default *w, int a, double dt)
+{
+    w->vent_time[a] = w->mode[a] == RB_WSP_VENT ? w->vent_time[a] + dt : 0.0;
+    if (w->vent_time[a] > w->p.safety_time) {   /* a failed WSP must not remove the brake */
+        w->mode[a] = RB_WSP_INHIBITED;
+        w->trips++;
+        return 1;
+    }
+    return 0;
+}
+
 void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out)
 {
     rb_wsp_default *w = (rb_wsp_default *)context;
     const rb_wsp_params *p = &w->p;
-    update_reference(w, in);
+    if (p->controller == RB_WSP_SLIP_SETPOINT) {
+        rb_wsp_setpoint_step(context, in, out);
+        return;
+    }
+    rb_wsp_update_reference(w, in, p->ref_decel_max);
     double dt = in->cycle > 0.0 ? in->cycle : 1e-3;
     for (int a = 0; a < in->n_axles; ++a) {
-        double v = in->wheel_speed[a];
-        out->hold[a] = out->vent[a] = out->active[a] = 0;
-        if (w->mode[a] == RB_WSP_ISOLATED) { out->hold[a] = 1; continue; }
-        if (v < 0.0) { w->mode[a] = RB_WSP_APPLY; continue; }   /* sensor lost: no WSP on this axle */
-        w->accel[a] += ((v - w->last_speed[a]) / dt - w->accel[a]) * dt / (p->filter_time + dt);
-        w->last_speed[a] = v;
-        w->low_time[a] = w->mode[a] == RB_WSP_APPLY && stuck_vent_suspected(in, a) ? w->low_time[a] + dt : 0.0;
-        if (w->low_time[a] > p->safety_time) {   /* isolate the axle: save the car's air */
-            w->mode[a] = RB_WSP_ISOLATED;
-            w->trips++;
-            out->hold[a] = 1;
-            continue;
-        }
-        if (w->mode[a] == RB_WSP_INHIBITED) continue;
+        if (!rb_wsp_axle_guard(w, in, out, a, dt)) continue;
         double threshold = p->speed_threshold + p->slip_threshold * w->reference;
-        w->mode[a] = w->reference < p->min_speed ? RB_WSP_APPLY : next_mode(w, a, w->reference - v, threshold, dt);
-        w->vent_time[a] = w->mode[a] == RB_WSP_VENT ? w->vent_time[a] + dt : 0.0;
-        if (w->vent_time[a] > p->safety_time) {   /* a failed WSP must not remove the brake */
-            w->mode[a] = RB_WSP_INHIBITED;
-            w->trips++;
-            continue;
-        }
+        w->mode[a] = w->reference < p->min_speed ? RB_WSP_APPLY
+                                                  : next_mode(w, a, w->reference - in->wheel_speed[a], threshold, dt);
+        if (rb_wsp_safety_trip(w, a, dt)) continue;
         out->hold[a] = w->mode[a] == RB_WSP_VENT || w->mode[a] == RB_WSP_HOLD
                        || (w->mode[a] == RB_WSP_REAPPLY && reapply_holds(w, a));
         out->vent[a] = w->mode[a] == RB_WSP_VENT;

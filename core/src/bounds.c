@@ -55,6 +55,13 @@ static const rb_bound bounds[] = {
     {"wsp.filter_time", "s", 1e-3, 1.0, "a filter of 1 ms to 1 s"},
     {"wsp.safety_time", "s", 0.5, 30.0, "0.5 to 30 s of continuous venting (typically 5-10 s [T]); 0 isolates every axle"},
     {"wsp.min_speed", "m/s", 0.0, 10.0, "WSP active down to at most 36 km/h"},
+    {"wsp.controller", "1", 0.0, 1.0, "0: threshold state machine, 1: slip set-point"},
+    {"wsp.setpoint_speed", "m/s", 0.01, 10.0, "a slip-velocity set-point of 0.04 to 36 km/h"},
+    {"wsp.setpoint_slip", "1", 0.0, 0.5, "up to 50 % of the reference speed"},
+    {"wsp.setpoint_band", "1", 0.0, 0.9, "a hold band of up to +-90 % of the set-point"},
+    {"wsp.lead_time", "s", 0.0, 1.0, "the slip predicted up to 1 s ahead"},
+    {"wsp.ref_decel_margin", "m/s2", 0.0, 5.0, "a speed estimate falling up to 5 m/s2 faster than the body"},
+    {"wsp.setpoint_release", "s", 0.0, 600.0, "an axle let go after up to 10 min braked as demanded"},
 
     /* The files' quantities (train, scenario, valve files) that the plant gets only through others:
      * checked by the Python schemas (railbrake._core.bound) in the file's unit, so that a value is
@@ -117,6 +124,8 @@ static const rb_bound bounds[] = {
     {"adhesion.target_peak", "1", 0.005, 1.0, "a peak adhesion a train can brake on (EN 15595 extremely low: 0.02 to 0.05)"},
     {"adhesion.target_tolerance", "1", 1e-3, 1.0, "a calibration target met within 0.1 % to 100 %"},
     {"adhesion.recovery_axles", "1", 0.1, 100.0, "the rail recovers behind 0.1 to 100 axles (a train has at most 64)"},
+    {"adhesion.reference_energy", "J/m2", 1.0, 1e9, "contact energy per rail area that cleans 63 % of the contamination: 1 J/m2 to 1 GJ/m2"},
+    {"adhesion.rail_cell_length", "m", 0.01, 10.0, "rail cells of 1 cm to 10 m (axles of a bogie stand 2.5 m apart)"},
     {"profile.response_time", "s", 0.0, 30.0, "a brake delay or build-up of up to 30 s (EMUs: ta + tb/2 of 1 to 4 s, EN 14531-1)"},
     {"profile.deceleration", "m/s2", 0.01, 5.0, "a demanded deceleration of 0.01 to 5 m/s2 (beyond, no wheel-rail adhesion)"},
     /* Study files' assessment and tuning limits (railbrake.campaign.study). */
@@ -268,5 +277,12 @@ rb_status rb_wsp_check(const rb_wsp_params *w, rb_error *err)
     WSP_BOUND(filter_time);
     WSP_BOUND(safety_time);
     WSP_BOUND(min_speed);
+    WSP_BOUND(controller);
+    WSP_BOUND(setpoint_speed);
+    WSP_BOUND(setpoint_slip);
+    WSP_BOUND(setpoint_band);
+    WSP_BOUND(lead_time);
+    WSP_BOUND(ref_decel_margin);
+    WSP_BOUND(setpoint_release);
     return RB_OK;
 }

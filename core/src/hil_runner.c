@@ -14,6 +14,7 @@ size_t rb_hil_runner_size(void) { return sizeof(rb_hil_runner); }
 size_t rb_hil_config_size(void) { return sizeof(rb_hil_config); }
 size_t rb_hil_result_size(void) { return sizeof(rb_hil_result); }
 size_t rb_hil_event_size(void) { return sizeof(rb_hil_event); }
+size_t rb_hil_snapshot_size(void) { return sizeof(rb_hil_snapshot); }
 
 /* ---- recorded channels */
 
@@ -138,6 +139,8 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
         return s;
     }
     rb_hil_session_key(config->secret, config->session, 0, r->hello_key);
+    r->n_faults = plant->n_faults;
+    memcpy(r->fault, plant->fault, sizeof r->fault);
     r->safe = 1;   /* until the first valid frame */
     safe_commands(config, r, 1);
     r->applied = r->safe_in;
@@ -170,6 +173,140 @@ int rb_hil_runner_event(const rb_hil_runner *r, uint64_t index, rb_hil_event *ev
     if (index >= r->events || index + RB_HIL_LOG_SIZE < r->events) return 0;
     *event = r->log[index % RB_HIL_LOG_SIZE];
     return 1;
+}
+
+/* ---- faults changed while the plant runs: a mailbox the loop looks into once a step */
+
+int rb_hil_runner_post_fault(rb_hil_runner *r, const rb_hil_fault_command *command)
+{
+    if (!r || !command || __atomic_load_n(&r->mailbox, __ATOMIC_ACQUIRE) != 0) return 0;
+    r->command = *command;
+    __atomic_store_n(&r->mailbox, 1, __ATOMIC_RELEASE);
+    return 1;
+}
+
+int rb_hil_runner_fault_answer(rb_hil_runner *r, uint64_t *step, char *text, size_t text_size)
+{
+    if (!r || __atomic_load_n(&r->mailbox, __ATOMIC_ACQUIRE) != 2) return -1;
+    int status = r->answer_status;
+    if (step) *step = r->answer_step;
+    if (text && text_size) snprintf(text, text_size, "%s", r->answer_text);
+    __atomic_store_n(&r->mailbox, 0, __ATOMIC_RELEASE);
+    return status;
+}
+
+static int same_place(const rb_fault *a, const rb_fault *b)
+{
+    return a->kind == b->kind && a->car == b->car && a->axle == b->axle;
+}
+
+static void describe_fault(const rb_fault *f, char *text, size_t size, const char *what)
+{
+    if (f->axle < 0)
+        snprintf(text, size, "%s on car %d: %s", rb_fault_kind_name(f->kind), f->car + 1, what);
+    else
+        snprintf(text, size, "%s on car %d, axle %d: %s", rb_fault_kind_name(f->kind), f->car + 1, f->axle + 1, what);
+}
+
+static int inject_fault(rb_hil_runner *r, const rb_fault *f, char *text, size_t size)
+{
+    for (int i = 0; i < r->n_faults; ++i)
+        if (same_place(&r->fault[i], f) && r->fault[i].start_time <= r->plant.time) {
+            describe_fault(f, text, size, "already active, not injected again");
+            return RB_EINVAL;
+        }
+    if (r->n_faults >= RB_MAX_FAULTS) {
+        snprintf(text, size, "%d faults already: the plant holds at most %d", r->n_faults, RB_MAX_FAULTS);
+        return RB_EINVAL;
+    }
+    r->fault[r->n_faults] = *f;
+    r->fault[r->n_faults++].start_time = r->plant.time;   /* acts from this step on */
+    describe_fault(f, text, size, "injected");
+    return RB_OK;
+}
+
+static int clear_fault(rb_hil_runner *r, const rb_fault *f, char *text, size_t size)
+{
+    int kept = 0;
+    for (int i = 0; i < r->n_faults; ++i)
+        if (!same_place(&r->fault[i], f)) r->fault[kept++] = r->fault[i];
+    if (kept == r->n_faults) {
+        describe_fault(f, text, size, "not present, nothing cleared");
+        return RB_EINVAL;
+    }
+    r->n_faults = kept;
+    describe_fault(f, text, size, "cleared");
+    return RB_OK;
+}
+
+/* Applies a posted change before the step's plant update; p: the runner's own parameters. */
+static void take_fault_command(rb_plant_params *p, rb_hil_runner *r)
+{
+    if (__atomic_load_n(&r->mailbox, __ATOMIC_ACQUIRE) != 1) return;
+    const rb_hil_fault_command *c = &r->command;
+    rb_error err;
+    rb_fault f = c->fault;
+    f.start_time = 0.0;
+    int status;
+    if (rb_fault_check(&f, p->n_cars, "fault", &err)) {
+        snprintf(r->answer_text, sizeof r->answer_text, "%s", err.message);
+        status = RB_EINVAL;
+    } else if (c->action == RB_HIL_FAULT_INJECT) {
+        status = inject_fault(r, &f, r->answer_text, sizeof r->answer_text);
+    } else if (c->action == RB_HIL_FAULT_CLEAR) {
+        status = clear_fault(r, &f, r->answer_text, sizeof r->answer_text);
+    } else {
+        snprintf(r->answer_text, sizeof r->answer_text, "action = %d: must be %d (inject) or %d (clear)", c->action,
+                 RB_HIL_FAULT_INJECT, RB_HIL_FAULT_CLEAR);
+        status = RB_EINVAL;
+    }
+    if (status == RB_OK) {
+        p->n_faults = r->n_faults;
+        memcpy(p->fault, r->fault, sizeof p->fault);
+        log_event(r, c->action == RB_HIL_FAULT_INJECT ? RB_HIL_EVENT_FAULT_ON : RB_HIL_EVENT_FAULT_OFF,
+                  r->answer_text);
+    }
+    r->answer_status = status;
+    r->answer_step = r->step;
+    __atomic_store_n(&r->mailbox, 2, __ATOMIC_RELEASE);
+}
+
+/* ---- the live view: a seqlock the loop writes after each step */
+
+static void write_snapshot(const rb_plant_params *p, rb_hil_runner *r)
+{
+    rb_hil_snapshot *v = &r->snapshot;
+    const rb_plant_outputs *o = &r->out;
+    int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
+    __atomic_store_n(&r->snapshot_sequence, r->snapshot_sequence + 1, __ATOMIC_RELAXED);   /* odd: writing */
+    __atomic_thread_fence(__ATOMIC_RELEASE);
+    v->step = r->step;
+    v->time = o->time; v->speed = o->speed; v->position = o->position; v->main_reservoir = o->main_reservoir;
+    v->brake_demand = r->applied_demand;
+    v->safe = r->safe; v->n_cars = n; v->n_axles = na;
+    v->received = r->watchdog.received; v->lost = r->watchdog.lost; v->late = r->watchdog.late;
+    v->malformed = r->watchdog.malformed; v->foreign = r->foreign; v->forged = r->forged;
+    v->overruns = r->pacer.overruns;
+    memcpy(v->supply, o->supply, (size_t)n * sizeof *v->supply);
+    memcpy(v->pressure_demand, r->applied.pressure_demand, (size_t)n * sizeof *v->pressure_demand);
+    memcpy(v->wheel_speed, o->wheel_speed, (size_t)na * sizeof *v->wheel_speed);
+    memcpy(v->slip, o->slip, (size_t)na * sizeof *v->slip);
+    memcpy(v->cylinder, o->cylinder, (size_t)na * sizeof *v->cylinder);
+    for (int a = 0; a < na; ++a) { v->hold[a] = (uint8_t)(o->hold[a] != 0); v->vent[a] = (uint8_t)(o->vent[a] != 0); }
+    __atomic_store_n(&r->snapshot_sequence, r->snapshot_sequence + 1, __ATOMIC_RELEASE);   /* even: done */
+}
+
+int rb_hil_runner_snapshot(const rb_hil_runner *r, rb_hil_snapshot *out, int tries)
+{
+    if (!r || !out) return 0;
+    for (int i = 0; i < tries; ++i) {
+        uint32_t before = __atomic_load_n(&r->snapshot_sequence, __ATOMIC_ACQUIRE);
+        if (before & 1u) continue;
+        memcpy(out, &r->snapshot, sizeof *out);
+        __atomic_thread_fence(__ATOMIC_ACQUIRE);
+        if (__atomic_load_n(&r->snapshot_sequence, __ATOMIC_RELAXED) == before) return 1;
+    }
+    return 0;
 }
 
 /* ---- one step */
@@ -526,30 +663,36 @@ rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_confi
     size_t written = 0;
     if (!plant || !config || !r) return rb_fail(err, RB_EINVAL, "plant, config and runner must not be NULL");
     if (series && max_rows < 1) return rb_fail(err, RB_ESIZE, "max_rows = %zu: must be >= 1", max_rows);
+    rb_plant_params *p = &r->params;   /* the caller's, with this run's faults */
+    *p = *plant;
+    p->n_faults = r->n_faults;
+    memcpy(p->fault, r->fault, sizeof p->fault);
     if (!r->started) {
         if (config->paced && (s = rb_pacer_start(&r->pacer, (int64_t)(RB_HIL_DT * 1e9), err))) return s;
         r->started = 1;
-        send_frame(plant, config, r);
-        record_due(plant, r, series, max_rows, &written);
+        send_frame(p, config, r);
+        record_due(p, r, series, max_rows, &written);
         if (config->paced) rb_pacer_wait(&r->pacer);
     }
     int64_t call_start = rb_monotonic_ns();
     for (uint64_t i = 0; i < steps && !r->finished; ++i) {
         if (series && written >= max_rows) break;
         if (config->chunk_time > 0.0 && (double)(rb_monotonic_ns() - call_start) * 1e-9 >= config->chunk_time) break;
-        receive(plant, config, r);       /* frames echo at most r->step, the last step sent */
-        if (r->mismatch) break;          /* the BCU refuses this plant: nothing to wait for */
+        take_fault_command(p, r);
+        receive(p, config, r);       /* frames echo at most r->step, the last step sent */
+        if (r->mismatch) break;      /* the BCU refuses this plant: nothing to wait for */
         choose_commands(config, r);
-        check_braking(plant, r);
+        check_braking(p, r);
         double position = r->out.position;
-        rb_plant_step(plant, &r->plant, &r->applied);
+        rb_plant_step(p, &r->plant, &r->applied);
         r->step++;
-        rb_plant_get_outputs(plant, &r->plant, &r->out);
+        rb_plant_get_outputs(p, &r->plant, &r->out);
         check_stop(config, r);
-        accumulate_kpis(plant, config, r);
-        account_loss(plant, r, position);
-        if (!r->finished) send_frame(plant, config, r);
-        record_due(plant, r, series, max_rows, &written);
+        accumulate_kpis(p, config, r);
+        account_loss(p, r, position);
+        if (!r->finished) send_frame(p, config, r);
+        record_due(p, r, series, max_rows, &written);
+        write_snapshot(p, r);
         if (config->paced && !r->finished) rb_pacer_wait(&r->pacer);
     }
     if (rows) *rows = written;

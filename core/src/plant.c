@@ -64,23 +64,38 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
     return RB_OK;
 }
 
+const char *rb_fault_kind_name(int kind)
+{
+    static const char *const names[RB_FAULT_KINDS] = {
+        "hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed", "sensor_lost",
+        "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost", "car_isolated", "compressor_off"};
+    return kind >= 0 && kind < RB_FAULT_KINDS ? names[kind] : "unknown";
+}
+
+rb_status rb_fault_check(const rb_fault *f, int n_cars, const char *name, rb_error *err)
+{
+    if (f->kind < 0 || f->kind >= RB_FAULT_KINDS)
+        return rb_fail(err, RB_EINVAL, "%s.kind = %d: must be in [0, %d]", name, f->kind, RB_FAULT_KINDS - 1);
+    if (f->car < 0 || f->car >= n_cars)
+        return rb_fail(err, RB_EINVAL, "%s.car = %d: the train has cars 0..%d", name, f->car, n_cars - 1);
+    if (f->axle < -1 || f->axle >= RB_AXLES_PER_CAR)
+        return rb_fail(err, RB_EINVAL, "%s.axle = %d: must be -1 (all) or 0..%d", name, f->axle,
+                       RB_AXLES_PER_CAR - 1);
+    if (!isfinite(f->start_time) || f->start_time < 0.0)
+        return rb_fail(err, RB_EINVAL, "%s.start_time = %g: must be finite and >= 0 s", name, f->start_time);
+    if (!isfinite(f->value) || f->value < 0.0)
+        return rb_fail(err, RB_EINVAL, "%s.value = %g: must be finite and >= 0", name, f->value);
+    return RB_OK;
+}
+
 static rb_status check_faults(const rb_plant_params *p, rb_error *err)
 {
     if (p->n_faults < 0 || p->n_faults > RB_MAX_FAULTS)
         return rb_fail(err, RB_EINVAL, "n_faults = %d: must be in [0, %d]", p->n_faults, RB_MAX_FAULTS);
     for (int i = 0; i < p->n_faults; ++i) {
-        const rb_fault *f = &p->fault[i];
-        if (f->kind < 0 || f->kind >= RB_FAULT_KINDS)
-            return rb_fail(err, RB_EINVAL, "fault[%d].kind = %d: must be in [0, %d]", i, f->kind, RB_FAULT_KINDS - 1);
-        if (f->car < 0 || f->car >= p->n_cars)
-            return rb_fail(err, RB_EINVAL, "fault[%d].car = %d: the train has cars 0..%d", i, f->car, p->n_cars - 1);
-        if (f->axle < -1 || f->axle >= RB_AXLES_PER_CAR)
-            return rb_fail(err, RB_EINVAL, "fault[%d].axle = %d: must be -1 (all) or 0..%d", i, f->axle,
-                           RB_AXLES_PER_CAR - 1);
-        if (!isfinite(f->start_time) || f->start_time < 0.0)
-            return rb_fail(err, RB_EINVAL, "fault[%d].start_time = %g: must be finite and >= 0 s", i, f->start_time);
-        if (!isfinite(f->value) || f->value < 0.0)
-            return rb_fail(err, RB_EINVAL, "fault[%d].value = %g: must be finite and >= 0", i, f->value);
+        char name[24];
+        snprintf(name, sizeof name, "fault[%d]", i);
+        if (rb_fault_check(&p->fault[i], p->n_cars, name, err)) return RB_EINVAL;
     }
     return RB_OK;
 }
@@ -139,16 +154,32 @@ rb_status rb_plant_check(const rb_plant_params *p, rb_error *err)
                        RB_PLANT_KERNEL_AUTO, RB_PLANT_KERNEL_PORTABLE);
     if ((s = rb_bound_check(err, "wall_time", "wall_time", p->wall_time))) return s;
     if ((s = rb_plant_train_check(p, err))) return s;
+    if ((s = rb_rail_check(p, err))) return s;
     return check_faults(p, err);
 }
 
-/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning. */
-static rb_polach_params condition_at_axle(const rb_plant_condition *c, int axle)
+/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning (by
+ * axle index, or by the rail cell the axle stands on). */
+static rb_polach_params condition_at_axle(const rb_plant_params *p, const rb_plant_state *s, int condition, int axle)
 {
+    const rb_plant_condition *c = &p->condition[condition];
     rb_polach_params q = c->polach;
     if (c->recovery_axles > 0.0)
         q.mu0 *= rb_conditioning_factor((double)axle, c->leading_factor, c->recovery_axles);
+    if (c->reference_energy > 0.0)
+        q.mu0 *= rb_rail_factor(p, s, axle, c->leading_factor);
     return q;
+}
+
+void rb_plant_set_axle_adhesion(rb_plant_state *s, int axle, const rb_polach_params *q)
+{
+    rb_plant_derived *d = &s->derived;
+    s->polach[axle] = *q;
+    d->mu_static[axle] = q->mu0 * q->A;
+    d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
+    d->polach_B[axle] = q->B;
+    d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
+    d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
 }
 
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x)
@@ -158,16 +189,16 @@ int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, 
         if (x >= p->zone[z].x_start && x < p->zone[z].x_end) condition = p->zone[z].condition;
     if (condition != s->zone_of[axle]) {
         s->zone_of[axle] = condition;
-        s->polach[axle] = condition_at_axle(&p->condition[condition], axle);
-        rb_plant_derived *d = &s->derived;
-        const rb_polach_params *q = &s->polach[axle];
-        d->mu_static[axle] = q->mu0 * q->A;
-        d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
-        d->polach_B[axle] = q->B;
-        d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
-        d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
+        rb_polach_params q = condition_at_axle(p, s, condition, axle);
+        rb_plant_set_axle_adhesion(s, axle, &q);
     }
     return condition;
+}
+
+void rb_plant_condition_axle(const rb_plant_params *p, rb_plant_state *s, int axle)
+{
+    rb_polach_params q = condition_at_axle(p, s, s->zone_of[axle], axle);
+    rb_plant_set_axle_adhesion(s, axle, &q);
 }
 
 /* Number of links of car c's MR pipe node (the stiff-link limit divides by it). */
@@ -327,6 +358,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
     derive_air(p, &s->derived);
     derive_mechanics(p, &s->derived);
     s->kernel = rb_plant_resolve_kernel(p->kernel);
+    rb_rail_init(p, s);   /* before the axles take their adhesion from it */
     double rt = 287.05 * p->temperature;
     double pos = 0.0;
     s->m_mr = p->initial_pressure * p->main_reservoir_volume / rt;

@@ -176,6 +176,23 @@ int rb_plant_resolve_kernel(int requested);
 
 /* Zone (condition index) of axle `axle` at track position x; refreshes its cached Polach set. */
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x);
+/* Sets axle's Polach parameters and the wheelset kernel's constants derived from them. */
+void rb_plant_set_axle_adhesion(rb_plant_state *s, int axle, const rb_polach_params *q);
+/* Derives axle's Polach parameters again from its condition (zone_of) and conditioning. */
+void rb_plant_condition_axle(const rb_plant_params *p, rb_plant_state *s, int axle);
+
+/* ---- rail conditioning by dissipated energy (rail_conditioning.c) */
+/* Checks each condition's reference_energy and, where one is > 0, rail_cell_length against the
+ * ring's size. */
+rb_status rb_rail_check(const rb_plant_params *p, rb_error *err);
+/* The rail as laid under and ahead of the train (every cell contaminated). */
+void rb_rail_init(const rb_plant_params *p, rb_plant_state *s);
+/* mu0 factor of the cell under axle: 1 - (1 - leading_factor) x its contamination. */
+double rb_rail_factor(const rb_plant_params *p, const rb_plant_state *s, int axle, double leading_factor);
+/* After a mechanics step of dt: each axle's friction energy of the step cleans its cell, the
+ * sanders that are on sand the cells ahead of their axles, then each axle on a conditioned
+ * condition takes the adhesion of its cell. Nothing without conditioning. */
+void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in, double dt);
 
 /* Faults in force at a time, per axle and per car. */
 typedef struct {

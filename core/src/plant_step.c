@@ -559,6 +559,7 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
         if (s->v[c] < 0.0) s->v[c] = 0.0;   /* brakes hold a stopped train */
         s->x[c] += dt * s->v[c];
     }
+    if (s->rail_active) rb_rail_step(p, s, in, dt);
 }
 
 /* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */

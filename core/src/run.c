@@ -61,7 +61,15 @@ rb_status rb_run_check_scenario(const rb_scenario *sc, rb_error *err)
     if ((s = rb_check_range(err, "max_time", sc->max_time, 0.0, 3600.0))) return s;
     if ((s = rb_check_nonnegative(err, "stop_speed", sc->stop_speed))) return s;
     if ((s = rb_check_positive(err, "record_interval", sc->record_interval))) return s;
-    return rb_check_positive(err, "adhesion_interval", sc->adhesion_interval);
+    if ((s = rb_check_positive(err, "adhesion_interval", sc->adhesion_interval))) return s;
+    if (sc->n_speed_marks < 0 || sc->n_speed_marks > RB_MAX_SPEED_MARKS)
+        return rb_fail(err, RB_EINVAL, "n_speed_marks = %d: must be in [0, %d]", sc->n_speed_marks, RB_MAX_SPEED_MARKS);
+    for (int i = 0; i < sc->n_speed_marks; ++i) {
+        if ((s = rb_check_nonnegative(err, "speed_mark", sc->speed_mark[i]))) return s;
+        if (i > 0 && !(sc->speed_mark[i] < sc->speed_mark[i - 1]))
+            return rb_fail(err, RB_EINVAL, "speed_mark[%d] = %g m/s: the marks must decrease", i, sc->speed_mark[i]);
+    }
+    return RB_OK;
 }
 
 rb_status rb_run_init(const rb_plant_params *plant, const rb_bcu_params *bcu, const rb_wsp_params *wsp,
@@ -203,6 +211,24 @@ static inline int accumulate_axles(const rb_plant_params *p, rb_run_state *r)
     return (int)events;
 }
 
+/* The speed marks the train passed in this step, each placed linearly between the last step's
+ * speed and this one's (the step is 1 ms: the error is a fraction of a millimetre). */
+static void pass_marks(const rb_scenario *sc, rb_run_state *r)
+{
+    const rb_plant_outputs *o = &r->out;
+    while (r->marks_passed < sc->n_speed_marks && o->speed <= sc->speed_mark[r->marks_passed]) {
+        int i = r->marks_passed++;
+        double drop = r->last_speed - o->speed, above = r->last_speed - sc->speed_mark[i];
+        /* a mark at or above the last speed (the speed at the demand): passed then */
+        double f = above <= 0.0 ? 0.0 : above / drop;
+        r->mark_time[i] = r->last_time + f * (o->time - r->last_time);
+        r->mark_position[i] = r->last_position + f * (o->position - r->last_position);
+    }
+    r->last_time = o->time;
+    r->last_speed = o->speed;
+    r->last_position = o->position;
+}
+
 /* KPI accumulation after one step: air supply minima and the hottest disc always; while
  * braking, the supply margin, the axles and the sampled available adhesion. */
 static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, rb_run_state *r)
@@ -214,6 +240,7 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
     for (int a = 0; a < n_axles; ++a)
         r->axle_max_disc_temperature[a] = larger(o->disc_temperature[a], r->axle_max_disc_temperature[a]);
     if (!r->braking) return;   /* before braking every shortfall, slip and lock is 0 */
+    pass_marks(sc, r);
     for (int c = 0; c < p->n_cars; ++c) {
         double demand = r->in.pressure_demand[c], margin = o->supply[c] - demand;
         r->car_min_supply_margin[c] = demand > p->atmosphere ? smaller(margin, r->car_min_supply_margin[c])
@@ -276,6 +303,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
             r->brake_position = r->out.position;
             r->brake_speed = r->out.speed;
             r->next_adhesion = r->out.time;
+            r->last_time = r->out.time, r->last_speed = r->out.speed, r->last_position = r->out.position;
         }
         if (rb_bcu_update(bcu, &r->bcu, &d, &r->out)) r->in = r->bcu.command;   /* held between cycles */
         rb_plant_step(plant, &r->plant, &r->in);
@@ -353,6 +381,11 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
             worst_locks = r->axle_locks[a];
             worst_slip = r->axle_max_slip[a];
         }
+    }
+    for (int i = 0; i < RB_MAX_SPEED_MARKS; ++i) {
+        int passed = i < r->marks_passed;
+        k->mark_time_s[i] = passed ? r->mark_time[i] - r->brake_time : -1.0;
+        k->mark_distance_m[i] = passed ? r->mark_position[i] - r->brake_position : -1.0;
     }
     k->min_supply_margin = min_margin == HUGE_VAL ? 0.0 : min_margin;
 }

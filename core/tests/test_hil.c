@@ -18,7 +18,7 @@ static rb_hil_config config;
 static rb_hil_runner runner;
 static rb_hil_bcu server;
 static rb_run_state mil;
-static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
 #define SESSION 0x5e55104du
 #define NONCE 0x0123456789abcdefULL
 static const uint8_t SECRET[RB_HIL_KEY_SIZE] = {0x52, 0x42, 0x52, 0x4b, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
@@ -723,8 +723,75 @@ static void test_flood(void)
     rb_udp_close(&peer);
 }
 
+/* Posts a fault change and runs one step: the loop applies it at that step's start and answers. */
+static int change_fault(int action, int kind, int car, int axle, char *text)
+{
+    rb_hil_fault_command c;
+    memset(&c, 0, sizeof c);
+    c.action = action;
+    c.fault.kind = kind; c.fault.car = car; c.fault.axle = axle;
+    uint64_t step = 0, before = runner.step;
+    CHECK(rb_hil_runner_post_fault(&runner, &c) == 1);
+    CHECK(rb_hil_runner_post_fault(&runner, &c) == 0);              /* one change at a time */
+    CHECK(rb_hil_runner_fault_answer(&runner, &step, text, RB_ERROR_MESSAGE_SIZE) == -1);   /* not applied yet */
+    step_runner(1);
+    int status = rb_hil_runner_fault_answer(&runner, &step, text, RB_ERROR_MESSAGE_SIZE);
+    CHECK(step == before);
+    CHECK(rb_hil_runner_fault_answer(&runner, &step, text, RB_ERROR_MESSAGE_SIZE) == -1);   /* fetched once */
+    return status;
+}
+
+/* A vent valve stuck open injected while the plant runs vents its cylinder below its neighbour's
+ * (the safe state holds every other valve de-energised); cleared, the valve follows its command
+ * again and the cylinder refills. Bad changes are refused and change nothing. */
+static void test_faults_at_run_time(void)
+{
+    char text[RB_ERROR_MESSAGE_SIZE];
+    setup(2, 50.0);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", 9, &runner, NULL) == RB_OK);
+    step_runner(1000);   /* the cylinders fill to the emergency demand */
+    double filled = runner.out.cylinder[1];
+    CHECK(filled > plant.atmosphere + 1e5 && runner.out.vent[1] == 0);
+    uint64_t events = runner.events;
+    CHECK(change_fault(RB_HIL_FAULT_INJECT, RB_FAULT_VENT_STUCK_OPEN, 0, 1, text) == RB_OK);
+    CHECK(strstr(text, "vent_stuck_open on car 1, axle 2: injected") != NULL);
+    CHECK(runner.events == events + 1 && runner.log[events % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_FAULT_ON);
+    CHECK(runner.out.vent[1] == 1 && runner.out.vent[0] == 0);
+    rb_hil_snapshot view;   /* the live view holds what the step gave */
+    CHECK(rb_hil_runner_snapshot(&runner, &view, 10) == 1);
+    CHECK(view.step == runner.step && view.time == runner.out.time && view.speed == runner.out.speed);
+    CHECK(view.vent[1] == 1 && view.vent[0] == 0 && view.cylinder[1] == runner.out.cylinder[1] && view.safe == 1);
+    CHECK(view.n_cars == 2 && view.n_axles == 8 && view.pressure_demand[0] == runner.applied.pressure_demand[0]);
+    runner.snapshot_sequence |= 1u;   /* a write in progress: no copy is handed out */
+    CHECK(rb_hil_runner_snapshot(&runner, &view, 10) == 0);
+    runner.snapshot_sequence++;
+    step_runner(500);
+    CHECK(runner.out.vent[1] == 1);
+    /* the open hold valve feeds what the vent drains: the cylinder settles between the two */
+    CHECK(runner.out.cylinder[1] < runner.out.cylinder[0] - 0.2 * (filled - plant.atmosphere));
+    /* refused: injected twice, cleared where absent, a car the train lacks, an unknown action */
+    CHECK(change_fault(RB_HIL_FAULT_INJECT, RB_FAULT_VENT_STUCK_OPEN, 0, 1, text) == RB_EINVAL);
+    CHECK(strstr(text, "already active") != NULL);
+    CHECK(change_fault(RB_HIL_FAULT_CLEAR, RB_FAULT_VENT_STUCK_OPEN, 0, 2, text) == RB_EINVAL);
+    CHECK(strstr(text, "not present") != NULL);
+    CHECK(change_fault(RB_HIL_FAULT_INJECT, RB_FAULT_HOLD_STUCK_OPEN, 2, 0, text) == RB_EINVAL);
+    CHECK(strstr(text, "fault.car = 2") != NULL);
+    CHECK(change_fault(7, RB_FAULT_HOLD_STUCK_OPEN, 0, 0, text) == RB_EINVAL);
+    CHECK(strstr(text, "action = 7") != NULL);
+    CHECK(runner.n_faults == 1 && runner.events == events + 1);
+    double vented = runner.out.cylinder[1];
+    CHECK(change_fault(RB_HIL_FAULT_CLEAR, RB_FAULT_VENT_STUCK_OPEN, 0, 1, text) == RB_OK);
+    CHECK(strstr(text, "cleared") != NULL && runner.n_faults == 0);
+    CHECK(runner.log[(events + 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_FAULT_OFF);
+    step_runner(1000);
+    CHECK(runner.out.vent[1] == 0);
+    CHECK(runner.out.cylinder[1] > vented + 0.5 * (filled - vented));
+    rb_hil_runner_close(&runner);
+}
+
 int main(void)
 {
+    test_faults_at_run_time();
     test_safe_state();
     test_loop_matches_mil();
     test_hostile_frames();

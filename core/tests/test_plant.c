@@ -70,7 +70,7 @@ static void test_emergency_stop(void)
     static rb_plant_params p;
     static rb_bcu_params b;
     static rb_run_state r;
-    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
     rb_kpis k;
     int finished = 0;
     fill_plant(&p, 8, 250 / 3.6);

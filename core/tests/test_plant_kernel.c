@@ -14,13 +14,13 @@ static void run_stop(int kernel, int wsp, rb_run_state *r, rb_kpis *k, char *nam
 {
     static rb_plant_params p;
     static rb_bcu_params b;
-    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
     int finished = 0;
     fill_plant(&p, 4, 250 / 3.6);
     p.kernel = kernel;
     p.n_conditions = 2;   /* wet (Polach) with a low-adhesion zone */
-    p.condition[0] = (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0};
-    p.condition[1] = (rb_plant_condition){{0.12, 0.40, 0.20, 0.2, 0.05}, 0.6, 4.0};
+    p.condition[0] = (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0, 0.0};
+    p.condition[1] = (rb_plant_condition){{0.12, 0.40, 0.20, 0.2, 0.05}, 0.6, 4.0, 0.0};
     p.n_zones = 1;
     p.zone[0] = (rb_track_zone){300.0, 900.0, 1};
     memset(&b, 0, sizeof b);
@@ -249,8 +249,8 @@ static void test_polach(void)
     fill_plant(&p, 1, 50.0);
     p.n_conditions = 1;
     for (int set = 0; set < 2; ++set) {
-        p.condition[0] = set ? (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0}
-                             : (rb_plant_condition){{0.55, 0.40, 0.60, 0.4, 0.2}, 1.0, 0.0};
+        p.condition[0] = set ? (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0, 0.0}
+                             : (rb_plant_condition){{0.55, 0.40, 0.60, 0.4, 0.2}, 1.0, 0.0, 0.0};
         CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
         double wheel_load = 0.5 * p.car[0].vehicle.wheelset.axle_load * 9.80665;
         for (int axle = 0; axle < RB_AXLES_PER_CAR; ++axle)

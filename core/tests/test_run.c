@@ -15,7 +15,7 @@ static double followed_against_full(rb_plant_params *p, double stop_time_limit)
 {
     static rb_run_state r;   /* large: off the stack */
     rb_bcu_params b;
-    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, stop_time_limit, 0.05, 1e9, 0.1};
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, stop_time_limit, 0.05, 1e9, 0.1, 0, {0}};
     int finished = 0;
     memset(&b, 0, sizeof b);
     b.n_cars = p->n_cars; b.cycle = 0.01; b.atmosphere = p->atmosphere;
@@ -45,7 +45,7 @@ static void test_conditioned_rail_with_a_zone(void)
     fill_plant(&p, 4, 300 / 3.6);
     p.n_conditions = 2;
     p.condition[1] = p.condition[0];   /* the fixture's: Polach dry */
-    p.condition[0] = (rb_plant_condition){{0.126, 0.126, 1.37, 0.30, 0.10}, 0.2, 8.7};
+    p.condition[0] = (rb_plant_condition){{0.126, 0.126, 1.37, 0.30, 0.10}, 0.2, 8.7, 0.0};
     p.n_zones = 1;
     p.zone[0] = (rb_track_zone){1500.0, 2500.0, 1};
     double difference = followed_against_full(&p, 400.0);
@@ -62,7 +62,7 @@ static void test_second_branch(void)
 {
     static rb_plant_params p;
     fill_plant(&p, 1, 120 / 3.6);
-    p.condition[0] = (rb_plant_condition){{0.460578, 0.172817, 1.21811, 0.445929, 0.105872}, 1.0, 0.0};
+    p.condition[0] = (rb_plant_condition){{0.460578, 0.172817, 1.21811, 0.445929, 0.105872}, 1.0, 0.0, 0.0};
     double difference = followed_against_full(&p, 400.0);
     printf("second branch: followed peaks against full searches %.2e\n", difference);
     CHECK(difference <= 1e-10);
@@ -76,7 +76,7 @@ static void test_bench_replays_the_run(void)
     static rb_run_state r, replayed;
     static rb_plant_inputs trace[40000];
     rb_bcu_params b;
-    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 30.0, 0.05, 1e9, 0.1};
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 30.0, 0.05, 1e9, 0.1, 0, {0}};
     rb_run_bench_result result;
     rb_error err;
     fill_plant(&p, 2, 120 / 3.6);
@@ -117,7 +117,7 @@ static void test_batch_runs_each_variant(void)
         b[i].n_cars = 1; b[i].cycle = 0.01; b[i].atmosphere = p[i].atmosphere;
         b[i].service_decel = 1.0; b[i].emergency_decel = 1.2; b[i].wsp_enabled = 1;
         rb_bcu_pressure_map(&p[i], p[i].atmosphere + 3.8e5, &b[i]);
-        sc[i] = (rb_scenario){1, {0.0}, {0.0}, {1.0}, 120.0, 0.05, 1e9, 0.1};
+        sc[i] = (rb_scenario){1, {0.0}, {0.0}, {1.0}, 120.0, 0.05, 1e9, 0.1, 0, {0}};
     }
     sc[1].max_time = -1.0;   /* refused */
     CHECK(rb_run_batch(3, p, b, NULL, sc, &r, k, status, errors, &err) == RB_OK);
@@ -134,8 +134,52 @@ static void test_batch_runs_each_variant(void)
     CHECK(rb_run_batch(RB_MAX_BATCH + 1, p, b, NULL, sc, &r, k, status, errors, &err) == RB_EINVAL);
 }
 
+/* Speed marks: each is noted in the step where the speed fell to it (between that step's and the
+ * previous step's position and time); a mark above the speed at the demand is passed at once, one
+ * below the stop speed never; marks that do not decrease are refused. */
+static void test_speed_marks(void)
+{
+    static rb_plant_params p;
+    static rb_run_state r;
+    rb_bcu_params b;
+    rb_kpis k;
+    rb_error err;
+    const double marks[4] = {120 / 3.6, 80 / 3.6, 40 / 3.6, 0.01};
+    double before[4][2], after[4][2];
+    int finished = 0, next = 0;
+    fill_plant(&p, 1, 100 / 3.6);
+    memset(&b, 0, sizeof b);
+    b.n_cars = 1; b.cycle = 0.01; b.atmosphere = p.atmosphere;
+    b.service_decel = 1.0; b.emergency_decel = 1.2; b.wsp_enabled = 1;
+    rb_bcu_pressure_map(&p, p.atmosphere + 3.8e5, &b);
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 120.0, 0.05, 1e9, 0.1, 4, {0}};
+    memcpy(sc.speed_mark, marks, sizeof marks);
+    CHECK(rb_run_init(&p, &b, NULL, &sc, &r, NULL) == RB_OK);
+    while (!finished) {
+        double x = r.out.position, t = r.out.time;
+        CHECK(rb_run_advance(&p, &b, &sc, &r, r.out.time + 0.5e-3, NULL, 0, &finished, NULL) == RB_OK);
+        for (; next < 3 && r.out.speed <= marks[next]; ++next) {
+            before[next][0] = next == 0 ? 0.0 : x, before[next][1] = next == 0 ? 0.0 : t;
+            after[next][0] = next == 0 ? 0.0 : r.out.position, after[next][1] = next == 0 ? 0.0 : r.out.time;
+        }
+    }
+    rb_run_kpis(&p, &r, &k);
+    CHECK(next == 3 && k.mark_distance_m[0] == 0.0 && k.mark_time_s[0] == 0.0);
+    for (int i = 1; i < 3; ++i) {
+        CHECK(before[i][0] <= k.mark_distance_m[i] && k.mark_distance_m[i] <= after[i][0]);
+        CHECK(before[i][1] <= k.mark_time_s[i] && k.mark_time_s[i] <= after[i][1]);
+    }
+    CHECK(k.mark_distance_m[1] < k.mark_distance_m[2] && k.mark_distance_m[2] < k.stopping_distance_m);
+    CHECK(k.mark_time_s[3] == -1.0 && k.mark_distance_m[3] == -1.0);   /* below the stop speed */
+    sc.speed_mark[2] = sc.speed_mark[1];
+    CHECK(rb_run_init(&p, &b, NULL, &sc, &r, &err) == RB_EINVAL && strstr(err.message, "speed_mark[2]"));
+    sc.n_speed_marks = RB_MAX_SPEED_MARKS + 1;
+    CHECK(rb_run_init(&p, &b, NULL, &sc, &r, &err) == RB_EINVAL && strstr(err.message, "n_speed_marks"));
+}
+
 int main(void)
 {
+    test_speed_marks();
     test_batch_runs_each_variant();
     test_conditioned_rail_with_a_zone();
     test_second_branch();

@@ -11,7 +11,7 @@ static rb_plant_params plant;
 static rb_bcu_params bcu;
 static rb_wsp_params wsp;
 static rb_run_state run;
-static const rb_scenario emergency = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1};
+static const rb_scenario emergency = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
 
 static void start(void)
 {

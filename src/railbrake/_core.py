@@ -255,7 +255,9 @@ MAX_CONDITIONS = 4
 MAX_ZONES = 8
 MAX_FAULTS = 16
 MAX_DEMAND_STEPS = 16
+MAX_SPEED_MARKS = 16   # RB_MAX_SPEED_MARKS
 MAX_GRADIENTS = 16
+MAX_SANDERS = 8
 
 
 def _doubles(*names):
@@ -276,7 +278,7 @@ class PlantCar(Structure):
 
 
 class PlantCondition(Structure):
-    _fields_ = [("polach", PolachParamsC)] + _doubles("leading_factor", "recovery_axles")
+    _fields_ = [("polach", PolachParamsC)] + _doubles("leading_factor", "recovery_axles", "reference_energy")
 
 
 class TrackZone(Structure):
@@ -307,7 +309,10 @@ class PlantParams(Structure):
                    ("compressor_delivery", c_double * MAX_COMPRESSORS),
                    ("n_gradients", c_int), ("gradient_start", c_double * MAX_GRADIENTS),
                    ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)]
-                + [("wall_time", c_double)])
+                + [("wall_time", c_double), ("rail_cell_length", c_double)]
+                + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
+                   ("sander_rate", c_double * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
+                   ("sand_reference", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.
@@ -317,7 +322,7 @@ KERNELS = {"auto": 0, "portable": 1}
 class WspInputs(Structure):
     _fields_ = (_doubles("time", "cycle") + [("n_axles", c_int)]
                 + [(n, c_double * PLANT_MAX_AXLES) for n in ("wheel_speed", "cylinder", "demand")]
-                + [("atmosphere", c_double)])
+                + [("atmosphere", c_double), ("body_decel", c_double)])
 
 
 class WspCommands(Structure):
@@ -331,7 +336,8 @@ class WspParams(Structure):
     _fields_ = _doubles("ref_decel_max", "ref_accel_max", "speed_threshold", "slip_threshold",
                         "decel_threshold", "reaccel_threshold", "release_fraction", "reapply_on",
                         "reapply_off", "reapply_time", "filter_time",
-                        "safety_time", "min_speed")
+                        "safety_time", "min_speed") + [("controller", c_int)] + _doubles(
+        "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release")
 
 
 class BcuParams(Structure):
@@ -353,7 +359,8 @@ class Scenario(Structure):
     _fields_ = ([("n_demand", c_int)]
                 + [(n, c_double * MAX_DEMAND_STEPS) for n in ("demand_time", "demand_service",
                                                               "demand_emergency")]
-                + _doubles("max_time", "stop_speed", "record_interval", "adhesion_interval"))
+                + _doubles("max_time", "stop_speed", "record_interval", "adhesion_interval")
+                + [("n_speed_marks", c_int), ("speed_mark", c_double * MAX_SPEED_MARKS)])
 
 
 KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max_slip",
@@ -365,7 +372,8 @@ SHORTFALL_PA = 0.2e5  # RB_SHORTFALL_PA
 
 
 class Kpis(Structure):
-    _fields_ = _doubles(*KPI_NAMES)
+    _fields_ = _doubles(*KPI_NAMES) + [("mark_time_s", c_double * MAX_SPEED_MARKS),
+                                       ("mark_distance_m", c_double * MAX_SPEED_MARKS)]
 
 
 rb_plant_params_size = _declare("rb_plant_params_size", c_size_t)
@@ -566,7 +574,9 @@ FRAME_MAX_CARS = 16
 FRAME_MAX_AXLES = 64
 HIL_LOG_TEXT = 120
 HIL_EVENT_KINDS = ("malformed", "late", "lost", "safe_on", "safe_off", "foreign", "mismatch", "forged", "keyed",
-                   "order")
+                   "order", "fault_on", "fault_off")
+HIL_FAULT_INJECT, HIL_FAULT_CLEAR = 1, 2
+ERROR_MESSAGE_SIZE = _ERROR_MESSAGE_SIZE
 HIL_KEY_SIZE = 16
 RT_MEMORY_LOCKED = 1
 RT_FIFO_PRIORITY = 2
@@ -653,6 +663,15 @@ rb_hil_runner_kpis = _declare("rb_hil_runner_kpis", None, POINTER(PlantParams), 
 rb_hil_runner_result = _declare("rb_hil_runner_result", None, c_void_p, POINTER(HilResult))
 rb_hil_runner_event = _declare("rb_hil_runner_event", c_int, c_void_p, c_uint64, POINTER(HilEvent))
 rb_hil_runner_close = _declare("rb_hil_runner_close", None, c_void_p)
+
+
+class HilFaultCommand(Structure):
+    _fields_ = [("action", c_int), ("fault", Fault)]
+
+
+rb_hil_runner_post_fault = _declare("rb_hil_runner_post_fault", c_int, c_void_p, POINTER(HilFaultCommand))
+rb_hil_runner_fault_answer = _declare("rb_hil_runner_fault_answer", c_int, c_void_p, POINTER(c_uint64), c_char_p,
+                                      c_size_t)
 rb_hil_runner_port = _declare("rb_hil_runner_port", c_int, c_void_p)
 rb_hil_channel_count = _declare("rb_hil_channel_count", c_int, c_int)
 rb_hil_channel_info = _declare("rb_hil_channel_info", c_int, c_int, c_int, c_char_p, c_size_t, c_char_p,
@@ -670,8 +689,22 @@ HIL_BCU_COUNTERS = ("received", "malformed", "stale", "sent", "send_errors", "cy
                     "challenges")
 rb_hil_bcu_counters = _declare("rb_hil_bcu_counters", None, c_void_p, c_uint64 * len(HIL_BCU_COUNTERS))
 
+HIL_SNAPSHOT_COUNTERS = ("received", "lost", "late", "malformed", "foreign", "forged", "overruns")
+
+
+class HilSnapshot(Structure):
+    _fields_ = ([("step", c_uint64)] + _doubles("time", "speed", "position", "main_reservoir", "brake_demand")
+                + [("safe", c_int), ("n_cars", c_int), ("n_axles", c_int)]
+                + [(n, c_uint64) for n in HIL_SNAPSHOT_COUNTERS]
+                + [(n, c_double * PLANT_MAX_CARS) for n in ("supply", "pressure_demand")]
+                + [(n, c_double * PLANT_MAX_AXLES) for n in ("wheel_speed", "slip", "cylinder")]
+                + [(n, c_uint8 * PLANT_MAX_AXLES) for n in ("hold", "vent")])
+
+
+rb_hil_runner_snapshot = _declare("rb_hil_runner_snapshot", c_int, c_void_p, POINTER(HilSnapshot), c_int)
+
 for _struct, _size in ((HilConfig, "rb_hil_config_size"), (HilResult, "rb_hil_result_size"),
-                       (HilEvent, "rb_hil_event_size")):
+                       (HilEvent, "rb_hil_event_size"), (HilSnapshot, "rb_hil_snapshot_size")):
     if ctypes.sizeof(_struct) != _declare(_size, c_size_t)():
         raise ImportError(f"{_size[:-5]}: ctypes size {ctypes.sizeof(_struct)} differs from the C core's; "
                           "src/railbrake/_core.py is out of date")

@@ -106,6 +106,10 @@ Q_SCENARIO_MAX_TIME = _quantity("time", "scenario.max_time")
 Q_SCENARIO_RECORD_INTERVAL = _quantity("time", "scenario.record_interval")
 Q_WSP_SAFETY_TIME = _quantity("time", "wsp.safety_time")
 Q_WSP_SLIP_THRESHOLD = _bounded("wsp.slip_threshold")
+Q_WSP_SETPOINT_SPEED = _quantity("speed", "wsp.setpoint_speed")
+Q_WSP_SETPOINT_SLIP = _bounded("wsp.setpoint_slip")
+Q_WSP_SETPOINT_BAND = _bounded("wsp.setpoint_band")
+Q_WSP_LEAD_TIME = _quantity("time", "wsp.lead_time")
 Position = Q_SCENARIO_TRACK_POSITION   # along the track, the front at 0 m at t = 0
 EventTime = Q_SCENARIO_EVENT_TIME
 
@@ -161,6 +165,10 @@ class Zone(_Strict):
 class Adhesion(_Strict):
     condition: str = "dry-medium"
     zones: list[Zone] = Field(default_factory=list, max_length=8)
+    # how a condition's rail conditioning acts in the plant: "axles", the fixed factor by axle
+    # index, or "cells", the rail under the train cleaned cell by cell by the energy each axle
+    # dissipates (where the condition's file gives conditioning.cells; core/src/rail_conditioning.c)
+    rail_conditioning: Literal["axles", "cells"] = "axles"
 
 
 class WspSettings(_Strict):
@@ -174,6 +182,13 @@ class WspSettings(_Strict):
     ref_decel_max: Q_WSP_REF_DECEL_MAX | None = None
     safety_time: Q_WSP_SAFETY_TIME | None = None
     cycle: Q_BCU_CYCLE = 0.01
+    # the controller (core/src/wsp_controllers.c): the threshold state machine or the slip
+    # set-point controller, with the latter's overrides of its C defaults
+    controller: Literal["threshold", "slip_setpoint"] = "threshold"
+    setpoint_speed: Q_WSP_SETPOINT_SPEED | None = None
+    setpoint_slip: Q_WSP_SETPOINT_SLIP | None = None
+    setpoint_band: Q_WSP_SETPOINT_BAND | None = None
+    lead_time: Q_WSP_LEAD_TIME | None = None
 
 
 FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
@@ -188,6 +203,34 @@ class FaultSpec(_Strict):
     start: EventTime = 0.0
     noise: Q_SCENARIO_FAULT_NOISE | None = None         # sensor_noisy only
     leak_area: Q_SCENARIO_FAULT_LEAK_AREA | None = None  # cylinder_leak only
+
+
+# the parameter each fault kind reads (rb_plant.h, rb_fault_kind); every other is refused
+FAULT_VALUE = {"sensor_noisy": "noise", "cylinder_leak": "leak_area"}
+CAR_FAULTS = ("ep_valve_failed", "ed_lost", "car_isolated", "compressor_off")   # no axle
+
+
+def fault_problem(fault: FaultSpec, needs_value: bool = True) -> tuple[str, str] | None:
+    """(key, what is wrong after the key's location) for a fault whose fields do not fit its kind,
+    else None. needs_value=False: the fault is named only (to be cleared), a value is refused."""
+    needed = FAULT_VALUE.get(fault.type) if needs_value else None
+    for key in ("noise", "leak_area"):
+        if getattr(fault, key) is not None and key != needed:
+            why = (f"only {'a sensor_noisy' if key == 'noise' else 'a cylinder_leak'} fault does" if needs_value
+                   else "a fault cleared is named by type, car and axle only")
+            return key, f": a {fault.type} fault does not use {key} ({why}): remove it"
+    if needed and getattr(fault, needed) is None:
+        return "type", f": a {fault.type} fault needs {needed}"
+    if fault.type == "compressor_off":
+        if fault.car is not None:
+            return "car", (f" = {fault.car}: a compressor_off fault stops every compressor of the train (one "
+                           "compressor failing alone is not modelled): remove car")
+    elif fault.car is None:
+        return "type", f": a {fault.type} fault needs car (1-based)"
+    if fault.axle is not None and fault.type in CAR_FAULTS:
+        return "axle", (f" = {fault.axle}: a {fault.type} fault acts on the whole car (or train), not on one "
+                        "axle: remove axle")
+    return None
 
 
 class Stop(_Strict):
@@ -353,31 +396,12 @@ class Scenario:
                              "and service: 0): the run would measure no braking; give emergency: true or "
                              "service in (0, 1], or coast: true if a run without braking is meant")
 
-    # the parameter each fault kind reads (rb_plant.h, rb_fault_kind); every other is refused
-    _FAULT_VALUE = {"sensor_noisy": "noise", "cylinder_leak": "leak_area"}
-    _CAR_FAULTS = ("ep_valve_failed", "ed_lost", "car_isolated", "compressor_off")   # no axle
-
     def _check_faults(self) -> None:
         spec = self.spec
         for i, fault in enumerate(spec.faults):
-            needed = self._FAULT_VALUE.get(fault.type)
-            for key in ("noise", "leak_area"):
-                if getattr(fault, key) is not None and key != needed:
-                    raise InputError(f"{self.where('faults', i, key)}: a {fault.type} fault does not use {key} "
-                                     f"(only {'a sensor_noisy' if key == 'noise' else 'a cylinder_leak'} fault "
-                                     "does): remove it")
-            if needed and getattr(fault, needed) is None:
-                raise InputError(f"{self.where('faults', i, 'type')}: a {fault.type} fault needs {needed}")
-            if fault.type == "compressor_off":
-                if fault.car is not None:
-                    raise InputError(f"{self.where('faults', i, 'car')} = {fault.car}: a compressor_off fault stops "
-                                     "every compressor of the train (one compressor failing alone is not "
-                                     "modelled): remove car")
-            elif fault.car is None:
-                raise InputError(f"{self.where('faults', i, 'type')}: a {fault.type} fault needs car (1-based)")
-            if fault.axle is not None and fault.type in self._CAR_FAULTS:
-                raise InputError(f"{self.where('faults', i, 'axle')} = {fault.axle}: a {fault.type} fault acts on "
-                                 "the whole car (or train), not on one axle: remove axle")
+            problem = fault_problem(fault)
+            if problem is not None:
+                raise InputError(f"{self.where('faults', i, problem[0])}{problem[1]}")
             if fault.start >= spec.stop.max_time:
                 raise InputError(f"{self.where('faults', i, 'start')} = {self._as_written('faults', i, 'start')}: "
                                  f"at or after stop.max_time = {spec.stop.max_time:g} s, so never applied")

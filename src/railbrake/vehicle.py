@@ -319,6 +319,22 @@ class _CarType(_Strict):
         return self
 
 
+class _Sander(_Strict):
+    car: int = Field(ge=1, le=_core.MAX_CARS)            # 1-based position in the train
+    axle: int = Field(ge=1, le=4)                       # 1-based within the car: sand falls in front of it
+    rate_kg_min: float = Field(gt=0.0, le=60.0)         # fixed sand rate of the sander (both rails)
+    trigger: Literal["driver", "wsp"] = "wsp"           # driver: from start_s on; wsp: while a WSP valve acts
+    start_s: float = Field(default=0.0, ge=0.0, le=3600.0)
+
+
+class _Sanders(_Strict):
+    """Sanders, a conditioning source of the rail cells (core/src/rail_conditioning.c): they act in
+    runs whose adhesion condition cleans the rail cell by cell (scenario rail_conditioning: cells)."""
+    units: list[_Sander] = Field(min_length=1, max_length=_core.MAX_SANDERS)
+    sand_reference_kg_m: float = Field(gt=0.0, le=10.0)  # sand per metre of track that removes 63 % of the contamination
+    source: str
+
+
 class _TrainFile(_Strict):
     schema_: str = Field(alias="schema")
     name: str
@@ -338,6 +354,7 @@ class _TrainFile(_Strict):
     load_case: Literal["tare", "normal", "crush"] = "normal"
     car_types: dict[str, _CarType]
     formation: list[str] = Field(min_length=1, max_length=_core.MAX_CARS)
+    sanders: Optional[_Sanders] = None
 
     @model_validator(mode="after")
     def _known_types(self):

@@ -25,6 +25,9 @@ typedef struct {
     double cylinder[RB_PLANT_MAX_AXLES];        /* Pa */
     double demand[RB_PLANT_MAX_AXLES];          /* Pa, EP pressure demand of the axle's car */
     double atmosphere;                    /* Pa */
+    double body_decel;                    /* m/s^2, the leading car body's deceleration (an
+                                             accelerometer); NaN: none (the set-point controller's
+                                             speed estimate then falls at ref_decel_max) */
 } rb_wsp_inputs;
 
 typedef struct {
@@ -60,7 +63,24 @@ typedef struct {
     double filter_time;        /* s, wheel acceleration filter */
     double safety_time;        /* s, longest continuous venting (commanded or seen at the cylinder) */
     double min_speed;          /* m/s, WSP inactive below */
+    /* the controller (wsp_controllers.c): RB_WSP_THRESHOLD, the state machine above (default), or
+     * RB_WSP_SLIP_SETPOINT, each axle's slip velocity held in a band about a set-point */
+    int controller;
+    double setpoint_speed;     /* m/s, slip-velocity set-point ... */
+    double setpoint_slip;      /* ... plus this fraction of the reference speed */
+    double setpoint_band;      /* fraction of the set-point: hold inside +-band, vent above, apply below */
+    double lead_time;          /* s, the slip velocity predicted this far ahead from its rate (valve delays) */
+    double ref_decel_margin;   /* m/s^2, the set-point controller's speed estimate falls at most at
+                                  the body's deceleration plus this (when every wheel slides) */
+    double setpoint_release;   /* s braked as demanded after which the set-point controller lets an
+                                  axle go (until the next detected slide) */
 } rb_wsp_params;
+
+typedef enum {
+    RB_WSP_THRESHOLD = 0,      /* thresholds on speed difference and deceleration, vent/hold/re-apply */
+    RB_WSP_SLIP_SETPOINT = 1,  /* slip-velocity set-point (micro/macro slip), predicted over lead_time */
+    RB_WSP_CONTROLLERS
+} rb_wsp_controller;
 
 typedef struct {
     rb_wsp_params p;
@@ -73,9 +93,13 @@ typedef struct {
     double reapply_clock[RB_PLANT_MAX_AXLES];   /* s since re-application started */
     double low_time[RB_PLANT_MAX_AXLES];        /* s of cylinder far below demand without a command */
     int trips;
+    uint8_t engaged[RB_PLANT_MAX_AXLES];        /* set-point controller: a slide was detected on the axle */
 } rb_wsp_default;
 
 void rb_wsp_default_params(rb_wsp_params *p);
+/* The slip set-point controller's step (wsp_controllers.c); rb_wsp_default_step calls it when
+ * p.controller is RB_WSP_SLIP_SETPOINT. context: an rb_wsp_default. */
+void rb_wsp_setpoint_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out);
 void rb_wsp_default_reset(rb_wsp_default *w, const rb_wsp_params *p);
 /* The default algorithm; context: an rb_wsp_default. */
 void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out);

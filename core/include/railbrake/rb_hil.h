@@ -26,6 +26,19 @@ extern "C" {
 
 /* ---- the plant runner */
 
+/* What a live view shows of the running loop (rb_hil_runner_snapshot): written by the loop after
+ * every step under a sequence counter (a seqlock: the loop never waits, a reader retries). */
+typedef struct {
+    uint64_t step;
+    double time, speed, position, main_reservoir;   /* s, m/s, m, Pa */
+    double brake_demand;                            /* applied (2: the safe state's) */
+    int safe, n_cars, n_axles;
+    uint64_t received, lost, late, malformed, foreign, forged, overruns;
+    double supply[RB_PLANT_MAX_CARS], pressure_demand[RB_PLANT_MAX_CARS];                /* Pa */
+    double wheel_speed[RB_PLANT_MAX_AXLES], slip[RB_PLANT_MAX_AXLES], cylinder[RB_PLANT_MAX_AXLES];
+    uint8_t hold[RB_PLANT_MAX_AXLES], vent[RB_PLANT_MAX_AXLES];
+} rb_hil_snapshot;
+
 typedef struct {
     double hold_time;          /* s: last valid commands held this long, then the safe state */
     double late_time;          /* s: a BCU frame echoing a plant step older than this is late */
@@ -52,8 +65,18 @@ typedef enum {
     RB_HIL_EVENT_MISMATCH,     /* the BCU answers for another configuration: the run ends */
     RB_HIL_EVENT_FORGED,       /* the first frame of the session whose tag does not authenticate */
     RB_HIL_EVENT_KEYED,        /* the BCU's challenge: the session key is agreed */
-    RB_HIL_EVENT_ORDER         /* the first duplicate, out-of-order or replayed frame */
+    RB_HIL_EVENT_ORDER,        /* the first duplicate, out-of-order or replayed frame */
+    RB_HIL_EVENT_FAULT_ON,     /* a fault injected while the plant runs (rb_hil_runner_post_fault) */
+    RB_HIL_EVENT_FAULT_OFF     /* ... cleared */
 } rb_hil_event_kind;
+
+/* A fault changed while the plant runs: injected (acting from the step it is applied in on) or
+ * cleared (every fault of that kind on that car and axle, also one the scenario scheduled). */
+typedef enum { RB_HIL_FAULT_INJECT = 1, RB_HIL_FAULT_CLEAR = 2 } rb_hil_fault_action;
+typedef struct {
+    int action;                /* rb_hil_fault_action */
+    rb_fault fault;            /* kind, car, axle (-1: every axle of the car), value; start_time unused */
+} rb_hil_fault_command;
 
 typedef struct {
     uint64_t step;
@@ -118,6 +141,21 @@ typedef struct {
     int peak_axle, peak_count;
     rb_hil_event log[RB_HIL_LOG_SIZE];
     uint8_t buffer[2048];
+    /* faults: the caller's plant parameters, copied at each rb_hil_runner_advance, with this run's
+       fault list (the scenario's, changed by the commands posted) */
+    rb_plant_params params;
+    int n_faults;
+    rb_fault fault[RB_MAX_FAULTS];
+    /* the fault mailbox between a control thread and the loop (lock-free: whoever owns the state
+       writes the rest; 0 empty, 1 posted, 2 answered) */
+    int mailbox;
+    rb_hil_fault_command command;
+    int answer_status;
+    uint64_t answer_step;
+    char answer_text[RB_ERROR_MESSAGE_SIZE];
+    /* the live view: odd while the loop writes it */
+    uint32_t snapshot_sequence;
+    rb_hil_snapshot snapshot;
 } rb_hil_runner;
 
 size_t rb_hil_runner_size(void);
@@ -146,6 +184,18 @@ void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res);
 /* Event number `index` (0-based since the start) if it is still in the log: returns 1 and copies it. */
 int rb_hil_runner_event(const rb_hil_runner *r, uint64_t index, rb_hil_event *event);
 void rb_hil_runner_close(rb_hil_runner *r);
+/* A fault change from another thread while rb_hil_runner_advance runs (or between its calls): the
+ * loop applies it at the start of its next step, without waiting for anything, and answers.
+ * Returns 1 when posted, 0 when the previous change has not been answered and fetched yet (one
+ * poster at a time). */
+int rb_hil_runner_post_fault(rb_hil_runner *r, const rb_hil_fault_command *command);
+/* The answer to the change posted: -1 while not applied yet; else RB_OK (applied at plant step
+ * *step, text what changed) or RB_EINVAL (refused, nothing changed, text why). Empties the mailbox. */
+int rb_hil_runner_fault_answer(rb_hil_runner *r, uint64_t *step, char *text, size_t text_size);
+/* The loop's latest snapshot, from any thread: 1 and a consistent copy, 0 when none could be read
+ * between two of the loop's writes within `tries` attempts (the loop is never held up). */
+int rb_hil_runner_snapshot(const rb_hil_runner *r, rb_hil_snapshot *out, int tries);
+size_t rb_hil_snapshot_size(void);
 /* Local UDP port of the plant (useful after binding port 0). */
 int rb_hil_runner_port(const rb_hil_runner *r);
 

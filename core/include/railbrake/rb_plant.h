@@ -33,7 +33,7 @@
  *    the pilot volume); per axle a WSP hold valve (output -> cylinder)
  *    and vent valve (cylinder -> atmosphere), each switching after a response delay.
  *  - Wheelsets: J dw/dt = -F r - T_brake - T_ed, F = Q f(creep) from Polach with rail
- *    conditioning by axle index and track zones; the slip velocity is advanced linearly
+ *    conditioning by axle index or by rail cells the axles clean (rail_conditioning.c) and track zones; the slip velocity is advanced linearly
  *    implicitly with the secant creep stiffness (stable at 1 ms down to walking speed); a wheel
  *    whose speed would change sign is locked (static pad friction).
  *  - Cars: one mass per car, couplers, running resistance (rb_vehicle.h laws); symplectic Euler.
@@ -60,6 +60,8 @@ extern "C" {
 #define RB_MAX_FAULTS 16
 #define RB_MAX_COMPRESSORS 4
 #define RB_MAX_GRADIENTS 16
+#define RB_RAIL_MAX_CELLS 2048   /* rail cells under the train (rail_conditioning.c) */
+#define RB_MAX_SANDERS 8
 
 /* Wheelset kernel: the portable C99 one is the reference; the vector one (x86-64 AVX2, chosen at
  * run time when the CPU has it) computes the same operations in the same order, 4 axles at a time,
@@ -121,6 +123,9 @@ typedef struct {
     rb_polach_params polach;
     double leading_factor;    /* rail conditioning: mu0 factor on the leading axle (1: none) */
     double recovery_axles;    /* axles over which conditioning recovers (<= 0: none) */
+    double reference_energy;  /* J/m^2, > 0: the rail is conditioned cell by cell by the energy the
+                                 axles dissipate in the contact (rail_conditioning.c), instead of by
+                                 axle index (recovery_axles must then be 0); 0: not */
 } rb_plant_condition;
 
 /* Track zone: axles between x_start and x_end (m along the track) see condition `condition`. */
@@ -201,7 +206,23 @@ typedef struct {
      * at that pressure; at a lower pressure the air, having less mass, follows the wall faster).
      * 0: isothermal cylinders. */
     double wall_time;
+    /* rail conditioning by dissipated energy (a condition's reference_energy > 0): the rail under
+     * the train as cells of this length (m), at most RB_RAIL_MAX_CELLS over the train's length */
+    double rail_cell_length;
+    /* sanders (rail_conditioning.c), a conditioning source of the rail cells: sander i drops
+     * sander_rate[i] kg/s in front of axle sander_axle[i] (global index) while it is on: from
+     * sander_start[i] s (trigger RB_SAND_DRIVER), or while any WSP valve of the train is commanded
+     * (RB_SAND_WSP). The sand a cell gets, m kg per metre of track, multiplies its contamination by
+     * exp(-m / sand_reference). */
+    int n_sanders;
+    int sander_axle[RB_MAX_SANDERS];
+    int sander_trigger[RB_MAX_SANDERS];
+    double sander_rate[RB_MAX_SANDERS];
+    double sander_start[RB_MAX_SANDERS];
+    double sand_reference;    /* kg/m */
 } rb_plant_params;
+
+typedef enum { RB_SAND_DRIVER = 0, RB_SAND_WSP = 1 } rb_sand_trigger;
 
 /* ---- inputs (from the BCU) and outputs (to the BCU and the recorder) */
 
@@ -368,6 +389,13 @@ typedef struct {
     double mt_cyl[RB_PLANT_MAX_AXLES];
     double slip_start[RB_PLANT_MAX_AXLES];   /* m/s: each axle's slip velocity at the start of its last
                                                 wheelset update (plant_kernel.c: the probe's extrapolation) */
+    /* the rail under the train (rail_conditioning.c): a ring of cells, cell i of the track (x in
+     * [i, i + 1) cell lengths) in slot i mod RB_RAIL_MAX_CELLS; rail_front: the foremost cell an
+     * axle has entered (cells ahead of it are as laid) */
+    int rail_active;
+    int64_t rail_front;
+    double rail_contamination[RB_RAIL_MAX_CELLS];   /* 1: as laid, 0: cleaned */
+    double sand_used;         /* kg the sanders dropped since t = 0 */
     /* emergency circuit (emergency_circuit.c) */
     double loop_open_time;                        /* s, when the emergency loop opened; < 0: closed */
     double emergency_open[RB_PLANT_MAX_CARS];     /* 1: the loop is open and the car has the circuit:
@@ -384,6 +412,10 @@ typedef struct {
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */
 rb_status rb_plant_check(const rb_plant_params *p, rb_error *err);
+/* Checks one fault of a train of n_cars; the message names it as `name` (e.g. "fault[2]"). */
+rb_status rb_fault_check(const rb_fault *f, int n_cars, const char *name, rb_error *err);
+/* The name of a fault kind as scenario files write it ("vent_stuck_open"; "unknown" outside the kinds). */
+const char *rb_fault_kind_name(int kind);
 /* Checks p and sets the state at t = 0: charged reservoirs, released brakes, rolling wheels. */
 rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *err);
 /* After p->condition[*].polach changed during a run (a tuned adhesion): checks p and derives every

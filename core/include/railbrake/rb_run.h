@@ -12,6 +12,7 @@ extern "C" {
 #endif
 
 #define RB_MAX_DEMAND_STEPS 16
+#define RB_MAX_SPEED_MARKS 16
 
 typedef struct {
     int n_demand;                               /* brake demand, a step function of time */
@@ -22,6 +23,10 @@ typedef struct {
     double stop_speed;                          /* m/s, the run ends when the train is below */
     double record_interval;                     /* s, time-series decimation */
     double adhesion_interval;                   /* s, sampling of the available peak adhesion */
+    /* speeds (m/s, decreasing) at which a braking run notes when and where it passed them
+     * (rb_kpis.mark_time_s, mark_distance_m): the ETCS braking model's speed steps */
+    int n_speed_marks;
+    double speed_mark[RB_MAX_SPEED_MARKS];
 } rb_scenario;
 
 typedef struct {
@@ -49,6 +54,10 @@ typedef struct {
     double max_disc_temperature;  /* K, hottest lumped disc */
     double min_supply_margin;     /* Pa, lowest supply minus cylinder demand of a braking car (< 0:
                                      the supply could not give the demand); 0 if never braking */
+    /* per rb_scenario.speed_mark: time (s) and distance (m) from the first brake demand to where
+     * the train speed fell to the mark (linear between steps); -1 if it never did */
+    double mark_time_s[RB_MAX_SPEED_MARKS];
+    double mark_distance_m[RB_MAX_SPEED_MARKS];
 } rb_kpis;
 
 #define RB_SHORTFALL_PA 0.2e5
@@ -83,6 +92,10 @@ typedef struct {
     int peak_zone[RB_PLANT_MAX_AXLES];
     int peak_maxima[RB_PLANT_MAX_AXLES];
     long peak_rescans;
+    /* speed marks passed so far (rb_scenario.speed_mark), where, and the previous step's values */
+    int marks_passed;
+    double mark_time[RB_MAX_SPEED_MARKS], mark_position[RB_MAX_SPEED_MARKS];
+    double last_time, last_speed, last_position;
 } rb_run_state;
 
 /* The scenario's brake demand at time t (a step function; a step applies from its own time on). */

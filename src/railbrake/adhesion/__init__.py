@@ -9,6 +9,7 @@ from railbrake.adhesion.conditions import (
     Peak,
     RailConditioning,
     car_axles,
+    car_max_adhesion,
     car_of_axle,
     conditions,
     creep_curves,

@@ -37,10 +37,21 @@ SCHEMA = "railbrake.adhesion/1"
 
 @dataclass(frozen=True)
 class RailConditioning:
-    """mu0 factor for axle n (0 = leading): 1 - (1 - leading_factor) exp(-n / recovery_axles)."""
+    """mu0 factor for axle n (0 = leading): 1 - (1 - leading_factor) exp(-n / recovery_axles).
+
+    With reference_energy (J/m^2) the plant conditions the rail cell by cell instead
+    (core/src/rail_conditioning.c): each cell's factor is 1 - (1 - leading_factor) exp(-E /
+    reference_energy), E the contact energy the axles ahead left on it; cells of cell_length (m).
+    The axle-count law stays the static curve's (and the plant's with rail_conditioning "axles").
+    """
 
     leading_factor: float
     recovery_axles: float
+    reference_energy: float = 0.0
+    cell_length: float = 0.0
+    energy_source: str = ""
+    calibration_scenario: str | None = None
+    calibration_above_kmh: float | None = None
 
     def factor(self, axle: float) -> float:
         return _core.rb_conditioning_factor(float(axle), self.leading_factor, self.recovery_axles)
@@ -68,8 +79,9 @@ class EnergyConditioning:
     """Rail conditioning by dissipated energy (option; law in core/src/contact_conditioning.c).
 
     An axle leaves on the rail e = abs(F w) / (2 b v) J/m^2; the axles behind see mu0 scaled by
-    1 - (1 - leading_factor) exp(-E / reference_energy), E the energy left by those ahead. Not yet
-    used by the real-time plant. reference_energy (J/m^2) has no published value: an input [T].
+    1 - (1 - leading_factor) exp(-E / reference_energy), E the energy left by those ahead. The plant
+    applies it cell by cell along the track (RailConditioning.reference_energy, rail_conditioning.c).
+    reference_energy (J/m^2) has no published value: an input [T].
     """
 
     leading_factor: float
@@ -124,11 +136,26 @@ class _ParamsModel(BaseModel):
     kS: float
 
 
+class _CellsModel(BaseModel):
+    """Rail conditioning cell by cell by the energy the axles dissipate (rail_conditioning.c)."""
+    model_config = ConfigDict(extra="forbid")
+    reference_energy_J_m2: float = Field(ge=config.bound_in("adhesion.reference_energy")[0],
+                                         le=config.bound_in("adhesion.reference_energy")[1])
+    cell_length_m: float = Field(ge=config.bound_in("adhesion.rail_cell_length")[0],
+                                 le=config.bound_in("adhesion.rail_cell_length")[1])
+    source: str
+    # how the calibration measured the targets: the stop it ran and the speed above which each
+    # axle's largest adhesion used counts (tools/calibrate_rail_conditioning.py)
+    calibration_scenario: str | None = None
+    calibration_above_kmh: float | None = Field(default=None, ge=0.0, le=600.0)
+
+
 class _ConditioningModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
     leading_factor: float = Field(gt=0.0, le=1.0)
     recovery_axles: float = Field(ge=config.bound_in("adhesion.recovery_axles")[0],
                                   le=config.bound_in("adhesion.recovery_axles")[1])
+    cells: _CellsModel | None = None
 
 
 class _TargetModel(BaseModel):
@@ -186,17 +213,38 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
     try:
         return AdhesionCondition(
             name=model.name, title=model.title, params=_located(PolachParams, model.params, "params", text, origin),
-            conditioning=_located(RailConditioning, cond, "conditioning", text, origin) if cond else None,
+            conditioning=_conditioning(cond, text, origin) if cond else None,
             source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets),
             validity=validity)
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") if origin not in str(exc) else exc from None
 
 
-def _located(kind, block, section: str, text: str, origin: str):
+def _conditioning(cond: _ConditioningModel, text: str, origin: str) -> RailConditioning:
+    base = _located(RailConditioning, cond, "conditioning", text, origin, exclude={"cells"})
+    if cond.cells is None:
+        return base
+    cells = cond.cells
+    return replace(base, reference_energy=cells.reference_energy_J_m2, cell_length=cells.cell_length_m,
+                   energy_source=" ".join(cells.source.split()), calibration_scenario=cells.calibration_scenario,
+                   calibration_above_kmh=cells.calibration_above_kmh)
+
+
+def car_max_adhesion(result, above_kmh: float) -> dict:
+    """Car (1-based) -> the mean over its axles of the largest adhesion F/Q each used while the
+    train ran above above_kmh: a car's 'maximum adhesion' as a test train measures it."""
+    running = result.outputs["speed"] > above_kmh * KMH
+    per_car: dict = {}
+    for name in result.axle_channels("adhesion"):
+        car = int(name.split("_c")[-1].split("a")[0])
+        per_car.setdefault(car, []).append(float(np.max(np.abs(result.outputs[name][running]))))
+    return {car: float(np.mean(v)) for car, v in sorted(per_car.items())}
+
+
+def _located(kind, block, section: str, text: str, origin: str, exclude=None):
     """kind(**block) with the core's range error located: file, line and the key under `section`."""
     try:
-        return kind(**block.model_dump())
+        return kind(**block.model_dump(exclude=exclude))
     except InputError as exc:
         key = str(exc).split(" = ", 1)[0].split(":", 1)[0].strip()
         line = _config_lines(text).get((section, key))

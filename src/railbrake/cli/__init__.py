@@ -9,8 +9,8 @@ import typer
 import typer.core
 
 import railbrake
-from railbrake.cli import (_common, adhesion, campaign, compare, compare_runs, config, demo, fmu, hil, plot,
-                           simulation, sizing, train, validate, valve, wsp)
+from railbrake.cli import (_common, adhesion, campaign, compare, compare_runs, config, demo, etcs, fmu, hil, plot,
+                           sequence, simulation, sizing, train, validate, valve, wsp)
 
 app = typer.Typer(
     name="railbrake",
@@ -57,10 +57,12 @@ def _root(version: Optional[bool] = typer.Option(None, "--version", callback=_ve
 app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
 app.add_typer(config.app, name="config")
+app.add_typer(sequence.app, name="sequence")
 campaign.register(app)
 compare.register(app)
 compare_runs.register(app)
 demo.register(app)
+etcs.register(app)
 fmu.register(app)
 hil.register(app)
 plot.register(app)

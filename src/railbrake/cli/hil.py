@@ -92,10 +92,58 @@ def _print_report(result) -> None:
         console.print(line, highlight=False)
 
 
-def _run(resolved, peer, secret, record, bcu, local, err, json, **options):
+def parse_control(text: str | None, option: str = "--control") -> tuple[str, int] | None:
+    """'[HOST:]PORT' (host default 127.0.0.1; port 0: any free one) -> (host, port)."""
+    if text is None:
+        return None
+    host, _, port = text.rpartition(":")
+    if not port.isdigit() or not 0 <= int(port) <= 65535:
+        raise InputError(f"{option} = {text!r}: port = {port!r}: expected [HOST:]PORT, port in [0, 65535]")
+    return host or "127.0.0.1", int(port)
+
+
+class _Control:
+    """The control socket of --control and the dashboard of --dashboard, started once the plant runs
+    (on_faults, on_live), stopped after."""
+
+    def __init__(self, address, dashboard, cars: int, err: Console):
+        self.address, self.err, self.server, self.board = address, err, None, None
+        if dashboard is not None:
+            from railbrake.hil.dashboard import Dashboard
+            self.board = Dashboard(*dashboard, cars=cars)
+            err.print(f"dashboard on {self.board.url}", highlight=False, soft_wrap=True)
+
+    def start(self, switch) -> None:
+        if self.board is not None:
+            self.board.attach(switch=switch)
+        if self.address is None:
+            return
+        from railbrake.hil.control import ControlServer
+        self.server = ControlServer(switch, *self.address, token=self.board.token if self.board else None)
+        self.err.print(f"control on tcp://{self.server.host}:{self.server.port}, token {self.server.token} "
+                       "(docs/hil.md, faults at run time)", highlight=False, soft_wrap=True)
+
+    def live(self, view) -> None:
+        if self.board is not None:
+            self.board.attach(view=view)
+
+    def stop_requested(self) -> bool:
+        return self.board is not None and self.board.stop_requested()
+
+    def stop(self) -> None:
+        if self.server is not None:
+            self.server.stop()
+        if self.board is not None:
+            self.board.close()
+
+
+def _run(resolved, peer, secret, record, bcu, local, err, json, control=None, dashboard=None, **options):
     """The paced run with its progress bar; with --record, the recording grows chunk by chunk as the
-    run goes (railbrake.hil.mdf: what was written survives a kill)."""
+    run goes (railbrake.hil.mdf: what was written survives a kill); with --control, the control
+    socket takes fault changes while the plant runs."""
     sc = resolved.scenario
+    control = _Control(control, dashboard, resolved.cars, err)
+    interrupted = options.pop("stop")
     stream = None
     if record is not None:
         from railbrake.hil.mdf import StreamingRecording
@@ -116,8 +164,10 @@ def _run(resolved, peer, secret, record, bcu, local, err, json, **options):
                     f"plant on udp://{local[0]}:{port}, session 0x{session:08x}, configuration 0x{config:08x}, "
                     f"BCU {bcu}", highlight=False, soft_wrap=True),
                 progress=lambda t, v: bar.update(task, completed=t, speed=f"{ms_to_kmh(v):5.0f} km/h"),
-                **options)
+                on_faults=control.start, on_live=control.live,
+                stop=lambda: interrupted() or control.stop_requested(), **options)
     finally:
+        control.stop()
         if stream is not None:
             stream.close()
     return result
@@ -136,9 +186,12 @@ def _summary(result, json: bool, written, out, bcu: str) -> None:
     if result.interrupted:
         err.print(f"interrupted at t = {result.time[-1] if len(result.time) else 0.0:.3f} s: "
                   "the recording and counters hold the run until then", highlight=False)
+    for change in result.fault_changes:
+        err.print(f"fault t = {change.time_s:.3f} s: {change.text} ({change.origin})", highlight=False)
     if json:
         print_json({"scenario": result.scenario, "cars": result.cars, "kpis": result.kpis,
                     "counters": result.counters, "timing": result.timing, "bcu_loss": result.loss,
+                    "fault_changes": [c.as_dict() for c in result.fault_changes],
                     "events": [{"time": t, "kind": kind, "text": text} for t, kind, text in result.events],
                     "real_time": {"memory_locked": result.real_time.memory_locked,
                                   "fifo_priority": result.real_time.fifo_priority,
@@ -152,7 +205,8 @@ def _summary(result, json: bool, written, out, bcu: str) -> None:
 
 
 def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval, hold_time,
-                     late_time, bind, priority, json, sets, out, axles, window, formats, kernel):
+                     late_time, bind, priority, json, sets, out, axles, window, formats, kernel, control,
+                     dashboard):
     """Everything `railbrake hil` does, with its interrupts noted: inputs checked, the run, then the
     recording, the run folder and the summary, whatever interrupts come."""
     from railbrake.results import files, record as records
@@ -160,6 +214,8 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
     peer = hil_runner.parse_udp_url(bcu, "--bcu")
     secret = read_key(key)
     local = hil_runner.parse_udp_url(bind, "--bind", allow_any_port=True)
+    control = parse_control(control)
+    dashboard = parse_control(dashboard, "--dashboard")
     if duration is not None and duration <= 0:
         raise InputError(f"--duration = {duration}: must be > 0 s")
     resolved = resolve(scenario, cars, sets)
@@ -173,16 +229,19 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
         raise typer.Exit(code=130)
     result = _run(resolved, peer, secret, record, bcu, local, err, json, duration=duration, hold_time=hold_time,
                   late_time=late_time, record_interval=record_interval, priority=priority, kernel=kernel,
-                  stop=interrupts.stop)
+                  stop=interrupts.stop, control=control, dashboard=dashboard)
     interrupts.finishing = True
     written = None
     if record is not None:
         from railbrake.hil.mdf import write_mdf
         written = write_mdf(result, record, sc)
     if out is not None:
+        from railbrake.hil.mdf import recording_events
         from railbrake.results.outputs import write_outputs
         write_outputs(records.from_hil(result, sc), out, formats, axles, window,
-                      mdf_extra={"counters": result.counters, "timing": result.timing})
+                      mdf_extra={"counters": result.counters, "timing": result.timing,
+                                 "fault_changes": [c.as_dict() for c in result.fault_changes]},
+                      mdf_events=recording_events(result))
     _summary(result, json, written, out, bcu)
     return result
 
@@ -216,12 +275,18 @@ def register(app: typer.Typer) -> None:
         formats: Optional[List[str]] = typer.Option(None, "--format", help="With --out: time series format(s): "
                                                     "mf4, parquet, csv (default mf4)."),
         kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
+        control: Optional[str] = typer.Option(None, "--control", help="[HOST:]PORT of a control socket taking "
+                                              "fault changes while the plant runs (JSON lines with the token "
+                                              "printed at the start; host default 127.0.0.1; port 0: any)."),
+        dashboard: Optional[str] = typer.Option(None, "--dashboard", help="[HOST:]PORT of a live web page of the "
+                                                "run (host default 127.0.0.1; elsewhere only with the token of "
+                                                "the URL printed at the start; port 0: any)."),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
         with _Interrupts(Console(stderr=True)) as interrupts:
             result = _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval,
                                       hold_time, late_time, bind, priority, json, sets, out, axles, window,
-                                      formats, kernel)
+                                      formats, kernel, control, dashboard)
         if result.interrupted:
             raise typer.Exit(code=130)
         if result.mismatch:

@@ -15,6 +15,7 @@ import os
 import secrets
 import signal
 import socket
+import sys
 import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -25,7 +26,9 @@ import numpy as np
 
 from railbrake import _core
 from railbrake.errors import InputError
+from railbrake.hil.faults import FaultSwitch
 from railbrake.hil.keys import key_bytes
+from railbrake.hil.live import LiveView
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario
 from railbrake.simulation import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
@@ -39,6 +42,9 @@ DEFAULT_HOLD_TIME = 0.1    # s
 DEFAULT_LATE_TIME = 0.02   # s
 DEFAULT_PRIORITY = 80      # SCHED_FIFO priority asked for by the plant (0: ask nothing)
 DEFAULT_BCU_PRIORITY = 70  # the reference BCU's: below the plant's, whose deadline comes first on a shared core
+# s: the longest the loop's thread waits for the GIL between two chunks while other Python threads
+# (a dashboard, a control socket) run: Python's default of 5 ms would be 5 periods
+GIL_SWITCH_INTERVAL = 1e-4
 
 
 # ------------------------------------------------------------------ addresses
@@ -163,6 +169,7 @@ class HilResult:
     interrupted: bool = False     # ended by Ctrl-C or SIGTERM: what was recorded until then
     mismatch: str | None = None   # why the BCU refused this plant (another configuration), else None
     loss: dict = field(default_factory=dict)   # the BCU's loss: loss_dict (lost False: never lost)
+    fault_changes: list = field(default_factory=list)   # faults.FaultChange's applied while the plant ran
 
     def loss_report(self) -> str | None:
         """When the BCU was lost and what it cost, in one sentence (None if it never was)."""
@@ -249,7 +256,9 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         priority: int = DEFAULT_PRIORITY, progress: Callable[[float, float], None] | None = None,
         on_event: Callable[[float, str, str], None] | None = None, kernel: str | None = None,
         on_start: Callable[[int, int, int], None] | None = None, key=None,
-        on_rows: Callable[[np.ndarray], None] | None = None, stop: Callable[[], bool] | None = None) -> HilResult:
+        on_rows: Callable[[np.ndarray], None] | None = None, stop: Callable[[], bool] | None = None,
+        on_faults: Callable[[FaultSwitch], None] | None = None, chunk_steps: int = CHUNK_STEPS,
+        on_live: Callable[[LiveView], None] | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
     watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch, forged, keyed,
@@ -257,10 +266,16 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     as soon as the chunk has run (a recording written as the run goes: railbrake.hil.mdf); stop()
     before each chunk: True ends the run as an interrupt does (a caller's signal handler that only
     notes the signal: raising from it can hit Python's import machinery, which swallows it);
-    on_start(local port, session, configuration digest) once the plant's endpoint is open; kernel: the
+    on_start(local port, session, configuration digest) once the plant's endpoint is open; on_faults(switch)
+    then too, with the faults.FaultSwitch that injects and clears faults from any thread while the
+    plant runs (refused once it has ended); on_live(view) then too, with the live.LiveView that reads
+    the loop's latest step from any thread (a dashboard); chunk_steps: plant steps per C call (rows and progress
+    come after each; a sequence follows the run closely with fewer); kernel: the
     plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto); key: the key
     file's path or its 16 bytes (the BCU's too: frames are authenticated). Ctrl-C or SIGTERM end the
     run early: the result holds what was recorded until then (interrupted=True)."""
+    if not 1 <= chunk_steps <= CHUNK_STEPS:
+        raise InputError(f"chunk_steps = {chunk_steps}: must lie in [1, {CHUNK_STEPS}]")
     secret = key_bytes(key)
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
@@ -272,9 +287,14 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     state = ctypes.create_string_buffer(_core.rb_hil_runner_size())
     _core.call(_core.rb_hil_runner_open, ctypes.byref(plant), ctypes.byref(config), bind[0].encode(), bind[1],
                bcu[0].encode(), bcu[1], state)
+    switch = FaultSwitch(state, n_cars, DT)
     if on_start is not None:
         on_start(_core.rb_hil_runner_port(state), config.session, config.config)
-    rows_per_chunk = CHUNK_STEPS // round(config.record_interval / DT) + 2
+    if on_faults is not None:
+        on_faults(switch)
+    if on_live is not None:
+        on_live(LiveView(state, plant.atmosphere))
+    rows_per_chunk = chunk_steps // round(config.record_interval / DT) + 2
     chunk = np.zeros((rows_per_chunk, len(names)))
     chunks, events, seen = [], [], 0
     result = _core.HilResult()
@@ -283,12 +303,14 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     interrupted = False
     real_time = RealTime(False)
     gc.disable()   # a garbage collection between two chunks would delay the next step by milliseconds
+    switch_interval = sys.getswitchinterval()
+    sys.setswitchinterval(min(switch_interval, GIL_SWITCH_INTERVAL))
     try:
         with _normal_scheduling_after(), _sigterm_as_interrupt():
             real_time = request_real_time(priority) if paced else RealTime(False)
             while not finished.value and not interrupted:
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,
-                           CHUNK_STEPS, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
+                           chunk_steps, _core.ptr(chunk), rows_per_chunk, ctypes.byref(rows), ctypes.byref(finished))
                 chunks.append(chunk[:rows.value].copy())
                 if on_rows is not None:
                     on_rows(chunks[-1])
@@ -305,6 +327,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         _core.rb_hil_runner_result(state, ctypes.byref(result))
         events += _drain_events(state, seen, result.events, None)
     finally:
+        sys.setswitchinterval(switch_interval)
+        switch.end()
         kpis = run_kpis(plant, state)   # before the close: the KPIs of what ran, also when interrupted
         _core.rb_hil_runner_close(state)
         if collecting:
@@ -320,7 +344,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
                     f"({result.bcu_cars} cars, {result.bcu_axles} axles); this plant runs "
                     f"{describe_config(sc, n_cars)}: start both with the same scenario, train and --cars")
     return HilResult(sc.name, n_cars, outputs["time"], outputs, dict(names), counters, timing, kpis, real_time,
-                     events, plant.atmosphere, interrupted, mismatch, loss_dict(result))
+                     events, plant.atmosphere, interrupted, mismatch, loss_dict(result), list(switch.changes))
 
 
 # ------------------------------------------------------------------ the reference BCU

@@ -96,6 +96,20 @@ class StreamingRecording:
             self._fd = None
 
 
+def recording_events(result) -> list[tuple[float, str, str]]:
+    """(time s, name, comment) of what changed during the run, in time order: each fault injected or
+    cleared (fault_on, fault_off), the safe state entered and left (from the loop's event log), each
+    change of the applied brake demand (at the recorded sample that first shows it)."""
+    demand = np.asarray(result.outputs.get("brake_demand", []))
+    changed = np.flatnonzero(np.diff(demand)) + 1
+    events = [(float(result.time[i]), "demand", f"brake demand {demand[i - 1]:g} -> {demand[i]:g} (2: the safe "
+               "state's emergency demand)") for i in changed]
+    events += [(c.time_s, f"fault_{'on' if c.action == 'inject' else 'off'}", f"{c.text} ({c.origin})")
+              for c in getattr(result, "fault_changes", [])]
+    events += [(t, kind, text) for t, kind, text in result.events if kind in ("safe_on", "safe_off")]
+    return sorted(events, key=lambda e: e[0])
+
+
 def write_mdf(result, path: Path, scenario=None) -> Path:
     """Write result's channels (time base: the plant's simulated time, s) to an MDF 4.10 file; over
     an existing one (the streaming recording) only once the new one is complete."""
@@ -104,9 +118,12 @@ def write_mdf(result, path: Path, scenario=None) -> Path:
     sc = scenario if scenario is not None else scenarios.load(result.scenario)
     path = Path(path)
     partial = path.with_name(path.name + ".partial.mf4")
+    changes = getattr(result, "fault_changes", [])
     written = files.write_mdf(record.from_hil(result, sc), partial,
                               {"counters": result.counters, "timing": result.timing,
                                "interrupted": getattr(result, "interrupted", False),
-                               "bcu_loss": getattr(result, "loss", None)})
+                               "bcu_loss": getattr(result, "loss", None),
+                               "fault_changes": [c.as_dict() for c in changes]},
+                              events=recording_events(result))
     os.replace(written, path)
     return path

@@ -13,6 +13,7 @@ import pyarrow.parquet as pq
 
 from railbrake import jsonio
 from railbrake.errors import InputError
+from railbrake.results import channel_info
 from railbrake.results.record import RunRecord
 
 FORMATS = {"parquet": "timeseries.parquet", "csv": "timeseries.csv", "mf4": "timeseries.mf4"}
@@ -82,19 +83,57 @@ def _read_units(path: Path) -> dict:
     return dict(line.split(",", 1) for line in lines if "," in line)
 
 
-def write_mdf(record: RunRecord, path: Path, extra: dict | None = None) -> Path:
-    """MDF 4.10: each channel but time (the master, s) with its SI unit; the header comment holds
-    run.json's content, the KPIs and `extra` as JSON."""
-    from asammdf import MDF, Signal
+def _mdf_signal(name: str, values, time, unit: str):
+    """A channel with its comment; a state channel as unsigned integers with its value-to-text conversion."""
+    from asammdf import Signal
+    conversion = channel_info.conversion(name)
+    samples = np.asarray(values, dtype=np.float64)
+    if conversion is not None and np.all(np.isin(samples, [float(v) for k, v in conversion.items() if k.startswith("val_")])):
+        samples = samples.astype(np.uint8)
+    else:
+        conversion = None
+    return Signal(samples=samples, timestamps=time, name=name, unit=unit, comment=channel_info.comment(name),
+                  conversion=conversion)
+
+
+def _history(version: str):
+    """The file history block naming railbrake as the tool that wrote the file (ASAM MDF4 FHBLOCK)."""
+    from asammdf.blocks.v4_blocks import FileHistory
+    fh = FileHistory()
+    fh.comment = (f"<FHcomment><TX>created</TX><tool_id>railbrake</tool_id><tool_vendor>railbrake</tool_vendor>"
+                  f"<tool_version>{version}</tool_version></FHcomment>")
+    return fh
+
+
+def write_mdf(record: RunRecord, path: Path, extra: dict | None = None, events=()) -> Path:
+    """MDF 4.10: each channel but time (the master, s) with its SI unit and comment, state channels as
+    integers with value-to-text conversions; the header comment holds run.json's content, the KPIs
+    and `extra` as JSON; the scenario (as run) and the KPIs attached as JSON files; events: (time s,
+    name, comment) as MDF4 event blocks (EVBLOCK, trigger points synchronised on the time master);
+    railbrake as the producing tool in the file history."""
+    from asammdf import MDF
+    from asammdf.blocks import v4_constants
+    from asammdf.blocks.v4_blocks import EventBlock
+    import railbrake
     mdf = MDF(version="4.10")
     t = np.asarray(record.time, dtype=np.float64)
-    mdf.append([Signal(samples=np.asarray(v, dtype=np.float64), timestamps=t, name=n, unit=record.units.get(n, ""))
-                for n, v in record.outputs.items() if n != "time"],
+    mdf.append([_mdf_signal(n, v, t, record.units.get(n, "")) for n, v in record.outputs.items() if n != "time"],
                comment=f"railbrake {record.kind}: {record.title()}")
     header = {"scenario": record.meta.get("scenario"), "cars": record.cars, "kpis": record.kpis,
               **(extra or {}), "railbrake": record.meta}
     mdf.header.comment = dumps(header)
-    saved = mdf.save(path, overwrite=True)   # asammdf may change the suffix: report what it wrote
+    scenario = {k: record.meta.get(k) for k in ("scenario", "title", "train", "condition", "zones", "demand",
+                                                  "faults", "configuration")}
+    for name, content, what in (("scenario.json", scenario, "the scenario as run"), ("kpis.json", record.kpis, "KPIs")):
+        mdf.attach(dumps(content).encode(), file_name=name, comment=f"railbrake {what}", mime="application/json")
+    mdf.file_history[:] = [_history(railbrake.__version__)]   # the attachments' creator: railbrake
+    for time_s, name, comment in events:
+        # the event's time is sync_base * sync_factor s: in integer microseconds, exact for 1 ms steps
+        event = EventBlock(event_type=v4_constants.EVENT_TYPE_TRIGGER, sync_type=v4_constants.EVENT_SYNC_TYPE_S,
+                           cause=v4_constants.EVENT_CAUSE_TOOL, sync_base=int(round(time_s * 1e6)), sync_factor=1e-6)
+        event.name, event.comment = name, comment
+        mdf.events.append(event)
+    saved = mdf.save(path, overwrite=True, add_history_block=False)   # asammdf may change the suffix
     mdf.close()
     return Path(saved)
 
@@ -150,7 +189,7 @@ def _read_mdf(path: Path):
         for name in mdf.channels_db:
             if name in ("t", "time") or name.startswith("$"):
                 continue
-            signal = mdf.get(name)
+            signal = mdf.get(name, raw=True)   # state channels: their integers, not the texts
             if "time" not in outputs:
                 outputs["time"], units["time"] = np.asarray(signal.timestamps, dtype=np.float64), "s"
             outputs[name], units[name] = np.asarray(signal.samples, dtype=np.float64), signal.unit

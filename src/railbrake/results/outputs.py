@@ -11,7 +11,7 @@ from railbrake.results.report import write_report
 
 
 def write_outputs(record: RunRecord, out: Path, formats=("parquet",), axles: str | None = None,
-                  window: str | None = None, mdf_extra: dict | None = None) -> list[Path]:
+                  window: str | None = None, mdf_extra: dict | None = None, mdf_events=()) -> list[Path]:
     from railbrake.plots.simulation import plot_all
     from railbrake.results import files
     chosen, span = parse_axles(axles, record), parse_window(window, record)
@@ -19,7 +19,7 @@ def write_outputs(record: RunRecord, out: Path, formats=("parquet",), axles: str
     paths = []
     for fmt in formats:
         if fmt == "mf4":
-            paths.append(files.write_mdf(record, out / files.FORMATS["mf4"], mdf_extra))
+            paths.append(files.write_mdf(record, out / files.FORMATS["mf4"], mdf_extra, mdf_events))
     paths += write_run(record, out, [f for f in formats if f != "mf4"])
     plots = plot_all(record, out, chosen, span)
     paths += plots

@@ -171,6 +171,7 @@ def from_hil(result, sc, command_line: list[str] | None = None) -> RunRecord:
     meta = _scenario_meta(sc) | {"kind": "HIL", "cars": result.cars, "wsp": wsp,
                                  "atmosphere_pa": result.atmosphere,
                                  "configuration": configuration(sc, result.cars, wsp),
-                                 "hil": {"counters": result.counters, "timing": result.timing},
+                                 "hil": {"counters": result.counters, "timing": result.timing,
+                                         "fault_changes": [c.as_dict() for c in getattr(result, "fault_changes", [])]},
                                  "provenance": provenance(command_line)}
     return RunRecord(np.asarray(result.time), dict(result.outputs), dict(result.units), dict(result.kpis), meta)

@@ -157,16 +157,47 @@ def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
         p.gradient_start[i], p.gradient[i] = g.start, g.gradient
 
 
-def _condition(name: str, initial_speed: float) -> _core.PlantCondition:
+def _condition(name: str, initial_speed: float, cells: bool) -> _core.PlantCondition:
     cond = load_condition(name)
     # A stop passes every speed below the initial one; only starting above the range is flagged.
     if cond.validity is not None and ms_to_kmh(initial_speed) > cond.validity.speed_max_kmh:
         warn_outside_range(cond, ms_to_kmh(initial_speed), "run from")
     c = _core.PlantCondition()
     c.polach = cond.params.to_c()
-    c.leading_factor = cond.conditioning.leading_factor if cond.conditioning else 1.0
-    c.recovery_axles = cond.conditioning.recovery_axles if cond.conditioning else 0.0
+    k = cond.conditioning
+    c.leading_factor = k.leading_factor if k else 1.0
+    if k and cells and k.reference_energy > 0.0:   # the rail cleaned cell by cell (rail_conditioning.c)
+        c.reference_energy = k.reference_energy
+    else:
+        c.recovery_axles = k.recovery_axles if k else 0.0
     return c
+
+
+def _sanders(train, n_cars: int, p: _core.PlantParams) -> None:
+    """The train file's sanders; they condition the rail cells, so without them they act on nothing
+    (said, not dropped silently)."""
+    sanders = train.spec.sanders
+    if sanders is None:
+        return
+    if p.rail_cell_length <= 0.0:
+        warnings.warn(f"train {train.name}: its sanders act on the rail cells, which this run does not use "
+                      "(adhesion.rail_conditioning: cells with a condition that has conditioning.cells)", stacklevel=3)
+        return
+    for i, s in enumerate(sanders.units):
+        if s.car > n_cars:
+            raise InputError(f"train {train.name}: sanders.units[{i}].car = {s.car}: the run has cars 1..{n_cars}")
+        p.sander_axle[i] = (s.car - 1) * _core.AXLES_PER_CAR + s.axle - 1
+        p.sander_trigger[i] = ("driver", "wsp").index(s.trigger)
+        p.sander_rate[i] = s.rate_kg_min / 60.0
+        p.sander_start[i] = s.start_s
+    p.n_sanders = len(sanders.units)
+    p.sand_reference = sanders.sand_reference_kg_m
+
+
+def _rail_cells(names: list, p: _core.PlantParams) -> None:
+    """The finest cell length of the conditions conditioned cell by cell (their files')."""
+    lengths = [k.cell_length for k in (load_condition(n).conditioning for n in names) if k and k.reference_energy > 0.0]
+    p.rail_cell_length = min(lengths) if lengths else 0.0
 
 
 _FAULT_INDEX = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
@@ -239,8 +270,12 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
     if len(unique) > _core.MAX_CONDITIONS:
         raise InputError(f"{scenario.where('adhesion', 'zones')}: at most {_core.MAX_CONDITIONS} conditions")
     p.n_conditions = len(unique)
+    cells = spec.adhesion.rail_conditioning == "cells"
     for i, name in enumerate(unique):
-        p.condition[i] = _condition(name, spec.initial_speed)
+        p.condition[i] = _condition(name, spec.initial_speed, cells)
+    if cells:
+        _rail_cells(unique, p)
+    _sanders(train, n_cars, p)
     p.n_zones = len(spec.adhesion.zones)
     for i, z in enumerate(spec.adhesion.zones):
         p.zone[i] = _core.TrackZone(z.start, z.end, unique.index(z.condition))
@@ -284,16 +319,20 @@ def _air_supply(train, n_cars: int, p: _core.PlantParams) -> None:
     p.initial_pressure = p.atmosphere + air.charged_bar * BAR
 
 
+WSP_CONTROLLERS = ("threshold", "slip_setpoint")   # rb_wsp_controller's order (rb_bcu.h)
+
+
 def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     w = _core.WspParams()
     _core.rb_wsp_default_params(ctypes.byref(w))
     if scenario is not None:
         instance("scenario", scenario, Scenario)
         for key in ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold",
-                    "ref_decel_max", "safety_time"):
+                    "ref_decel_max", "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time"):
             value = getattr(scenario.spec.wsp, key)
             if value is not None:
                 setattr(w, key, value)
+        w.controller = WSP_CONTROLLERS.index(scenario.spec.wsp.controller)
     return w
 
 
@@ -384,7 +423,7 @@ def run_structs(prepared: list) -> list:
     kpis, status, errors = (_core.Kpis * n)(), (ctypes.c_int * n)(), (_core.RbError * n)()
     state = ctypes.create_string_buffer(_core.rb_run_state_size())
     _core.call(_core.rb_run_batch, n, *arrays, state, kpis, status, errors)
-    return [kpi_dict(kpis[i], arrays[0][i].atmosphere) if status[i] == 0
+    return [kpi_dict(kpis[i], arrays[0][i].atmosphere, arrays[3][i].n_speed_marks) if status[i] == 0
             else InputError(errors[i].message.decode("utf-8", "replace")) for i in range(n)]
 
 
@@ -464,12 +503,17 @@ def axle_name(index: int) -> str:
     return f"c{index // _core.AXLES_PER_CAR + 1}a{index % _core.AXLES_PER_CAR + 1}"
 
 
-def kpi_dict(kpis: _core.Kpis, atmosphere: float) -> dict:
-    """The C KPIs in the units of `run --json`: pressures bar gauge, energy MJ, temperature degC."""
+def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
+    """The C KPIs in the units of `run --json`: pressures bar gauge, energy MJ, temperature degC;
+    with speed_marks (rb_scenario.n_speed_marks) > 0 also "speed_marks": the time (s) and distance
+    (m) from the brake demand to each mark, None for a mark never reached."""
     k = {name: getattr(kpis, name) for name in _core.KPI_NAMES}
     stopped = bool(k["stopped"])
     gauge = lambda pa: (pa - atmosphere) / BAR  # noqa: E731
-    return {
+    marks = {} if not speed_marks else {"speed_marks": {
+        "time_s": [t if t >= 0.0 else None for t in kpis.mark_time_s[:speed_marks]],
+        "distance_m": [d if d >= 0.0 else None for d in kpis.mark_distance_m[:speed_marks]]}}
+    return marks | {
         "stopping_distance_m": k["stopping_distance_m"] if stopped else None,
         "stopping_time_s": k["stopping_time_s"] if stopped else None,
         "mean_deceleration": k["mean_deceleration"],

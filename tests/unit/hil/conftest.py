@@ -54,3 +54,20 @@ def railbrake_cli():
 def hil_key():
     """The key file every plant and BCU of these tests share."""
     return KEY_FILE
+
+
+def run_with_dashboard(board, visitor, duration):
+    """A paced 1-car run without BCU (the safe state) with `board` attached, while visitor() (a
+    page, a browser) runs in a thread of its own until it stops the run; the run's result."""
+    import threading
+
+    from railbrake import hil
+    worker = threading.Thread(target=visitor)
+    worker.start()
+    try:
+        return hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=duration, priority=0,
+                       key=bytes(16), on_live=lambda view: board.attach(view=view),
+                       on_faults=lambda switch: board.attach(switch=switch), stop=board.stop_requested)
+    finally:
+        worker.join()
+        board.close()

@@ -40,12 +40,12 @@ def test_bcu_killed_mid_stop(bcu_process, tmp_path):
     assert loss["safe_s"] == pytest.approx(report["counters"]["steps"] * 1e-3 - loss["at_s"])
     with MDF(record) as mdf:
         t = mdf.get("speed").timestamps
-        speed, safe = mdf.get("speed").samples, mdf.get("safe_state").samples
+        speed, safe = mdf.get("speed").samples, mdf.get("safe_state", raw=True).samples   # raw: 0/1, not texts
         demand = mdf.get("pressure_demand_c1").samples
         all_wheels = [mdf.get(f"wheel_speed_c1a{k}").samples for k in range(1, 5)]
         wheels = np.max(all_wheels, axis=0)
-        hold = np.array([mdf.get(f"hold_c1a{k}").samples for k in range(1, 5)])
-        vent = np.array([mdf.get(f"vent_c1a{k}").samples for k in range(1, 5)])
+        hold = np.array([mdf.get(f"hold_c1a{k}", raw=True).samples for k in range(1, 5)])
+        vent = np.array([mdf.get(f"vent_c1a{k}", raw=True).samples for k in range(1, 5)])
     before = (t > 0.5) & (t < loss["last_valid_s"])
     after = t >= loss["at_s"] + 0.002
     assert not safe[before].any() and safe[after].all()

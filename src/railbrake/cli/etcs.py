@@ -1,0 +1,61 @@
+"""`railbrake etcs braking-model TRAIN`: the ETCS braking model of a train (docs/etcs.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from railbrake.cli._common import prepare_folder, print_json, reports_errors
+
+app = typer.Typer(help="ETCS braking model of a train: A_brake_emergency, T_brake, Kdry_rst, Kwet_rst.",
+                  no_args_is_help=True)
+
+
+@app.command("braking-model")
+@reports_errors
+def braking_model(
+    train: str = typer.Argument(..., help="Train preset or train file."),
+    reliability: str = typer.Option("hs-emu", help="Reliability file or preset (data/etcs/reliability-*.yaml)."),
+    scatter: str = typer.Option("hs-emu", help="Scatter file or preset (data/etcs/scatter-*.yaml); 'none': no scatter."),
+    cars: Optional[int] = typer.Option(None, min=1, max=16, help="Number of cars (default: the train's)."),
+    speed: Optional[float] = typer.Option(None, min=1.0, max=600.0,
+                                          help="Initial speed, km/h (default: the train's maximum)."),
+    samples: Optional[int] = typer.Option(None, min=2, max=100_000,
+                                          help="Scatter runs of each likely failure state (default: data/etcs/method.yaml)."),
+    rare_samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs of each rare state."),
+    seed: int = typer.Option(1, min=0, help="Seed of the Latin-hypercube design."),
+    out: Optional[Path] = typer.Option(None, help="Folder for the runs (a rerun resumes), the JSON, the "
+                                       "OSRD export and the report (default: out/etcs/<train>)."),
+    workers: int = typer.Option(2, min=1, max=64, help="Worker processes."),
+    osrd_level: int = typer.Option(2, min=0, max=9, help="M_NVEBCL of the k_dry exported to OSRD."),
+    json: bool = typer.Option(False, "--json", help="Print the braking model as JSON."),
+):
+    """Compute the braking model from whole-train runs over failure states and tolerances."""
+    from railbrake import jsonio
+    from railbrake.etcs import export, model, report
+    settings = {k: v for k, v in (("samples", samples), ("rare_samples", rare_samples)) if v is not None}
+    spec = model.spec(train, reliability, None if scatter == "none" else scatter, cars, speed, seed, **settings)
+    folder = prepare_folder(out or Path("out") / "etcs" / Path(train).stem, "--out")
+    bar = Progress(TextColumn(f"[bold]etcs {train}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                   console=Console(stderr=True), disable=json)
+    task = bar.add_task("runs", total=None)
+    with bar:
+        m = model.braking_model(spec, folder, workers,
+                                progress=lambda n, total: bar.update(task, completed=n, total=total))
+    data = export.to_json(m)
+    (folder / "braking-model.json").write_text(jsonio.dumps(data, indent=1))
+    (folder / "osrd-etcs-brake-params.json").write_text(jsonio.dumps(export.to_osrd(m, osrd_level), indent=1))
+    report.write(m, folder / "report.html")
+    if json:
+        print_json(data)
+        return
+    typer.echo(report.table_text(m))
+    typer.echo(f"{m.runs} runs; {folder / 'braking-model.json'}, {folder / 'report.html'}")
+
+
+def register(root: typer.Typer) -> None:
+    root.add_typer(app, name="etcs")

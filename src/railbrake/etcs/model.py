@@ -1,0 +1,198 @@
+"""The ETCS braking model of a train from whole-train runs (docs/etcs.md).
+
+- A_brake_emergency(V): the nominal train's emergency stop from its maximum speed on dry rail,
+  as a step function on the speed steps: the stop is taken as the ETCS model has it, the speed
+  kept for the equivalent build-up time T_brake_emergency, then each step braked at its constant
+  deceleration. Between two speed marks V_j > V_j+1 passed at distances d_j, d_j+1 the step's
+  deceleration is (V_j^2 - V_j+1^2) / (2 (d_j+1 - d_j)); the top step's distance starts after
+  V0 T_brake_emergency.
+- T_brake_emergency: EN 14531-1's equivalent response time te = ta + tb/2 of that stop.
+- Kdry_rst(V, EBCL): per speed step the deceleration ratio of each run (failure state and scatter
+  draw, the same stop) to the nominal one, mixed over the failure states
+  (railbrake.etcs.mixture), read at 1 - EBCL.
+- Kwet_rst: the EN 15595 test pairs, dry and reduced adhesion at 120 km/h and at the maximum speed,
+  100 / (100 + increase of the deceleration distance in %), the worse pair deciding.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from railbrake import _core, config, simulation
+from railbrake.campaign.worker import equivalent_response_time
+from railbrake.errors import InputError
+from railbrake.etcs import confidence, mixture, runs
+from railbrake.units import KMH
+
+
+class BuildUp(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
+    delay: float = Field(gt=0.0, lt=1.0)
+    complete: float = Field(gt=0.0, lt=1.0)
+
+
+class Method(BaseModel):
+    """data/etcs/method.yaml: the method's settings, each with its source."""
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
+    schema_: Literal["railbrake.etcs-method/1"] = Field(alias="schema")
+    speed_steps_kmh: list[float] = Field(min_length=1, max_length=_core.MAX_SPEED_MARKS)
+    speed_steps_source: str
+    dry_condition: str
+    kwet_test_speed_kmh: float = Field(gt=0.0, le=600.0)
+    reduced_condition: str
+    build_up: BuildUp
+    samples: int = Field(ge=2, le=100_000)
+    rare_samples: int = Field(ge=2, le=100_000)
+    likely_state: float = Field(ge=0.0, le=1.0)
+    state_floor: float = Field(gt=0.0, lt=1e-9)
+
+
+def method() -> Method:
+    return config.load_yaml(str(resources.files("railbrake") / "data" / "etcs" / "method.yaml"), Method)
+
+
+def spec(train: str, reliability: str = "hs-emu", scatter: str | None = "hs-emu", cars: int | None = None,
+         initial_speed_kmh: float | None = None, seed: int = 1, **settings) -> runs.Spec:
+    """An analysis of `train` with the method file's settings, any of them replaced by `settings`."""
+    m = method().model_dump()
+    m.update(settings)
+    return runs.Spec(train=str(train), reliability=str(reliability), scatter=None if scatter is None else str(scatter),
+                     cars=cars, speed_steps_kmh=tuple(m["speed_steps_kmh"]), dry_condition=m["dry_condition"],
+                     reduced_condition=m["reduced_condition"], kwet_test_speed_kmh=m["kwet_test_speed_kmh"],
+                     initial_speed_kmh=initial_speed_kmh, samples=m["samples"], rare_samples=m["rare_samples"],
+                     likely_state=m["likely_state"], state_floor=m["state_floor"], seed=seed)
+
+
+def step_decelerations(v0: float, marks: tuple, stop_speed: float, row: dict, t_be: float) -> np.ndarray:
+    """Each speed step's deceleration (m/s^2, lowest step first) from a run's mark distances."""
+    if row.get("error"):
+        return np.zeros(len(marks) + 1)   # a run the core refused: no brake (the safe side)
+    speeds = [v0, *marks, stop_speed]
+    ends = [v0 * t_be, *row["marks_m"], row["stopping_distance_m"]]
+    out = []
+    for j in range(len(speeds) - 1):
+        if ends[j + 1] is None:   # a step the run did not get through in its time: no brake there
+            out.append(0.0)
+            continue
+        run = ends[j + 1] - ends[j]
+        if run <= 0.0:
+            raise InputError(f"speed step {speeds[j + 1] / KMH:.0f}-{speeds[j] / KMH:.0f} km/h is passed within "
+                             f"the equivalent build-up time ({t_be:.2f} s): choose speed steps wider at the top")
+        out.append((speeds[j] ** 2 - speeds[j + 1] ** 2) / (2.0 * run))
+    return np.asarray(out[::-1])
+
+
+@dataclass
+class BrakingModel:
+    train: str
+    spec: runs.Spec
+    speed_steps_kmh: list        # lower speed of each step
+    a_brake_emergency: list      # m/s^2 per step
+    t_brake_emergency: float     # s
+    kdry: list                   # [step][M_NVEBCL], before rounding
+    kwet: float                  # before rounding, the worse pair's
+    kwet_pairs: list             # per test speed: dry and reduced deceleration distances
+    states: list                 # per failure state: label, probability, mean ratio per step, runs
+    deciding: list               # [step][M_NVEBCL]: the state most likely at the quantile
+    runs: int = 0
+    ratios: list = field(default_factory=list, repr=False)   # per state, per step: the sorted sample
+
+    def kdry_coded(self) -> list:
+        return [[confidence.coded(k) for k in step] for step in self.kdry]
+
+    def kwet_coded(self) -> float:
+        return confidence.coded(self.kwet)
+
+
+def nominal_build_up(ctx: runs.Context) -> float:
+    """T_brake_emergency: te = ta + tb/2 of the nominal dry stop (a recorded run)."""
+    m = method()
+    sc = simulation.emergency_scenario(ctx.spec.train, ctx.v0, ctx.spec.dry_condition)
+    result = simulation.run(sc, cars=ctx.spec.cars or len(ctx.train.cars))
+    te = equivalent_response_time(result, m.build_up.delay, m.build_up.complete)
+    if te is None:
+        raise InputError(f"train {ctx.spec.train}: the nominal stop shows no deceleration to measure the build-up on")
+    return te
+
+
+def kwet(ctx: runs.Context, t_be: float) -> tuple[float, list]:
+    """Kwet_rst from the EN 15595 test pairs (the worse deciding) and the pairs' figures."""
+    speeds = sorted({ctx.spec.kwet_test_speed_kmh * KMH, ctx.v0})
+    prepared = [ctx.stop(v, c) for v in speeds for c in (ctx.spec.dry_condition, ctx.spec.reduced_condition)]
+    rows = simulation.run_structs(prepared)
+    pairs = []
+    for i, v in enumerate(speeds):
+        dry, wet = rows[2 * i], rows[2 * i + 1]
+        for r, c in ((dry, ctx.spec.dry_condition), (wet, ctx.spec.reduced_condition)):
+            if isinstance(r, Exception) or r["stopping_distance_m"] is None:
+                raise InputError(f"Kwet test from {v / KMH:.0f} km/h on {c}: the train did not stop ({r})")
+        d_dry = dry["stopping_distance_m"] - v * t_be
+        d_wet = wet["stopping_distance_m"] - v * t_be
+        increase = 100.0 * (d_wet - d_dry) / d_dry
+        # a reduced adhesion cannot shorten the stop: a negative increase (within the model's
+        # accuracy) counts as none; the pair's own figures are reported as they are
+        pairs.append({"speed_kmh": v / KMH, "dry_deceleration_distance_m": d_dry,
+                      "reduced_deceleration_distance_m": d_wet, "increase_percent": increase,
+                      "kwet": 100.0 / (100.0 + max(increase, 0.0))})
+    return min(p["kwet"] for p in pairs), pairs
+
+
+def _deciding(states: list, x: float) -> int:
+    """The state with the largest share of the mixture's probability below x."""
+    return int(np.argmax([s.probability * s.cdf(x) for s in states]))
+
+
+def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) -> BrakingModel:
+    ctx = runs.context(spec)
+    t_be = nominal_build_up(ctx)
+    stop_speed = ctx.structs[3].stop_speed
+    nominal = nominal_decelerations(ctx, t_be, stop_speed)
+    rows = runs.run_all(spec, ctx.jobs(), out, workers, progress)
+    n_steps = len(ctx.marks) + 1
+    per_state = [[] for _ in ctx.states]
+    for (s, _), row in sorted(rows.items()):
+        per_state[s].append(step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be) / nominal)
+    ratios = [np.asarray(r) for r in per_state]
+    kdry, deciding = [], []
+    for j in range(n_steps):
+        states = [mixture.State.of(st.probability, r[:, j], st.label) for st, r in zip(ctx.states, ratios)]
+        values = [mixture.k_dry(states, c) for c in confidence.EBCL]
+        kdry.append([min(v, confidence.K_MAX) if v > 0 else 0.0 for v in values])
+        deciding.append([ctx.states[_deciding(states, v)].label for v in values])
+    k_wet, pairs = kwet(ctx, t_be)
+    steps = [0.0, *sorted(v / KMH for v in ctx.marks)]
+    summary = [{"label": st.label, "probability": st.probability, "runs": len(r),
+                "mean_ratio": [float(x) for x in r.mean(axis=0)]} for st, r in zip(ctx.states, ratios)]
+    return BrakingModel(spec.train, spec, steps, [float(a) for a in nominal], t_be, kdry, k_wet, pairs,
+                        summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios])
+
+
+def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float) -> np.ndarray:
+    """A_brake_emergency per step: the nominal train's stop (no failure, no scatter)."""
+    row = runs._row(simulation.run_structs([ctx.structs])[0])
+    a = step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be)
+    if not np.all(a > 0.0):
+        raise InputError(f"train {ctx.spec.train}: the nominal emergency stop from {ctx.v0 / KMH:.0f} km/h did not stop")
+    return a
+
+
+def braking_distance(model: BrakingModel, level: int, avadh: float) -> float:
+    """The ETCS emergency braking distance from the analysis' initial speed at M_NVEBCL = level with
+    M_NVAVADH = avadh: the speed kept for T_brake_emergency, then A_safe = A x Kdry x (Kwet +
+    avadh (1 - Kwet)) per speed step (coded values)."""
+    v0 = model.spec.initial_speed_kmh * KMH if model.spec.initial_speed_kmh else runs.context(model.spec).v0
+    edges = [v * KMH for v in model.speed_steps_kmh] + [v0]
+    kw = model.kwet_coded()
+    distance = v0 * model.t_brake_emergency
+    for j, a in enumerate(model.a_brake_emergency):
+        safe = a * model.kdry_coded()[j][level] * (kw + avadh * (1.0 - kw))
+        if safe <= 0.0:
+            return math.inf
+        distance += (edges[j + 1] ** 2 - edges[j] ** 2) / (2.0 * safe)
+    return distance

@@ -1,0 +1,86 @@
+"""Drawing the scatter file's tolerances and applying a draw to a run's C structs.
+
+The draws are a Latin hypercube over every factor (one per quantity, or one per quantity and car):
+each factor's range is covered in equal-probability strata, so a state's mean and spread converge
+faster than with independent draws (McKay, Beckman & Conover 1979), and the same design, seeded,
+is used in every failure state, so the states differ by their failures only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.stats import norm, qmc, truncnorm
+
+from railbrake.errors import InputError
+from railbrake.etcs.inputs import QUANTITIES, Distribution, ScatterFile
+
+MAX_SAMPLES = 100_000
+
+
+def _ppf(d: Distribution, u: np.ndarray) -> np.ndarray:
+    if d.distribution == "uniform":
+        low, high = d.bounds
+        return low + (high - low) * u
+    if d.distribution == "normal":
+        return norm.ppf(u, loc=d.mean, scale=d.sd) if d.sd > 0.0 else np.full_like(u, d.mean)
+    low, high = d.bounds
+    if d.sd == 0.0:
+        return np.full_like(u, d.mean)
+    return truncnorm.ppf(u, (low - d.mean) / d.sd, (high - d.mean) / d.sd, loc=d.mean, scale=d.sd)
+
+
+def draws(scatter: ScatterFile | None, n_cars: int, n: int, seed: int) -> np.ndarray:
+    """n draws of every factor: array (n, len(QUANTITIES), n_cars), 1 where the file has no scatter."""
+    if not 1 <= n <= MAX_SAMPLES:
+        raise InputError(f"samples = {n}: must be in [1, {MAX_SAMPLES}]")
+    out = np.ones((n, len(QUANTITIES), n_cars))
+    given = scatter.quantities() if scatter is not None else {}
+    if not given:
+        return out
+    dims = [(QUANTITIES.index(q), d, 1 if d.per == "train" else n_cars) for q, d in given.items()]
+    u = qmc.LatinHypercube(d=sum(k for _, _, k in dims), seed=seed).random(n)
+    column = 0
+    for q, d, k in dims:
+        values = _ppf(d, u[:, column:column + k])
+        out[:, q, :] = values if k == n_cars else values[:, :1]
+        column += k
+    return out
+
+
+def check_against(scatter: ScatterFile | None, plant, origin: str) -> None:
+    """Refuse, before any run, a rigging-efficiency scatter that takes a car's efficiency above 1."""
+    d = scatter.rigging_efficiency if scatter is not None else None
+    if d is None:
+        return
+    high = d.bounds[1] if d.bounds else d.mean + 10.0 * d.sd
+    worst = max(plant.car[c].vehicle.brake.caliper.efficiency for c in range(plant.n_cars)) * high
+    if worst > 1.0:
+        raise InputError(f"{origin}: rigging_efficiency: its upper end {high:g} takes the caliper efficiency "
+                         f"to {worst:.4g}: the factor's upper bound must keep it at or below 1")
+
+
+def _scale_table(table, factor: float) -> None:
+    for i in range(table.n):
+        table.value[i] *= factor
+
+
+def apply(plant, bcu, factors: np.ndarray) -> tuple:
+    """Copies of the plant and BCU structs with one draw (len(QUANTITIES) x n_cars factors): pad
+    friction, caliper efficiency, wheel radius, mass and valve response in the plant, which the BCU
+    does not know (it brakes for the nominal train: load = the mass it weighs); the pressure its
+    control gives per newton demanded in the BCU."""
+    plant, bcu = type(plant).from_buffer_copy(plant), type(bcu).from_buffer_copy(bcu)
+    f = dict(zip(QUANTITIES, factors))
+    for c in range(plant.n_cars):
+        car = plant.car[c]
+        v = car.vehicle
+        _scale_table(v.brake.pad.table, f["pad_friction"][c])
+        v.brake.caliper.efficiency *= f["rigging_efficiency"][c]
+        v.wheelset.wheel_radius *= f["wheel_diameter"][c]
+        v.mass *= f["load"][c]
+        v.wheelset.axle_load *= f["load"][c]
+        car.ep_tau *= f["valve_response"][c]
+        car.relay_tau *= f["valve_response"][c]
+        _scale_table(bcu.pressure_per_newton[c], f["pressure_control"][c])
+    return plant, bcu
+

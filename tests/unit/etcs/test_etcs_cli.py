@@ -1,0 +1,60 @@
+"""`railbrake etcs braking-model` from the command line: the JSON's SUBSET-026 variables and 5-bit
+codes, the OSRD export, the report; a bad reliability file refused before any run."""
+
+import json
+
+import pytest
+
+from typer.testing import CliRunner
+
+from railbrake.cli import app
+from railbrake.etcs import confidence
+
+RELIABILITY = """schema: railbrake.reliability/1
+name: t
+source: test
+failures:
+  - {kind: ep_valve_failed, unit: car, per_demand: 1.0e-4, source: test}
+"""
+
+ARGS = ["etcs", "braking-model", "crh380a-8", "--cars", "2", "--speed", "80", "--samples", "4",
+        "--rare-samples", "2", "--workers", "1"]
+
+
+def test_json_codes_osrd_export_and_report(tmp_path):
+    rel = tmp_path / "rel.yaml"
+    rel.write_text(RELIABILITY)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ARGS + ["--reliability", str(rel), "--out", str(out), "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    steps = data["A_brake_emergency"]["V_lower_kmh"]
+    assert steps == [0.0, 50.0] and len(data["A_brake_emergency"]["A_m_s2"]) == 2
+    assert [k["M_NVEBCL"] for k in data["Kdry_rst"]] == list(range(10))
+    for level in data["Kdry_rst"]:
+        assert len(level["value"]) == len(steps)
+        for value, coded, code in zip(level["value"], level["coded"], level["code"]):
+            assert isinstance(code, int) and 0 <= code <= 31
+            assert coded == pytest.approx(code * confidence.K_STEP, abs=1e-12) and coded <= value + 1e-12
+    kwet = data["Kwet_rst"]
+    assert 0 < kwet["coded"] <= kwet["value"] <= 1 and kwet["code"] == round(kwet["coded"] / confidence.K_STEP)
+    osrd = json.loads((out / "osrd-etcs-brake-params.json").read_text())["etcs_brake_params"]
+    assert osrd["gamma_emergency"]["boundaries"] == [50 / 3.6]
+    assert len(osrd["k_dry"]["values"]) == 2 and osrd["k_dry"]["values"] == data["Kdry_rst"][2]["coded"]
+    assert osrd["t_be"] == data["T_brake_emergency_s"]
+    assert "<svg" in (out / "report.html").read_text()
+    # the braking distance grows with the wet-rail reduction and with the level (None: no brake)
+    inf = float("inf")
+    wet = [inf if d["M_NVAVADH_0"] is None else d["M_NVAVADH_0"] for d in data["emergency_braking_distance_m"]]
+    dry = [inf if d["M_NVAVADH_1"] is None else d["M_NVAVADH_1"] for d in data["emergency_braking_distance_m"]]
+    assert all(w >= d for w, d in zip(wet, dry)) and dry == sorted(dry) and wet == sorted(wet)
+
+
+def test_a_bad_reliability_file_is_refused_before_any_run(tmp_path):
+    rel = tmp_path / "rel.yaml"
+    rel.write_text(RELIABILITY.replace("1.0e-4", "2.0"))
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ARGS + ["--reliability", str(rel), "--out", str(out)])
+    assert result.exit_code != 0
+    assert f"{rel}, line 5" in result.output and "per_demand = 2.0" in result.output
+    assert not (out / "batches").exists()

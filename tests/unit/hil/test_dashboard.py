@@ -1,0 +1,86 @@
+"""The live dashboard's server against a paced run without BCU (the safe state): the page and its
+scripts ship with the package (nothing from the network), the API refuses calls without the token,
+the live speed is the recorded one at the same plant time, a fault injected through the page's API
+is in the recording at its time, and the page's stop ends the run. Assertions read the recording."""
+
+import json
+import re
+import urllib.error
+import urllib.request
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from conftest import run_with_dashboard
+from railbrake.hil.dashboard import Dashboard
+
+
+def get(url):
+    with urllib.request.urlopen(url, timeout=30) as r:
+        return r.status, r.read()
+
+
+def post(url, data):
+    request = urllib.request.Request(url, json.dumps(data).encode(), {"Content-Type": "application/json"})
+    try:
+        with urllib.request.urlopen(request, timeout=30) as r:
+            return r.status, json.loads(r.read())
+    except urllib.error.HTTPError as exc:
+        return exc.code, json.loads(exc.read())
+
+
+def test_static_files_fetch_nothing_from_the_network():
+    folder = resources.files("railbrake.hil.dashboard") / "static"
+    for name in ("index.html", "dashboard.js", "dashboard.css"):
+        text = (folder / name).read_text()
+        assert not re.search(r"(https?:)?//[a-z0-9.-]+\.[a-z]{2,}", text, re.I), name   # no external address
+        assert "@import" not in text
+
+
+def test_dashboard_api_during_a_paced_run(tmp_path):
+    board = Dashboard(cars=1)
+    base, token = f"http://{board.host}:{board.port}", board.token
+    seen, errors = {}, []
+
+    def page():
+        """What the page does: snapshots, a fault injected, bad calls refused, then stop."""
+        try:
+            assert get(base + "/")[0] == 200 and b"dashboard.js" in get(base + "/")[1]
+            with pytest.raises(urllib.error.HTTPError):
+                get(base + "/api/snapshot")
+            snapshot = None
+            while snapshot is None or snapshot["time"] < 0.5:
+                snapshot = json.loads(get(f"{base}/api/snapshot?token={token}")[1])["snapshot"]
+            seen["snapshot"] = snapshot
+            fault = {"type": "vent_stuck_open", "car": 1, "axle": 3}
+            seen["nokey"] = post(base + "/api/fault", {"command": "inject", "fault": fault})
+            seen["bad"] = post(base + "/api/fault", {"token": token, "command": "inject",
+                                                      "fault": {"type": "vent_stuck_open", "car": 4}})
+            seen["inject"] = post(base + "/api/fault", {"token": token, "command": "inject", "fault": fault})
+            late = json.loads(get(f"{base}/api/snapshot?token={token}")[1])["snapshot"]
+            while late["time"] < seen["inject"][1]["time_s"] + 0.3:
+                late = json.loads(get(f"{base}/api/snapshot?token={token}")[1])["snapshot"]
+            seen["late"] = late
+            seen["stop"] = post(base + "/api/stop", {"token": token})
+        except Exception as exc:   # noqa: BLE001 - reported by the test
+            errors.append(repr(exc))
+            board.request_stop()
+
+    result = run_with_dashboard(board, page, 60.0)
+    assert not errors, errors
+    assert seen["nokey"][0] == 400 and "token" in seen["nokey"][1]["error"]
+    assert seen["bad"][0] == 400 and "cars 1..1" in seen["bad"][1]["error"]
+    assert seen["inject"][0] == 200 and seen["stop"][0] == 200
+    assert result.interrupted and result.time[-1] < 60.0          # the page stopped the run
+    # the live speed is the recorded one at that plant time (recorded every 20 ms: interpolated)
+    s = seen["snapshot"]
+    recorded = np.interp(s["time"], result.time, result.outputs["speed"])
+    assert s["speed"] == pytest.approx(recorded, rel=0.01)
+    assert s["speed"] == pytest.approx(recorded, rel=1e-4)        # (in fact much closer)
+    # the fault from the page: in the report and the recording at its time
+    change = result.fault_changes[0]
+    assert change.time_s == seen["inject"][1]["time_s"] and change.fault["axle"] == 3
+    vent = result.outputs["vent_c1a3"]
+    assert not vent[result.time <= change.time_s].any() and vent[result.time > change.time_s + 0.01].all()
+    assert seen["late"]["vent"][2] == 1 and seen["late"]["vent"][1] == 0

@@ -1,0 +1,69 @@
+"""The dashboard in a real headless browser (Debian's chromium, `make browser`, driven by
+Playwright) during a paced run without BCU: the page loads with every request off this machine
+blocked, shows the live speed within 1 % of the recording at the plant time it shows, and a fault
+injected from the page is in the recording from the time the loop applied it."""
+
+import shutil
+
+import numpy as np
+import pytest
+
+from conftest import run_with_dashboard
+from railbrake.hil.dashboard import Dashboard
+from railbrake.units import ms_to_kmh
+
+CHROMIUM = shutil.which("chromium")
+playwright = pytest.importorskip("playwright.sync_api", reason="playwright not installed (pip install '.[test]')")
+pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="Debian's chromium is not installed: `make browser` "
+                                "installs it (apt-get, as root)")
+
+
+def drive(board, seen, errors):
+    origin = f"http://{board.host}:{board.port}"
+    try:
+        with playwright.sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
+            page = browser.new_page()
+            blocked = []
+
+            def only_local(route):
+                if route.request.url.startswith(origin + "/"):
+                    route.continue_()
+                else:   # the network beyond this machine is blocked
+                    blocked.append(route.request.url)
+                    route.abort()
+
+            page.route("**/*", only_local)
+            page.goto(board.url)
+            page.wait_for_function("Number(document.getElementById('time').textContent) > 1.0", timeout=60000)
+            seen["speed"] = page.eval_on_selector("#speed", "e => [Number(e.dataset.time), Number(e.dataset.value)]")
+            page.select_option("#fault-type", "vent_stuck_open")
+            page.fill("#fault-car", "1")
+            page.fill("#fault-axle", "3")
+            page.click("#inject")
+            page.wait_for_function("document.getElementById('fault-answer').dataset.ok === 'true'", timeout=30000)
+            seen["fault_time"] = float(page.eval_on_selector("#fault-answer", "e => e.dataset.time"))
+            page.wait_for_function(f"Number(document.getElementById('time').textContent) > {seen['fault_time'] + 0.5}",
+                                   timeout=60000)
+            page.click("#stop")
+            seen["blocked"] = blocked
+            browser.close()
+    except Exception as exc:   # noqa: BLE001 - reported by the test
+        errors.append(repr(exc))
+        board.request_stop()
+
+
+def test_dashboard_in_headless_chromium():
+    board = Dashboard(cars=1)
+    seen, errors = {}, []
+    result = run_with_dashboard(board, lambda: drive(board, seen, errors), 120.0)
+    assert not errors, errors
+    assert seen["blocked"] == []                         # the page needs nothing from the network
+    assert result.interrupted                            # the page's stop button ended the run
+    t, shown_kmh = seen["speed"]
+    recorded_kmh = ms_to_kmh(np.interp(t, result.time, result.outputs["speed"]))
+    assert shown_kmh == pytest.approx(recorded_kmh, rel=0.01)
+    change = result.fault_changes[0]
+    assert change.origin == "dashboard" and change.time_s == pytest.approx(seen["fault_time"])
+    vent = result.outputs["vent_c1a3"]
+    assert not vent[result.time <= change.time_s].any() and vent[result.time > change.time_s + 0.01].all()
