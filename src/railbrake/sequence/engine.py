@@ -106,7 +106,9 @@ class MilPlant:
 
     def set_adhesion(self, condition: str, where: str) -> str:
         try:
-            self.plant.condition[0] = simulation._condition(condition, self.resolved.scenario.spec.initial_speed)
+            spec = self.resolved.scenario.spec   # cell by cell only where this run has rail cells
+            cells = spec.adhesion.rail_conditioning == "cells" and self.plant.rail_cell_length > 0.0
+            self.plant.condition[0] = simulation._condition(condition, spec.initial_speed, cells)
         except InputError as exc:
             raise InputError(f"{where} = {condition!r}: {exc}") from None
         _core.call(_core.rb_run_retune, ctypes.byref(self.plant), ctypes.byref(self.wsp), self.state)

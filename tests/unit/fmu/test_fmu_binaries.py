@@ -44,9 +44,10 @@ def binary_of(path, folder, version):
 
 @pytest.fixture(scope="module")
 def two_configurations(tmp_path_factory):
-    """FMI 3 exports of the same scenario with 1 and 2 cars: (folder, model description, path) each."""
+    """FMI 3 exports of the same scenario with 8 and 16 cars (the integrator's case: two trains in one
+    real-time application): (folder, model description, cars) each."""
     out = []
-    for cars in (1, 2):
+    for cars in (8, 16):
         folder = tmp_path_factory.mktemp(f"cars{cars}")
         path = export_fmu(SCENARIO, folder / "plant.fmu", "3", cars=cars)
         md, _ = unpack(path, folder / "unzipped")
@@ -76,10 +77,10 @@ def test_linux_binary_needs_nothing_beyond_glibc_2_17(fmu, tmp_path):
 
 
 def test_model_identifier_per_configuration(two_configurations, tmp_path):
-    (_, one, _), (_, two, _) = two_configurations
+    (_, one, cars), (_, two, _) = two_configurations
     ids = {one.coSimulation.modelIdentifier, two.coSimulation.modelIdentifier}
     assert len(ids) == 2 and all(i.startswith("railbrake_emergency_250_dry_") for i in ids)
-    again = export_fmu(SCENARIO, tmp_path / "again.fmu", "3", cars=1, binary=False)
+    again = export_fmu(SCENARIO, tmp_path / "again.fmu", "3", cars=cars, binary=False)
     assert read_model_description(str(again)).coSimulation.modelIdentifier == one.coSimulation.modelIdentifier
     given = export_fmu(SCENARIO, tmp_path / "given.fmu", "2", cars=1, binary=False, identifier="brake_hil_a")
     assert read_model_description(str(given)).coSimulation.modelIdentifier == "brake_hil_a"
