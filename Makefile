@@ -82,7 +82,7 @@ pytest: install wine browser
 pytest-sanitize: install ctest-sanitize
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-	RAILBRAKE_CORE_LIBRARY=$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
+	RAILBRAKE_CORE_LIBRARY=$(CURDIR)/$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
 	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow" -p no:cacheprovider --ignore=tests/unit/fmu
 
 # Every verification and validation case (docs/validation-cases.md): the HTML report into out/,

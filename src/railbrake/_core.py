@@ -24,6 +24,9 @@ c_double_p = POINTER(c_double)
 
 def _load_library() -> ctypes.CDLL:
     override = os.environ.get("RAILBRAKE_CORE_LIBRARY")
+    if override and not Path(override).is_file():
+        raise ImportError(f"RAILBRAKE_CORE_LIBRARY = {override!r}: no such file (from {os.getcwd()}); unset it to "
+                          "use the installed core")
     candidates = [Path(override)] if override else sorted(_LIB_DIR.glob("*railbrake_core*"))
     for path in candidates:
         if path.is_file():

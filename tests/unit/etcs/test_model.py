@@ -29,6 +29,7 @@ def shipped():
     return model.braking_model(model.spec(TRAIN, initial_speed_kmh=SPEED, samples=8, rare_samples=2))
 
 
+@pytest.mark.slow   # hundreds of whole-train runs: 2-3 min each under the sanitizers
 def test_kdry_is_coded_on_the_grid_and_does_not_rise_with_the_level(shipped):
     assert len(shipped.kdry) == len(shipped.a_brake_emergency) == len(shipped.speed_steps_kmh)
     assert shipped.speed_steps_kmh == [0.0, 50.0, 100.0, 150.0]
@@ -42,6 +43,7 @@ def test_kdry_is_coded_on_the_grid_and_does_not_rise_with_the_level(shipped):
     assert all(a > 0.0 for a in shipped.a_brake_emergency) and shipped.t_brake_emergency > 0.0
 
 
+@pytest.mark.slow   # hundreds of whole-train runs: 2-3 min each under the sanitizers
 def test_kwet_is_the_worse_pairs(shipped):
     assert [p["speed_kmh"] for p in shipped.kwet_pairs] == [120.0, SPEED]
     assert shipped.kwet == min(p["kwet"] for p in shipped.kwet_pairs)
@@ -76,6 +78,7 @@ def test_a_car_certain_to_be_lost_takes_its_share_of_the_brake_force(tmp_path):
         assert all(k == pytest.approx(1.0 - share, rel=0.01) for k in step), (j, step, 1 - share)
 
 
+@pytest.mark.slow   # hundreds of whole-train runs: 2-3 min each under the sanitizers
 def test_a_resumed_analysis_gives_the_same_result(tmp_path):
     """Batches already in the folder are read back, the others run: equal results."""
     path = tmp_path / "none.yaml"

