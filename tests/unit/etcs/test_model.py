@@ -62,6 +62,7 @@ def test_no_scatter_and_no_failure_gives_one_at_every_level(tmp_path):
     assert all(k == 1.0 for step in m.kdry_coded() for k in step)
 
 
+@pytest.mark.slow   # 16 s under the sanitizers; the no-failure case covers the same code
 def test_a_car_certain_to_be_lost_takes_its_share_of_the_brake_force(tmp_path):
     """The ratio of each speed step drops by car 3's share of the train's emergency brake force
     (the BCU's per-car demand, railbrake.sizing) over the step, within 1 %."""

@@ -80,6 +80,7 @@ def test_heavy_rain_mean_pressure_agrees_eight_cars(compared):
     assert compared(RAIN, 8).summary["cylinder_mean_rms_bar"] < 0.1
 
 
+@pytest.mark.slow   # a 0.1 ms run of the heavy-rain stop: 21 s under the sanitizers
 def test_one_ms_step_brakes_as_its_converged_self_under_wsp():
     # the wheelset update probes its secant stiffness at the slip the step ends near: while WSP moves
     # the slip along the adhesion curve the 1 ms rail force does not lag (probed at the step's start

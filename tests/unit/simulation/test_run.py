@@ -156,7 +156,8 @@ def test_substeps_only_above_two_ms():
     assert [simulation.substeps_for(dt * 1e-3) for dt in (0.25, 1.0, 2.0, 2.5, 5.0, 10.0)] == [1, 1, 1, 2, 3, 5]
 
 
-@pytest.mark.parametrize("preset", scenario.preset_names())
+@pytest.mark.parametrize("preset", [   # the WSP's heavy-rain stop: 25 s under the sanitizers (leaves-patch covers WSP)
+    pytest.param(p, marks=pytest.mark.slow) if p == "emergency-300-heavy-rain" else p for p in scenario.preset_names()])
 def test_kernels_give_the_same_kpis(preset):
     """The vector wheelset kernel (where this CPU has it) against the portable reference."""
     portable = simulation.run(preset, record=False, kernel="portable").kpis
