@@ -6,7 +6,8 @@
   deceleration. Between two speed marks V_j > V_j+1 passed at distances d_j, d_j+1 the step's
   deceleration is (V_j^2 - V_j+1^2) / (2 (d_j+1 - d_j)); the top step's distance starts after
   V0 T_brake_emergency.
-- T_brake_emergency: EN 14531-1's equivalent response time te = ta + tb/2 of that stop.
+- T_brake_emergency: EN 14531-1's equivalent response time te = ta + tb/2 of that stop's total
+  brake force (railbrake.simulation.response).
 - Kdry_rst(V, EBCL): per speed step the deceleration ratio of each run (failure state and scatter
   draw, the same stop) to the nominal one, mixed over the failure states
   (railbrake.etcs.mixture), read at 1 - EBCL.
@@ -25,16 +26,10 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import _core, config, simulation
-from railbrake.campaign.worker import equivalent_response_time
+from railbrake.simulation import response
 from railbrake.errors import InputError
 from railbrake.etcs import confidence, mixture, runs
 from railbrake.units import KMH
-
-
-class BuildUp(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
-    delay: float = Field(gt=0.0, lt=1.0)
-    complete: float = Field(gt=0.0, lt=1.0)
 
 
 class Method(BaseModel):
@@ -46,7 +41,6 @@ class Method(BaseModel):
     dry_condition: str
     kwet_test_speed_kmh: float = Field(gt=0.0, le=600.0)
     reduced_condition: str
-    build_up: BuildUp
     samples: int = Field(ge=2, le=100_000)
     rare_samples: int = Field(ge=2, le=100_000)
     likely_state: float = Field(ge=0.0, le=1.0)
@@ -111,14 +105,11 @@ class BrakingModel:
 
 
 def nominal_build_up(ctx: runs.Context) -> float:
-    """T_brake_emergency: te = ta + tb/2 of the nominal dry stop (a recorded run)."""
-    m = method()
-    sc = simulation.emergency_scenario(ctx.spec.train, ctx.v0, ctx.spec.dry_condition)
-    result = simulation.run(sc, cars=ctx.spec.cars or len(ctx.train.cars))
-    te = equivalent_response_time(result, m.build_up.delay, m.build_up.complete)
-    if te is None:
-        raise InputError(f"train {ctx.spec.train}: the nominal stop shows no deceleration to measure the build-up on")
-    return te
+    """T_brake_emergency: EN 14531-1's te = ta + tb/2 of the nominal train's emergency brake from
+    its initial speed on dry rail, on its total brake force (railbrake.simulation.response, as
+    `railbrake run` and `stopping-distance` measure it). The deceleration would not do: a
+    speed-stepped demand and the pad friction make it rise over the whole stop."""
+    return response.simulated(ctx.train, ctx.v0, ctx.spec.dry_condition, preset=ctx.spec.train).response
 
 
 def kwet(ctx: runs.Context, t_be: float) -> tuple[float, list]:
