@@ -73,17 +73,20 @@ browser:
 	    echo "note: chromium not installed (needs root): the dashboard's browser test will be skipped"
 
 pytest: install wine browser
-	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile
+	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile --durations=15
 
 # The Python tests again, with the C core built under AddressSanitizer and UBSan.
 # Python itself is not instrumented, so leak detection is left to the C tests. The FMU tests are
 # left out: they run FMU binaries gcc builds from the exported sources, not this core library, and
-# build their own ASan/UBSan FMUs for the fuzz and memory tests in the plain pass.
+# build their own ASan/UBSan FMUs for the fuzz and memory tests in the plain pass. The docs tests
+# (Sphinx over the pages) and the sequences (Python steps over the run API the simulation tests
+# cover) add time here, not coverage of the core.
 pytest-sanitize: install ctest-sanitize
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
 	RAILBRAKE_CORE_LIBRARY=$(CURDIR)/$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
-	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow" -p no:cacheprovider --ignore=tests/unit/fmu
+	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow" -p no:cacheprovider --durations=15 \
+	    --ignore=tests/unit/fmu --ignore=tests/unit/docs --ignore=tests/unit/sequence
 
 # Every verification and validation case (docs/validation-cases.md): the HTML report into out/,
 # the Markdown summary into docs/validation.md. Failing validation cases are findings, so only a
