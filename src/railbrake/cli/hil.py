@@ -206,7 +206,7 @@ def _summary(result, json: bool, written, out, bcu: str) -> None:
 
 def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval, hold_time,
                      late_time, bind, priority, json, sets, out, axles, window, formats, kernel, control,
-                     dashboard):
+                     dashboard, cpu):
     """Everything `railbrake hil` does, with its interrupts noted: inputs checked, the run, then the
     recording, the run folder and the summary, whatever interrupts come."""
     from railbrake.results import files, record as records
@@ -229,7 +229,7 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
         raise typer.Exit(code=130)
     result = _run(resolved, peer, secret, record, bcu, local, err, json, duration=duration, hold_time=hold_time,
                   late_time=late_time, record_interval=record_interval, priority=priority, kernel=kernel,
-                  stop=interrupts.stop, control=control, dashboard=dashboard)
+                  stop=interrupts.stop, control=control, dashboard=dashboard, cpu=cpu)
     interrupts.finishing = True
     written = None
     if record is not None:
@@ -281,12 +281,15 @@ def register(app: typer.Typer) -> None:
         dashboard: Optional[str] = typer.Option(None, "--dashboard", help="[HOST:]PORT of a live web page of the "
                                                 "run (host default 127.0.0.1; elsewhere only with the token of "
                                                 "the URL printed at the start; port 0: any)."),
+        cpu: Optional[int] = typer.Option(None, "--cpu", help="The CPU the 1 ms loop has to itself: the "
+                                          "process's other threads (dashboard, control socket) are kept off "
+                                          "it (default: wherever the OS puts it)."),
     ):
         """The plant paced at 1 kHz on the wall clock, exchanging frames with a BCU over UDP (docs/hil.md)."""
         with _Interrupts(Console(stderr=True)) as interrupts:
             result = _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, record_interval,
                                       hold_time, late_time, bind, priority, json, sets, out, axles, window,
-                                      formats, kernel, control, dashboard)
+                                      formats, kernel, control, dashboard, cpu)
         if result.interrupted:
             raise typer.Exit(code=130)
         if result.mismatch:

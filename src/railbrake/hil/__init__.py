@@ -151,6 +151,41 @@ class _normal_scheduling_after:
         return False
 
 
+class _own_cpu:
+    """Gives the calling thread CPU `cpu` to itself within this process: the thread is pinned to it and
+    every other thread of the process (the dashboard's and control socket's servers, whose own threads
+    inherit the mask) is kept off it, as a HIL bench isolates the loop's core. Without it, a server
+    thread runs on the loop's core while the loop sleeps between steps and leaves its caches cold for
+    the next step. Masks are restored on exit. None: nothing changes."""
+
+    def __init__(self, cpu: int | None):
+        self.cpu, self.saved = cpu, {}
+
+    def __enter__(self):
+        if self.cpu is None:
+            return self
+        allowed = os.sched_getaffinity(0)
+        if self.cpu not in allowed or len(allowed) < 2:
+            raise InputError(f"cpu = {self.cpu}: must be one of this process's CPUs {sorted(allowed)} and leave "
+                             "another to the rest of the process")
+        me = threading.get_native_id()
+        for tid in [int(t) for t in os.listdir("/proc/self/task")]:
+            try:
+                self.saved[tid] = os.sched_getaffinity(tid)
+                os.sched_setaffinity(tid, {self.cpu} if tid == me else self.saved[tid] - {self.cpu} or allowed)
+            except OSError:       # a thread that ended meanwhile
+                self.saved.pop(tid, None)
+        return self
+
+    def __exit__(self, *exc):
+        for tid, mask in self.saved.items():
+            try:
+                os.sched_setaffinity(tid, mask)
+            except OSError:
+                pass
+        return False
+
+
 # ------------------------------------------------------------------ the plant runner
 
 @dataclass
@@ -258,7 +293,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
         on_start: Callable[[int, int, int], None] | None = None, key=None,
         on_rows: Callable[[np.ndarray], None] | None = None, stop: Callable[[], bool] | None = None,
         on_faults: Callable[[FaultSwitch], None] | None = None, chunk_steps: int = CHUNK_STEPS,
-        on_live: Callable[[LiveView], None] | None = None) -> HilResult:
+        on_live: Callable[[LiveView], None] | None = None, cpu: int | None = None) -> HilResult:
     """Run the plant of `scenario` against the BCU at `bcu` (host, port) until the stop or `duration` s
     (default: the scenario's max_time). progress(t, v) after each chunk; on_event(t, kind, text) for each
     watchdog event logged (malformed, late, lost, safe_on, safe_off, foreign, mismatch, forged, keyed,
@@ -273,7 +308,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     come after each; a sequence follows the run closely with fewer); kernel: the
     plant's wheelset kernel, "auto" or "portable" (None: RAILBRAKE_KERNEL, else auto); key: the key
     file's path or its 16 bytes (the BCU's too: frames are authenticated). Ctrl-C or SIGTERM end the
-    run early: the result holds what was recorded until then (interrupted=True)."""
+    run early: the result holds what was recorded until then (interrupted=True). cpu: the CPU the loop
+    has to itself within this process (None: wherever the OS puts it; docs/hil.md, live dashboard)."""
     if not 1 <= chunk_steps <= CHUNK_STEPS:
         raise InputError(f"chunk_steps = {chunk_steps}: must lie in [1, {CHUNK_STEPS}]")
     secret = key_bytes(key)
@@ -306,7 +342,7 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     switch_interval = sys.getswitchinterval()
     sys.setswitchinterval(min(switch_interval, GIL_SWITCH_INTERVAL))
     try:
-        with _normal_scheduling_after(), _sigterm_as_interrupt():
+        with _normal_scheduling_after(), _sigterm_as_interrupt(), _own_cpu(cpu):
             real_time = request_real_time(priority) if paced else RealTime(False)
             while not finished.value and not interrupted:
                 _core.call(_core.rb_hil_runner_advance, ctypes.byref(plant), ctypes.byref(config), state,

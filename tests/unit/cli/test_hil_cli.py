@@ -24,6 +24,8 @@ KEY = str(write_key(Path(tempfile.mkdtemp(prefix="railbrake-cli-key-")) / "hil.k
     (["hil", "--bcu", "udp://127.0.0.1:5000", "--cars", "40"], "cars"),
     (["hil", "--bcu", "udp://127.0.0.1:9", "--record-interval", "0.0015"],
      "record_interval = 0.0015 s: must be a multiple of 1 ms"),
+    (["hil", "--bcu", "udp://127.0.0.1:9", "--cars", "1", "--priority", "0", "--duration", "0.05", "--cpu", "4096"],
+     "cpu = 4096: must be one of this process's CPUs"),
     (["bcu", "--listen", "udp://127.0.0.1:99999"], "port = '99999': must lie in [0, 65535]"),
     (["bcu", "--listen", "udp://127.0.0.1:0", "--idle-timeout", "-1"], "idle_timeout = -1.0"),
 ])
