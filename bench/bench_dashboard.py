@@ -17,6 +17,7 @@ for docs/hil.md."""
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 from datetime import datetime, timezone
@@ -30,7 +31,7 @@ PAGES = 2
 CARS = 8
 
 # a page: polls the snapshot as dashboard.js does and prints how many it got when told to stop
-PAGE = """
+POLLER = """
 import json, sys, time, urllib.request
 url, poll, served = sys.argv[1], float(sys.argv[2]), 0
 print("ready", flush=True)
@@ -43,12 +44,37 @@ except KeyboardInterrupt:
     print(served, flush=True)
 """
 
+# --browser: the pages themselves, in Debian's headless chromium, counting the snapshots they fetch
+BROWSER = """
+import sys
+from playwright.sync_api import sync_playwright
+url, pages, chromium = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+served = [0]
+with sync_playwright() as p:
+    browser = p.chromium.launch(executable_path=chromium, headless=True, args=["--no-sandbox"])
+    for _ in range(pages):
+        page = browser.new_page()
+        page.on("response", lambda r: served.__setitem__(0, served[0] + ("/api/snapshot" in r.url)))
+        page.goto(url)
+    print("ready", flush=True)
+    try:
+        while True:               # the sync API hands events over only while it is called
+            page.wait_for_timeout(100)
+    except KeyboardInterrupt:
+        print(served[0], flush=True)
+    browser.close()
+"""
 
-def _open_pages(board: Dashboard, cpu: int | None) -> list[subprocess.Popen]:
-    url = f"http://{board.host}:{board.port}/api/snapshot?token={board.token}"
+
+def _open_pages(board: Dashboard, cpu: int | None, browser: str | None) -> list[subprocess.Popen]:
+    """The pages' processes, started off the loop's CPU when it has one (their children inherit it)."""
     away = (lambda: os.sched_setaffinity(0, os.sched_getaffinity(0) - {cpu})) if cpu is not None else None
-    pages = [subprocess.Popen([sys.executable, "-c", PAGE, url, str(POLL_S)], stdout=subprocess.PIPE, text=True,
-                              preexec_fn=away) for _ in range(PAGES)]
+    if browser:
+        commands = [[sys.executable, "-c", BROWSER, board.url, str(PAGES), browser]]
+    else:
+        url = f"http://{board.host}:{board.port}/api/snapshot?token={board.token}"
+        commands = [[sys.executable, "-c", POLLER, url, str(POLL_S)]] * PAGES
+    pages = [subprocess.Popen(c, stdout=subprocess.PIPE, text=True, preexec_fn=away) for c in commands]
     for p in pages:
         p.stdout.readline()
     return pages
@@ -63,13 +89,13 @@ def _close_pages(pages: list[subprocess.Popen]) -> int:
     return served
 
 
-def run_once(seconds: float, priority: int, dashboard: bool, cpu: int | None) -> dict:
+def run_once(seconds: float, priority: int, dashboard: bool, cpu: int | None, browser: str | None) -> dict:
     board = Dashboard(cars=CARS) if dashboard else None
     pages = []
     try:
         result = hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=CARS, duration=seconds, priority=priority,
                          key=bytes(16), cpu=cpu, on_live=(lambda view: (board.attach(view=view), pages.extend(
-                             _open_pages(board, cpu)))) if board else None)
+                             _open_pages(board, cpu, browser)))) if board else None)
     finally:
         served = _close_pages(pages)
         if board:
@@ -103,15 +129,21 @@ def main():
     parser.add_argument("--priority", type=int, default=hil.DEFAULT_PRIORITY)
     parser.add_argument("--cpu", type=int, help="the CPU the loop has to itself (hil --cpu; the pages kept off "
                         "it too, as on a bench with an isolated core); default: wherever the OS puts it")
+    parser.add_argument("--browser", action="store_true", help="two pages in Debian's headless chromium (driven "
+                        "by playwright) instead of two processes polling as they do")
     parser.add_argument("--json", type=Path, help="also write the figures to this file")
     args = parser.parse_args()
+    browser = shutil.which("chromium") if args.browser else None
+    if args.browser and not browser:
+        parser.error("--browser: Debian's chromium is not installed (`make browser`)")
     load = os.getloadavg()[0]
     print(f"paced {args.seconds:g} s per run, {CARS} cars, no BCU, priority {args.priority}, loop's CPU "
-          f"{'any' if args.cpu is None else args.cpu}, {args.pairs} runs of each case; load average {load:.2f} on {os.cpu_count()} cores")
+          f"{'any' if args.cpu is None else args.cpu}, {PAGES} pages in {'chromium' if browser else 'polling processes'}, "
+          f"{args.pairs} runs of each case; load average {load:.2f} on {os.cpu_count()} cores")
     runs = {False: [], True: []}
     for i in range(2 * args.pairs):
         dashboard = (i % 4) in (1, 2)    # A B B A ...
-        runs[dashboard].append(run_once(args.seconds, args.priority, dashboard, args.cpu))
+        runs[dashboard].append(run_once(args.seconds, args.priority, dashboard, args.cpu, browser))
         r = runs[dashboard][-1]
         print(f"  {'dashboard' if dashboard else 'plain    '}: work per step mean {r['work_mean_us']:.2f} us, "
               f"p99 {r['work_p99_us']:.0f} us, max {r['work_max_us']:.0f} us; overruns {r['overruns']} of "
@@ -127,7 +159,7 @@ def main():
         args.json.write_text(json.dumps({
             "made": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "railbrake_commit": commit,
             "command": "python bench/bench_dashboard.py " + " ".join(sys.argv[1:]),
-            "cars": CARS, "seconds_per_run": args.seconds, "priority": args.priority, "cpu": args.cpu, "pages": PAGES,
+            "cars": CARS, "seconds_per_run": args.seconds, "priority": args.priority, "cpu": args.cpu, "pages": PAGES, "pages_in": "chromium" if browser else "polling processes",
             "poll_s": POLL_S, "load_average_1min": load, "real_time": runs[False][0]["real_time"],
             "without": without, "with_dashboard": with_, "work_change": change}, indent=1) + "\n")
 
