@@ -143,6 +143,9 @@ def _run(resolved, peer, secret, record, bcu, local, err, json, control=None, da
     socket takes fault changes while the plant runs."""
     sc = resolved.scenario
     control = _Control(control, dashboard, resolved.cars, err)
+    if dashboard is not None and options.get("cpu") is None:
+        err.print("note: the dashboard's server threads share the loop's CPU; --cpu N gives the loop one to "
+                  "itself (docs/hil.md)", highlight=False, soft_wrap=True)
     interrupted = options.pop("stop")
     stream = None
     if record is not None:

@@ -2,6 +2,7 @@
 a BCU with a duration stops on its own. The paced runs themselves: tests/unit/hil/."""
 
 import json
+import os
 import tempfile
 from pathlib import Path
 
@@ -81,3 +82,16 @@ def test_hil_key_makes_a_private_key_and_never_overwrites(tmp_path):
     assert key.stat().st_mode & 0o777 == 0o600
     again = CliRunner().invoke(app, ["hil-key", str(key)])
     assert again.exit_code == 2 and "exists" in again.output
+
+
+@pytest.mark.parametrize("cpu", [[], ["--cpu", "1"]])
+def test_hil_with_a_dashboard_says_how_to_give_the_loop_its_own_cpu(cpu):
+    if cpu and len(os.sched_getaffinity(0)) < 2:
+        pytest.skip("needs two CPUs")
+    result = CliRunner().invoke(app, ["hil", "emergency-250-dry", "--cars", "1", "--bcu", "udp://127.0.0.1:9",
+                                      "--duration", "0.2", "--priority", "0", "--dashboard", "0", "--key", KEY,
+                                      *cpu])
+    assert result.exit_code == 3, result.output   # no BCU: lost, as above
+    text = " ".join(result.output.split())
+    assert "dashboard on http://127.0.0.1:" in text
+    assert ("--cpu N gives the loop one to itself" in text) is not bool(cpu)
