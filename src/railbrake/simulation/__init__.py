@@ -507,7 +507,7 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
     """The C KPIs in the units of `run --json`: pressures bar gauge, energy MJ, temperature degC;
     with speed_marks (rb_scenario.n_speed_marks) > 0 also "speed_marks": the time (s) and distance
     (m) from the brake demand to each mark, None for a mark never reached."""
-    k = {name: getattr(kpis, name) for name in _core.KPI_NAMES}
+    k = {name: getattr(kpis, name) for name in _core.KPI_NAMES + _core.KPI_TAIL_NAMES}
     stopped = bool(k["stopped"])
     gauge = lambda pa: (pa - atmosphere) / BAR  # noqa: E731
     marks = {} if not speed_marks else {"speed_marks": {
@@ -532,6 +532,9 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
         "brake_energy_mj": k["brake_energy"] / 1e6,
         "max_disc_temperature_c": k["max_disc_temperature"] - ZERO_CELSIUS,
         "air_balance_error": k["air_balance_error"],
+        "valve_switchings": int(k["valve_switchings"]),
+        "max_sliding_energy_kj": k["max_sliding_energy"] / 1e3,
+        "sliding_energy_kj": k["sliding_energy"] / 1e3,
         "stopped": stopped,
     }
 
