@@ -314,7 +314,7 @@ class PlantParams(Structure):
                    ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)]
                 + [("wall_time", c_double), ("rail_cell_length", c_double)]
                 + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
-                   ("sander_rate", c_double * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
+                   ("sander_rate", SpeedTable * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
                    ("sand_reference", c_double)])
 
 

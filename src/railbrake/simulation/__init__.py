@@ -188,7 +188,9 @@ def _sanders(train, n_cars: int, p: _core.PlantParams) -> None:
             raise InputError(f"train {train.name}: sanders.units[{i}].car = {s.car}: the run has cars 1..{n_cars}")
         p.sander_axle[i] = (s.car - 1) * _core.AXLES_PER_CAR + s.axle - 1
         p.sander_trigger[i] = ("driver", "wsp").index(s.trigger)
-        p.sander_rate[i] = s.rate_kg_min / 60.0
+        rate = s.rate_kg_min
+        p.sander_rate[i] = _core.speed_table(np.asarray(rate.speed_kmh) * KMH, np.asarray(rate.value) / 60.0) \
+            if hasattr(rate, "speed_kmh") else _core.speed_table([0.0], [rate / 60.0])   # variable or fixed
         p.sander_start[i] = s.start_s
     p.n_sanders = len(sanders.units)
     p.sand_reference = sanders.sand_reference_kg_m
