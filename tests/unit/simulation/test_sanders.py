@@ -85,3 +85,18 @@ def test_a_variable_rate_table_is_checked(tmp_path, rate, message):
     from railbrake.errors import InputError
     with pytest.raises(InputError, match=message):
         vehicle.load_train(_train_with(tmp_path, VARIABLE.replace("RATE", rate)))
+
+
+def test_the_t1107_rail_as_laid_has_its_published_friction():
+    """The sander validation cases' rail (validation/validation/sanders-t1107-class387): as laid it
+    peaks at the published untreated 0.02 at the trial's 55 mph (its file's target)."""
+    from pathlib import Path
+
+    from railbrake.adhesion import load_condition, peak_adhesion
+    path = Path(__file__).resolve().parents[3] / "validation" / "validation" / "sanders-t1107-class387" / \
+        "t1107-low-adhesion.yaml"
+    condition = load_condition(str(path))
+    (target,) = condition.targets
+    assert peak_adhesion(condition, target["speed_kmh"] / 3.6, axle=0).coefficient == \
+        pytest.approx(target["peak"], rel=target["rel_tolerance"])
+    assert target["peak"] == 0.02
