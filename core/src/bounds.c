@@ -77,6 +77,7 @@ static const rb_bound bounds[] = {
     {"train.disc_mass", "kg", 10.0, 500.0, "one disc of 10 to 500 kg"},
     {"train.disc_specific_heat", "J/(kg.K)", 300.0, 1000.0, "steel 460, cast iron 500, aluminium 900 J/(kg K)"},
     {"train.disc_cooling", "W/K", 0.0, 1e4, "convective cooling of one disc up to 10 kW/K"},
+    {"train.sand_rate", "kg/s", 0.0, 1.0, "a sander's sand (both rails) up to 60 kg/min"},
     {"train.cylinder_stroke", "m", 1e-3, 0.1, "a piston stroke of 1 to 100 mm"},
     {"train.cylinder_dead_volume", "m3", 0.0, 0.02, "up to 20 l of cylinder dead volume and piping"},
     {"train.return_spring", "N", 0.0, 2e4, "a return spring of up to 20 kN"},

@@ -16,7 +16,9 @@
  *
  * Sanders are a second source: the sand a sander drops in front of its axle (m kg per metre of
  * track in a cell) multiplies the cell's contamination by exp(-m / sand_reference), so its axle
- * and every axle behind brake on the sanded rail. The law's form mirrors the energy law; its one
+ * and every axle behind brake on the sanded rail. A fixed-rate sander drops R kg/s, R / v kg per
+ * metre, more as the train slows; a variable-rate one R(v), a table over its car's speed (R = q v
+ * lays q kg per metre at every speed). The law's form mirrors the energy law; its one
  * parameter has no published value (sand rates and their adhesion gain are not public in the
  * sources found, src/railbrake/data/references/sander_tests.yaml): an input [T], the one to
  * calibrate on a full-scale sander test. */
@@ -69,8 +71,15 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
         if (p->sander_trigger[i] != RB_SAND_DRIVER && p->sander_trigger[i] != RB_SAND_WSP)
             return rb_fail(err, RB_EINVAL, "sander[%d].trigger = %d: must be %d (driver) or %d (WSP)", i,
                            p->sander_trigger[i], RB_SAND_DRIVER, RB_SAND_WSP);
-        if (!(p->sander_rate[i] > 0.0 && p->sander_rate[i] <= 1.0))
-            return rb_fail(err, RB_EINVAL, "sander[%d].rate = %g kg/s: must be in (0, 1] kg/s", i, p->sander_rate[i]);
+        char name[32];
+        snprintf(name, sizeof name, "sander[%d].rate", i);
+        const rb_bound *rate = rb_bound_find("train.sand_rate");
+        rb_status st = rb_speed_table_check(&p->sander_rate[i], name, rate->min, rate->max, err);
+        if (st) return st;
+        double largest = 0.0;
+        for (int k = 0; k < p->sander_rate[i].n; ++k) largest = fmax(largest, p->sander_rate[i].value[k]);
+        if (!(largest > 0.0))
+            return rb_fail(err, RB_EINVAL, "%s: every rate is 0 kg/s: the sander never sands", name);
         if (!(p->sander_start[i] >= 0.0 && isfinite(p->sander_start[i])))
             return rb_fail(err, RB_EINVAL, "sander[%d].start = %g s: must be >= 0", i, p->sander_start[i]);
     }
@@ -129,6 +138,12 @@ static void enter_cells(rb_plant_state *s, int64_t cell)
     while (s->rail_front < cell) s->rail_contamination[slot_of(++s->rail_front)] = 1.0;
 }
 
+/* Sander i's rate (kg/s) at its car's speed: a fixed-rate sander's table has one point. */
+static double sander_rate(const rb_plant_params *p, const rb_plant_state *s, int i)
+{
+    return rb_speed_table_at(&p->sander_rate[i], s->v[p->sander_axle[i] / RB_AXLES_PER_CAR]);
+}
+
 /* Whether sander i drops sand in this step: the driver's from its start time, the WSP's while any
  * WSP valve is commanded. */
 static int sander_on(const rb_plant_params *p, const rb_plant_state *s, const rb_plant_inputs *in, int i)
@@ -144,7 +159,7 @@ static void sand(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
 {
     for (int i = 0; i < p->n_sanders; ++i) {
         if (!sander_on(p, s, in, i)) continue;
-        double mass = p->sander_rate[i] * dt;
+        double mass = sander_rate(p, s, i) * dt;
         int64_t cell = cell_of(p, axle_x(p, s, p->sander_axle[i])) + 1;
         enter_cells(s, cell);   /* the leading axle's sander sands the rail just ahead of the train */
         s->rail_contamination[slot_of(cell)] *= exp(-mass / (p->rail_cell_length * p->sand_reference));

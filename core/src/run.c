@@ -104,6 +104,8 @@ void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
         run->peak_log_creep[a] = NAN;
         run->peak_zone[a] = -1;
         run->peak_maxima[a] = 0;
+        run->last_hold[a] = run->out.hold[a];
+        run->last_vent[a] = run->out.vent[a];
     }
 }
 
@@ -211,6 +213,28 @@ static inline int accumulate_axles(const rb_plant_params *p, rb_run_state *r)
     return (int)events;
 }
 
+/* The WSP's effort and the wheel-flat risk after a braking step: the valves' changes of state
+ * (the outputs are the valves' actual states, after their response delays), and each axle's
+ * sliding energy, the work of its creep force F on the slip velocity w = omega r - v (both of the
+ * same sign: F w >= 0 is the power the contact dissipates). */
+static inline void accumulate_effort(const rb_plant_params *p, rb_run_state *r)
+{
+    const rb_plant_outputs *o = &r->out;
+    const rb_plant_state *s = &r->plant;
+    long switches = 0;
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
+        switches += (o->hold[a] != r->last_hold[a]) + (o->vent[a] != r->last_vent[a]);
+        r->last_hold[a] = o->hold[a];
+        r->last_vent[a] = o->vent[a];
+    }
+    r->valve_switchings += switches;
+    for (int c = 0; c < p->n_cars; ++c)
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            double w = s->omega[a] * s->derived.axle_radius[a] - s->v[c];
+            r->axle_sliding_energy[a] += s->force[a] * w * p->dt;
+        }
+}
+
 /* The speed marks the train passed in this step, each placed linearly between the last step's
  * speed and this one's (the step is 1 ms: the error is a fraction of a millimetre). */
 static void pass_marks(const rb_scenario *sc, rb_run_state *r)
@@ -247,6 +271,7 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
                                                             : r->car_min_supply_margin[c];
     }
     r->lock_events += accumulate_axles(p, r);
+    accumulate_effort(p, r);
     double rail = 0.0;   /* summed axle by axle, in the train's order */
     for (int a = 0; a < n_axles; ++a) rail -= r->plant.force[a];
     r->rail_decel_sum += rail / r->total_mass * p->dt;
@@ -381,6 +406,11 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
             worst_locks = r->axle_locks[a];
             worst_slip = r->axle_max_slip[a];
         }
+    }
+    k->valve_switchings = (double)r->valve_switchings;
+    for (int a = 0; a < n_axles; ++a) {
+        k->sliding_energy += r->axle_sliding_energy[a];
+        k->max_sliding_energy = larger(r->axle_sliding_energy[a], k->max_sliding_energy);
     }
     for (int i = 0; i < RB_MAX_SPEED_MARKS; ++i) {
         int passed = i < r->marks_passed;

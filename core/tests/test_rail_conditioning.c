@@ -17,6 +17,13 @@ static void fill_sliding(rb_plant_params *p, int n_cars, double reference_energy
     p->rail_cell_length = 0.5;
 }
 
+/* A fixed sand rate (kg/s): a table of one point. */
+static rb_speed_table fixed_rate(double rate)
+{
+    rb_speed_table t = {1, {0.0}, {rate}};
+    return t;
+}
+
 static void brake(const rb_plant_params *p, rb_plant_state *s, double seconds)
 {
     rb_plant_inputs in;
@@ -125,7 +132,7 @@ static void test_sand_conditions_the_rail(void)
     fill_sliding(&p, 2, 2.0e5);
     q = p;
     p.n_sanders = 1;
-    p.sander_axle[0] = 0; p.sander_trigger[0] = RB_SAND_DRIVER; p.sander_rate[0] = 0.02; p.sander_start[0] = 0.0;
+    p.sander_axle[0] = 0; p.sander_trigger[0] = RB_SAND_DRIVER; p.sander_rate[0] = fixed_rate(0.02); p.sander_start[0] = 0.0;
     p.sand_reference = 2e-4;   /* kg/m: about 2.4e-4 kg/m fall at 300 km/h, cleaning 70 % */
     CHECK(rb_plant_init(&p, &s, NULL) == RB_OK && rb_plant_init(&q, &t, NULL) == RB_OK);
     brake(&p, &s, 4.0);
@@ -142,6 +149,48 @@ static void test_sand_conditions_the_rail(void)
     in.hold[5] = 1;
     for (int i = 0; i < 100; ++i) rb_plant_step(&p, &s, &in);
     CHECK_CLOSE(s.sand_used, 0.02 * 0.1, 1e-9, 0);
+}
+
+/* A variable-rate sander whose rate rises with its car's speed, R = q v, lays q kg on every metre
+ * of track whatever the speed (sand used = q x distance, exactly: the plant moves the car by v dt
+ * in the step it drops q v dt); a fixed rate R lays R / v, so it books R x time, more than q per
+ * metre once the train is slower than R / q. Each cell the sander has passed keeps the
+ * contamination exp(-q / sand_reference) (a dry stop, the energy cleaning made unreachable with
+ * E_ref at its bound), to within the one step's travel by which a cell's share can differ. */
+static void test_variable_rate_sand_per_metre(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state s;
+    const double q = 2e-4;   /* kg/m */
+    fill_plant(&p, 1, 30.0);
+    p.condition[0].leading_factor = 0.5;
+    p.condition[0].reference_energy = 1e9;
+    p.rail_cell_length = 0.5;
+    p.n_sanders = 1;
+    p.sander_axle[0] = 0; p.sander_trigger[0] = RB_SAND_DRIVER; p.sander_start[0] = 0.0;
+    p.sander_rate[0] = (rb_speed_table){2, {0.0, 100.0}, {0.0, 100.0 * q}};
+    p.sand_reference = 2e-4;
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    double x0 = s.x[0];
+    brake(&p, &s, 15.0);
+    printf("variable rate: %.4g kg over %.1f m, the speed falling to %.1f m/s\n", s.sand_used, s.x[0] - x0, s.v[0]);
+    CHECK(s.v[0] < 0.6 * p.initial_speed);
+    CHECK_CLOSE(s.sand_used, q * (s.x[0] - x0), 1e-9, 0);
+    double sum = 0.0, axle = s.x[0] - p.car[0].axle_position[0];
+    int n = 0;
+    for (double x = axle - 100.0; x < axle - 1.0; x += p.rail_cell_length, ++n) {   /* within the ring */
+        long cell = (long)floor(x / p.rail_cell_length);
+        double c = s.rail_contamination[((cell % RB_RAIL_MAX_CELLS) + RB_RAIL_MAX_CELLS) % RB_RAIL_MAX_CELLS];
+        sum += c;
+        CHECK_CLOSE(c, exp(-q / p.sand_reference), 0.1, 0);
+    }
+    CHECK(n > 100);
+    CHECK_CLOSE(sum / n, exp(-q / p.sand_reference), 0.01, 0);
+    p.sander_rate[0] = fixed_rate(q * p.initial_speed);   /* the same sand per metre at the start only */
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    brake(&p, &s, 15.0);
+    CHECK_CLOSE(s.sand_used, q * p.initial_speed * 15.0, 1e-9, 0);
+    CHECK(s.sand_used > 1.2 * q * (s.x[0] - x0));
 }
 
 static void test_bad_parameters(void)
@@ -163,11 +212,18 @@ static void test_bad_parameters(void)
     fill_sliding(&p, 2, 2.0e5);
     p.n_sanders = 1;
     p.sander_axle[0] = 8;   /* two cars: axles 0 to 7 */
-    p.sander_rate[0] = 0.01; p.sand_reference = 1e-3;
+    p.sander_rate[0] = fixed_rate(0.01); p.sand_reference = 1e-3;
     CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
     CHECK(strstr(err.message, "sander[0].axle = 8") != NULL);
+    p.sander_axle[0] = 0;
+    p.sander_rate[0] = (rb_speed_table){2, {0.0, 10.0}, {0.0, 0.0}};
+    CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "sander[0].rate: every rate is 0 kg/s") != NULL);
+    p.sander_rate[0] = fixed_rate(2.0);   /* 120 kg/min */
+    CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "sander[0].rate") != NULL);
     fill_plant(&p, 2, 10.0);   /* no rail cells: sand would act on nothing */
-    p.n_sanders = 1; p.sander_rate[0] = 0.01; p.sand_reference = 1e-3;
+    p.n_sanders = 1; p.sander_rate[0] = fixed_rate(0.01); p.sand_reference = 1e-3;
     CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
     CHECK(strstr(err.message, "no condition uses") != NULL);
 }
@@ -179,6 +235,7 @@ int main(void)
     test_off_leaves_the_plant_as_it_was();
     test_energy_and_air_balance();
     test_sand_conditions_the_rail();
+    test_variable_rate_sand_per_metre();
     test_bad_parameters();
     return rb_test_summary("test_rail_conditioning");
 }

@@ -177,8 +177,84 @@ static void test_speed_marks(void)
     CHECK(rb_run_init(&p, &b, NULL, &sc, &r, &err) == RB_EINVAL && strstr(err.message, "n_speed_marks"));
 }
 
+
+/* One car braked from 100 km/h to a stop without running resistance: (kinetic energy of the car
+ * and its wheelsets at the start) - (at the end) = sum over the axles of the disc energy and the
+ * sliding energy (the work of each creep force on its slip velocity), the energy balance of the
+ * plant's equations. lock[0], lock[1]: where every wheel of the car first stood still (the
+ * plant's lock: omega = 0) and the sliding energy of axle 1 there; -1 if they never did. */
+static void energy_stop(const rb_polach_params *polach, int wsp, rb_run_state *r, rb_plant_params *p,
+                        double *balance, double *lock)
+{
+    rb_bcu_params b;
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
+    int finished = 0;
+    fill_plant(p, 1, 100 / 3.6);
+    p->condition[0].polach = *polach;
+    memset(&b, 0, sizeof b);
+    b.n_cars = 1; b.cycle = 0.01; b.atmosphere = p->atmosphere;
+    b.service_decel = 1.0; b.emergency_decel = 1.2; b.wsp_enabled = wsp;
+    rb_bcu_pressure_map(p, p->atmosphere + 3.8e5, &b);
+    CHECK(rb_run_init(p, &b, NULL, &sc, r, NULL) == RB_OK);
+    lock[0] = lock[1] = -1.0;
+    while (!finished) {
+        CHECK(rb_run_advance(p, &b, &sc, r, r->out.time + 0.5e-3, NULL, 0, &finished, NULL) == RB_OK);
+        int still = 1;
+        for (int a = 0; a < RB_AXLES_PER_CAR; ++a) still &= r->plant.omega[a] == 0.0;
+        if (still && lock[0] < 0.0) lock[0] = r->plant.x[0], lock[1] = r->axle_sliding_energy[0];
+    }
+    CHECK(r->stopped);
+    const rb_car *car = &p->car[0].vehicle;
+    double kinetic[2] = {0.5 * car->mass * p->initial_speed * p->initial_speed, 0.5 * car->mass * r->plant.v[0] * r->plant.v[0]};
+    double disc = 0.0, sliding = 0.0;
+    for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
+        double omega0 = p->initial_speed / car->wheelset.wheel_radius;
+        kinetic[0] += 0.5 * car->wheelset.inertia * omega0 * omega0;
+        kinetic[1] += 0.5 * car->wheelset.inertia * r->plant.omega[a] * r->plant.omega[a];
+        disc += r->out.brake_energy[a];
+        sliding += r->axle_sliding_energy[a];
+    }
+    balance[0] = kinetic[0] - kinetic[1];
+    balance[1] = disc;
+    balance[2] = sliding;
+}
+
+/* The sliding energy (rb_kpis.max_sliding_energy, sliding_energy) closes the energy balance with
+ * the disc energy to 1e-3: on dry rail with the WSP, where the axles roll at micro-slip (a small
+ * share; no WSP valve moves), and without WSP on rail whose friction does not fall with sliding
+ * (Polach A = 1: mu0 at any slip velocity), where the wheels lock: then most of the energy is
+ * slid, and from the lock on each axle slides the energy mu0 Q times the distance, the limiting
+ * case of a locked wheel (its creep force is Polach's at an infinite creep, mu0 Q); no valve
+ * moves either. */
+static void test_sliding_energy(void)
+{
+    static rb_plant_params p;
+    static rb_run_state r;
+    double e[3], lock[2];
+    rb_kpis k;
+    const rb_polach_params dry = {0.55, 0.40, 0.60, 1.0, 0.4}, flat = {0.05, 1.0, 0.60, 1.0, 0.4};
+    energy_stop(&dry, 1, &r, &p, e, lock);
+    rb_run_kpis(&p, &r, &k);
+    printf("dry, WSP: kinetic %.4e J, discs %.4e J, sliding %.4e J\n", e[0], e[1], e[2]);
+    CHECK_CLOSE(e[1] + e[2], e[0], 1e-3, 0);
+    CHECK(e[2] > 0.0 && e[2] < 0.01 * e[0]);
+    CHECK(lock[0] < 0.0 && k.valve_switchings == 0.0);
+    CHECK_CLOSE(k.sliding_energy, e[2], 1e-12, 0);
+    energy_stop(&flat, 0, &r, &p, e, lock);
+    rb_run_kpis(&p, &r, &k);
+    printf("flat mu0 = 0.05, no WSP: kinetic %.4e J, discs %.4e J, sliding %.4e J, locked at %.1f m\n", e[0], e[1],
+           e[2], lock[0]);
+    CHECK_CLOSE(e[1] + e[2], e[0], 1e-3, 0);
+    CHECK(e[2] > 0.9 * e[0]);
+    CHECK(lock[0] > 0.0 && k.wheel_lock_events == RB_AXLES_PER_CAR && k.valve_switchings == 0.0);
+    double q = p.car[0].vehicle.wheelset.axle_load * 9.80665;   /* N: axle_load is a mass (kg); standard g */
+    CHECK_CLOSE(r.axle_sliding_energy[0] - lock[1], flat.mu0 * q * (r.plant.x[0] - lock[0]), 1e-3, 0);
+    CHECK(k.max_sliding_energy >= r.axle_sliding_energy[0] && k.max_sliding_energy <= k.sliding_energy);
+}
+
 int main(void)
 {
+    test_sliding_energy();
     test_speed_marks();
     test_batch_runs_each_variant();
     test_conditioned_rail_with_a_zone();

@@ -314,7 +314,7 @@ class PlantParams(Structure):
                    ("gradient", c_double * MAX_GRADIENTS), ("ambient_temperature", c_double)]
                 + [("wall_time", c_double), ("rail_cell_length", c_double)]
                 + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
-                   ("sander_rate", c_double * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
+                   ("sander_rate", SpeedTable * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
                    ("sand_reference", c_double)])
 
 
@@ -371,12 +371,14 @@ KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max
              "safety_timer_trips", "air_balance_error", "stopped",
              "min_main_reservoir", "min_supply", "air_drawn_kg", "air_vented_kg", "cylinder_shortfall_s",
              "worst_axle", "brake_energy", "max_disc_temperature", "min_supply_margin")
+# after the speed marks in rb_kpis
+KPI_TAIL_NAMES = ("valve_switchings", "max_sliding_energy", "sliding_energy")
 SHORTFALL_PA = 0.2e5  # RB_SHORTFALL_PA
 
 
 class Kpis(Structure):
     _fields_ = _doubles(*KPI_NAMES) + [("mark_time_s", c_double * MAX_SPEED_MARKS),
-                                       ("mark_distance_m", c_double * MAX_SPEED_MARKS)]
+                                       ("mark_distance_m", c_double * MAX_SPEED_MARKS)] + _doubles(*KPI_TAIL_NAMES)
 
 
 rb_plant_params_size = _declare("rb_plant_params_size", c_size_t)

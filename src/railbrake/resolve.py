@@ -253,6 +253,24 @@ def _keys_of(model: type[BaseModel], data, prefix: str, out: set) -> None:
                 _keys_of(_unwrap(args[0]), item, f"{path}.{i}.", out)
 
 
+def choices(key: str) -> tuple | None:
+    """The values a dotted key may take when its schema lists them (a Literal, e.g.
+    wsp.controller), else None."""
+    model, parts = (vehicle._TrainFile, key.split(".")[1:]) if key.startswith("train.") else \
+        (scenarios.ScenarioFile, key.split("."))
+    for i, part in enumerate(parts):
+        field = next((f for n, f in model.model_fields.items() if (f.alias or n) == part), None)
+        if field is None:
+            return None
+        kind = _unwrap(field.annotation)
+        if i == len(parts) - 1:
+            return typing.get_args(kind) if typing.get_origin(kind) is typing.Literal else None
+        if not (isinstance(kind, type) and issubclass(kind, BaseModel)):
+            return None
+        model = kind
+    return None
+
+
 def valid_keys(tree: dict) -> list[str]:
     """Every dotted key a resolved tree may hold (those of the schemas and of the tree itself)."""
     known: set = set()

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field, replace
 from importlib import resources
 import types
 from pathlib import Path
-from typing import ClassVar, Literal, Optional, Union, get_args, get_origin
+from typing import Annotated, ClassVar, Literal, Optional, Union, get_args, get_origin
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator, model_validator
@@ -319,10 +319,23 @@ class _CarType(_Strict):
         return self
 
 
+class _SandRateTable(_Table):
+    """A variable-rate sander's sand rate (kg/min, both rails) over its car's speed."""
+    VALUE_BOUND: ClassVar[tuple] = ("train.sand_rate", 1.0 / 60.0, "kg/min")
+
+    @model_validator(mode="after")
+    def _sands(self):
+        if not max(self.value) > 0.0:
+            raise ValueError("every rate is 0 kg/min: the sander never sands")
+        return self
+
+
 class _Sander(_Strict):
     car: int = Field(ge=1, le=_core.MAX_CARS)            # 1-based position in the train
     axle: int = Field(ge=1, le=4)                       # 1-based within the car: sand falls in front of it
-    rate_kg_min: float = Field(gt=0.0, le=60.0)         # fixed sand rate of the sander (both rails)
+    # sand rate (both rails): a number for a fixed-rate sander, {speed_kmh, value} for a
+    # variable-rate one (linear between the points, constant beyond)
+    rate_kg_min: Union[Annotated[float, Field(gt=0.0, le=60.0)], _SandRateTable]
     trigger: Literal["driver", "wsp"] = "wsp"           # driver: from start_s on; wsp: while a WSP valve acts
     start_s: float = Field(default=0.0, ge=0.0, le=3600.0)
 

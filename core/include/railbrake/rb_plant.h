@@ -210,14 +210,15 @@ typedef struct {
      * the train as cells of this length (m), at most RB_RAIL_MAX_CELLS over the train's length */
     double rail_cell_length;
     /* sanders (rail_conditioning.c), a conditioning source of the rail cells: sander i drops
-     * sander_rate[i] kg/s in front of axle sander_axle[i] (global index) while it is on: from
-     * sander_start[i] s (trigger RB_SAND_DRIVER), or while any WSP valve of the train is commanded
-     * (RB_SAND_WSP). The sand a cell gets, m kg per metre of track, multiplies its contamination by
-     * exp(-m / sand_reference). */
+     * sander_rate[i] kg/s, a table over its car's speed (m/s: one point for a fixed-rate sander,
+     * more for a variable-rate one), in front of axle sander_axle[i] (global index) while it is
+     * on: from sander_start[i] s (trigger RB_SAND_DRIVER), or while any WSP valve of the train is
+     * commanded (RB_SAND_WSP). The sand a cell gets, m kg per metre of track, multiplies its
+     * contamination by exp(-m / sand_reference). */
     int n_sanders;
     int sander_axle[RB_MAX_SANDERS];
     int sander_trigger[RB_MAX_SANDERS];
-    double sander_rate[RB_MAX_SANDERS];
+    rb_speed_table sander_rate[RB_MAX_SANDERS];
     double sander_start[RB_MAX_SANDERS];
     double sand_reference;    /* kg/m */
 } rb_plant_params;

@@ -58,6 +58,11 @@ typedef struct {
      * the train speed fell to the mark (linear between steps); -1 if it never did */
     double mark_time_s[RB_MAX_SPEED_MARKS];
     double mark_distance_m[RB_MAX_SPEED_MARKS];
+    /* WSP effort and wheel-flat risk, while braking */
+    double valve_switchings;      /* changes of state of the WSP hold and vent valves, whole train */
+    double max_sliding_energy;    /* J, the largest over the axles of the sliding energy, the time
+                                     integral of creep force x slip velocity (wheel-flat risk) */
+    double sliding_energy;        /* J, the same summed over the axles */
 } rb_kpis;
 
 #define RB_SHORTFALL_PA 0.2e5
@@ -82,6 +87,9 @@ typedef struct {
     double axle_max_slip[RB_PLANT_MAX_AXLES];
     double axle_locks[RB_PLANT_MAX_AXLES];
     double axle_max_disc_temperature[RB_PLANT_MAX_AXLES];
+    double axle_sliding_energy[RB_PLANT_MAX_AXLES];   /* J, integral of F w dt */
+    uint8_t last_hold[RB_PLANT_MAX_AXLES], last_vent[RB_PLANT_MAX_AXLES];   /* valve states of the last step */
+    long valve_switchings;
     /* constant over the run (rb_run_start_kpis): the train's mass, which axles count for adhesion */
     double total_mass;
     uint8_t adhesion_axle[RB_PLANT_MAX_AXLES];   /* 1: its car is not isolated */

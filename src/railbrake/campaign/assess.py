@@ -121,3 +121,65 @@ def worst(cases: list[dict]) -> dict:
             "max_case_air_drawn_kg": float(max((c.get("air_drawn_kg_assessed") or 0.0 for c in cases), default=0.0)),
             "safety_timer_trips": int(sum(c.get("safety_timer_trips") or 0 for c in cases)),
             "passed": all(c["passed"] for c in cases), "failed_runs": failed_runs}
+
+
+# The ranking's KPIs: (column, direction: +1 the larger the better, -1 the smaller). Kwet is the
+# worst dS % transformed, so it is shown beside it but not ranked twice.
+RANKED = (("worst_delta_s_pct", -1), ("adhesion_utilisation", +1), ("air_drawn_kg", -1),
+          ("valve_switchings", -1), ("max_sliding_energy_kj", -1), ("safety_timer_trips", -1))
+
+
+def _mean(values: list) -> float | None:
+    return sum(values) / len(values) if values else None
+
+
+def _level_figures(cases: list[dict]) -> dict:
+    """One level's figures over its cases: worst dS % and its Kwet, mean utilisation over the
+    utilisation cases (marked "utilisation_case"), mean air drawn and valve switchings per stop over the assessed (non-reference)
+    cases, the largest sliding energy of one axle, timer trips and lock events over all its runs."""
+    assessed = [c for c in cases if not c["reference"]]
+    ok = [c for c in assessed if c["status"] == STATUS_OK]
+    ds = [c["delta_s_pct"] for c in ok if c["delta_s_pct"] is not None]
+    failed = sum(c["status"] != STATUS_OK for c in cases)
+    worst_ds = max(ds) if ds and not failed else None
+    used = [c for c in ok if c["utilisation_case"]]
+    per_stop = lambda key: _mean([c[key] for c in ok if c.get(key) is not None])   # noqa: E731
+    slid = [c["max_sliding_energy_kj"] for c in cases if c.get("max_sliding_energy_kj") is not None]
+    return {"cases": len(assessed), "failed_cases": sum(not c["passed"] for c in cases), "failed_runs": failed,
+            "worst_delta_s_pct": worst_ds, "mean_delta_s_pct": _mean(ds),
+            "kwet": None if worst_ds is None else 100.0 / (100.0 + worst_ds),
+            "adhesion_utilisation": _mean([c["adhesion_utilisation"] for c in used
+                                           if c.get("adhesion_utilisation") is not None]),
+            "air_drawn_kg": per_stop("air_drawn_kg_assessed"), "valve_switchings": per_stop("valve_switchings"),
+            "max_sliding_energy_kj": max(slid) if slid else None,
+            "safety_timer_trips": int(sum(c.get("safety_timer_trips") or 0 for c in cases)),
+            "wheel_lock_events": int(sum(c.get("wheel_lock_events") or 0 for c in cases))}
+
+
+def _ranks(values: list, direction: int) -> list[float]:
+    """1 for the best; ties share their mean rank; a level without the figure ranks last."""
+    keyed = [(-direction * v if v is not None else math.inf) for v in values]
+    return [1.0 + sum(k < x for k in keyed) + 0.5 * (sum(k == x for k in keyed) - 1) for x in keyed]
+
+
+def rank(cases: list[dict], factor: str, assessment) -> list[dict]:
+    """The levels of `factor` (e.g. wsp.controller), best first: each one's figures over its cases
+    (_level_figures), its rank on each KPI of RANKED and their mean ("rank"), ties broken by the
+    worst dS %. `cases`: assess()'s output."""
+    reference = reference_values(assessment)
+    utilisation = assessment.criteria.utilisation_cases
+    groups: dict = {}
+    for c in cases:
+        applies = utilisation is None or any(c.get(k) in utilisation for k in reference)
+        groups.setdefault(c.get(factor), []).append({**c, "utilisation_case": applies})
+    levels = [{factor: level, **_level_figures(group)} for level, group in groups.items()]
+    ranked = [key for key, _ in RANKED if any(level[key] is not None for level in levels)]
+    for key, direction in RANKED:
+        if key in ranked:
+            for level, r in zip(levels, _ranks([level[key] for level in levels], direction)):
+                level[f"rank_{key}"] = r
+    for level in levels:
+        level["rank"] = sum(level[f"rank_{key}"] for key in ranked) / len(ranked) if ranked else None
+        level["ranked_on"] = ranked
+    worst_ds = lambda level: math.inf if level["worst_delta_s_pct"] is None else level["worst_delta_s_pct"]  # noqa: E731
+    return sorted(levels, key=lambda level: (level["rank"] if level["rank"] is not None else math.inf, worst_ds(level)))

@@ -15,7 +15,7 @@ import numpy as np
 
 from railbrake import config
 from railbrake.campaign import dataset
-from railbrake.campaign.assess import assess, worst
+from railbrake.campaign.assess import assess, rank, worst
 from railbrake.campaign.study import StudyFile
 
 PLOTTED = ("delta_s_pct", "kwet", "adhesion_utilisation", "air_drawn_kg", "air_consumed_kg",
@@ -24,9 +24,10 @@ PLOTTED = ("delta_s_pct", "kwet", "adhesion_utilisation", "air_drawn_kg", "air_c
 LABELS = {"stopping_distance_m": "s", "deceleration_distance_m": "s_d", "delta_s_pct": "dS", "kwet": "Kwet",
           "adhesion_utilisation": "utilisation", "air_drawn_kg": "air", "air_consumed_kg": "air used",
           "min_supply_bar": "min supply", "max_slip": "slip", "wheel_lock_events": "locks",
-          "safety_timer_trips": "timer trips"}
+          "safety_timer_trips": "timer trips", "valve_switchings": "switchings",
+          "max_sliding_energy_kj": "sliding"}
 UNITS = {"stopping_distance_m": "m", "deceleration_distance_m": "m", "delta_s_pct": "%", "air_drawn_kg": "kg",
-         "air_consumed_kg": "kg", "min_supply_bar": "bar", "stopping_time_s": "s"}
+         "air_consumed_kg": "kg", "min_supply_bar": "bar", "stopping_time_s": "s", "max_sliding_energy_kj": "kJ"}
 LEVELS_AS_CELLS = 8     # a numeric factor with this many levels or fewer gets one heat-map cell per level
 SI_TO_DISPLAY = {"m/s": ("km/h", 3.6), "Pa": ("bar", 1e-5)}   # factor axes in the units engineers read
 
@@ -62,6 +63,13 @@ class Campaign:
         if self.study.assessment is None:
             return None
         return assess(self.rows, self.factors, self.study.assessment, self.initial_speed)
+
+    def ranking(self, cases: list[dict] | None = None) -> list[dict] | None:
+        """The levels of the assessment's `rank` factor, best first (assess.rank), or None."""
+        a = self.study.assessment
+        if a is None or a.rank is None:
+            return None
+        return rank(self.assessed() if cases is None else cases, a.rank, a)
 
 
 def _display(c: Campaign, factor: str, values):
@@ -194,7 +202,8 @@ def _case_columns(c: Campaign) -> list[str]:
     air = next((k for k in ("air_drawn_kg", "air_consumed_kg") if k in c.kpis), None)
     return ["passed"] + c.factors + ["stopping_distance_m", "deceleration_distance_m", "delta_s_pct", "kwet",
                         "adhesion_utilisation"] + ([air] if air else []) + \
-        [k for k in ("min_supply_bar", "max_slip", "wheel_lock_events", "safety_timer_trips") if k in c.kpis]
+        [k for k in ("min_supply_bar", "max_slip", "valve_switchings", "max_sliding_energy_kj", "wheel_lock_events",
+                     "safety_timer_trips") if k in c.kpis]
 
 
 def _display_row(c: Campaign, row: dict, columns: list[str]) -> list[str]:
@@ -241,6 +250,24 @@ def _points_table(c: Campaign) -> tuple[str, list, list]:
     return ("Design points (means over the seeds)", ["point"] + [_header(c, k) for k in c.factors + kpis], rows)
 
 
+# the ranking table: (column of assess.rank's levels, header)
+RANKING_COLUMNS = (("rank", "mean rank"), ("worst_delta_s_pct", "worst dS (%)"), ("kwet", "Kwet"),
+                   ("adhesion_utilisation", "utilisation"), ("air_drawn_kg", "air per stop (kg)"),
+                   ("valve_switchings", "valve switchings per stop"),
+                   ("max_sliding_energy_kj", "sliding energy, worst axle (kJ)"),
+                   ("safety_timer_trips", "timer trips"), ("wheel_lock_events", "locks"),
+                   ("failed_cases", "failed cases"))
+
+
+def ranking_table(c: Campaign, levels: list[dict]) -> tuple[str, list, list]:
+    factor = c.study.assessment.rank
+    rows = [[str(i + 1), str(level[factor])] + [_fmt(level[k]) for k, _ in RANKING_COLUMNS]
+            for i, level in enumerate(levels)]
+    on = ", ".join(levels[0]["ranked_on"]) if levels else ""
+    return (f"Ranking of {factor} (mean of the ranks on {on}; Kwet is the worst dS transformed)",
+            ["place", factor] + [h for _, h in RANKING_COLUMNS], rows)
+
+
 def sections(c: Campaign) -> tuple[list[tuple[str, list, list]], dict]:
     """Tables (title, headers, rows) and the JSON summary, shared by HTML and Markdown."""
     tables = []
@@ -255,6 +282,10 @@ def sections(c: Campaign) -> tuple[list[tuple[str, list, list]], dict]:
         summary["assessment"] = worst(cases)
         summary["cases"] = len(cases)
         summary["failed_cases"] = sum(not case["passed"] for case in cases)
+        levels = c.ranking(cases)
+        if levels is not None:
+            tables.append(ranking_table(c, levels))
+            summary["ranking"] = levels
     else:
         tables.append(_points_table(c))
     tuning = c.folder / "tuning" / "summary.json"

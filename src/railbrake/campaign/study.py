@@ -24,6 +24,7 @@ from railbrake.errors import InputError
 
 SCHEMA = "railbrake.study/1"
 DESIGNS = ("grid", "zip", "latin-hypercube", "sobol", "list")
+ALL = "all"   # a factor's levels: every value its key may take (a key with a fixed set of values)
 
 
 class _Strict(_changes.ReadOnlyModel, BaseModel):
@@ -84,6 +85,7 @@ class Assessment(_Strict):
     build_up: Annotated[dict[str, float], AfterValidator(_build_up)] = Field(
         default_factory=lambda: {"delay": 0.10, "complete": 0.90})
     criteria: Criteria = Field(default_factory=Criteria)
+    rank: str | None = None   # a factor whose levels (e.g. wsp.controller) the report ranks on the cases
     source: str = ""
 
 
@@ -264,6 +266,9 @@ def _check_assessment(study: Study) -> None:
             raise InputError(f"{where} = {value!r}: not a level of factor {key} "
                              f"({', '.join(map(str, shown)) or 'a range without levels'})")
         reference_levels += levels
+    if assessment.rank is not None and (assessment.rank not in factors or assessment.rank in assessment.reference):
+        raise InputError(f"{study.where('assessment', 'rank')} = {assessment.rank!r}: must be a factor of the study "
+                         f"other than the reference's ({', '.join(f for f in factors if f not in assessment.reference)})")
     for i, case in enumerate(assessment.criteria.utilisation_cases or []):
         if case not in reference_levels:
             raise InputError(f"{study.where('assessment', 'criteria', 'utilisation_cases', i)} = {case!r}: not a "
@@ -296,6 +301,17 @@ def _check_size(study: Study, max_runs: int) -> None:
                       max_runs, measure)
 
 
+def _all_levels(study: Study, key: str) -> list:
+    """`KEY: all`: every value the schema allows for KEY (e.g. every WSP controller the core has)."""
+    _check_path(study, key, ("factors", key))
+    from railbrake import resolve
+    levels = resolve.choices(key)
+    if not levels:
+        raise InputError(f"{study.where('factors', key)} = {ALL!r}: {key} has no fixed set of values to take "
+                         "them all from; give its levels as a list")
+    return list(levels)
+
+
 def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None = None,
           overrides: dict | None = None, max_runs: int = budget.MAX_RUNS) -> Study:
     """The study of a file's text; lines and overrides (of Study.with_) say where keys came from;
@@ -320,6 +336,8 @@ def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None
         target = study.fixed_parts if key.partition(".")[0] in COMPOSITES else study.fixed
         target[key] = value
     for name, value in spec.factors.items():
+        if value == ALL:
+            value = _all_levels(study, name)
         factor = make_factor(name, value, study.where("factors", name), max_levels=max_runs)
         if factor.bundle:   # a named case: its name is free, the keys it sets are paths
             for i, level in enumerate(factor.levels):

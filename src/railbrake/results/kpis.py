@@ -32,6 +32,11 @@ KPI_INFO = {
                        "(none: no axle slid)"),
     "brake_energy_mj": ("MJ", "energy dissipated by the friction brakes"),
     "max_disc_temperature_c": ("°C", "highest lumped brake disc temperature of any axle"),
+    "valve_switchings": ("", "changes of state of the WSP hold and vent valves of the whole train while "
+                             "braking (the valves' actual states)"),
+    "max_sliding_energy_kj": ("kJ", "largest over the axles of the sliding energy, the time integral of creep "
+                                    "force x slip velocity while braking: the wheel-flat risk"),
+    "sliding_energy_kj": ("kJ", "the sliding energy summed over the axles"),
 }
 
 AIR_BALANCE_LIMIT = 1e-6   # a larger relative error means the air model lost mass (model check)

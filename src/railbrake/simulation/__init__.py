@@ -188,7 +188,9 @@ def _sanders(train, n_cars: int, p: _core.PlantParams) -> None:
             raise InputError(f"train {train.name}: sanders.units[{i}].car = {s.car}: the run has cars 1..{n_cars}")
         p.sander_axle[i] = (s.car - 1) * _core.AXLES_PER_CAR + s.axle - 1
         p.sander_trigger[i] = ("driver", "wsp").index(s.trigger)
-        p.sander_rate[i] = s.rate_kg_min / 60.0
+        rate = s.rate_kg_min
+        p.sander_rate[i] = _core.speed_table(np.asarray(rate.speed_kmh) * KMH, np.asarray(rate.value) / 60.0) \
+            if hasattr(rate, "speed_kmh") else _core.speed_table([0.0], [rate / 60.0])   # variable or fixed
         p.sander_start[i] = s.start_s
     p.n_sanders = len(sanders.units)
     p.sand_reference = sanders.sand_reference_kg_m
@@ -507,7 +509,7 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
     """The C KPIs in the units of `run --json`: pressures bar gauge, energy MJ, temperature degC;
     with speed_marks (rb_scenario.n_speed_marks) > 0 also "speed_marks": the time (s) and distance
     (m) from the brake demand to each mark, None for a mark never reached."""
-    k = {name: getattr(kpis, name) for name in _core.KPI_NAMES}
+    k = {name: getattr(kpis, name) for name in _core.KPI_NAMES + _core.KPI_TAIL_NAMES}
     stopped = bool(k["stopped"])
     gauge = lambda pa: (pa - atmosphere) / BAR  # noqa: E731
     marks = {} if not speed_marks else {"speed_marks": {
@@ -532,6 +534,9 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
         "brake_energy_mj": k["brake_energy"] / 1e6,
         "max_disc_temperature_c": k["max_disc_temperature"] - ZERO_CELSIUS,
         "air_balance_error": k["air_balance_error"],
+        "valve_switchings": int(k["valve_switchings"]),
+        "max_sliding_energy_kj": k["max_sliding_energy"] / 1e3,
+        "sliding_energy_kj": k["sliding_energy"] / 1e3,
         "stopped": stopped,
     }
 

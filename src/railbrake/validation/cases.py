@@ -117,8 +117,9 @@ def _tolerance(raw, where: str) -> Tolerance:
     return Tolerance(value, str(raw["unit"]))
 
 
-def read_reference(path: Path) -> dict:
-    """Columns of a CSV with a header row; '#' lines are comments. Every cell must be a number."""
+def read_reference(path: Path, open_ends: dict | None = None) -> dict:
+    """Columns of a CSV with a header row; '#' lines are comments. Every cell must be a number;
+    open_ends {column: -inf or inf} lets those columns hold that infinity (a one-sided band)."""
     if not path.is_file():
         raise InputError(f"{path}: reference file missing")
     with io.StringIO(config.read_text(path), newline="") as f:   # a regular file under the size limit
@@ -136,8 +137,11 @@ def read_reference(path: Path) -> dict:
             bad = next(c for c in row if not _is_number(c))
             raise InputError(f"{path}, data row {line - 1}: {bad.strip()!r} is not a number") from None
     array = np.array(values, dtype=float)
-    if not np.all(np.isfinite(array)):
-        raise InputError(f"{path}: non-finite value")
+    allowed = np.array([[np.isfinite(x) or x == (open_ends or {}).get(name) for name, x in zip(header, row)]
+                        for row in array])
+    if not np.all(allowed):
+        raise InputError(f"{path}: non-finite value" + (" (only -inf in a band's low column, inf in its high "
+                                                         "column)" if open_ends else ""))
     return {name: array[:, i] for i, name in enumerate(header)}
 
 
@@ -182,8 +186,9 @@ def parse_case(folder: Path) -> Case:
     if not isinstance(source, dict) or not source.get("reference"):
         _fail(where, "source: give at least {reference: publication, table/figure, page}")
     ref = _required(raw, "reference", where)
-    data = read_reference(folder / ref.get("file", "reference.csv"))
     comparison = ref.get("comparison", "value")
+    open_ends = {ref.get("low"): -np.inf, ref.get("high"): np.inf} if comparison == "band" else None
+    data = read_reference(folder / ref.get("file", "reference.csv"), open_ends)
     if comparison not in COMPARISONS:
         _fail(where, f"reference.comparison = {comparison!r}: must be one of {', '.join(COMPARISONS)}")
     columns = {"value": ref.get("value")}

@@ -319,6 +319,41 @@ def stop_ramp(inputs, x, case):
     return ModelOutput(values)
 
 
+def _sanders(units: list, calibration: dict) -> dict | None:
+    """The train file's sanders block for a configuration's units (None: no sanders)."""
+    if not units:
+        return None
+    return {"units": units, "sand_reference_kg_m": float(_need(calibration, "sand_reference_kg_m")),
+            "source": str(calibration.get("source", ""))}
+
+
+def sander_stopping_distance(inputs, x, case):
+    """Stopping distance (m) of a scenario (inputs.scenario, relative to the case folder) with the
+    sanders of configuration x (inputs.configurations: {x: list of train-file sander units}; an
+    empty list: no sanders), the sand's conditioning strength from inputs.calibration (a YAML file
+    with sand_reference_kg_m, relative to the case folder)."""
+    import yaml
+    from railbrake.resolve import resolve
+    from railbrake.simulation import run
+    from railbrake import config
+    scenario = case.folder / _need(inputs, "scenario")
+    calibration = yaml.safe_load(config.read_text(case.folder / _need(inputs, "calibration")))
+    configurations = {int(k): v for k, v in _need(inputs, "configurations").items()}
+    values, details = [], {}
+    for c in _x(x, "configuration number").astype(int):
+        if c not in configurations:
+            raise InputError(f"model.inputs.configurations: no configuration {c} (given: "
+                             f"{', '.join(map(str, sorted(configurations)))})")
+        k = run(resolve(str(scenario), sets={"train.sanders": _sanders(configurations[c], calibration)}),
+                record=False).kpis
+        if not k["stopped"]:
+            raise InputError(f"configuration {c}: the train did not stop within the scenario's max_time")
+        values.append(k["stopping_distance_m"])
+        details[f"configuration {c}"] = {key: k[key] for key in ("stopping_distance_m", "adhesion_utilisation",
+                                                                   "max_slip", "wheel_lock_events")}
+    return ModelOutput(values, {"sand_reference_kg_m": calibration["sand_reference_kg_m"], **details})
+
+
 # ------------------------------------------------------------------ ETCS braking model
 
 def kdry_equal_units(inputs, x, case):
@@ -345,4 +380,4 @@ def kdry_equal_units(inputs, x, case):
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, kdry_equal_units,
     hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
     tank_pressure, stop_constant, caliper_force, train_stopping_distance, train_build_up, solenoid_c_core, pad_friction, pad_friction_drop, ed_brake_force,
-    running_resistance, plant_order)}
+    running_resistance, plant_order, sander_stopping_distance)}

@@ -64,8 +64,11 @@ def _plot_png(r: CaseResult) -> str | None:
         ax.bar(labels + 0.2, np.atleast_1d(r.model), 0.4, label="model", color="#1f77b4")
         ax.set_xticks([])
     else:
-        if r.low is not None:
-            ax.fill_between(r.x, r.low, r.high, color="#ccc", alpha=0.7, label="reference scatter")
+        if r.low is not None:   # a one-sided band (a published "more than") drawn to the plot's edge
+            finite = np.concatenate([np.atleast_1d(v)[np.isfinite(v)] for v in (r.low, r.high, r.model)])
+            edge = (finite.min() - 0.5 * abs(finite.min()), finite.max() + 0.5 * abs(finite.max()))
+            ax.fill_between(r.x, np.maximum(r.low, edge[0]), np.minimum(r.high, edge[1]), color="#ccc", alpha=0.7,
+                            label="reference scatter")
         ax.plot(r.x, r.reference, "ks", label="reference")
         if r.curve is not None:
             ax.plot(r.curve["x"], r.curve["y"], "-", color="#1f77b4", lw=1, label="model (curve)")

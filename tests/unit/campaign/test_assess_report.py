@@ -10,7 +10,7 @@ import pytest
 from scipy.stats import qmc
 
 from railbrake.campaign import execute, report, study, tune
-from railbrake.campaign.assess import assess, worst
+from railbrake.campaign.assess import assess, rank, worst
 from railbrake.campaign.study import Assessment
 from railbrake.errors import InputError
 
@@ -39,6 +39,35 @@ def test_delta_s_and_kwet_from_the_deceleration_distances():
     assert not cases["patch"]["passed"] and cases["patch"]["reasons"] == ["1 lock events > 0"]
     w = worst(list(cases.values()))
     assert w["worst_delta_s_pct"] == pytest.approx(ds) and w["locks"] == 1
+
+
+def test_each_controller_is_matched_with_its_own_dry_run_and_ranked():
+    """Two controllers, each with its own dry reference; the ranking's figures by hand: worst dS %
+    and its Kwet, utilisation on the utilisation cases, air and valve switchings per assessed stop,
+    the worst axle's sliding energy, timer trips; mean ranks tied at 1.5, so the worst dS decides."""
+    a = Assessment(reference={"adhesion_case": "dry"}, criteria={"utilisation_cases": ["low"]}, rank="wsp.controller")
+    v0, te = 100 / 3.6, 2.0
+
+    def row(controller, case, s, util=0.9, air=1.0, switches=0, sliding=0.0, trips=0):
+        return {**_row(case, v0, s, te=te if case == "dry" else None, util=util), "wsp.controller": controller,
+                "air_drawn_kg": air, "valve_switchings": switches, "max_sliding_energy_kj": sliding,
+                "safety_timer_trips": trips}
+    rows = [row("a", "dry", 500.0), row("a", "low", 800.0, util=0.8, air=3.0, switches=100, sliding=10.0),
+            row("a", "patch", 600.0, util=0.3, air=2.0, switches=50, sliding=30.0),
+            row("b", "dry", 450.0), row("b", "low", 700.0, util=0.9, air=4.0, switches=200, sliding=5.0, trips=1),
+            row("b", "patch", 500.0, util=0.3, air=4.0, switches=100, sliding=8.0)]
+    cases = assess(rows, ["wsp.controller", "adhesion_case"], a, lambda r: v0)
+    low = {c["wsp.controller"]: c["delta_s_pct"] for c in cases if c["adhesion_case"] == "low"}
+    assert low == {"a": pytest.approx(100 * 300 / (500 - v0 * te)), "b": pytest.approx(100 * 250 / (450 - v0 * te))}
+    best, second = rank(cases, "wsp.controller", a)
+    assert (best["wsp.controller"], second["wsp.controller"]) == ("b", "a")
+    assert best["rank"] == second["rank"] == 1.5
+    assert best["worst_delta_s_pct"] == pytest.approx(low["b"]) and best["kwet"] == pytest.approx(100 / (100 + low["b"]))
+    assert (second["adhesion_utilisation"], second["air_drawn_kg"], second["valve_switchings"],
+            second["max_sliding_energy_kj"], second["safety_timer_trips"]) == (0.8, 2.5, 75, 30.0, 0)
+    assert (best["adhesion_utilisation"], best["air_drawn_kg"], best["valve_switchings"],
+            best["max_sliding_energy_kj"], best["safety_timer_trips"]) == (0.9, 4.0, 150, 8.0, 1)
+    assert best["failed_cases"] == second["failed_cases"] == 1   # b: its trip; a: utilisation 0.8 (the patch is no utilisation case)
 
 
 def test_sobol_indices_of_a_function_of_the_first_factor_only():
@@ -121,6 +150,49 @@ def test_tuning_stores_its_trials_and_resumes(assessed, two_workers, tmp_path):
     assert (tmp_path / "convergence.png").stat().st_size > 0
     assert 1.5 <= again["tuned"]["params"]["decel_threshold"] <= 4.0
     assert np.isfinite(again["tuned"]["worst_delta_s_pct"])
+
+
+CONTROLLERS = """schema: railbrake.study/1
+name: tiny-controllers
+base: emergency-250-dry
+set: {train.cars: 1, stop.max_time: "60 s", initial_speed: "60 km/h"}
+factors:
+  wsp.controller: all
+  adhesion_case:
+    - {name: dry, adhesion.condition: dry-medium}
+    - {name: low, adhesion.condition: oil-film}
+design: {kind: grid}
+assessment:
+  reference: {adhesion_case: dry}
+tuning:
+  params:
+    wsp.setpoint_speed: {low: "0.03 m/s", high: "1.5 m/s"}
+"""
+
+
+@pytest.mark.slow   # a Dask cluster: separate processes, not under the sanitizers
+def test_tuning_reaches_the_slip_setpoint_controllers_parameters(two_workers, tmp_path):
+    """wsp tune on a parameter of another controller than the default one: its value reaches the
+    runs of that controller (a macro-slip set-point stops otherwise than the micro-slip default),
+    the first trial is the core's default, and the Pareto front of worst dS against air is reported."""
+    s = study.parse(CONTROLLERS, "tiny.yaml")
+    params = tune.parameters(s, ["setpoint_speed"])
+    default = tune.default_values(params)["wsp.setpoint_speed"]
+    keep = tune.select(s, ["wsp.controller=slip_setpoint"])
+    client, _ = execute.connect(two_workers, None)
+    try:
+        evaluate = tune.Evaluator(s, tmp_path, client, keep)
+        micro, macro = (evaluate({"wsp.setpoint_speed": v}, params) for v in (default, 1.5))
+    finally:
+        client.close()
+    assert {c["wsp.controller"] for c in micro["cases"]} == {"slip_setpoint"}
+    assert micro["worst_delta_s_pct"] != macro["worst_delta_s_pct"]
+    summary = tune.tune(s, ["setpoint_speed"], "pareto", 3, tmp_path / "tuning", scheduler=two_workers,
+                        only=["wsp.controller=slip_setpoint"])
+    assert summary["evaluations"] == 3 and summary["front"]
+    assert summary["default"]["worst_delta_s_pct"] == pytest.approx(micro["worst_delta_s_pct"])
+    assert all(0.03 <= f["params"]["setpoint_speed"] <= 1.5 for f in summary["front"])
+    assert (tmp_path / "tuning" / "front.png").stat().st_size > 0
 
 
 def test_a_start_fragment_is_read_in_si_and_checked_against_the_tuning_range(tmp_path):

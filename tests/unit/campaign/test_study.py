@@ -143,24 +143,63 @@ def test_only_keeps_the_points_at_any_of_the_values_given_per_factor():
         tune.select(s, ["speed=1"])
 
 
-def test_the_en15595_preset_crosses_speeds_adhesion_brakes_and_load_cases():
+def test_the_en15595_preset_crosses_controllers_speeds_adhesion_brakes_and_load_cases():
+    from railbrake import simulation
     from railbrake.campaign import configuration
     s = study.load("wsp-en15595")
     train = configuration.resolve(s.base, s.fixed).train
+    assert s.factor("wsp.controller").levels == list(simulation.WSP_CONTROLLERS)   # every controller, from the code
     speeds = s.factor("initial_speed").levels
-    assert s.factor("initial_speed").si(speeds[0]) == pytest.approx(120 / 3.6)
     assert s.factor("initial_speed").si(speeds[-1]) == pytest.approx(train.max_speed)   # the train's maximum
     assert s.factor("train.load_case").levels == ["tare", "normal", "crush"]
     names = {f: [level["name"] for level in s.factor(f).levels] for f in ("adhesion_case", "brake")}
-    assert names == {"adhesion_case": ["dry", "low", "extremely-low", "dry-low-dry"],
+    assert names == {"adhesion_case": ["dry", "low", "very-low", "hs-wet", "dry-low-dry"],
                      "brake": ["emergency", "full-service"]}
     points = list(designs.points(s, np.random.default_rng(0)))
-    assert len(points) == 2 * 4 * 2 * 3
-    # every case has its dry reference at the same speed, brake and load
+    assert len(points) == len(simulation.WSP_CONTROLLERS) * 2 * 5 * 2 * 3
+    # every case has its dry reference with the same controller, speed, brake and load
     reference = s.spec.assessment.reference["adhesion_case"]
-    others = {(p.values["initial_speed"], p.values["brake"]["name"], p.values["train.load_case"])
-              for p in points}
-    refs = {(p.values["initial_speed"], p.values["brake"]["name"], p.values["train.load_case"])
-            for p in points if p.values["adhesion_case"]["name"] == reference}
-    assert others == refs
+    key = lambda p: (p.values["wsp.controller"], p.values["initial_speed"], p.values["brake"]["name"],  # noqa: E731
+                     p.values["train.load_case"])
+    assert {key(p) for p in points} == {key(p) for p in points if p.values["adhesion_case"]["name"] == reference}
     assert s.spec.assessment.criteria.max_lock_events == 0 and s.spec.assessment.criteria.min_utilisation == 0.85
+    assert s.spec.assessment.rank == "wsp.controller"
+
+
+def test_the_en15595_sudden_change_is_met_at_speed_with_the_brake_applied():
+    """From the maximum speed the dry-low-dry patch begins where the emergency brake has built up
+    (the cylinders as full as at the patch's end) and the train still runs within 3 % of that speed."""
+    from railbrake import simulation
+    from railbrake.campaign import configuration
+    s = study.load("wsp-en15595")
+    patch = next(level for level in s.factor("adhesion_case").levels if level["name"] == "dry-low-dry")
+    start, length = (s.factor("initial_speed").si(patch[k]) for k in ("zone.start", "zone.length"))
+    top = s.factor("initial_speed").levels[-1]
+    resolved = configuration.resolve(s.base, {**s.fixed, "initial_speed": top})
+    r = simulation.run(resolved)
+    at = np.searchsorted(r.outputs["position"], [start, start + length])
+    cylinders = np.mean([r.outputs[n] for n in r.axle_channels("cylinder")], axis=0) - r.atmosphere
+    assert cylinders[at[0]] >= 0.98 * cylinders[at[1]] > 0.0
+    assert r.outputs["speed"][at[0]] >= 0.97 * s.factor("initial_speed").si(top)
+
+
+def test_all_levels_come_from_the_schema_and_only_where_it_lists_them():
+    s = parse("factors:\n  wsp.controller: all\n  adhesion.rail_conditioning: all\ndesign: {kind: grid}\n")
+    from railbrake import simulation
+    assert s.factor("wsp.controller").levels == list(simulation.WSP_CONTROLLERS)
+    assert s.factor("adhesion.rail_conditioning").levels == ["axles", "cells"]
+    with pytest.raises(InputError, match=r"t.yaml, line 6: factors.initial_speed = 'all': initial_speed has no fixed set"):
+        parse("factors:\n  initial_speed: all\ndesign: {kind: grid}\n")
+    with pytest.raises(InputError, match="unknown path 'wsp.controler'"):
+        parse("factors:\n  wsp.controler: all\ndesign: {kind: grid}\n")
+
+
+def test_the_ranked_factor_must_be_a_factor_other_than_the_reference():
+    body = ("factors:\n  wsp.controller: all\n  adhesion_case:\n    - {name: dry, adhesion.condition: dry-medium}\n"
+            "    - {name: low, adhesion.condition: oil-film}\ndesign: {kind: grid}\n"
+            "assessment:\n  reference: {adhesion_case: dry}\n  rank: RANK\n")
+    assert parse(body.replace("RANK", "wsp.controller")).spec.assessment.rank == "wsp.controller"
+    for bad in ("adhesion_case", "initial_speed"):
+        with pytest.raises(InputError, match=f"assessment.rank = '{bad}': must be a factor of the study other than "
+                                             "the reference's \\(wsp.controller\\)"):
+            parse(body.replace("RANK", bad))

@@ -63,10 +63,14 @@ def test_the_refusal_stays_small_in_memory(tmp_path):
 
 
 def test_max_runs_raises_or_lowers_the_limit():
-    with pytest.raises(InputError, match=r"48 runs \(grid of 2 x 4 x 2 x 3 levels x 1 seed\) exceed the limit of 47"):
-        study.load("wsp-en15595", max_runs=47)
-    assert study.load("wsp-en15595", max_runs=48).max_runs == 48
-    out = runner.invoke(app, ["campaign", "plan", "wsp-en15595", "--max-runs", "48"])
-    assert out.exit_code == 0 and "48 runs" in out.output
+    from railbrake.simulation import WSP_CONTROLLERS   # the preset runs every controller
+    c = len(WSP_CONTROLLERS)
+    n = c * 2 * 5 * 2 * 3
+    with pytest.raises(InputError, match=rf"{n} runs \(grid of {c} x 2 x 5 x 2 x 3 levels x 1 seed\) exceed the "
+                                         rf"limit of {n - 1}"):
+        study.load("wsp-en15595", max_runs=n - 1)
+    assert study.load("wsp-en15595", max_runs=n).max_runs == n
+    out = runner.invoke(app, ["campaign", "plan", "wsp-en15595", "--max-runs", str(n)])
+    assert out.exit_code == 0 and f"{n} runs" in out.output
     with pytest.raises(InputError, match="max_runs = 0: must be >= 1"):
         study.load("wsp-en15595", max_runs=0)

@@ -122,9 +122,9 @@ def _line(text: str, fragment: str) -> int:
     ("reference: {adhesion_case: dry}", "reference: {}", "assessment.reference"),
     ("reference: {adhesion_case: dry}", "reference: {adhesion: dry}", "assessment.reference.adhesion: not a factor"),
     ("reference: {adhesion_case: dry}", "reference: {adhesion_case: damp}",
-     "assessment.reference.adhesion_case = 'damp': not a level of factor adhesion_case (dry, low, extremely-low"),
-    ("utilisation_cases: [low, extremely-low]", "utilisation_cases: [low, extremly-low]",
-     "assessment.criteria.utilisation_cases.1 = 'extremly-low': not a level"),
+     "assessment.reference.adhesion_case = 'damp': not a level of factor adhesion_case (dry, low, very-low"),
+    ("utilisation_cases: [low, very-low, hs-wet]", "utilisation_cases: [low, very-lo, hs-wet]",
+     "assessment.criteria.utilisation_cases.1 = 'very-lo': not a level"),
 ])
 def test_study_values_are_checked_whole(tmp_path, old, new, expected):
     assert old in STUDY

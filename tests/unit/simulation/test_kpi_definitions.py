@@ -68,6 +68,15 @@ def test_lock_events_and_durations_equal_their_definitions(every_step):
     assert every_step.kpis["max_lock_duration_s"] == longest
 
 
+def test_valve_switchings_equal_their_definition(every_step):
+    """Every change of state of a hold or vent valve from one step to the next (the recorded valve
+    states), over the whole stop; on heavy rain the WSP does switch, without it nothing does."""
+    r = every_step
+    changes = sum(int(np.count_nonzero(np.diff(axles(r, q), axis=1))) for q in ("hold", "vent"))
+    assert r.kpis["valve_switchings"] == changes
+    assert (changes > 0) == r.wsp
+
+
 def test_without_wsp_the_wheels_lock():
     """The lock test above is not vacuous: without WSP on heavy rain the axles lock."""
     resolved = resolve("emergency-300-heavy-rain", cars=1,

@@ -116,3 +116,19 @@ def test_html_report_is_one_file_with_embedded_plots(fast_results, tmp_path):
 def test_unknown_kind_is_a_user_error():
     out = CliRunner().invoke(app, ["validate", "--cases", str(CASES), "--kind", "guesswork"])
     assert out.exit_code == 2 and "must be one of verification, code-to-code, validation" in out.output
+
+
+def test_a_one_sided_band_bounds_one_side_only(tmp_path):
+    """inf in a band's high column (a published 'more than'): any model value above low passes, one
+    below fails by its distance to low; inf anywhere else is still refused."""
+    case = _copy_case(tmp_path, "validation", "hs-wet-300-scatter", "more-than")
+    csv = case / "reference.csv"
+    csv.write_text("speed_kmh,front_car,design,car4\n300,0.001,0.0353,inf\n")
+    (above,) = run_cases(load_cases(tmp_path))
+    assert above.status == "pass" and above.difference == 0.0
+    csv.write_text("speed_kmh,front_car,design,car4\n300,0.5,0.5,inf\n")
+    (below,) = run_cases(load_cases(tmp_path))
+    assert below.status == "fail" and below.difference == pytest.approx(0.5 - below.model[0])   # its tolerance: absolute
+    csv.write_text("speed_kmh,front_car,design,car4\n300,0.001,inf,inf\n")
+    (refused,) = run_cases(load_cases(tmp_path))
+    assert refused.status == "broken" and "only -inf in a band's low column, inf in its high column" in refused.reason
