@@ -141,7 +141,7 @@ def _options(study: Study, out: Path, timeseries: bool) -> dict:
     options = {"out": str(out), "timeseries": timeseries or study.spec.timeseries}
     if study.spec.assessment is not None:
         from railbrake.campaign.assess import reference_values
-        options["build_up"] = dict(study.spec.assessment.build_up)
+        options["build_up"] = True   # te measured on the reference runs (worker.equivalent_response_time)
         options["build_up_reference"] = reference_values(study.spec.assessment)
     return options
 

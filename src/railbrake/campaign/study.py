@@ -67,23 +67,9 @@ class Criteria(_Strict):
     max_air_drawn_kg: _bounded("study.air_drawn", "kg", positive=True) | None = None
 
 
-def _build_up(value: dict) -> dict:
-    """Exactly the two fractions of the final deceleration, delay < complete, inside (0, 1)."""
-    unknown = sorted(set(value) - {"delay", "complete"})
-    if unknown or set(value) != {"delay", "complete"}:
-        raise ValueError(f"needs exactly delay and complete (fractions of the final deceleration)"
-                         f"{'; unknown: ' + ', '.join(map(str, unknown)) if unknown else ''}")
-    if not 0.0 < value["delay"] < value["complete"] < 1.0:
-        raise ValueError(f"delay = {value['delay']:g}, complete = {value['complete']:g}: must satisfy "
-                         "0 < delay < complete < 1")
-    return value
-
-
 class Assessment(_Strict):
     kind: Literal["en15595"] = "en15595"
     reference: dict[str, Any] = Field(min_length=1)   # factor values of the reference case (dry rail)
-    build_up: Annotated[dict[str, float], AfterValidator(_build_up)] = Field(
-        default_factory=lambda: {"delay": 0.10, "complete": 0.90})
     criteria: Criteria = Field(default_factory=Criteria)
     rank: str | None = None   # a factor whose levels (e.g. wsp.controller) the report ranks on the cases
     source: str = ""

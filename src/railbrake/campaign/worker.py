@@ -3,7 +3,7 @@
 A run that raises is returned with status "failed" and its error, so one bad configuration does
 not stop a study. Only a lost worker makes the batch fail, and Dask then runs it again elsewhere.
 A run records no time series unless the study asks for them (or it is an assessment's reference,
-whose build-up time is measured on its deceleration): those runs are set up one by one and run
+whose build-up time is measured on its total brake force): those runs are set up one by one and run
 together in one call of the C core (simulation.run_structs), their KPIs only. The warnings a run
 raises travel back with its row.
 """
@@ -22,20 +22,16 @@ from railbrake.campaign import configuration
 from railbrake.campaign.dataset import STATUS_FAILED, STATUS_OK
 
 
-def equivalent_response_time(result, delay: float, complete: float) -> float | None:
-    """EN 14531 te = ta + tb/2 from the train's deceleration (pneumatic and ED brake together):
-    ta until it reaches `delay` of its median over the stop, tb from there to `complete` of it
-    (fractions from the study file). The median stands for the full brake effort: pad friction
-    rising at low speed makes the peak a poor one."""
-    decel = result.outputs.get("deceleration")
-    if decel is None or result.time.size < 2:
+def equivalent_response_time(result, train) -> float | None:
+    """EN 14531-1 te = ta + tb/2 on the train's total brake force (simulation.response, with the
+    fractions and window of data/response/en14531.yaml, as `run`, `stopping-distance` and the ETCS
+    model measure it), from the first step with a brake demand. Not on the deceleration: a
+    speed-stepped emergency demand and the pads' friction make it rise over the whole stop."""
+    from railbrake.simulation import response
+    demand = result.outputs.get("demand_deceleration")
+    if demand is None or not np.any(demand > 0):
         return None
-    full = float(np.median(decel))
-    if full <= 0:
-        return None
-    t_a = float(result.time[np.argmax(decel >= delay * full)])
-    t_c = float(result.time[np.argmax(decel >= complete * full)])
-    return t_a + (t_c - t_a) / 2
+    return response.measure(result, train, float(result.time[np.argmax(demand > 0)])).response
 
 
 def _needs_build_up(run: dict, options: dict) -> bool:
@@ -61,12 +57,13 @@ def _recorded(base: str, run: dict, options: dict, row: dict) -> None:
     try:
         with warnings.catch_warnings(record=True) as caught:   # they go back to the client with the row
             warnings.simplefilter("always")
-            result = configuration.run(configuration.resolve(base, run["sets"]), record=True)
+            resolved = configuration.resolve(base, run["sets"])
+            result = configuration.run(resolved, record=True)
         row["warnings"] = [f"{w.category.__name__}: {w.message}" for w in caught]
         row["kpis"] = dict(result.kpis)
         if options.get("build_up"):
             build_up = _needs_build_up(run, options)
-            row["kpis"]["equivalent_response_time_s"] = (equivalent_response_time(result, **options["build_up"])
+            row["kpis"]["equivalent_response_time_s"] = (equivalent_response_time(result, resolved.train)
                                                          if build_up else None)
         if options.get("timeseries"):
             from railbrake.simulation.io import write_parquet
