@@ -27,14 +27,21 @@
 void rb_wsp_setpoint_defaults(rb_wsp_params *p)
 {
     p->controller = RB_WSP_THRESHOLD;
-    /* Wet rail at high speed (hs-wet) peaks at slip velocities of 0.06 to 0.13 m/s from 40 to
-       300 km/h (Polach B = 17 s/m): the set-point sits among them, band and lead time chosen on
-       the hs-wet emergency stops from 300 km/h of the 8- and 16-car presets [T] (docs/campaigns.md) */
-    p->setpoint_speed = 0.07;    /* m/s ... */
-    p->setpoint_slip = 0.0;      /* ... plus this fraction of the reference speed */
-    p->setpoint_band = 0.2;
-    p->lead_time = 0.1;          /* s: the valves' response delay and the cylinder's first fall [T] */
-    p->ref_decel_margin = 0.1;   /* m/s^2 [T] */
+    /* Wet rail at high speed (hs-wet, Polach B = 17 s/m) peaks at slip velocities growing with
+       speed, 0.042 m/s at 20 km/h to 0.128 m/s at 300 km/h: the set-point is the chord of that
+       curve through both ends, so it lies on or below the peak (its stable side) in between.
+       A constant set-point (0.07 m/s before) sat at 69 % of the peak adhesion at 300 km/h and past
+       the peak below 60 km/h. [T]: no published set-point of a particular WSP was found; exposed
+       (scenario wsp.*). */
+    p->setpoint_speed = 0.036;   /* m/s ... */
+    p->setpoint_slip = 0.0011;   /* ... plus this fraction of the reference speed */
+    /* Band, lead time and the estimate's margin chosen on the hs-wet emergency stops from 300 km/h
+       of 4 to 16 cars [T] (docs/simulation.md): a narrow band keeps the slip at the
+       peak, the lead time covers the valves' delay and the cylinder's first fall, a small margin
+       keeps the speed estimate from sinking below the train (the slip is then underestimated) */
+    p->setpoint_band = 0.1;
+    p->lead_time = 0.15;         /* s */
+    p->ref_decel_margin = 0.03;  /* m/s^2 */
     p->setpoint_release = 6.0;   /* s [T]: a short release lets the axle slide to the detection
                                     threshold again, far past the wet peak (1.5 s cost 1 to 3 points
                                     of utilisation on hs-wet) */

@@ -80,9 +80,6 @@ def test_reproducible_with_a_fixed_seed(controller, conditioning):
 
 
 @pytest.mark.slow   # an 8- and a 16-car stop on hs-wet
-@pytest.mark.xfail(strict=True, reason="issue 28 must-hold not met since the emergency circuit's build-up "
-                   "(issue 27): 84.4 % (8 cars), 83.2 % (16 cars) with the defaults; no set-point, band or lead "
-                   "time of a 50-point scan reaches 85 % on 16 cars (best 84.7 %)")
 @pytest.mark.parametrize("cars", [8, 16])
 def test_slip_setpoint_uses_85_percent_of_hs_wet_adhesion(cars):
     k = _run("slip_setpoint", cars=cars).kpis
