@@ -36,6 +36,9 @@ rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_s
     if ((st = rb_bcu_check(p, err))) return st;
     if (!s) return rb_fail(err, RB_EINVAL, "state = NULL: a BCU state is required");
     if (wsp && (st = rb_wsp_check(wsp, err))) return st;
+    if (wsp && wsp->conditioning_mode && p->wsp_per_bogie)
+        return rb_fail(err, RB_EINVAL, "wsp.conditioning_mode = 1 with bcu.wsp_per_bogie = 1: the conditioning mode "
+                       "sets the two axles of a bogie apart, so it needs valves per axle (wsp_per_bogie = 0)");
     memset(s, 0, sizeof *s);
     rb_wsp_params defaults;
     rb_wsp_default_params(&defaults);

@@ -23,6 +23,13 @@ void rb_wsp_default_params(rb_wsp_params *p)
     p->safety_time = 5.0;             /* 5-10 s [T] */
     p->min_speed = 1.5;
     rb_wsp_setpoint_defaults(p);
+    rb_wsp_decel_slip_defaults(p);
+    p->conditioning_mode = 0;
+    /* The trailing axle of a bogie slides at 3 times the leading one's criterion: from the micro-slip
+     * of the set-point's default into the macro slip past the wet peak, where the energy dissipated
+     * cleans the rail (contact_conditioning.c). No published ratio was found: typical [T], exposed
+     * (scenario wsp.conditioning_ratio). */
+    p->conditioning_ratio = 3.0;
 }
 
 void rb_wsp_default_reset(rb_wsp_default *w, const rb_wsp_params *p)
@@ -48,6 +55,12 @@ void rb_wsp_update_reference(rb_wsp_default *w, const rb_wsp_inputs *in, double 
     if (w->reference < 0.0) w->reference = 0.0;
 }
 
+double rb_wsp_estimate_fall(const rb_wsp_params *p, const rb_wsp_inputs *in)
+{
+    if (in->body_decel != in->body_decel) return p->ref_decel_max;   /* NaN: no accelerometer */
+    return (in->body_decel > 0.0 ? in->body_decel : 0.0) + p->ref_decel_margin;
+}
+
 /* A cylinder far below its demand with no WSP command: a vent valve open on its own. */
 int rb_wsp_stuck_vent_suspected(const rb_wsp_inputs *in, int a)
 {
@@ -59,7 +72,7 @@ static int next_mode(rb_wsp_default *w, int a, double dv, double threshold, doub
 {
     const rb_wsp_params *p = &w->p;
     double accel = w->accel[a];
-    int sliding = dv > threshold || -accel > p->decel_threshold;
+    int sliding = dv > threshold || -accel > rb_wsp_conditioned(p, a, p->decel_threshold);
     switch (w->mode[a]) {
     case RB_WSP_APPLY: return sliding ? RB_WSP_VENT : RB_WSP_APPLY;
     case RB_WSP_VENT:
@@ -75,12 +88,25 @@ static int next_mode(rb_wsp_default *w, int a, double dv, double threshold, doub
     }
 }
 
-/* Hold valve closed during the off part of each re-apply pulse. */
-static int reapply_holds(const rb_wsp_default *w, int a)
+int rb_wsp_reapply_holds(const rb_wsp_default *w, int a)
 {
     double period = w->p.reapply_on + w->p.reapply_off;
     double phase = w->reapply_clock[a] - period * (double)(long)(w->reapply_clock[a] / period);
     return phase >= w->p.reapply_on;
+}
+
+void rb_wsp_mode_commands(const rb_wsp_default *w, rb_wsp_commands *out, int a)
+{
+    int mode = w->mode[a];
+    out->hold[a] = mode == RB_WSP_VENT || mode == RB_WSP_HOLD || (mode == RB_WSP_REAPPLY && rb_wsp_reapply_holds(w, a));
+    out->vent[a] = mode == RB_WSP_VENT;
+    out->active[a] = mode != RB_WSP_APPLY;
+}
+
+double rb_wsp_conditioned(const rb_wsp_params *p, int a, double criterion)
+{
+    /* axles 0, 1 and 2, 3 of a car are its two bogies', the first of each leading */
+    return p->conditioning_mode && a % 2 == 1 ? criterion * p->conditioning_ratio : criterion;
 }
 
 int rb_wsp_axle_guard(rb_wsp_default *w, const rb_wsp_inputs *in, rb_wsp_commands *out, int a, double dt)
@@ -121,17 +147,18 @@ void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands
         rb_wsp_setpoint_step(context, in, out);
         return;
     }
+    if (p->controller == RB_WSP_DECEL_SLIP_SPEED) {
+        rb_wsp_decel_slip_step(context, in, out);
+        return;
+    }
     rb_wsp_update_reference(w, in, p->ref_decel_max);
     double dt = in->cycle > 0.0 ? in->cycle : 1e-3;
     for (int a = 0; a < in->n_axles; ++a) {
         if (!rb_wsp_axle_guard(w, in, out, a, dt)) continue;
-        double threshold = p->speed_threshold + p->slip_threshold * w->reference;
+        double threshold = rb_wsp_conditioned(p, a, p->speed_threshold + p->slip_threshold * w->reference);
         w->mode[a] = w->reference < p->min_speed ? RB_WSP_APPLY
                                                   : next_mode(w, a, w->reference - in->wheel_speed[a], threshold, dt);
         if (rb_wsp_safety_trip(w, a, dt)) continue;
-        out->hold[a] = w->mode[a] == RB_WSP_VENT || w->mode[a] == RB_WSP_HOLD
-                       || (w->mode[a] == RB_WSP_REAPPLY && reapply_holds(w, a));
-        out->vent[a] = w->mode[a] == RB_WSP_VENT;
-        out->active[a] = w->mode[a] != RB_WSP_APPLY;
+        rb_wsp_mode_commands(w, out, a);
     }
 }

@@ -55,13 +55,19 @@ static const rb_bound bounds[] = {
     {"wsp.filter_time", "s", 1e-3, 1.0, "a filter of 1 ms to 1 s"},
     {"wsp.safety_time", "s", 0.5, 30.0, "0.5 to 30 s of continuous venting (typically 5-10 s [T]); 0 isolates every axle"},
     {"wsp.min_speed", "m/s", 0.0, 10.0, "WSP active down to at most 36 km/h"},
-    {"wsp.controller", "1", 0.0, 1.0, "0: threshold state machine, 1: slip set-point"},
+    {"wsp.controller", "1", 0.0, 2.0, "0: threshold state machine, 1: slip set-point, 2: deceleration and slip speed"},
     {"wsp.setpoint_speed", "m/s", 0.01, 10.0, "a slip-velocity set-point of 0.04 to 36 km/h"},
     {"wsp.setpoint_slip", "1", 0.0, 0.5, "up to 50 % of the reference speed"},
     {"wsp.setpoint_band", "1", 0.0, 0.9, "a hold band of up to +-90 % of the set-point"},
     {"wsp.lead_time", "s", 0.0, 1.0, "the slip predicted up to 1 s ahead"},
     {"wsp.ref_decel_margin", "m/s2", 0.0, 5.0, "a speed estimate falling up to 5 m/s2 faster than the body"},
     {"wsp.setpoint_release", "s", 0.0, 600.0, "an axle let go after up to 10 min braked as demanded"},
+    {"wsp.ds_speed_threshold", "m/s", 0.01, 10.0, "a slip speed of 0.04 to 36 km/h vents"},
+    {"wsp.ds_slip_threshold", "1", 0.0, 0.5, "up to 50 % of the reference speed"},
+    {"wsp.ds_decel_threshold", "m/s2", 0.1, 100.0, "a positive wheel deceleration"},
+    {"wsp.ds_reaccel_threshold", "m/s2", 0.0, 100.0, "a non-negative wheel re-acceleration"},
+    {"wsp.conditioning_mode", "1", 0.0, 1.0, "1: the trailing axle of each bogie slides more"},
+    {"wsp.conditioning_ratio", "1", 1.0, 20.0, "the trailing axle's slip criterion 1 to 20 times the leading one's"},
 
     /* The files' quantities (train, scenario, valve files) that the plant gets only through others:
      * checked by the Python schemas (railbrake._core.bound) in the file's unit, so that a value is
@@ -285,5 +291,11 @@ rb_status rb_wsp_check(const rb_wsp_params *w, rb_error *err)
     WSP_BOUND(lead_time);
     WSP_BOUND(ref_decel_margin);
     WSP_BOUND(setpoint_release);
+    WSP_BOUND(ds_speed_threshold);
+    WSP_BOUND(ds_slip_threshold);
+    WSP_BOUND(ds_decel_threshold);
+    WSP_BOUND(ds_reaccel_threshold);
+    WSP_BOUND(conditioning_mode);
+    WSP_BOUND(conditioning_ratio);
     return RB_OK;
 }

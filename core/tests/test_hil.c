@@ -132,6 +132,56 @@ static void test_loop_matches_mil(void)
     rb_hil_bcu_close(&server);
 }
 
+/* The reference BCU runs the WSP controller of the parameters it is opened with: on low adhesion
+ * each controller's loop vents, in its own sequence (HIL frames carry no body deceleration: the
+ * estimates fall at ref_decel_max), and no wheel locks within the 3 s. */
+static int loop_vents(int controller, int conditioning, uint8_t *sequence, int steps)
+{
+    setup(1, 100 / 3.6);
+    plant.condition[0].polach.mu0 = 0.08;   /* emergency 1.2 m/s^2 on adhesion below 0.08 */
+    rb_wsp_params wsp;
+    rb_wsp_default_params(&wsp);
+    wsp.controller = controller;
+    wsp.conditioning_mode = conditioning;
+    rb_error err;
+    CHECK(rb_hil_bcu_open(&bcu, &wsp, &scenario, digest(bcu.n_cars), SECRET, COOKIE, "127.0.0.1", 0, &server,
+                          &err) == RB_OK);
+    CHECK(server.state.wsp_default.p.controller == controller);
+    CHECK(rb_hil_runner_open(&plant, &config, "127.0.0.1", 0, "127.0.0.1", rb_hil_bcu_port(&server), &runner,
+                             &err) == RB_OK);
+    int finished = 0, bcu_finished = 0, vents = 0;
+    double slowest = 1e9;
+    for (int i = 0; i < steps && !finished; ++i) {
+        CHECK(rb_hil_runner_advance(&plant, &config, &runner, 1, NULL, 0, NULL, &finished, &err) == RB_OK);
+        rb_hil_bcu_serve(&bcu, &scenario, &server, 0.0, 0.0, 1.0, &bcu_finished, &err);
+        sequence[i] = 0;
+        for (int a = 0; a < 4; ++a) {
+            vents += runner.applied.vent[a];
+            sequence[i] |= (uint8_t)(runner.applied.vent[a] << a);
+            if (runner.out.wheel_speed[a] < slowest) slowest = runner.out.wheel_speed[a];
+        }
+    }
+    CHECK(slowest > 0.5 * runner.out.speed);   /* no wheel locked */
+    rb_hil_runner_close(&runner);
+    rb_hil_bcu_close(&server);
+    return vents;
+}
+
+static void test_loop_with_each_controller(void)
+{
+    enum { STEPS = 3000 };
+    static uint8_t seen[4][STEPS];
+    const int modes[4][2] = {{RB_WSP_THRESHOLD, 0}, {RB_WSP_SLIP_SETPOINT, 0}, {RB_WSP_DECEL_SLIP_SPEED, 0},
+                             {RB_WSP_DECEL_SLIP_SPEED, 1}};
+    for (int m = 0; m < 4; ++m) {
+        int vents = loop_vents(modes[m][0], modes[m][1], seen[m], STEPS);
+        printf("HIL loop, controller %d, conditioning %d: %d axle-steps vented in 3 s\n", modes[m][0], modes[m][1],
+               vents);
+        CHECK(vents > 100);
+        for (int k = 0; k < m; ++k) CHECK(memcmp(seen[k], seen[m], STEPS) != 0);
+    }
+}
+
 static void send_raw(rb_udp *peer, const uint8_t *data, size_t size)
 {
     CHECK(rb_udp_send(peer, data, size) == (long)size);
@@ -794,6 +844,7 @@ int main(void)
     test_faults_at_run_time();
     test_safe_state();
     test_loop_matches_mil();
+    test_loop_with_each_controller();
     test_hostile_frames();
     test_bcu_server_input();
     test_bcu_keeps_its_plant();

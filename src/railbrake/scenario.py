@@ -110,6 +110,13 @@ Q_WSP_SETPOINT_SPEED = _quantity("speed", "wsp.setpoint_speed")
 Q_WSP_SETPOINT_SLIP = _bounded("wsp.setpoint_slip")
 Q_WSP_SETPOINT_BAND = _bounded("wsp.setpoint_band")
 Q_WSP_LEAD_TIME = _quantity("time", "wsp.lead_time")
+Q_WSP_REF_DECEL_MARGIN = _quantity("acceleration", "wsp.ref_decel_margin")
+Q_WSP_SETPOINT_RELEASE = _quantity("time", "wsp.setpoint_release")
+Q_WSP_DS_SPEED_THRESHOLD = _quantity("speed", "wsp.ds_speed_threshold")
+Q_WSP_DS_SLIP_THRESHOLD = _bounded("wsp.ds_slip_threshold")
+Q_WSP_DS_DECEL_THRESHOLD = _quantity("acceleration", "wsp.ds_decel_threshold")
+Q_WSP_DS_REACCEL_THRESHOLD = _quantity("acceleration", "wsp.ds_reaccel_threshold")
+Q_WSP_CONDITIONING_RATIO = _bounded("wsp.conditioning_ratio")
 Position = Q_SCENARIO_TRACK_POSITION   # along the track, the front at 0 m at t = 0
 EventTime = Q_SCENARIO_EVENT_TIME
 
@@ -182,13 +189,37 @@ class WspSettings(_Strict):
     ref_decel_max: Q_WSP_REF_DECEL_MAX | None = None
     safety_time: Q_WSP_SAFETY_TIME | None = None
     cycle: Q_BCU_CYCLE = 0.01
-    # the controller (core/src/wsp_controllers.c): the threshold state machine or the slip
-    # set-point controller, with the latter's overrides of its C defaults
-    controller: Literal["threshold", "slip_setpoint"] = "threshold"
+    # the controller (rb_wsp_controller, docs/simulation.md): the threshold state machine, the slip
+    # set-point controller or the deceleration and slip-speed controller, each with its overrides of
+    # the C defaults (CONTROLLER_KEYS: the keys each one reads)
+    controller: Literal["threshold", "slip_setpoint", "decel_slip_speed"] = "threshold"
     setpoint_speed: Q_WSP_SETPOINT_SPEED | None = None
     setpoint_slip: Q_WSP_SETPOINT_SLIP | None = None
     setpoint_band: Q_WSP_SETPOINT_BAND | None = None
     lead_time: Q_WSP_LEAD_TIME | None = None
+    ref_decel_margin: Q_WSP_REF_DECEL_MARGIN | None = None
+    setpoint_release: Q_WSP_SETPOINT_RELEASE | None = None
+    ds_speed_threshold: Q_WSP_DS_SPEED_THRESHOLD | None = None
+    ds_slip_threshold: Q_WSP_DS_SLIP_THRESHOLD | None = None
+    ds_decel_threshold: Q_WSP_DS_DECEL_THRESHOLD | None = None
+    ds_reaccel_threshold: Q_WSP_DS_REACCEL_THRESHOLD | None = None
+    # every controller: the trailing axle of each bogie slides at conditioning_ratio times the
+    # leading one's slip criterion (valves per axle only)
+    conditioning_mode: bool = False
+    conditioning_ratio: Q_WSP_CONDITIONING_RATIO | None = None
+
+
+# The controller-specific keys of WspSettings each controller reads (a key set for another
+# controller would change nothing: refused); every controller reads the others (ref_decel_max,
+# safety_time, cycle, the conditioning mode).
+CONTROLLER_KEYS = {
+    "threshold": ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold"),
+    # the threshold controller's detection engages it on an axle
+    "slip_setpoint": ("speed_threshold", "slip_threshold", "decel_threshold", "setpoint_speed", "setpoint_slip",
+                      "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release"),
+    "decel_slip_speed": ("ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold", "ds_reaccel_threshold",
+                         "ref_decel_margin"),
+}
 
 
 FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
@@ -371,6 +402,7 @@ class Scenario:
         self._check_demand()
         self._check_faults()
         self._check_zones()
+        self._check_wsp()
         spec = self.spec
         if not spec.stop.speed < spec.initial_speed:
             raise InputError(f"{self.where('stop', 'speed')} = {self._as_written('stop', 'speed')}: must be below "
@@ -405,6 +437,24 @@ class Scenario:
             if fault.start >= spec.stop.max_time:
                 raise InputError(f"{self.where('faults', i, 'start')} = {self._as_written('faults', i, 'start')}: "
                                  f"at or after stop.max_time = {spec.stop.max_time:g} s, so never applied")
+
+    def _check_wsp(self) -> None:
+        wsp = self.spec.wsp
+        read = set(CONTROLLER_KEYS[wsp.controller])
+        for controller, keys in CONTROLLER_KEYS.items():
+            for key in keys:
+                if key not in read and getattr(wsp, key) is not None:
+                    users = [c for c, ks in CONTROLLER_KEYS.items() if key in ks]
+                    raise InputError(f"{self.where('wsp', key)} = {self._as_written('wsp', key)}: the {wsp.controller} "
+                                     f"controller (wsp.controller) does not read it, only {' and '.join(users)}: "
+                                     "remove it or choose that controller")
+        if wsp.conditioning_ratio is not None and not wsp.conditioning_mode:
+            raise InputError(f"{self.where('wsp', 'conditioning_ratio')} = {self._as_written('wsp', 'conditioning_ratio')}"
+                             ": acts only with wsp.conditioning_mode: true")
+        if wsp.conditioning_mode and wsp.per_bogie:
+            raise InputError(f"{self.where('wsp', 'conditioning_mode')}: true with wsp.per_bogie: true: the "
+                             "conditioning mode sets the two axles of a bogie apart, so it needs valves per axle "
+                             "(wsp.per_bogie: false)")
 
     def _check_zones(self) -> None:
         zones = sorted(enumerate(self.spec.adhesion.zones), key=lambda iz: iz[1].start)

@@ -63,8 +63,9 @@ typedef struct {
     double filter_time;        /* s, wheel acceleration filter */
     double safety_time;        /* s, longest continuous venting (commanded or seen at the cylinder) */
     double min_speed;          /* m/s, WSP inactive below */
-    /* the controller (wsp_controllers.c): RB_WSP_THRESHOLD, the state machine above (default), or
-     * RB_WSP_SLIP_SETPOINT, each axle's slip velocity held in a band about a set-point */
+    /* the controller (rb_wsp_controller): RB_WSP_THRESHOLD, the state machine above (default),
+     * RB_WSP_SLIP_SETPOINT, each axle's slip velocity held in a band about a set-point
+     * (wsp_controllers.c), or RB_WSP_DECEL_SLIP_SPEED (wsp_decel_slip.c) */
     int controller;
     double setpoint_speed;     /* m/s, slip-velocity set-point ... */
     double setpoint_slip;      /* ... plus this fraction of the reference speed */
@@ -74,11 +75,27 @@ typedef struct {
                                   the body's deceleration plus this (when every wheel slides) */
     double setpoint_release;   /* s braked as demanded after which the set-point controller lets an
                                   axle go (until the next detected slide) */
+    /* RB_WSP_DECEL_SLIP_SPEED (wsp_decel_slip.c): a slide is vented when the wheel's slip speed
+     * (reference - wheel) exceeds ds_speed_threshold + ds_slip_threshold x reference or its
+     * deceleration exceeds ds_decel_threshold */
+    double ds_speed_threshold; /* m/s */
+    double ds_slip_threshold;  /* fraction of the reference speed */
+    double ds_decel_threshold; /* m/s^2 */
+    double ds_reaccel_threshold; /* m/s^2, wheel re-acceleration above which the brake re-applies at once */
+    /* Conditioning mode (every controller): the leading axle of each bogie keeps the controller's
+     * criteria, the trailing one's slide criteria (the threshold controller's speed difference and
+     * deceleration, the set-point, the slip speed and deceleration) are multiplied by
+     * conditioning_ratio, so it slides more and cleans the rail for the axles behind. Needs valves
+     * per axle (rb_bcu_params.wsp_per_bogie = 0). */
+    int conditioning_mode;     /* 1: on */
+    double conditioning_ratio;
 } rb_wsp_params;
 
 typedef enum {
     RB_WSP_THRESHOLD = 0,      /* thresholds on speed difference and deceleration, vent/hold/re-apply */
     RB_WSP_SLIP_SETPOINT = 1,  /* slip-velocity set-point (micro/macro slip), predicted over lead_time */
+    RB_WSP_DECEL_SLIP_SPEED = 2, /* wheel deceleration and slip-speed thresholds, hold band, re-apply
+                                    on the wheel's re-acceleration */
     RB_WSP_CONTROLLERS
 } rb_wsp_controller;
 
@@ -100,6 +117,8 @@ void rb_wsp_default_params(rb_wsp_params *p);
 /* The slip set-point controller's step (wsp_controllers.c); rb_wsp_default_step calls it when
  * p.controller is RB_WSP_SLIP_SETPOINT. context: an rb_wsp_default. */
 void rb_wsp_setpoint_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out);
+/* The deceleration and slip-speed controller's step (wsp_decel_slip.c), for RB_WSP_DECEL_SLIP_SPEED. */
+void rb_wsp_decel_slip_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out);
 void rb_wsp_default_reset(rb_wsp_default *w, const rb_wsp_params *p);
 /* The default algorithm; context: an rb_wsp_default. */
 void rb_wsp_default_step(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out);

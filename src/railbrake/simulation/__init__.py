@@ -321,7 +321,12 @@ def _air_supply(train, n_cars: int, p: _core.PlantParams) -> None:
     p.initial_pressure = p.atmosphere + air.charged_bar * BAR
 
 
-WSP_CONTROLLERS = ("threshold", "slip_setpoint")   # rb_wsp_controller's order (rb_bcu.h)
+WSP_CONTROLLERS = ("threshold", "slip_setpoint", "decel_slip_speed")   # rb_wsp_controller's order (rb_bcu.h)
+# the scenario's wsp keys that are rb_wsp_params fields of the same name (SI)
+_WSP_OVERRIDES = ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold", "ref_decel_max",
+                  "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin",
+                  "setpoint_release", "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold",
+                  "ds_reaccel_threshold", "conditioning_ratio")
 
 
 def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
@@ -329,12 +334,13 @@ def wsp_params(scenario: Scenario | None = None) -> _core.WspParams:
     _core.rb_wsp_default_params(ctypes.byref(w))
     if scenario is not None:
         instance("scenario", scenario, Scenario)
-        for key in ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold",
-                    "ref_decel_max", "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time"):
-            value = getattr(scenario.spec.wsp, key)
+        settings = scenario.spec.wsp
+        for key in _WSP_OVERRIDES:
+            value = getattr(settings, key)
             if value is not None:
-                setattr(w, key, value)
-        w.controller = WSP_CONTROLLERS.index(scenario.spec.wsp.controller)
+                setattr(w, key, int(value) if isinstance(value, bool) else value)
+        w.controller = WSP_CONTROLLERS.index(settings.controller)
+        w.conditioning_mode = int(settings.conditioning_mode)
     return w
 
 
@@ -467,7 +473,7 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     rows = int(math.ceil(sc.spec.stop.max_time / sc.spec.outputs.record_interval)) + 3 if record else 0
     series = np.zeros((rows, len(names)))
     finished = ctypes.c_int(0)
-    pending = run_changes.check(changes, sc.spec.stop.max_time, plant.n_faults)
+    pending = run_changes.check(changes, sc.spec.stop.max_time, plant.n_faults, bool(bcu.wsp_per_bogie))
     t = 0.0
     while not finished.value:
         t = min(t + CHUNK, pending[0].time) if pending else t + CHUNK

@@ -13,6 +13,8 @@ from railbrake import _core
 from railbrake.errors import InputError
 
 WSP_FIELDS = tuple(name for name, _ in _core.WspParams._fields_)
+# the integer fields (the controller, switches): a change gives them a whole number
+WSP_INTEGERS = frozenset(name for name, kind in _core.WspParams._fields_ if kind is ctypes.c_int)
 
 
 @dataclass(frozen=True)
@@ -26,9 +28,10 @@ class Change:
     faults: tuple = ()
 
 
-def check(changes, max_time: float, n_faults: int) -> list[Change]:
+def check(changes, max_time: float, n_faults: int, per_bogie: bool = False) -> list[Change]:
     """The changes in time order; a time outside [0, max_time], an unknown WSP field or fault, or a
-    non-finite value is refused, naming it."""
+    non-finite value is refused, naming it; so are a fraction for an integer field and the
+    conditioning mode with valves per bogie (per_bogie: the run's)."""
     out = []
     for i, c in enumerate(changes):
         if not isinstance(c, Change):
@@ -40,6 +43,11 @@ def check(changes, max_time: float, n_faults: int) -> list[Change]:
                 raise InputError(f"changes[{i}].wsp: {name!r} is not a WSP parameter ({', '.join(WSP_FIELDS)})")
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
                 raise InputError(f"changes[{i}].wsp[{name!r}] = {value!r}: must be a finite number")
+            if name in WSP_INTEGERS and value != int(value):
+                raise InputError(f"changes[{i}].wsp[{name!r}] = {value!r}: must be a whole number")
+            if name == "conditioning_mode" and value and per_bogie:
+                raise InputError(f"changes[{i}].wsp['conditioning_mode'] = {value!r}: the run has valves per "
+                                 "bogie (wsp.per_bogie), the conditioning mode needs them per axle")
         if c.adhesion_mu0 is not None and not (isinstance(c.adhesion_mu0, (int, float))
                                                and math.isfinite(c.adhesion_mu0)):
             raise InputError(f"changes[{i}].adhesion_mu0 = {c.adhesion_mu0!r}: must be a finite number")
@@ -53,7 +61,7 @@ def check(changes, max_time: float, n_faults: int) -> list[Change]:
 def apply(change: Change, plant: _core.PlantParams, wsp: _core.WspParams, state) -> None:
     """Writes the change into the run's parameters and makes the core take it (rb_run_retune)."""
     for name, value in change.wsp.items():
-        setattr(wsp, name, float(value))
+        setattr(wsp, name, int(value) if name in WSP_INTEGERS else float(value))
     if change.adhesion_mu0 is not None:
         plant.condition[0].polach.mu0 = float(change.adhesion_mu0)
     for f in change.faults:

@@ -203,3 +203,59 @@ def test_the_ranked_factor_must_be_a_factor_other_than_the_reference():
         with pytest.raises(InputError, match=f"assessment.rank = '{bad}': must be a factor of the study other than "
                                              "the reference's \\(wsp.controller\\)"):
             parse(body.replace("RANK", bad))
+
+
+WSP_HEAD = """schema: railbrake.study/1
+name: controllers
+base: emergency-300-heavy-rain
+set: {train.cars: 1, adhesion.condition: hs-wet, stop.max_time: "8 s"}
+"""
+
+
+def test_the_wsp_controllers_and_the_conditioning_mode_are_factors():
+    """Each run of a study gets the controller and mode of its design point in its C parameters,
+    and they act: the runs' valve commands differ."""
+    from railbrake import simulation
+    from railbrake.campaign import configuration
+    s = study.parse(WSP_HEAD + "factors:\n  wsp.controller: [threshold, slip_setpoint, decel_slip_speed]\n"
+                    "  wsp.conditioning_mode: [false, true]\ndesign: {kind: grid}\n", "t.yaml")
+    runs = plan.plan(s)
+    assert len(runs) == 6
+    vents = {}
+    for r in runs:
+        resolved = configuration.resolve(s.base, r.sets)
+        w = simulation.wsp_params(resolved.scenario)
+        controller, mode = r.sets["wsp.controller"], r.sets["wsp.conditioning_mode"]
+        assert (w.controller, w.conditioning_mode) == (simulation.WSP_CONTROLLERS.index(controller), int(mode))
+        result = configuration.run(resolved, record=True)
+        vents[controller, str(mode)] = np.concatenate([result.outputs[n] for n in result.axle_channels("vent")])
+    assert len({v.tobytes() for v in vents.values()}) == 6
+
+
+def test_a_level_setting_a_key_its_controller_does_not_read_fails_before_any_run():
+    body = ("schema: railbrake.study/1\nname: c\nbase: emergency-300-heavy-rain\n"
+            "set: {train.cars: 1, wsp.setpoint_speed: \"0.05 m/s\"}\n"
+            "factors:\n  wsp.controller: [slip_setpoint, decel_slip_speed]\ndesign: {kind: grid}\n")
+    with pytest.raises(InputError, match=r"design point 1 \(wsp.controller=decel_slip_speed\).*wsp.setpoint_speed.*"
+                                         r"only slip_setpoint"):
+        plan.plan(study.parse(body, "t.yaml"))
+
+
+def test_wsp_tune_takes_each_controller_s_parameters_in_their_c_bounds():
+    from railbrake.campaign import tune
+    tuning = ("tuning:\n  params:\n    wsp.ds_speed_threshold: {low: \"0.1 m/s\", high: \"1 m/s\"}\n"
+              "    wsp.ds_decel_threshold: {low: \"1.5 m/s^2\", high: \"3 m/s^2\"}\n"
+              "    wsp.conditioning_ratio: {low: 1.5, high: 4.0}\n")
+    s = study.parse(WSP_HEAD.replace("stop.max_time", "wsp.controller: decel_slip_speed, wsp.conditioning_mode: true, "
+                                     "stop.max_time") + "factors:\n  initial_speed: [\"300 km/h\"]\n"
+                    "design: {kind: grid}\n" + tuning, "t.yaml")
+    params = tune.parameters(s, ["ds_speed_threshold", "wsp.ds_decel_threshold", "conditioning_ratio"])
+    assert [p.key for p in params] == ["wsp.ds_speed_threshold", "wsp.ds_decel_threshold", "wsp.conditioning_ratio"]
+    assert params[0].factor.low == pytest.approx(0.1) and params[0].factor.high == pytest.approx(1.0)
+    defaults = tune.default_values(params)   # the C core's defaults, the first trial
+    assert defaults == {"wsp.ds_speed_threshold": pytest.approx(0.3), "wsp.ds_decel_threshold": pytest.approx(2.0),
+                        "wsp.conditioning_ratio": pytest.approx(3.0)}
+    with pytest.raises(InputError, match=r"tuning.params.wsp.ds_decel_threshold: low '1 m/s\^2' to high '200 "
+                                         r"m/s\^2': must lie in \[0.1, 100\] m/s\^2"):
+        study.parse(WSP_HEAD + "factors:\n  initial_speed: [\"300 km/h\"]\ndesign: {kind: grid}\n"
+                    "tuning:\n  params:\n    wsp.ds_decel_threshold: {low: \"1 m/s^2\", high: \"200 m/s^2\"}\n", "t.yaml")

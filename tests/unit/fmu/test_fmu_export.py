@@ -96,6 +96,21 @@ def test_equals_native_run_with_wsp_acting(tmp_path):
     assert all(native.outputs[f"vent_c1a{a}"][first_10s].sum() > 20 for a in range(1, 5))
 
 
+def test_equals_native_run_with_the_decel_slip_controller_in_conditioning_mode(tmp_path):
+    """The WSP controller and the conditioning mode are the scenario's at export (the wsp struct of
+    fmu_scenario.c): the FMU runs the deceleration and slip-speed controller, trailing axles apart."""
+    sets = {"wsp.controller": "decel_slip_speed", "wsp.conditioning_mode": True}
+    path = export_fmu("emergency-300-heavy-rain", tmp_path / "decel.fmu", "2", cars=1, sets=sets)
+    with zipfile.ZipFile(path) as zf:
+        generated = zf.read("sources/fmu_scenario.c").decode()
+    assert "m->wsp.controller = 2;" in generated and "m->wsp.conditioning_mode = 1;" in generated
+    native = simulation.run(scenarios.load("emergency-300-heavy-rain").with_(dict(sets, **{"train.cars": 1})))
+    assert_equals_native(path, native, 1, stop_time=10.0)
+    first_10s = native.time <= 10.0
+    vents = [native.outputs[f"vent_c1a{a}"][first_10s].sum() for a in range(1, 5)]
+    assert min(vents) > 5 and vents[0] != vents[1]   # leading and trailing axle of a bogie apart
+
+
 def test_compiled_from_its_sources_simulates_the_same(fmu, tmp_path):
     """The sources inside the FMU build with fmpy's CMake project (as `fmpy compile` does)."""
     version, path = fmu
