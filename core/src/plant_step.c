@@ -402,10 +402,10 @@ static void wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_pla
  * (wall_time > 0): the air taken brings its upstream enthalpy (the relay's air at the wall's
  * temperature, or the cylinder's own when it flows back), the air vented leaves with the
  * cylinder's, the wall exchanges heat; temperatures from the start of the phase.
- * Most axles most of the time have the hold valve open, the vent and any leak shut and the
- * cylinder near the relay's pressure (a released or held brake): their step is the hold link's
- * linear law with its factor from init, done for every axle in one branch-free vector loop that
- * also marks the other axles; only those then take the general scalar path, which starts again
+ * Most axles most of the time have the vent and any leak shut and either the hold valve open with the
+ * cylinder near the relay's pressure (a released or applied brake; their step is the hold link's
+ * linear law with its factor from init) or the hold valve shut (WSP holding the pressure: nothing
+ * flows), done for every axle in one branch-free vector loop that also marks the other axles; only those then take the general scalar path, which starts again
  * from their unchanged state (the same operations as for every axle before, so the same results).
  * start: each cylinder's pressure at the start of the phase (the step's, as no earlier phase
  * changes a cylinder), for the step-mean pressure of the brakes. */
@@ -427,7 +427,7 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
     }
     const double laminar = d->orifice.laminar_only ? 0.0 : 1.0;
     const int thermal = gamma > 1.0;
-    for (int a = 0; a < n_axles; ++a) {   /* the open hold link near equal pressures: a vector loop */
+    for (int a = 0; a < n_axles; ++a) {   /* an open hold link near equal pressures, or a shut one: a vector loop */
         const double m = s->m_cyl[a], mt = s->mt_cyl[a], pr = p_relay[a];
         const double mean_t = mt / m, t = thermal ? mean_t : wall, p_cyl = mt * d->axle_r_cyl[a];
         double simple = laminar;   /* 1: this path, 0: the general one (double selects: SSE2 has no
@@ -435,9 +435,13 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
         simple = hold_open[a] == 1.0 ? simple : 0.0;
         simple = p_cyl <= pr ? simple : 0.0;
         simple = p_cyl >= RB_ORIFICE_LAMINAR_RATIO * pr ? simple : 0.0;
+        /* a hold valve shut all the step (WSP holding: most axles in a slide): the general path's
+           link of g = 0 takes +0 whatever the pressures, so in_mass 0 gives its results */
+        const double held = hold_open[a] == 0.0 ? 1.0 : 0.0;
+        simple = held > 0.0 ? 1.0 : simple;
         simple = outlet[a] > 0.0 ? 0.0 : simple;
         const double linear = (pr - p_cyl) * d->axle_hold_laminar[a];   /* loaded either way: no branch */
-        const double in_mass = pr - p_cyl < 0.01 ? 0.0 : linear;
+        const double in_mass = held > 0.0 ? 0.0 : (pr - p_cyl < 0.01 ? 0.0 : linear);
         const double mt_in = mt + gamma * wall * in_mass;   /* relay air in at the wall's temperature */
         /* the general path's wall term less gamma t dm with dm = 0, +0 for a finite t: the same */
         const double mt_new = mt_in + d->axle_heat_cyl[a] * (wall - t);
