@@ -436,12 +436,13 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
         simple = p_cyl <= pr ? simple : 0.0;
         simple = p_cyl >= RB_ORIFICE_LAMINAR_RATIO * pr ? simple : 0.0;
         /* a hold valve shut all the step (WSP holding: most axles in a slide): the general path's
-           link of g = 0 takes +0 whatever the pressures, so in_mass 0 gives its results */
-        const double held = hold_open[a] == 0.0 ? 1.0 : 0.0;
-        simple = held > 0.0 ? 1.0 : simple;
+           link of g = 0 takes +0 whatever the pressures, so in_mass 0 gives its results (each
+           select on a compare of its own: a select on `held` made of one stopped the vectoriser) */
+        simple = hold_open[a] == 0.0 ? 1.0 : simple;
         simple = outlet[a] > 0.0 ? 0.0 : simple;
         const double linear = (pr - p_cyl) * d->axle_hold_laminar[a];   /* loaded either way: no branch */
-        const double in_mass = held > 0.0 ? 0.0 : (pr - p_cyl < 0.01 ? 0.0 : linear);
+        const double flowing = pr - p_cyl < 0.01 ? 0.0 : linear;
+        const double in_mass = hold_open[a] == 0.0 ? 0.0 : flowing;
         const double mt_in = mt + gamma * wall * in_mass;   /* relay air in at the wall's temperature */
         /* the general path's wall term less gamma t dm with dm = 0, +0 for a finite t: the same */
         const double mt_new = mt_in + d->axle_heat_cyl[a] * (wall - t);
