@@ -22,6 +22,9 @@
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
+#ifndef M_LN10
+#define M_LN10 2.30258509299404568402
+#endif
 
 #if defined(__GNUC__) || defined(__clang__)
 #define RB_ALWAYS_INLINE static inline __attribute__((always_inline))
@@ -159,6 +162,70 @@ static void wheelsets_avx2(const rb_plant_params *p, rb_plant_state *s, const rb
 double rb_plant_polach(const rb_plant_state *s, int axle, double creep, double speed)
 {
     return polach(&s->derived, axle, creep, speed);
+}
+
+/* Axle a's Polach curve as the kernel applies it (polach), at its car's speed: the available
+   adhesion the run samples is the peak of the very curve the wheelset brakes on. Its creeps 10^x
+   (x <= 0) by rb_exp_nonpos and the law's own inline exponential and arc tangent make it some
+   three times cheaper than rb_polach_coefficient_fast's library calls; the two agree to
+   rounding (core/tests/test_run.c compares the run's means with rb_polach_peak's). */
+typedef struct {
+    const rb_plant_derived *d;
+    int axle, avx2;   /* avx2: the state's kernel is the AVX2 one */
+    double speed;
+} axle_curve;
+
+RB_ALWAYS_INLINE double axle_curve_law(const axle_curve *k, double log_creep)
+{
+    return polach(k->d, k->axle, rb_exp_nonpos(log_creep * M_LN10), k->speed);
+}
+
+static double axle_curve_at(const void *curve, double log_creep)
+{
+    return axle_curve_law(curve, log_creep);
+}
+
+/* The scan's points in one vector loop, in the kernel's build (as the wheelsets): the same values. */
+RB_ALWAYS_INLINE void axle_curve_scan(const axle_curve *k, const double *restrict log_creep, double *restrict f, int n)
+{
+    for (int i = 0; i < n; ++i) f[i] = axle_curve_law(k, log_creep[i]);
+}
+
+static void axle_curve_scan_portable(const axle_curve *k, const double *log_creep, double *f, int n)
+{
+    axle_curve_scan(k, log_creep, f, n);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2")))
+static void axle_curve_scan_avx2(const axle_curve *k, const double *log_creep, double *f, int n)
+{
+    axle_curve_scan(k, log_creep, f, n);
+}
+#endif
+
+static void axle_curve_at_many(const void *curve, const double *log_creep, double *f, int n)
+{
+    const axle_curve *k = curve;
+#if RB_PLANT_HAVE_AVX2
+    if (k->avx2) {
+        axle_curve_scan_avx2(k, log_creep, f, n);
+        return;
+    }
+#endif
+    axle_curve_scan_portable(k, log_creep, f, n);
+}
+
+double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_state *s, int axle, double *log_creep,
+                                    int *maxima)
+{
+    const rb_plant_derived *d = &s->derived;
+    double v = s->v[axle / NA];
+    (void)p;
+    axle_curve k = {d, axle, s->kernel == RB_PLANT_KERNEL_AVX2, v > 0.0 ? v : 0.0};
+    rb_creep_curve f = {axle_curve_at, axle_curve_at_many, &k,
+                        d->mu_slip[axle] * rb_exp_nonpos(-d->polach_B[axle] * k.speed) + d->mu_static[axle]};
+    return maxima ? rb_creep_peak_scan(&f, log_creep, maxima) : rb_creep_peak_track(&f, log_creep);
 }
 
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,

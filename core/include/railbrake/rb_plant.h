@@ -437,9 +437,10 @@ double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
 double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double wheel_speed);
 /* Peak adhesion available to axle (global index from the front) at the present state. */
 double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s, int axle);
-/* The same for loops that sample it over a run: followed from *log_creep (rb_polach_peak_track;
- * NaN the first time and after the axle's adhesion condition changed; maxima = NULL), or
- * searched afresh, counting the curve's maxima into *maxima (rb_polach_peak_scan). */
+/* The same for loops that sample it over a run, on the curve the wheelset kernel applies (equal
+ * to rounding): followed from *log_creep (rb_creep_peak_track; NaN the first time and after the
+ * axle's adhesion condition changed; maxima = NULL), or searched afresh, counting the curve's
+ * maxima into *maxima (rb_creep_peak_scan). */
 double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_state *s, int axle, double *log_creep,
                                     int *maxima);
 /* "portable" or "avx2": the wheelset kernel the state uses. */
