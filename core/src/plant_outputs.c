@@ -27,8 +27,9 @@ static void axle_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_p
             out->slip[a] = (out->wheel_speed[a] - v) / vr;
     }
     memcpy(out->disc_temperature, s->disc_temperature, (size_t)n * sizeof(double));
-    memcpy(out->hold, s->hold_effective, (size_t)n);
-    memcpy(out->vent, s->vent_effective, (size_t)n);
+    /* the whole arrays (their rest is 0 in both): a copy of fixed size is a few vector moves, not a call */
+    memcpy(out->hold, s->hold_effective, sizeof out->hold);
+    memcpy(out->vent, s->vent_effective, sizeof out->vent);
 }
 
 /* What a run's KPIs read after every step (rb_run_advance): time and motion, the main and supply

@@ -372,16 +372,16 @@ static void wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_pla
             hold_open[a] = 1.0;   /* 1 - 0 */
             outlet[a] = 0.0;      /* g_vent 0 + g_unit 0 */
         }
-        memset(s->hold_effective, 0, (size_t)n_axles);
-        memset(s->vent_effective, 0, (size_t)n_axles);
+        memset(s->hold_effective, 0, sizeof s->hold_effective);   /* fixed sizes: a few vector stores */
+        memset(s->vent_effective, 0, sizeof s->vent_effective);
         return;
     }
     for (int a = 0; a < n_axles; ++a) {   /* what valve() gives a valve at rest */
         hold_open[a] = 1.0 - (double)s->hold[a];
         outlet[a] = d->axle_g_vent[a] * (double)s->vent[a] + g_unit * f->leak[a];
     }
-    memcpy(s->hold_effective, s->hold, (size_t)n_axles);
-    memcpy(s->vent_effective, s->vent, (size_t)n_axles);
+    memcpy(s->hold_effective, s->hold, sizeof s->hold_effective);   /* the rest is 0 in both */
+    memcpy(s->vent_effective, s->vent, sizeof s->vent_effective);
     for (int c = 0; c < p->n_cars; ++c) {
         if (valves_at_rest(in, s, f, c * RB_AXLES_PER_CAR)) continue;
         const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c];

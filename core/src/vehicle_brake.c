@@ -7,12 +7,10 @@
 double rb_speed_table_at(const rb_speed_table *t, double speed)
 {
     int lo = 0, hi = t->n - 1;   /* bisection for the interval, then the bracketed look-up */
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if (t->speed[mid] <= speed)
-            lo = mid;
-        else
-            hi = mid;
+    while (hi - lo > 1) {        /* selects, not branches: the halves come in no order a predictor learns */
+        int mid = (lo + hi) / 2, above = t->speed[mid] <= speed;
+        lo = above ? mid : lo;
+        hi = above ? hi : mid;
     }
     return rb_speed_table_at_from(t, speed, &lo);
 }
