@@ -218,12 +218,14 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
 static void valves_start(const rb_plant_params *p, rb_plant_state *s, double *k_pilot, double *bled)
 {
     const rb_plant_derived *d = &s->derived;
-    for (int c = 0; c < p->n_cars; ++c) {
+    const rb_plant_link_law law = rb_plant_link_law_of(d);
+    for (int c = 0; c < p->n_cars; ++c) {   /* a vector loop: the orifice law's arms selected */
         k_pilot[c] = rb_plant_pilot_stiffness(s, c);
         double p_supply = s->m_supply[c] * d->k_supply[c];
         double chamber = s->m_pilot[c] * k_pilot[c] + d->ep_supply_margin[c];
-        double q = p_supply > chamber ? rb_orifice_flow_law(p_supply, chamber, d->g_bleed[c], &d->orifice) : 0.0;
-        bled[c] = q * d->h;
+        /* rb_orifice_flow_law(p_supply, chamber, g_bleed) where the supply is the higher */
+        double q = d->g_bleed[c] * p_supply * rb_plant_flow_function_select(&law, chamber / p_supply);
+        bled[c] = (p_supply > chamber ? q : 0.0) * d->h;
         s->m_supply[c] -= bled[c];
     }
 }
