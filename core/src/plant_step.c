@@ -413,6 +413,34 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
  * temperature's). */
 static double flow_factor(double wall, double t) { return sqrt(wall / t); }
 
+/* The cylinders a little above their relay's pressure (within the link's laminar range) with the
+ * hold valve open and the vent and any leak shut, marked by flowing_back[a] (a brake held on dry
+ * rail: its relay's exhaust keeps the relay just below them): air flows back through the hold
+ * valve, at the cylinder's temperature, by the capped link law. Every axle's arm in vector loops (a
+ * car's constants for its axles), the results taken where marked: the general path's operations
+ * for such an axle (air_cylinders; its vent link of 0 adds -0 times gamma T), so its results. */
+static void cylinders_back(const rb_plant_params *p, rb_plant_state *s, const double *hold_open, const double *p_relay,
+                           const double *temp, const double *flowing_back, double *done, double *taken)
+{
+    const rb_plant_derived *d = &s->derived;
+    const double wall = p->temperature, gamma = d->gamma_cyl, h_laminar = d->h_laminar;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double g_hold = d->g_hold[c], ik_rate = d->ik_hold_rate[c], ik_cap = d->ik_hold[c], r_cyl = d->r_cyl[c];
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            const double m = s->m_cyl[a], mt = s->mt_cyl[a], pr = p_relay[a], t = temp[a], p_cyl = mt * r_cyl;
+            const double g = g_hold * hold_open[a] * flow_factor(wall, t), y = h_laminar * g / ik_rate;
+            const double dm = rb_plant_link_mass_of_fill(pr, p_cyl, g, ik_rate, rb_one_minus_exp_neg_select(y));
+            const double cap = (pr - p_cyl) * ik_cap, back = dm > cap ? dm : cap;   /* pr < p_cyl: the larger */
+            const double mt_new = (mt + gamma * t * back) + d->axle_heat_cyl[a] * (wall - t);
+            const double marked = flowing_back[a];
+            taken[a] = marked > 0.0 ? back : taken[a];
+            s->m_cyl[a] = marked > 0.0 ? m + back : m;
+            s->mt_cyl[a] = marked > 0.0 ? mt_new : mt;
+            done[a] = marked > 0.0 ? 1.0 : done[a];
+        }
+    }
+}
+
 /* Phase 3, per axle: WSP hold valve (relay -> cylinder) and vent valve (cylinder -> atmosphere),
  * each port's area weighted by the part of the step it is open, and cylinder leaks. The axles of a
  * car draw on their relay volume's pressure at the start of the phase (the link limit shares that
@@ -440,6 +468,8 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const w
     double temp[RB_PLANT_MAX_AXLES], p_relay[RB_PLANT_MAX_AXLES];
     double done[RB_PLANT_MAX_AXLES];   /* 1: by the vector pass, 0: the axle takes the general path */
     int64_t any_general = 0;           /* negative if some axle does (rb_plant_sign_bits) */
+    double flowing_back[RB_PLANT_MAX_AXLES];
+    int64_t any_back = 0;
     double vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) {   /* each car's relay pressure for each of its axles */
         const double pr = s->m_relay[c] * d->k_relay[c];
@@ -472,7 +502,16 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const w
         s->m_cyl[a] = simple > 0.0 ? m + in_mass : m;
         s->mt_cyl[a] = simple > 0.0 ? mt_new : mt;
         done[a] = simple;
+        /* the open hold link near equal pressures the other way, vent and leak shut: cylinders_back */
+        double back = laminar;
+        back = hold_open[a] == 1.0 ? back : 0.0;
+        back = p_cyl > pr ? back : 0.0;
+        back = pr >= RB_ORIFICE_LAMINAR_RATIO * p_cyl ? back : 0.0;
+        back = outlet[a] > 0.0 ? 0.0 : back;
+        flowing_back[a] = back;
+        any_back |= rb_plant_sign_bits(0.0 - back);   /* -1 where marked (0 - 0 is +0) */
     }
+    if (any_back < 0) cylinders_back(p, s, hold_open, p_relay, temp, flowing_back, done, taken);
     for (int a = 0; a < n_axles; ++a) any_general |= rb_plant_sign_bits(done[a] - 1.0);   /* -1 if not done */
     if (any_general < 0)
         for (int a = 0; a < n_axles; ++a) {
