@@ -170,29 +170,93 @@ double rb_creep_peak_scan(const rb_creep_curve *f, double *log_creep, int *maxim
     return peak;
 }
 
-double rb_creep_peak_track(const rb_creep_curve *f, double *log_creep)
+/* One round of evaluations of the batch below: curve member[j] at x[j] into f[j], all in one call
+ * of at_each where the caller gives one (NULL: each curve's own at). */
+static void evaluate(const rb_creep_curve *curves, rb_creep_at_each at_each, const int *member, const double *x,
+                     double *f, int k)
 {
-    double x = *log_creep;
-    int maxima;
-    if (!(x > -7.0 + TRACK_MAX_MOVE && x < -TRACK_MAX_MOVE))   /* NaN, or near an end of the scan's range */
-        return rb_creep_peak_scan(f, log_creep, &maxima);
-    double fx = f->at(f->curve, x), move = HUGE_VAL;
-    for (int it = 0; it < 8 && fabs(move) >= TRACK_TOLERANCE; ++it) {
-        double fl = f->at(f->curve, x - TRACK_H), fr = f->at(f->curve, x + TRACK_H);
-        double curvature = fl - 2.0 * fx + fr;
-        move = curvature < 0.0 ? -0.5 * TRACK_H * (fr - fl) / curvature : HUGE_VAL;
-        if (!(fabs(move) <= TRACK_MAX_MOVE && x + move > -7.0 && x + move < 0.0))
-            return rb_creep_peak_scan(f, log_creep, &maxima);
-        double f_new = f->at(f->curve, x + move);
-        if (f_new < fx) break;   /* converged to rounding: keep the better point */
-        x += move;
-        fx = f_new;
+    if (at_each) {
+        at_each(curves, member, x, f, k);
+        return;
+    }
+    for (int j = 0; j < k; ++j) f[j] = curves[member[j]].at(curves[member[j]].curve, x[j]);
+}
+
+enum { TRACKING, TRACKED, SCAN };   /* a curve's state in the batch */
+
+/* Newton's method on up to RB_CREEP_BATCH curves side by side: rb_creep_peak_track's steps, each
+ * round's evaluations of all the curves still moving in one call (their points; the differences
+ * either side; the Newton points), then the full-slip check; *state SCAN where the full scan is
+ * needed. */
+static void newton_batch(const rb_creep_curve *curves, int n, rb_creep_at_each at_each, double *x, double *fx,
+                         int *state)
+{
+    int member[2 * RB_CREEP_BATCH], k = 0;
+    double px[2 * RB_CREEP_BATCH], pf[2 * RB_CREEP_BATCH], move[RB_CREEP_BATCH];
+    for (int i = 0; i < n; ++i) {
+        move[i] = HUGE_VAL;
+        state[i] = x[i] > -7.0 + TRACK_MAX_MOVE && x[i] < -TRACK_MAX_MOVE ? TRACKING : SCAN;   /* NaN, or near an end */
+        if (state[i] == TRACKING) { member[k] = i; px[k++] = x[i]; }
+    }
+    evaluate(curves, at_each, member, px, pf, k);
+    for (int j = 0; j < k; ++j) fx[member[j]] = pf[j];
+    for (int it = 0; it < 8; ++it) {
+        k = 0;
+        for (int i = 0; i < n; ++i)
+            if (state[i] == TRACKING && fabs(move[i]) >= TRACK_TOLERANCE) {
+                member[k] = member[k + 1] = i;
+                px[k] = x[i] - TRACK_H;
+                px[k + 1] = x[i] + TRACK_H;
+                k += 2;
+            }
+        if (k == 0) break;
+        evaluate(curves, at_each, member, px, pf, k);
+        int m = 0;   /* the curves with a Newton point, in member[0..m) */
+        for (int j = 0; j < k; j += 2) {
+            const int i = member[j];
+            double fl = pf[j], fr = pf[j + 1], curvature = fl - 2.0 * fx[i] + fr;
+            move[i] = curvature < 0.0 ? -0.5 * TRACK_H * (fr - fl) / curvature : HUGE_VAL;
+            if (!(fabs(move[i]) <= TRACK_MAX_MOVE && x[i] + move[i] > -7.0 && x[i] + move[i] < 0.0)) {
+                state[i] = SCAN;
+                continue;
+            }
+            member[m] = i;
+            px[m++] = x[i] + move[i];
+        }
+        evaluate(curves, at_each, member, px, pf, m);
+        for (int j = 0; j < m; ++j) {
+            const int i = member[j];
+            if (pf[j] < fx[i]) { state[i] = TRACKED; continue; }   /* converged to rounding: keep the better point */
+            x[i] += move[i];
+            fx[i] = pf[j];
+        }
     }
     /* could full slip (creep 1) beat the peak? F <= mu (1/2 + pi/2) 2 / pi everywhere */
-    if (f->mu_full_slip * (1.0 + 1.0 / M_PI) > fx && f->at(f->curve, 0.0) > fx)
-        return rb_creep_peak_scan(f, log_creep, &maxima);
-    *log_creep = x;
-    return fx;
+    k = 0;
+    for (int i = 0; i < n; ++i)
+        if (state[i] != SCAN && curves[i].mu_full_slip * (1.0 + 1.0 / M_PI) > fx[i]) { member[k] = i; px[k++] = 0.0; }
+    evaluate(curves, at_each, member, px, pf, k);
+    for (int j = 0; j < k; ++j)
+        if (pf[j] > fx[member[j]]) state[member[j]] = SCAN;
+}
+
+void rb_creep_peaks_track(const rb_creep_curve *curves, int n, rb_creep_at_each at_each, double *log_creep,
+                          double *peak)
+{
+    for (int first = 0; first < n; first += RB_CREEP_BATCH) {
+        int count = n - first < RB_CREEP_BATCH ? n - first : RB_CREEP_BATCH, state[RB_CREEP_BATCH], maxima;
+        double *x = log_creep + first, fx[RB_CREEP_BATCH];
+        newton_batch(curves + first, count, at_each, x, fx, state);
+        for (int i = 0; i < count; ++i)
+            peak[first + i] = state[i] == SCAN ? rb_creep_peak_scan(&curves[first + i], &x[i], &maxima) : fx[i];
+    }
+}
+
+double rb_creep_peak_track(const rb_creep_curve *f, double *log_creep)
+{
+    double peak;
+    rb_creep_peaks_track(f, 1, NULL, log_creep, &peak);
+    return peak;
 }
 
 double rb_polach_peak_scan(double speed, double normal_force, const rb_creep_contact *c,

@@ -93,6 +93,14 @@ typedef struct {
  * which misses another branch rising above it. No argument checks. */
 double rb_creep_peak_scan(const rb_creep_curve *f, double *log_creep, int *maxima);
 double rb_creep_peak_track(const rb_creep_curve *f, double *log_creep);
+/* _track for n curves at once (peak[i], log_creep[i] each curve's), the same results: every round
+ * of the method evaluates all the curves that need it in one call of at_each (NULL: one by one
+ * through each curve's at), so a caller with a vector form of its curves overlaps them. */
+enum { RB_CREEP_BATCH = 64 };   /* curves followed side by side; more go in turn */
+typedef void (*rb_creep_at_each)(const rb_creep_curve *curves, const int *member, const double *log_creep,
+                                 double *f, int n);   /* f[j]: curves[member[j]] at log_creep[j] */
+void rb_creep_peaks_track(const rb_creep_curve *curves, int n, rb_creep_at_each at_each, double *log_creep,
+                          double *peak);
 /* The same on Polach's law (rb_polach_coefficient_fast) at one speed and load. */
 double rb_polach_peak_scan(double speed, double normal_force, const rb_creep_contact *c,
                            const rb_polach_params *p, double *log_creep, int *maxima);

@@ -443,6 +443,10 @@ double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s,
  * maxima into *maxima (rb_creep_peak_scan). */
 double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_state *s, int axle, double *log_creep,
                                     int *maxima);
+/* rb_plant_peak_adhesion_track (maxima = NULL) of n axles at once (rb_creep_peaks_track): peak[i]
+ * and log_creep[i] those of axles[i] (n <= RB_PLANT_MAX_AXLES); the same results. */
+void rb_plant_peaks_track(const rb_plant_params *p, const rb_plant_state *s, const int *axles, int n,
+                          double *log_creep, double *peak);
 /* "portable" or "avx2": the wheelset kernel the state uses. */
 const char *rb_plant_kernel_name(const rb_plant_state *s);
 size_t rb_plant_params_size(void);
