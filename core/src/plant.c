@@ -251,6 +251,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         const rb_plant_car *car = &p->car[c];
         d->k_pipe[c] = rt / car->pipe_volume;
         d->k_supply[c] = rt / car->supply_volume;
+        d->supply_volume[c] = car->supply_volume;
         d->k_pilot[c] = rt / car->pilot_volume;
         d->k_relay[c] = rt / car->relay_volume;
         d->k_cyl[c] = rt / car->cylinder_volume;

@@ -40,8 +40,8 @@ static void step_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_p
     out->speed = s->v[0];
     out->position = s->x[0];
     out->main_reservoir = s->m_mr * rt / p->main_reservoir_volume;
-    for (int c = 0; c < p->n_cars; ++c) {
-        out->supply[c] = s->m_supply[c] * rt / p->car[c].supply_volume;
+    for (int c = 0; c < p->n_cars; ++c) {   /* a vector loop: whole-vector stores, which the KPIs' loads take */
+        out->supply[c] = s->m_supply[c] * rt / s->derived.supply_volume[c];
         out->car_speed[c] = s->v[c];
     }
     axle_outputs(p, s, out);

@@ -248,6 +248,11 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
 {
     const rb_plant_outputs *o = &r->out;
     int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    /* summed axle by axle, in the train's order: a chain of subtractions, begun first so that the
+       extremes below fill its waits */
+    double rail = 0.0;
+    if (r->braking)
+        for (int a = 0; a < n_axles; ++a) rail -= r->plant.force[a];
     r->min_main_reservoir = smaller(o->main_reservoir, r->min_main_reservoir);
     for (int c = 0; c < p->n_cars; ++c) r->car_min_supply[c] = smaller(o->supply[c], r->car_min_supply[c]);
     for (int a = 0; a < n_axles; ++a)
@@ -260,8 +265,6 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
                                                             : r->car_min_supply_margin[c];
     }
     r->lock_events += accumulate_axles(p, r);
-    double rail = 0.0;   /* summed axle by axle, in the train's order */
-    for (int a = 0; a < n_axles; ++a) rail -= r->plant.force[a];
     r->rail_decel_sum += rail / r->total_mass * p->dt;
     r->rail_decel_time += p->dt;
     if (o->time >= r->next_adhesion - 1e-9 && o->speed > LOCK_SPEED) {

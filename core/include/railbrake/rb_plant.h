@@ -332,6 +332,7 @@ typedef struct {
     /* what the rest of the step reads of the cars, compact (the car records are 3.6 kB each) */
     double axle_r_cyl[RB_PLANT_MAX_AXLES];   /* r_cyl of the axle's car: cylinder pressure = mt_cyl x it */
     double car_length[RB_PLANT_MAX_CARS], ed_lag[RB_PLANT_MAX_CARS];   /* m; h / (ed_tau + h) */
+    double supply_volume[RB_PLANT_MAX_CARS];  /* m^3 (the outputs' supply pressures) */
     double disc_capacity[RB_PLANT_MAX_CARS];  /* J/K per axle */
     /* each car's last disc-cooling interval (cooling_bracket), as the pad's above */
     double cooling_lo[RB_PLANT_MAX_CARS], cooling_hi[RB_PLANT_MAX_CARS];
