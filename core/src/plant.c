@@ -251,6 +251,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         const rb_plant_car *car = &p->car[c];
         d->k_pipe[c] = rt / car->pipe_volume;
         d->k_supply[c] = rt / car->supply_volume;
+        d->supply_volume[c] = car->supply_volume;
         d->k_pilot[c] = rt / car->pilot_volume;
         d->k_relay[c] = rt / car->relay_volume;
         d->k_cyl[c] = rt / car->cylinder_volume;
@@ -419,14 +420,4 @@ double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s,
     return peak;
 }
 
-double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_state *s, int axle, double *log_creep,
-                                    int *maxima)
-{
-    const rb_plant_car *car = &p->car[axle / RB_AXLES_PER_CAR];
-    double wheel_load = 0.5 * car->vehicle.wheelset.axle_load * RB_G;
-    double v = s->v[axle / RB_AXLES_PER_CAR];
-    v = v > 0.0 ? v : 0.0;
-    return maxima ? rb_polach_peak_scan(v, wheel_load, &car->contact, &s->polach[axle], log_creep, maxima)
-                  : rb_polach_peak_track(v, wheel_load, &car->contact, &s->polach[axle], log_creep);
-}
 

@@ -66,6 +66,15 @@ static inline rb_plant_link_law rb_plant_link_law_of(const rb_plant_derived *d)
     return k;
 }
 
+/* rb_orifice_flow_function_law with every arm computed and the result selected (the same value;
+ * a NaN, which an arm not taken may hold, is never selected). */
+static inline double rb_plant_flow_function_select(const rb_plant_link_law *k, double r)
+{
+    double s = (r - k->b) * k->inv_one_minus_b;   /* rb_orifice_flow_function_law's arms */
+    double subsonic = sqrt(1.0 - s * s), linear = k->laminar_slope * (1.0 - r), only = (1.0 - r) * k->inv_one_minus_b;
+    return r <= k->b ? 1.0 : (k->laminar_only ? only : (r >= RB_ORIFICE_LAMINAR_RATIO ? linear : subsonic));
+}
+
 /* rb_plant_link_mass with every arm computed (rb_orifice_flow_function_law's included) and the
  * result selected: no branch, so a loop over the cars of it vectorises. Each arm is the same
  * operations on the same operands, so the result is the same bit for bit
@@ -76,9 +85,7 @@ static inline double rb_plant_link_y_select(const rb_plant_link_law *k, double p
 {
     double diff = pi - pj, abs_diff = fabs(diff);
     double up = diff > 0.0 ? pi : pj, down = diff > 0.0 ? pj : pi, r = down / up;
-    double s = (r - k->b) * k->inv_one_minus_b;   /* rb_orifice_flow_function_law's arms */
-    double subsonic = sqrt(1.0 - s * s), linear = k->laminar_slope * (1.0 - r), only = (1.0 - r) * k->inv_one_minus_b;
-    double phi = r <= k->b ? 1.0 : (k->laminar_only ? only : (r >= RB_ORIFICE_LAMINAR_RATIO ? linear : subsonic));
+    double phi = rb_plant_flow_function_select(k, r);
     double y_laminar = k->h_laminar * g / ik, y_general = k->h * g * up / (abs_diff * ik) * phi;
     return k->laminar_only ? y_general : (down >= RB_ORIFICE_LAMINAR_RATIO * up ? y_laminar : y_general);
 }
@@ -248,6 +255,21 @@ void rb_plant_discs(const rb_plant_params *p, rb_plant_state *s, double dt);
 /* The relay control chambers' energy balance (plant_pilot.c): their constants and temperatures at
  * init; after the valves' phase of a sub-step, from each chamber's mass before it (m_before). */
 void rb_plant_pilot_init(const rb_plant_params *p, rb_plant_state *s);
-void rb_plant_pilot_energy(const rb_plant_params *p, rb_plant_state *s, const double *m_before);
+/* (inline: the step's build vectorises its loop over the cars, two divisions each) */
+static inline void rb_plant_pilot_energy(const rb_plant_params *p, rb_plant_state *s, const double *m_before)
+{
+    if (!(p->wall_time > 0.0)) return;
+    const double wall = p->temperature;
+    for (int c = 0; c < p->n_cars; ++c) {
+        double m0 = m_before[c], m = s->m_pilot[c], t = s->pilot_theta[c] * wall, dm = m - m0;
+        /* the relay membrane's stroke since the last update swept the chamber: its work p dV
+           (m T falls by (gamma - 1) m T dV / V) */
+        double volume = 1.0 + s->relay_stroke[c] * s->derived.sweep_ratio[c], swept = volume - s->pilot_volume[c];
+        double mt = m0 * t * (1.0 - (RB_AIR_GAMMA - 1.0) * swept / volume) + RB_AIR_GAMMA * (dm > 0.0 ? wall : t) * dm +
+                    s->derived.pilot_heat[c] * (wall - t);
+        s->pilot_volume[c] = volume;
+        s->pilot_theta[c] = mt / (m * wall);
+    }
+}
 
 #endif

@@ -22,6 +22,9 @@
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
+#ifndef M_LN10
+#define M_LN10 2.30258509299404568402
+#endif
 
 #if defined(__GNUC__) || defined(__clang__)
 #define RB_ALWAYS_INLINE static inline __attribute__((always_inline))
@@ -44,14 +47,22 @@ RB_ALWAYS_INLINE double polach_magnitude(double mu, double abs_creep, double kA_
     return mu * (2.0 / M_PI) * (base + (num * k_den + k * mu * den) / (den * k_den));
 }
 
-/* Polach's coefficient of axle a at a creep and speed, with the constants of rb_plant_derived: the
+/* Polach's coefficient at a creep and speed with an axle's constants (rb_plant_derived's): the
    kernel's own passes' operations, in their order. */
-RB_ALWAYS_INLINE double polach(const rb_plant_derived *d, int a, double creep, double speed)
+RB_ALWAYS_INLINE double polach_law(double mu_slip, double mu_static, double B, double kA_gain, double kS_gain,
+                                   double creep, double speed)
 {
     double abs_creep = fabs(creep);
-    double mu = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (abs_creep * speed)) + d->mu_static[a];
-    double f = polach_magnitude(mu, abs_creep, d->polach_kA_gain[a], d->polach_kS_gain[a]);
+    double mu = mu_slip * rb_exp_nonpos(-B * (abs_creep * speed)) + mu_static;
+    double f = polach_magnitude(mu, abs_creep, kA_gain, kS_gain);
     return creep < 0.0 ? -f : f;
+}
+
+/* Polach's coefficient of axle a at a creep and speed. */
+RB_ALWAYS_INLINE double polach(const rb_plant_derived *d, int a, double creep, double speed)
+{
+    return polach_law(d->mu_slip[a], d->mu_static[a], d->polach_B[a], d->polach_kA_gain[a], d->polach_kS_gain[a],
+                      creep, speed);
 }
 
 /* Pad friction coefficient of axle a at wheel speed `speed` from its car's table; caches the
@@ -159,6 +170,127 @@ static void wheelsets_avx2(const rb_plant_params *p, rb_plant_state *s, const rb
 double rb_plant_polach(const rb_plant_state *s, int axle, double creep, double speed)
 {
     return polach(&s->derived, axle, creep, speed);
+}
+
+/* Axle a's Polach curve as the kernel applies it (polach), at its car's speed: the available
+   adhesion the run samples is the peak of the very curve the wheelset brakes on. Its creeps 10^x
+   (x <= 0) by rb_exp_nonpos and the law's own inline exponential and arc tangent make it some
+   three times cheaper than rb_polach_coefficient_fast's library calls; the two agree to
+   rounding (core/tests/test_run.c compares the run's means with rb_polach_peak's). */
+typedef struct {
+    const rb_plant_derived *d;
+    int axle, avx2;   /* avx2: the state's kernel is the AVX2 one */
+    double speed;
+} axle_curve;
+
+RB_ALWAYS_INLINE double axle_curve_law(const axle_curve *k, double log_creep)
+{
+    return polach(k->d, k->axle, rb_exp_nonpos(log_creep * M_LN10), k->speed);
+}
+
+static double axle_curve_at(const void *curve, double log_creep)
+{
+    return axle_curve_law(curve, log_creep);
+}
+
+/* The scan's points in one vector loop, in the kernel's build (as the wheelsets): the same values. */
+RB_ALWAYS_INLINE void axle_curve_scan(const axle_curve *k, const double *restrict log_creep, double *restrict f, int n)
+{
+    for (int i = 0; i < n; ++i) f[i] = axle_curve_law(k, log_creep[i]);
+}
+
+static void axle_curve_scan_portable(const axle_curve *k, const double *log_creep, double *f, int n)
+{
+    axle_curve_scan(k, log_creep, f, n);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2")))
+static void axle_curve_scan_avx2(const axle_curve *k, const double *log_creep, double *f, int n)
+{
+    axle_curve_scan(k, log_creep, f, n);
+}
+#endif
+
+static void axle_curve_at_many(const void *curve, const double *log_creep, double *f, int n)
+{
+    const axle_curve *k = curve;
+#if RB_PLANT_HAVE_AVX2
+    if (k->avx2) {
+        axle_curve_scan_avx2(k, log_creep, f, n);
+        return;
+    }
+#endif
+    axle_curve_scan_portable(k, log_creep, f, n);
+}
+
+/* Several axles' curves, each at its own point, in one vector loop: their constants gathered into
+   arrays first (rb_creep_peaks_track's rounds). */
+RB_ALWAYS_INLINE void axle_curves_each(const rb_creep_curve *curves, const int *member, const double *log_creep,
+                                       double *f, int n)
+{
+    double mu_slip[RB_CREEP_BATCH * 2], mu_static[RB_CREEP_BATCH * 2], B[RB_CREEP_BATCH * 2];
+    double kA[RB_CREEP_BATCH * 2], kS[RB_CREEP_BATCH * 2], speed[RB_CREEP_BATCH * 2];
+    for (int j = 0; j < n; ++j) {
+        const axle_curve *k = curves[member[j]].curve;
+        const int a = k->axle;
+        mu_slip[j] = k->d->mu_slip[a]; mu_static[j] = k->d->mu_static[a]; B[j] = k->d->polach_B[a];
+        kA[j] = k->d->polach_kA_gain[a]; kS[j] = k->d->polach_kS_gain[a]; speed[j] = k->speed;
+    }
+    for (int j = 0; j < n; ++j)
+        f[j] = polach_law(mu_slip[j], mu_static[j], B[j], kA[j], kS[j], rb_exp_nonpos(log_creep[j] * M_LN10), speed[j]);
+}
+
+static void axle_curves_each_portable(const rb_creep_curve *curves, const int *member, const double *log_creep,
+                                      double *f, int n)
+{
+    axle_curves_each(curves, member, log_creep, f, n);
+}
+
+#if RB_PLANT_HAVE_AVX2
+__attribute__((target("avx2")))
+static void axle_curves_each_avx2(const rb_creep_curve *curves, const int *member, const double *log_creep,
+                                  double *f, int n)
+{
+    axle_curves_each(curves, member, log_creep, f, n);
+}
+#endif
+
+/* Axle a's curve at its car's speed (a vehicle standing: 0). */
+static rb_creep_curve axle_curve_of(const rb_plant_state *s, int axle, axle_curve *k)
+{
+    const rb_plant_derived *d = &s->derived;
+    double v = s->v[axle / NA];
+    k->d = d;
+    k->axle = axle;
+    k->avx2 = s->kernel == RB_PLANT_KERNEL_AVX2;
+    k->speed = v > 0.0 ? v : 0.0;
+    rb_creep_curve f = {axle_curve_at, axle_curve_at_many, k,
+                        d->mu_slip[axle] * rb_exp_nonpos(-d->polach_B[axle] * k->speed) + d->mu_static[axle]};
+    return f;
+}
+
+double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_state *s, int axle, double *log_creep,
+                                    int *maxima)
+{
+    axle_curve k;
+    rb_creep_curve f = axle_curve_of(s, axle, &k);
+    (void)p;
+    return maxima ? rb_creep_peak_scan(&f, log_creep, maxima) : rb_creep_peak_track(&f, log_creep);
+}
+
+void rb_plant_peaks_track(const rb_plant_params *p, const rb_plant_state *s, const int *axles, int n,
+                          double *log_creep, double *peak)
+{
+    axle_curve k[RB_PLANT_MAX_AXLES];
+    rb_creep_curve f[RB_PLANT_MAX_AXLES];
+    (void)p;
+    for (int i = 0; i < n; ++i) f[i] = axle_curve_of(s, axles[i], &k[i]);
+    rb_creep_at_each each = axle_curves_each_portable;
+#if RB_PLANT_HAVE_AVX2
+    if (s->kernel == RB_PLANT_KERNEL_AVX2) each = axle_curves_each_avx2;
+#endif
+    rb_creep_peaks_track(f, n, each, log_creep, peak);
 }
 
 void rb_plant_wheelsets(const rb_plant_params *p, rb_plant_state *s, const rb_wheelset_inputs *in,

@@ -27,8 +27,9 @@ static void axle_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_p
             out->slip[a] = (out->wheel_speed[a] - v) / vr;
     }
     memcpy(out->disc_temperature, s->disc_temperature, (size_t)n * sizeof(double));
-    memcpy(out->hold, s->hold_effective, (size_t)n);
-    memcpy(out->vent, s->vent_effective, (size_t)n);
+    /* the whole arrays (their rest is 0 in both): a copy of fixed size is a few vector moves, not a call */
+    memcpy(out->hold, s->hold_effective, sizeof out->hold);
+    memcpy(out->vent, s->vent_effective, sizeof out->vent);
 }
 
 /* What a run's KPIs read after every step (rb_run_advance): time and motion, the main and supply
@@ -39,8 +40,8 @@ static void step_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_p
     out->speed = s->v[0];
     out->position = s->x[0];
     out->main_reservoir = s->m_mr * rt / p->main_reservoir_volume;
-    for (int c = 0; c < p->n_cars; ++c) {
-        out->supply[c] = s->m_supply[c] * rt / p->car[c].supply_volume;
+    for (int c = 0; c < p->n_cars; ++c) {   /* a vector loop: whole-vector stores, which the KPIs' loads take */
+        out->supply[c] = s->m_supply[c] * rt / s->derived.supply_volume[c];
         out->car_speed[c] = s->v[c];
     }
     axle_outputs(p, s, out);

@@ -8,7 +8,8 @@
  * stopped 0.095 % short of its 0.1 ms self in heavy rain; with it 0.017 %.) A choked fill through the emergency choke thus rises
  * up to gamma times faster than an isothermal one, then relaxes to it, as in the detailed model.
  * wall_time = 0: isothermal (theta 1). The chamber's pressure is m R T / V: the stiffness
- * (rb_plant_pilot_stiffness) carries the temperature ratio theta = T / T_wall. */
+ * (rb_plant_pilot_stiffness) carries the temperature ratio theta = T / T_wall. The update itself,
+ * rb_plant_pilot_energy, is inline in plant_internal.h: built into the step's vector code. */
 #include "plant_internal.h"
 
 void rb_plant_pilot_init(const rb_plant_params *p, rb_plant_state *s)
@@ -25,21 +26,5 @@ void rb_plant_pilot_init(const rb_plant_params *p, rb_plant_state *s)
         d->pilot_heat[c] = p->wall_time > 0.0 ? d->h * m_ref_per_volume * p->car[c].pilot_volume / p->wall_time : 0.0;
         d->ik_ep_in[c] = 1.0 / (supply_links * d->k_supply[c] + pilot_links * gamma * d->k_pilot[c]);
         d->ik_ep_out[c] = 1.0 / (pilot_links * gamma * d->k_pilot[c]);
-    }
-}
-
-void rb_plant_pilot_energy(const rb_plant_params *p, rb_plant_state *s, const double *m_before)
-{
-    if (!(p->wall_time > 0.0)) return;
-    const double wall = p->temperature;
-    for (int c = 0; c < p->n_cars; ++c) {
-        double m0 = m_before[c], m = s->m_pilot[c], t = s->pilot_theta[c] * wall, dm = m - m0;
-        /* the relay membrane's stroke since the last update swept the chamber: its work p dV
-           (m T falls by (gamma - 1) m T dV / V) */
-        double volume = 1.0 + s->relay_stroke[c] * s->derived.sweep_ratio[c], swept = volume - s->pilot_volume[c];
-        double mt = m0 * t * (1.0 - (RB_AIR_GAMMA - 1.0) * swept / volume) + RB_AIR_GAMMA * (dm > 0.0 ? wall : t) * dm +
-                    s->derived.pilot_heat[c] * (wall - t);
-        s->pilot_volume[c] = volume;
-        s->pilot_theta[c] = mt / (m * wall);
     }
 }

@@ -122,9 +122,62 @@ static int train_valves_quiet(const rb_plant_inputs *in, const rb_plant_state *s
     return any == 0;
 }
 
+/* The WSP valves over the step (their own state, nothing of the air): the part of the step each
+ * hold valve is open and each cylinder's outlet conductance (vent valve's open part, leak), for the
+ * cylinders' phase. wsp_valves_at_rest fills them as every valve at rest gives them (one vector loop
+ * over the train) and says whether some car's valves may move or stick: those of each such car then
+ * go through valve() in car_wsp_valves, which air_supply calls beside the car's pipe link. */
+typedef struct {
+    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES];
+    int moving;   /* 0: every valve rests released and none is stuck (all filled) */
+} wsp_valve_parts;
+
+static void wsp_valves_at_rest(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                               const rb_plant_faults *f, wsp_valve_parts *v)
+{
+    const rb_plant_derived *d = &s->derived;
+    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    v->moving = !(f == &no_faults && train_valves_quiet(in, s, n_axles));
+    if (!v->moving) {   /* every hold open, every vent shut */
+        for (int a = 0; a < n_axles; ++a) {
+            v->hold_open[a] = 1.0;   /* 1 - 0 */
+            v->outlet[a] = 0.0;      /* g_vent 0 + g_unit 0 */
+        }
+        memset(s->hold_effective, 0, sizeof s->hold_effective);   /* fixed sizes: a few vector stores */
+        memset(s->vent_effective, 0, sizeof s->vent_effective);
+        return;
+    }
+    for (int a = 0; a < n_axles; ++a) {   /* what valve() gives a valve at rest */
+        v->hold_open[a] = 1.0 - (double)s->hold[a];
+        v->outlet[a] = d->axle_g_vent[a] * (double)s->vent[a] + d->g_unit * f->leak[a];
+    }
+    memcpy(s->hold_effective, s->hold, sizeof s->hold_effective);   /* the rest is 0 in both */
+    memcpy(s->vent_effective, s->vent, sizeof s->vent_effective);
+}
+
+static void car_wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                           const rb_plant_faults *f, int c, wsp_valve_parts *v)
+{
+    const rb_plant_derived *d = &s->derived;
+    if (valves_at_rest(in, s, f, c * RB_AXLES_PER_CAR)) return;
+    const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c], h = d->h;
+    for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+        v->hold_open[a] = 1.0 - valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
+                                      h, f->hold[a], &s->hold_effective[a]);
+        double vent = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a], delay,
+                            h, f->vent[a], &s->vent_effective[a]);
+        v->outlet[a] = g_vent * vent + d->g_unit * f->leak[a];
+    }
+}
+
 /* Phase 1, supply: compressor with on/off governor, main reservoir, the MR pipe along the train,
- * and each car's check valve and choke into its supply reservoir. */
-static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_plant_faults *f)
+ * and each car's check valve and choke into its supply reservoir. Beside each car's pipe link its
+ * WSP valves (car_wsp_valves, where they may move): on wet rail the pipe's links are a chain of long
+ * waits (each a division, a square root and an exponential on the link before's result), which the
+ * processor fills with the valves' scalar, branchy work (the order changes no value: neither reads
+ * what the other writes). */
+static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                       const rb_plant_faults *f, wsp_valve_parts *valves)
 {
     const rb_plant_derived *d = &s->derived;
     rb_plant_compressors(p, s, f, d->h);   /* governors, delivery (plant_train.c) */
@@ -153,6 +206,7 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
             s->m_supply[c] += dm;
         }
         s->m_pipe[c] = m_pipe;
+        if (valves->moving) car_wsp_valves(p, s, in, f, c, valves);
     }
 }
 
@@ -164,12 +218,14 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
 static void valves_start(const rb_plant_params *p, rb_plant_state *s, double *k_pilot, double *bled)
 {
     const rb_plant_derived *d = &s->derived;
-    for (int c = 0; c < p->n_cars; ++c) {
+    const rb_plant_link_law law = rb_plant_link_law_of(d);
+    for (int c = 0; c < p->n_cars; ++c) {   /* a vector loop: the orifice law's arms selected */
         k_pilot[c] = rb_plant_pilot_stiffness(s, c);
         double p_supply = s->m_supply[c] * d->k_supply[c];
         double chamber = s->m_pilot[c] * k_pilot[c] + d->ep_supply_margin[c];
-        double q = p_supply > chamber ? rb_orifice_flow_law(p_supply, chamber, d->g_bleed[c], &d->orifice) : 0.0;
-        bled[c] = q * d->h;
+        /* rb_orifice_flow_law(p_supply, chamber, g_bleed) where the supply is the higher */
+        double q = d->g_bleed[c] * p_supply * rb_plant_flow_function_select(&law, chamber / p_supply);
+        bled[c] = (p_supply > chamber ? q : 0.0) * d->h;
         s->m_supply[c] -= bled[c];
     }
 }
@@ -357,40 +413,30 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
  * temperature's). */
 static double flow_factor(double wall, double t) { return sqrt(wall / t); }
 
-/* The WSP valves of every axle over the step: the part of the step each hold valve is open and
- * each cylinder's outlet conductance (vent valve's open part, leak). First as every valve at rest
- * gives them (one vector loop over the train), then the cars whose valves move or stick again
- * through valve(). */
-static void wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                       const rb_plant_faults *f, double *hold_open, double *outlet)
+/* The cylinders a little above their relay's pressure (within the link's laminar range) with the
+ * hold valve open and the vent and any leak shut, marked by flowing_back[a] (a brake held on dry
+ * rail: its relay's exhaust keeps the relay just below them): air flows back through the hold
+ * valve, at the cylinder's temperature, by the capped link law. Every axle's arm in vector loops (a
+ * car's constants for its axles), the results taken where marked: the general path's operations
+ * for such an axle (air_cylinders; its vent link of 0 adds -0 times gamma T), so its results. */
+static void cylinders_back(const rb_plant_params *p, rb_plant_state *s, const double *hold_open, const double *p_relay,
+                           const double *temp, const double *flowing_back, double *done, double *taken)
 {
     const rb_plant_derived *d = &s->derived;
-    const double h = d->h, g_unit = d->g_unit;
-    const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    if (f == &no_faults && train_valves_quiet(in, s, n_axles)) {   /* every hold open, every vent shut */
-        for (int a = 0; a < n_axles; ++a) {
-            hold_open[a] = 1.0;   /* 1 - 0 */
-            outlet[a] = 0.0;      /* g_vent 0 + g_unit 0 */
-        }
-        memset(s->hold_effective, 0, (size_t)n_axles);
-        memset(s->vent_effective, 0, (size_t)n_axles);
-        return;
-    }
-    for (int a = 0; a < n_axles; ++a) {   /* what valve() gives a valve at rest */
-        hold_open[a] = 1.0 - (double)s->hold[a];
-        outlet[a] = d->axle_g_vent[a] * (double)s->vent[a] + g_unit * f->leak[a];
-    }
-    memcpy(s->hold_effective, s->hold, (size_t)n_axles);
-    memcpy(s->vent_effective, s->vent, (size_t)n_axles);
+    const double wall = p->temperature, gamma = d->gamma_cyl, h_laminar = d->h_laminar;
     for (int c = 0; c < p->n_cars; ++c) {
-        if (valves_at_rest(in, s, f, c * RB_AXLES_PER_CAR)) continue;
-        const double delay = p->car[c].valve_delay, g_vent = d->g_vent[c];
+        const double g_hold = d->g_hold[c], ik_rate = d->ik_hold_rate[c], ik_cap = d->ik_hold[c], r_cyl = d->r_cyl[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            hold_open[a] = 1.0 - valve(in->hold[a] != 0, &s->hold[a], &s->hold_pending[a], &s->hold_timer[a], delay,
-                                       h, f->hold[a], &s->hold_effective[a]);
-            double vent = valve(in->vent[a] != 0, &s->vent[a], &s->vent_pending[a], &s->vent_timer[a], delay,
-                                h, f->vent[a], &s->vent_effective[a]);
-            outlet[a] = g_vent * vent + g_unit * f->leak[a];
+            const double m = s->m_cyl[a], mt = s->mt_cyl[a], pr = p_relay[a], t = temp[a], p_cyl = mt * r_cyl;
+            const double g = g_hold * hold_open[a] * flow_factor(wall, t), y = h_laminar * g / ik_rate;
+            const double dm = rb_plant_link_mass_of_fill(pr, p_cyl, g, ik_rate, rb_one_minus_exp_neg_select(y));
+            const double cap = (pr - p_cyl) * ik_cap, back = dm > cap ? dm : cap;   /* pr < p_cyl: the larger */
+            const double mt_new = (mt + gamma * t * back) + d->axle_heat_cyl[a] * (wall - t);
+            const double marked = flowing_back[a];
+            taken[a] = marked > 0.0 ? back : taken[a];
+            s->m_cyl[a] = marked > 0.0 ? m + back : m;
+            s->mt_cyl[a] = marked > 0.0 ? mt_new : mt;
+            done[a] = marked > 0.0 ? 1.0 : done[a];
         }
     }
 }
@@ -402,32 +448,36 @@ static void wsp_valves(const rb_plant_params *p, rb_plant_state *s, const rb_pla
  * (wall_time > 0): the air taken brings its upstream enthalpy (the relay's air at the wall's
  * temperature, or the cylinder's own when it flows back), the air vented leaves with the
  * cylinder's, the wall exchanges heat; temperatures from the start of the phase.
- * Most axles most of the time have the hold valve open, the vent and any leak shut and the
- * cylinder near the relay's pressure (a released or held brake): their step is the hold link's
- * linear law with its factor from init, done for every axle in one branch-free vector loop that
- * also marks the other axles; only those then take the general scalar path, which starts again
- * from their unchanged state (the same operations as for every axle before, so the same results).
+ * The WSP valves' open parts come from wsp_valves_at_rest and car_wsp_valves (with the supply).
+ * Most axles most of the time have the vent and any leak shut and either the hold valve open with
+ * the cylinder near the relay's pressure (a released or applied brake; their step is the hold
+ * link's linear law with its factor from init) or the hold valve shut (WSP holding the pressure:
+ * nothing flows), done for every axle in one branch-free vector loop that also marks the other
+ * axles; only those then take the general scalar path, which starts again from their unchanged
+ * state (the same operations as for every axle before, so the same results).
  * start: each cylinder's pressure at the start of the phase (the step's, as no earlier phase
  * changes a cylinder), for the step-mean pressure of the brakes. */
-static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
-                            const rb_plant_faults *f, double *start)
+static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const wsp_valve_parts *valves,
+                            double *start)
 {
     const rb_plant_derived *d = &s->derived;
     const double patm = p->atmosphere, wall = p->temperature, gamma = d->gamma_cyl;
     const int n_axles = p->n_cars * RB_AXLES_PER_CAR;
-    double hold_open[RB_PLANT_MAX_AXLES], outlet[RB_PLANT_MAX_AXLES], taken[RB_PLANT_MAX_AXLES];
+    const double *hold_open = valves->hold_open, *outlet = valves->outlet;
+    double taken[RB_PLANT_MAX_AXLES];
     double temp[RB_PLANT_MAX_AXLES], p_relay[RB_PLANT_MAX_AXLES];
     double done[RB_PLANT_MAX_AXLES];   /* 1: by the vector pass, 0: the axle takes the general path */
     int64_t any_general = 0;           /* negative if some axle does (rb_plant_sign_bits) */
+    double flowing_back[RB_PLANT_MAX_AXLES];
+    int64_t any_back = 0;
     double vented = 0.0;
-    wsp_valves(p, s, in, f, hold_open, outlet);
     for (int c = 0; c < p->n_cars; ++c) {   /* each car's relay pressure for each of its axles */
         const double pr = s->m_relay[c] * d->k_relay[c];
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) p_relay[a] = pr;
     }
     const double laminar = d->orifice.laminar_only ? 0.0 : 1.0;
     const int thermal = gamma > 1.0;
-    for (int a = 0; a < n_axles; ++a) {   /* the open hold link near equal pressures: a vector loop */
+    for (int a = 0; a < n_axles; ++a) {   /* an open hold link near equal pressures, or a shut one: a vector loop */
         const double m = s->m_cyl[a], mt = s->mt_cyl[a], pr = p_relay[a];
         const double mean_t = mt / m, t = thermal ? mean_t : wall, p_cyl = mt * d->axle_r_cyl[a];
         double simple = laminar;   /* 1: this path, 0: the general one (double selects: SSE2 has no
@@ -435,9 +485,14 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
         simple = hold_open[a] == 1.0 ? simple : 0.0;
         simple = p_cyl <= pr ? simple : 0.0;
         simple = p_cyl >= RB_ORIFICE_LAMINAR_RATIO * pr ? simple : 0.0;
+        /* a hold valve shut all the step (WSP holding: most axles in a slide): the general path's
+           link of g = 0 takes +0 whatever the pressures, so in_mass 0 gives its results (each
+           select on a compare of its own: a select on `held` made of one stopped the vectoriser) */
+        simple = hold_open[a] == 0.0 ? 1.0 : simple;
         simple = outlet[a] > 0.0 ? 0.0 : simple;
         const double linear = (pr - p_cyl) * d->axle_hold_laminar[a];   /* loaded either way: no branch */
-        const double in_mass = pr - p_cyl < 0.01 ? 0.0 : linear;
+        const double flowing = pr - p_cyl < 0.01 ? 0.0 : linear;
+        const double in_mass = hold_open[a] == 0.0 ? 0.0 : flowing;
         const double mt_in = mt + gamma * wall * in_mass;   /* relay air in at the wall's temperature */
         /* the general path's wall term less gamma t dm with dm = 0, +0 for a finite t: the same */
         const double mt_new = mt_in + d->axle_heat_cyl[a] * (wall - t);
@@ -447,7 +502,16 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const r
         s->m_cyl[a] = simple > 0.0 ? m + in_mass : m;
         s->mt_cyl[a] = simple > 0.0 ? mt_new : mt;
         done[a] = simple;
+        /* the open hold link near equal pressures the other way, vent and leak shut: cylinders_back */
+        double back = laminar;
+        back = hold_open[a] == 1.0 ? back : 0.0;
+        back = p_cyl > pr ? back : 0.0;
+        back = pr >= RB_ORIFICE_LAMINAR_RATIO * p_cyl ? back : 0.0;
+        back = outlet[a] > 0.0 ? 0.0 : back;
+        flowing_back[a] = back;
+        any_back |= rb_plant_sign_bits(0.0 - back);   /* -1 where marked (0 - 0 is +0) */
     }
+    if (any_back < 0) cylinders_back(p, s, hold_open, p_relay, temp, flowing_back, done, taken);
     for (int a = 0; a < n_axles; ++a) any_general |= rb_plant_sign_bits(done[a] - 1.0);   /* -1 if not done */
     if (any_general < 0)
         for (int a = 0; a < n_axles; ++a) {
@@ -606,11 +670,13 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
     rb_emergency_plant_update(p, s, in);
     for (int k = 0; k < p->substeps; ++k) {
         /* air, in phases */
-        air_supply(p, s, f);
+        wsp_valve_parts wsp;
+        wsp_valves_at_rest(p, s, in, f, &wsp);
+        air_supply(p, s, in, f, &wsp);
         double valves = air_car_valves(p, s, in, f, vector);
         s->m_vented += valves;
         s->m_valves_vented += valves;
-        s->m_vented += air_cylinders(p, s, in, f, start);   /* start: each cylinder's pressure before it, Pa */
+        s->m_vented += air_cylinders(p, s, &wsp, start);   /* start: each cylinder's pressure before it, Pa */
         /* mechanics, braked by the step-mean cylinder pressure */
         for (int a = 0; a < n_axles; ++a) mean[a] = 0.5 * (start[a] + s->mt_cyl[a] * d->axle_r_cyl[a]);
         step_mechanics(p, s, in, f, mean, d->h);

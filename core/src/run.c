@@ -157,17 +157,30 @@ int rb_run_car_isolated(const rb_plant_params *p, int car)
 
 static double mean_peak_adhesion(const rb_plant_params *p, rb_run_state *r)
 {
-    int n_axles = p->n_cars * RB_AXLES_PER_CAR, n = 0;
+    int n_axles = p->n_cars * RB_AXLES_PER_CAR, n = 0, tracked[RB_PLANT_MAX_AXLES], n_tracked = 0;
     int rescan_axle = r->peak_samples % RESCAN_EVERY == 0 ? (int)(r->peak_rescans++ % n_axles) : -1;
-    double sum = 0.0;
+    double peak[RB_PLANT_MAX_AXLES], log_creep[RB_PLANT_MAX_AXLES], followed[RB_PLANT_MAX_AXLES], sum = 0.0;
     for (int a = 0; a < n_axles; ++a) {
         if (!r->adhesion_axle[a]) continue;
         if (r->plant.zone_of[a] != r->peak_zone[a]) {   /* another condition */
             r->peak_zone[a] = r->plant.zone_of[a];
             r->peak_log_creep[a] = NAN;
         }
-        int search = a == rescan_axle || r->peak_maxima[a] != 1 || isnan(r->peak_log_creep[a]);
-        sum += rb_plant_peak_adhesion_track(p, &r->plant, a, &r->peak_log_creep[a], search ? &r->peak_maxima[a] : NULL);
+        if (a == rescan_axle || r->peak_maxima[a] != 1 || isnan(r->peak_log_creep[a])) {
+            peak[a] = rb_plant_peak_adhesion_track(p, &r->plant, a, &r->peak_log_creep[a], &r->peak_maxima[a]);
+        } else {   /* followed, all together (rb_plant_peaks_track: their evaluations side by side) */
+            tracked[n_tracked] = a;
+            log_creep[n_tracked++] = r->peak_log_creep[a];
+        }
+    }
+    if (n_tracked > 0) rb_plant_peaks_track(p, &r->plant, tracked, n_tracked, log_creep, followed);
+    for (int i = 0; i < n_tracked; ++i) {
+        peak[tracked[i]] = followed[i];
+        r->peak_log_creep[tracked[i]] = log_creep[i];
+    }
+    for (int a = 0; a < n_axles; ++a) {   /* summed in the axles' order */
+        if (!r->adhesion_axle[a]) continue;
+        sum += peak[a];
         ++n;
     }
     return n > 0 ? sum / n : -1.0;
@@ -259,6 +272,11 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
 {
     const rb_plant_outputs *o = &r->out;
     int n_axles = p->n_cars * RB_AXLES_PER_CAR;
+    /* summed axle by axle, in the train's order: a chain of subtractions, begun first so that the
+       extremes below fill its waits */
+    double rail = 0.0;
+    if (r->braking)
+        for (int a = 0; a < n_axles; ++a) rail -= r->plant.force[a];
     r->min_main_reservoir = smaller(o->main_reservoir, r->min_main_reservoir);
     for (int c = 0; c < p->n_cars; ++c) r->car_min_supply[c] = smaller(o->supply[c], r->car_min_supply[c]);
     for (int a = 0; a < n_axles; ++a)
@@ -271,9 +289,12 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
                                                             : r->car_min_supply_margin[c];
     }
     r->lock_events += accumulate_axles(p, r);
+<<<<<<< HEAD
     accumulate_effort(p, r);
     double rail = 0.0;   /* summed axle by axle, in the train's order */
     for (int a = 0; a < n_axles; ++a) rail -= r->plant.force[a];
+=======
+>>>>>>> perf
     r->rail_decel_sum += rail / r->total_mass * p->dt;
     r->rail_decel_time += p->dt;
     if (o->time >= r->next_adhesion - 1e-9 && o->speed > LOCK_SPEED) {

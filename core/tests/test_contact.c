@@ -3,6 +3,7 @@
 #include "railbrake/rb_contact.h"
 
 #include <math.h>
+#include <string.h>
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -164,6 +165,55 @@ static void test_polach_peak_track(void)
            same_branch, worst, other_branch);
 }
 
+/* rb_creep_peaks_track: many curves followed side by side (in rounds, more than one batch of
+ * them) end where each followed alone ends, bit for bit, with a batch evaluator or without. */
+typedef struct {
+    double speed, normal_force;
+    const rb_creep_contact *c;
+    rb_polach_params p;
+} test_curve;
+
+static double test_curve_at(const void *curve, double log_creep)
+{
+    const test_curve *k = curve;
+    return rb_polach_coefficient_fast(pow(10.0, log_creep), k->speed, k->normal_force, k->c, &k->p);
+}
+
+static void test_curves_each(const rb_creep_curve *curves, const int *member, const double *log_creep, double *f,
+                             int n)
+{
+    for (int j = n - 1; j >= 0; --j) f[j] = curves[member[j]].at(curves[member[j]].curve, log_creep[j]);
+}
+
+static void test_peaks_track_batch(void)
+{
+    enum { N = 150 };
+    static test_curve k[N];
+    static rb_creep_curve f[N];
+    static double alone[N], together[N], each[N], x_alone[N], x_together[N], x_each[N];
+    rb_creep_contact c = {0.0062, 0.0049, 4.12, 8.1e10};
+    unsigned long seed = 777;
+    int differ = 0;
+    for (int i = 0; i < N; ++i) {
+        rb_polach_params p = {0.01 + 0.99 * uniform(&seed), uniform(&seed), pow(10.0, -2.0 + 4.0 * uniform(&seed)),
+                              pow(10.0, -3.0 + 3.0 * uniform(&seed)), pow(10.0, -3.0 + 3.0 * uniform(&seed))};
+        k[i] = (test_curve){2.0 + 90.0 * uniform(&seed), 50e3 + 60e3 * uniform(&seed), &c, p};
+        f[i] = (rb_creep_curve){test_curve_at, NULL, &k[i], p.mu0 * ((1.0 - p.A) * exp(-p.B * k[i].speed) + p.A)};
+        int maxima;   /* a start near the peak (Newton's), or none (the scan) */
+        double x = NAN;
+        rb_creep_peak_scan(&f[i], &x, &maxima);
+        x_alone[i] = x_together[i] = x_each[i] = i % 7 == 0 ? NAN : x + 0.05 * (uniform(&seed) - 0.5);
+    }
+    for (int i = 0; i < N; ++i) alone[i] = rb_creep_peak_track(&f[i], &x_alone[i]);
+    rb_creep_peaks_track(f, N, NULL, x_together, together);
+    rb_creep_peaks_track(f, N, test_curves_each, x_each, each);
+    for (int i = 0; i < N; ++i)
+        differ += memcmp(&alone[i], &together[i], sizeof alone[i]) || memcmp(&alone[i], &each[i], sizeof alone[i]) ||
+                  memcmp(&x_alone[i], &x_together[i], sizeof x_alone[i]) ||
+                  memcmp(&x_alone[i], &x_each[i], sizeof x_alone[i]);
+    CHECK(differ == 0);
+}
+
 int main(void)
 {
     test_polach_vanishing_friction();
@@ -174,5 +224,6 @@ int main(void)
     test_kalker();
     test_polach();
     test_polach_peak_track();
+    test_peaks_track_batch();
     return rb_test_summary("test_contact");
 }

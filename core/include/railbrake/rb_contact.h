@@ -73,12 +73,35 @@ rb_status rb_polach_peak(double speed, double normal_force, const rb_creep_conta
                          const rb_polach_params *p, double *peak_coefficient,
                          double *peak_creep, rb_error *err);
 
-/* The same peak for loops that sample it over a run, with *log_creep the log10 of its creep
+/* A creep-force curve F at one speed for the peak searches below: at(curve, x) is F at creep 10^x
+ * (x in [-7, 0]); at_many, where not NULL, the same for n such x at once (the whole search's scan:
+ * a vector loop); mu_full_slip the friction coefficient at creep 1, which bounds F there
+ * (F <= mu (1 + 1/pi)). Polach's law of rb_polach_coefficient_fast is one; the plant samples the
+ * one its wheelset kernel applies (rb_plant_peak_adhesion_track). */
+typedef struct {
+    double (*at)(const void *curve, double log_creep);
+    void (*at_many)(const void *curve, const double *log_creep, double *f, int n);
+    const void *curve;
+    double mu_full_slip;
+} rb_creep_curve;
+
+/* The peak of a curve for loops that sample it over a run, with *log_creep the log10 of its creep
  * (in: from the last sample, NaN: none; out: this one's). _scan searches the whole range as
  * rb_polach_peak and counts the curve's inner maxima it passed (*maxima: more than 1, the curve
  * has another branch; a rise towards full slip is not one); _track follows the maximum of
  * the last sample's branch by Newton's method (about 5 evaluations of the law against some 200),
  * which misses another branch rising above it. No argument checks. */
+double rb_creep_peak_scan(const rb_creep_curve *f, double *log_creep, int *maxima);
+double rb_creep_peak_track(const rb_creep_curve *f, double *log_creep);
+/* _track for n curves at once (peak[i], log_creep[i] each curve's), the same results: every round
+ * of the method evaluates all the curves that need it in one call of at_each (NULL: one by one
+ * through each curve's at), so a caller with a vector form of its curves overlaps them. */
+enum { RB_CREEP_BATCH = 64 };   /* curves followed side by side; more go in turn */
+typedef void (*rb_creep_at_each)(const rb_creep_curve *curves, const int *member, const double *log_creep,
+                                 double *f, int n);   /* f[j]: curves[member[j]] at log_creep[j] */
+void rb_creep_peaks_track(const rb_creep_curve *curves, int n, rb_creep_at_each at_each, double *log_creep,
+                          double *peak);
+/* The same on Polach's law (rb_polach_coefficient_fast) at one speed and load. */
 double rb_polach_peak_scan(double speed, double normal_force, const rb_creep_contact *c,
                            const rb_polach_params *p, double *log_creep, int *maxima);
 double rb_polach_peak_track(double speed, double normal_force, const rb_creep_contact *c,

@@ -333,6 +333,7 @@ typedef struct {
     /* what the rest of the step reads of the cars, compact (the car records are 3.6 kB each) */
     double axle_r_cyl[RB_PLANT_MAX_AXLES];   /* r_cyl of the axle's car: cylinder pressure = mt_cyl x it */
     double car_length[RB_PLANT_MAX_CARS], ed_lag[RB_PLANT_MAX_CARS];   /* m; h / (ed_tau + h) */
+    double supply_volume[RB_PLANT_MAX_CARS];  /* m^3 (the outputs' supply pressures) */
     double disc_capacity[RB_PLANT_MAX_CARS];  /* J/K per axle */
     /* each car's last disc-cooling interval (cooling_bracket), as the pad's above */
     double cooling_lo[RB_PLANT_MAX_CARS], cooling_hi[RB_PLANT_MAX_CARS];
@@ -438,11 +439,16 @@ double rb_plant_air_mass(const rb_plant_params *p, const rb_plant_state *s);
 double rb_plant_axle_brake_torque(const rb_plant_car *c, double p_cyl, double wheel_speed);
 /* Peak adhesion available to axle (global index from the front) at the present state. */
 double rb_plant_peak_adhesion(const rb_plant_params *p, const rb_plant_state *s, int axle);
-/* The same for loops that sample it over a run: followed from *log_creep (rb_polach_peak_track;
- * NaN the first time and after the axle's adhesion condition changed; maxima = NULL), or
- * searched afresh, counting the curve's maxima into *maxima (rb_polach_peak_scan). */
+/* The same for loops that sample it over a run, on the curve the wheelset kernel applies (equal
+ * to rounding): followed from *log_creep (rb_creep_peak_track; NaN the first time and after the
+ * axle's adhesion condition changed; maxima = NULL), or searched afresh, counting the curve's
+ * maxima into *maxima (rb_creep_peak_scan). */
 double rb_plant_peak_adhesion_track(const rb_plant_params *p, const rb_plant_state *s, int axle, double *log_creep,
                                     int *maxima);
+/* rb_plant_peak_adhesion_track (maxima = NULL) of n axles at once (rb_creep_peaks_track): peak[i]
+ * and log_creep[i] those of axles[i] (n <= RB_PLANT_MAX_AXLES); the same results. */
+void rb_plant_peaks_track(const rb_plant_params *p, const rb_plant_state *s, const int *axles, int n,
+                          double *log_creep, double *peak);
 /* "portable" or "avx2": the wheelset kernel the state uses. */
 const char *rb_plant_kernel_name(const rb_plant_state *s);
 size_t rb_plant_params_size(void);

@@ -42,7 +42,8 @@ MAX_SUBSTEP = 2e-3
 # The wheelset kernel (rb_plant.h): "auto" (the vector one where the CPU has it) or "portable".
 KERNEL_ENV = "RAILBRAKE_KERNEL"
 ZERO_CELSIUS = 273.15               # K
-CHUNK = 2.0                         # s of simulated time per C call
+CHUNK = 2.0                         # s of simulated time per C call with a progress callback
+QUIET_CHUNK = 60.0                  # without: fewer calls (each costs some us), Ctrl-C still heard soon
 
 
 @dataclass
@@ -474,9 +475,9 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     series = np.zeros((rows, len(names)))
     finished = ctypes.c_int(0)
     pending = run_changes.check(changes, sc.spec.stop.max_time, plant.n_faults, bool(bcu.wsp_per_bogie))
-    t = 0.0
+    t, chunk = 0.0, CHUNK if progress is not None else QUIET_CHUNK
     while not finished.value:
-        t = min(t + CHUNK, pending[0].time) if pending else t + CHUNK
+        t = min(t + chunk, pending[0].time) if pending else t + chunk
         _core.call(_core.rb_run_advance, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(spec), state,
                    t, _core.ptr(series) if record else None, rows, ctypes.byref(finished))
         while pending and pending[0].time <= t and not finished.value:
