@@ -289,12 +289,7 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
                                                             : r->car_min_supply_margin[c];
     }
     r->lock_events += accumulate_axles(p, r);
-<<<<<<< HEAD
     accumulate_effort(p, r);
-    double rail = 0.0;   /* summed axle by axle, in the train's order */
-    for (int a = 0; a < n_axles; ++a) rail -= r->plant.force[a];
-=======
->>>>>>> perf
     r->rail_decel_sum += rail / r->total_mass * p->dt;
     r->rail_decel_time += p->dt;
     if (o->time >= r->next_adhesion - 1e-9 && o->speed > LOCK_SPEED) {
