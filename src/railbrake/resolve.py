@@ -346,10 +346,13 @@ def _resolve(scenario, overrides: list) -> Resolved:
     chosen = source.data.get("train") if isinstance(source.data.get("train"), dict) else {}
     if chosen.get("load_case") is not None:   # the scenario chooses the train's load case
         train_block["load_case"] = chosen["load_case"]
+    known = None   # the tree's valid keys, found again only after a value that brings keys of its own
     for path, value, label in overrides:
         if path == ("train", "preset"):
             continue
-        _assign(tree, path, value, label, set(valid_keys(tree)))
+        known = set(valid_keys(tree)) if known is None else known
+        _assign(tree, path, value, label, known)
+        known = None if isinstance(value, (dict, list)) else known
         labels[path] = label
     if train_block["cars"] is None:
         train_block["cars"] = len(train_block.get("formation") or []) or None

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import csv
 import ctypes
+import functools
 import io
 import numbers
 from dataclasses import dataclass, field, replace
@@ -129,6 +130,16 @@ def profile_names() -> list[str]:
     return sorted(p.name[:-5] for p in _profile_dir().iterdir() if p.name.endswith(".yaml"))
 
 
+@functools.cache
+def _preset_profile(name: str) -> Profile:
+    """A shipped profile, read once per process (a study sets up thousands of runs); its arrays
+    are read-only, so no caller can change the next one's."""
+    profile = _parse_profile((_profile_dir() / f"{name}.yaml").read_text(), f"profile {name}")
+    for array in (profile.speed, profile.deceleration):
+        array.setflags(write=False)
+    return profile
+
+
 def _parse_profile(text: str, origin: str) -> Profile:
     m = parse_yaml(text, _ProfileFile, origin)
     if m.schema_ != PROFILE_SCHEMA:
@@ -171,7 +182,7 @@ def load_profile(profile: ProfileLike, argument: str = "profile") -> Profile:
             raise InputError(f"{argument} = {value!r}: {str(exc).split(': ', 1)[-1]}") from None
     name = name_or_path(argument, profile)
     if name in profile_names():
-        return _parse_profile((_profile_dir() / f"{name}.yaml").read_text(), f"profile {name}")
+        return _preset_profile(name)
     path = Path(name)
     if path.suffix == ".csv" and path.is_file():
         return read_profile_csv(path)

@@ -98,3 +98,15 @@ def test_forward_check_holds_on_a_gradient(gradient):
                                            ed_demand=r.deceleration, gradient=gradient)
     assert np.all(np.abs(achieved / r.deceleration - 1.0) < 0.01)
     assert np.all((r.p_trailer > level.p_trailer) == (gradient < 0))
+
+
+def test_a_shipped_profile_is_read_once_and_cannot_be_changed_by_a_caller():
+    """Studies set up thousands of runs from the same preset profile: it is read once, read-only,
+    so one run's caller cannot change the next run's demand."""
+    import numpy as np
+    from railbrake import sizing
+    first = sizing.load_profile(sizing.profile_names()[0])
+    assert sizing.load_profile(sizing.profile_names()[0]) is first
+    with pytest.raises(ValueError, match="read-only"):
+        first.deceleration[0] = 0.0
+    assert np.all(first.deceleration > 0.0)
