@@ -25,6 +25,7 @@ def save(fig, path):
     """The figure written to path and closed (returns path); path None: the open figure itself."""
     if path is None:
         return fig
-    fig.savefig(path, dpi=120)
+    from railbrake import atomic
+    atomic.save_figure(fig, path, dpi=120)   # whole or absent
     plt.close(fig)
     return path

@@ -65,13 +65,16 @@ def plot(result, kind: str = "braking_curve", path: Path | str | None = None, ax
 
 def save(result, folder: Path | str) -> Path:
     """timeseries.parquet, kpis.json and run.json into folder (and config.yaml, the resolved
-    configuration, when the result knows it); load_result reads it back bit for bit."""
+    configuration, when the result knows it), then manifest.json; load_result reads it back bit
+    for bit, and refuses a folder whose writing was cut short."""
     from railbrake.results import files
     from railbrake.results.config_file import write_config
-    folder = Path(folder)
-    files.write_run(record_of(result), folder, ["parquet"])
+    folder = files.begin_folder(Path(folder))
+    record = record_of(result)
+    paths = files.write_run(record, folder, ["parquet"], complete=False)
     if result.resolved is not None:
-        write_config(result.resolved, folder / "config.yaml")
+        paths.append(write_config(result.resolved, folder / "config.yaml"))
+    files.write_manifest(folder, record, paths)   # last: a folder without it is an interrupted save
     return folder
 
 
