@@ -21,6 +21,7 @@ import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from railbrake import atomic
 from railbrake._args import whole
 from railbrake.campaign import dataset, identity
 from railbrake.campaign.plan import Run, iter_plan
@@ -220,7 +221,7 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
         dataset.clean(out)
         manifest = _manifest(study, out, None, summary.runs)
         dataset.write_manifest(out, manifest)
-        (out / "study.yaml").write_text(study.text)
+        atomic.write_text(out / "study.yaml", study.text)
         summary.workers = len(client.scheduler_info()["workers"])
         if progress:
             progress(0, n_pending, 0)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railbrake import config
+from railbrake import atomic, config
 from railbrake.campaign import dataset
 from railbrake.campaign.assess import assess, rank, worst
 from railbrake.campaign.study import StudyFile
@@ -360,11 +360,11 @@ def render(c: Campaign, output: Path) -> dict:
         body.append(f"<h2>{html.escape(name)}</h2><img alt='{html.escape(name)}' src='data:image/png;base64,{image}'>")
     output = Path(output)
     output.parent.mkdir(parents=True, exist_ok=True)
-    output.write_text(f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+    atomic.write_text(output, f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
                       f"<style>{STYLE}</style></head><body>{''.join(body)}</body></html>")
     md = [f"# {title}", "", f"**{verdict}**", "",
           f"Study `{c.study.name}` on `{c.study.base}`: {c.study.design.kind} design. Plots: {output.name}.", ""]
     for name, headers, table_rows in tables:
         md += [f"## {name}", "", _md_table(headers, table_rows) if table_rows else "none", ""]
-    output.with_suffix(".md").write_text("\n".join(md))
+    atomic.write_text(output.with_suffix(".md"), "\n".join(md))
     return summary

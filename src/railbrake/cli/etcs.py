@@ -9,6 +9,7 @@ import typer
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+from railbrake import atomic
 from railbrake.cli._common import prepare_folder, print_json, reports_errors
 
 app = typer.Typer(help="ETCS braking model of a train: A_brake_emergency, T_brake, Kdry_rst, Kwet_rst.",
@@ -47,8 +48,8 @@ def braking_model(
         m = model.braking_model(spec, folder, workers,
                                 progress=lambda n, total: bar.update(task, completed=n, total=total))
     data = export.to_json(m)
-    (folder / "braking-model.json").write_text(jsonio.dumps(data, indent=1))
-    (folder / "osrd-etcs-brake-params.json").write_text(jsonio.dumps(export.to_osrd(m, osrd_level), indent=1))
+    atomic.write_text(folder / "braking-model.json", jsonio.dumps(data, indent=1))
+    atomic.write_text(folder / "osrd-etcs-brake-params.json", jsonio.dumps(export.to_osrd(m, osrd_level), indent=1))
     report.write(m, folder / "report.html")
     if json:
         print_json(data)

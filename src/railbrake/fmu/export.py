@@ -20,7 +20,7 @@ import zipfile
 from pathlib import Path
 
 import railbrake
-from railbrake import scenario as scenarios
+from railbrake import atomic, scenario as scenarios
 from railbrake.resolve import resolve
 from railbrake import simulation, vehicle
 from railbrake.errors import InputError
@@ -135,7 +135,7 @@ def license_file() -> Path:
 
 def _zip(folder: Path, output: Path) -> None:
     output.parent.mkdir(parents=True, exist_ok=True)
-    with zipfile.ZipFile(output, "w", zipfile.ZIP_DEFLATED) as zf:
+    with atomic.replacing(output) as temporary, zipfile.ZipFile(temporary, "w", zipfile.ZIP_DEFLATED) as zf:
         for path in sorted(folder.rglob("*")):
             if path.is_file():
                 zf.write(path, path.relative_to(folder).as_posix())
