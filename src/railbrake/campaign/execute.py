@@ -23,7 +23,7 @@ from pathlib import Path
 
 from railbrake import atomic
 from railbrake._args import whole
-from railbrake.campaign import dataset, identity
+from railbrake.campaign import dataset, identity, lock
 from railbrake.campaign.plan import Run, iter_plan
 from railbrake.campaign.study import Study
 from railbrake.errors import InputError
@@ -200,9 +200,17 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
               on_connect=None) -> Summary:
     """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch;
     dashboard: the local cluster's dashboard address (connect); on_connect(client) once connected
-    (e.g. to show client.dashboard_link)."""
+    (e.g. to show client.dashboard_link). One client at a time on out (campaign.lock): a second
+    is refused naming the first's host and PID."""
     _check_counts(workers=workers, batch_size=batch_size)
     out = Path(out)
+    with lock.holding(out):
+        return _run_held(study, out, workers, scheduler, batch_size, timeseries, progress, connect_timeout,
+                         dashboard, on_connect)
+
+
+def _run_held(study, out, workers, scheduler, batch_size, timeseries, progress, connect_timeout, dashboard,
+              on_connect) -> Summary:
     # the study's keys are the one list held whole (identical configurations run once); the runs
     # are planned again one at a time as they are handed out
     keys = list(dict.fromkeys(r.key for r in iter_plan(study)))

@@ -17,6 +17,7 @@ from railbrake import atomic, config
 from railbrake.campaign import dataset
 from railbrake.campaign.assess import assess, rank, worst
 from railbrake.campaign.study import StudyFile
+from railbrake.errors import InputError
 
 PLOTTED = ("delta_s_pct", "kwet", "adhesion_utilisation", "air_drawn_kg", "air_consumed_kg",
            "stopping_distance_m", "min_supply_bar", "max_slip")
@@ -290,14 +291,18 @@ def sections(c: Campaign) -> tuple[list[tuple[str, list, list]], dict]:
         tables.append(_points_table(c))
     tuning = c.folder / "tuning" / "summary.json"
     if tuning.is_file():
-        t = json.loads(tuning.read_text())
-        rows = [["default", _fmt(t["default"]["worst_delta_s_pct"]), _fmt(t["default"]["locks"]), ""],
-                ["tuned", _fmt(t["tuned"]["worst_delta_s_pct"]), _fmt(t["tuned"]["locks"]),
-                 ", ".join(f"{k} = {v:.4g}" for k, v in t["tuned"]["params"].items())]]
-        cases = t.get("cases", "all")
-        cases = "all cases" if cases == "all" else "cases " + ", ".join(cases)
-        tables.append((f"WSP tuning ({t['evaluations']} evaluations, {t.get('objective', '')}, {cases})", ["WSP", "worst dS (%)", "locks", "parameters"],
-                       rows))
+        try:
+            t = json.loads(tuning.read_text())
+            rows = [["default", _fmt(t["default"]["worst_delta_s_pct"]), _fmt(t["default"]["locks"]), ""],
+                    ["tuned", _fmt(t["tuned"]["worst_delta_s_pct"]), _fmt(t["tuned"]["locks"]),
+                     ", ".join(f"{k} = {v:.4g}" for k, v in t["tuned"]["params"].items())]]
+            cases = t.get("cases", "all")
+            cases = "all cases" if cases == "all" else "cases " + ", ".join(cases)
+            tables.append((f"WSP tuning ({t['evaluations']} evaluations, {t.get('objective', '')}, {cases})", ["WSP", "worst dS (%)", "locks", "parameters"],
+                           rows))
+        except (ValueError, KeyError, TypeError, AttributeError) as exc:
+            raise InputError(f"{tuning}: damaged ({exc.__class__.__name__}: {exc}): not a tuning summary; "
+                             "tune again or remove it") from None
         summary["tuning"] = t
     indices = sobol(c, [k for k in c.kpis if k in PLOTTED or k == "stopping_distance_m"])
     if indices:
