@@ -32,6 +32,7 @@ BATCHES_PER_WORKER = 8      # enough for the load to balance at the end of a stu
 IN_FLIGHT_PER_WORKER = 3    # batches handed out ahead per worker: none waits for the next one
 MAX_BATCH = 32              # runs; bounds what a kill loses
 CONNECT_TIMEOUT = 10.0      # s for a scheduler to answer
+START_ATTEMPTS = 3          # a local cluster whose worker was lost while starting is started again
 RETRIES = 2                 # a batch whose worker died is rerun by Dask; these are for other errors
 
 
@@ -102,10 +103,19 @@ def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT
         raise InputError(f"--workers {n}: must be at least 1")
     # one thread per worker process, numpy's BLAS included: the workers share the cores already
     single = {name: "1" for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")}
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=dashboard,
-                           worker_dashboard_address=None, silence_logs=logging.ERROR,
-                           env=single)
-    return Client(cluster), cluster
+    for attempt in range(1, START_ATTEMPTS + 1):
+        try:
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=dashboard,
+                                   worker_dashboard_address=None, silence_logs=logging.ERROR, env=single)
+            return Client(cluster), cluster
+        except Exception as exc:   # noqa: BLE001 - e.g. "Nanny failed to start worker process"
+            # a worker process lost while it starts: LocalCluster has closed what it had started
+            if attempt == START_ATTEMPTS:
+                raise InputError(f"--workers {n}: the local Dask cluster failed to start {START_ATTEMPTS} times "
+                                 f"({exc.__class__.__name__}: {exc})") from None
+            warnings.warn(f"a Dask worker was lost while the local cluster started ({exc.__class__.__name__}: "
+                          f"{exc}); starting it again ({attempt + 1} of {START_ATTEMPTS})", RuntimeWarning,
+                          stacklevel=2)
 
 
 def batch_size_for(pending: int, workers: int, size: int | None = None) -> int:
