@@ -89,6 +89,8 @@ class EnergyConditioning:
     source: str = "user input [T]"
 
     def __post_init__(self):
+        real("leading_factor", self.leading_factor)
+        real("reference_energy", self.reference_energy)
         _core.call(_core.rb_conditioning_energy_check, ctypes.byref(self._c()))
 
     def _c(self) -> _core.ConditioningEnergy:
@@ -320,7 +322,7 @@ class Peak:
 
 
 def _contact(contact: HertzContact | None) -> HertzContact:
-    return default_contact() if contact is None else contact
+    return default_contact() if contact is None else instance("contact", contact, HertzContact)
 
 
 def peak_adhesion(condition: ConditionLike, speed: float, axle: int = 0,

@@ -1,0 +1,133 @@
+"""Every public function and input class of `railbrake` and of its subpackages' faces (their
+__all__), and the methods of Result, called with one argument wrong in type or value (None, a
+string for a number, negative, NaN, infinities, huge, wrong containers, ...): each refusal (any
+exception) names that argument as the caller wrote it. An accepted call is not a refusal and is
+not counted here (test_api_fuzz.py checks the laws' results). Calls that would start a long
+simulation get a 1-car short run as their base, so that a refusal comes before any work and an
+accepted value costs a fraction of a second. Output files are folder tmp_path's."""
+
+from __future__ import annotations
+
+import faulthandler
+import inspect
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import railbrake
+from railbrake import adhesion, etcs, fmu, pneumatics, results, validation, valves
+
+FACES = [railbrake, adhesion, etcs, fmu, pneumatics, results, validation, valves]
+SCENARIO = "emergency-250-dry"
+# classes that are results, not inputs: built by railbrake, their fields typed, never checked
+RESULT_TYPES = {"Result", "CreepCurve", "Peak", "PolachFit", "NetworkResult", "RunRecord", "BrokenCase", "Case",
+                "CaseResult", "EpvCharacteristic", "LostUnits", "AdhesionCondition"}
+EXCEPTIONS = {"InputError", "AdhesionRangeWarning"}
+WRITTEN = ("output", "path", "folder")   # arguments naming a file or folder that may be written
+
+BAD = [None, "abc", "", -1, 0, 7, -0.5, math.nan, math.inf, -math.inf, 1e308, -1e308, True, [], [1.0, "x"],
+       [[1.0, 2.0], [3.0]], {}, {"a": 1}, object(), b"1", "x" * 10_000]
+
+
+@pytest.fixture(scope="module")
+def bases(tmp_path_factory):
+    """callable -> (its label, the keyword arguments of a valid call)."""
+    folder = tmp_path_factory.mktemp("faces")
+    result = railbrake.run(SCENARIO, cars=1)
+    result.save(folder / "saved")
+    curve = adhesion.creep_curves("dry-medium", [20.0])[0]
+    state = etcs.State(0.9, np.array([1.0, 1.0]))
+    force_table = valves.load_epv()["solenoid_table"]
+    cases = {
+        railbrake.load_result: dict(folder=folder / "saved"),
+        railbrake.run: dict(scenario=SCENARIO, cars=1),
+        adhesion.RailConditioning: dict(leading_factor=0.5, recovery_axles=4.0),
+        adhesion.EnergyConditioning: dict(leading_factor=0.5, reference_energy=1e5),
+        adhesion.car_axles: dict(car=1),
+        adhesion.car_of_axle: dict(axle=1),
+        adhesion.check_points: dict(creep=curve.creep, coefficient=curve.coefficient, speed=20.0,
+                                    where=lambda name, i: f"{name}[{i}]"),
+        adhesion.conditions: {},
+        adhesion.creep_curves: dict(condition="dry-medium", speeds=[20.0]),
+        adhesion.identify_polach: dict(creep=curve.creep, coefficient=curve.coefficient, speed=20.0),
+        adhesion.load_condition: dict(condition="dry-medium"),
+        adhesion.peak_adhesion: dict(condition="dry-medium", speed=20.0),
+        adhesion.preset_names: {},
+        adhesion.warn_outside_range: dict(condition=adhesion.load_condition("dry-medium"), speed_kmh=100.0),
+        etcs.State: dict(probability=0.9, ratios=np.array([1.0, 1.0])),
+        etcs.coded: dict(k=0.9),
+        etcs.ebcl: dict(index=3),
+        etcs.equal_units: dict(n=4, p=1e-3),
+        etcs.k_dry: dict(states=[state], confidence=0.99),
+        etcs.mixture_cdf: dict(states=[state], x=0.9),
+        etcs.quantile: dict(states=[state], level=0.01),
+        fmu.export_fmu: dict(scenario=SCENARIO, output=folder / "plant.fmu", cars=1, binary=False),
+        pneumatics.Network: {},
+        pneumatics.orifice_mass_flow: dict(p_up=6e5, T_up=293.0, p_down=1e5, area=1e-5),
+        pneumatics.sonic_conductance: dict(area=1e-5),
+        results.from_hil: dict(result=result, sc=railbrake.scenario.load(SCENARIO)),
+        results.from_simulation: dict(result=result, sc=railbrake.scenario.load(SCENARIO)),
+        validation.case_root: {},
+        validation.load_cases: dict(case_id="no-such-case"),
+        validation.run_cases: dict(cases=[]),
+        valves.epv_characteristic: dict(n_points=21, ramp_time=1.0),
+        valves.epv_network: dict(p=valves.load_epv(), current_schedule=[(0.0, 0.5)]),
+        valves.epv_step: dict(t_end=0.2, n_points=21),
+        valves.load_epv: {},
+        valves.load_relay: {},
+        valves.oscillates: dict(time=np.linspace(0, 1, 11), pressure=np.ones(11)),
+        valves.read_force_table: dict(path=force_table),
+        valves.relay_step: dict(t_end=0.2, n_points=21),
+        valves.step_metrics: dict(time=np.linspace(0, 1, 11), gauge_bar=np.linspace(0, 3, 11)),
+        result.save: dict(folder=folder / "again"),
+        result.plot: dict(kind="braking_curve", path=folder / "plot.png"),
+    }
+    labels = {}
+    for face in FACES:
+        for name in face.__all__:
+            item = getattr(face, name)
+            if callable(item) and name not in RESULT_TYPES | EXCEPTIONS:
+                labels[item] = f"{face.__name__}.{name}"
+                assert item in cases, f"{face.__name__}.{name}: a public callable without a base call here"
+    labels[result.save], labels[result.plot] = "Result.save", "Result.plot"
+    return {function: (labels[function], kwargs) for function, kwargs in cases.items()}, folder
+
+
+def _parameters(function) -> list[str]:
+    kinds = (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY)
+    return [p.name for p in inspect.signature(function).parameters.values() if p.kind in kinds]
+
+
+def _refusal(function, kwargs, name) -> str | None:
+    """None when the call was accepted or refused naming `name`; else the unnamed refusal."""
+    faulthandler.dump_traceback_later(60, exit=True)   # a call that would run for long: fail loudly
+    try:
+        function(**kwargs)
+    except Exception as exc:   # noqa: BLE001 - every refusal is checked
+        if name not in str(exc):
+            return f"{type(exc).__name__}: {str(exc)[:200]}"
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+    return None
+
+
+def test_every_refusal_names_the_argument(bases):
+    cases, folder = bases
+    problems, calls, refusals = [], 0, 0
+    for function, (label, base) in cases.items():
+        for name in _parameters(function):
+            for value in BAD:
+                if name in WRITTEN and isinstance(value, str) and value and len(value) < 100:
+                    value = str(folder / "bad" / value)   # not into the working directory
+                kwargs = dict(base, **{name: value})
+                calls += 1
+                got = _refusal(function, kwargs, name)
+                if got is not None:
+                    problems.append(f"{label}({name}={value!r:.40}): {got}")
+    print("fuzz-result", json.dumps({"target": "api_faces", "calls": calls, "unnamed_refusals": len(problems)}))
+    assert calls > 1000
+    assert not problems, f"{len(problems)} of {calls} calls refused without naming the argument:\n" + \
+        "\n".join(problems[:60])
