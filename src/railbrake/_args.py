@@ -156,13 +156,14 @@ def path(name: str, value) -> "Path":
 def items(name: str, value, kind, low: int = 1) -> list:
     """value as a list of at least `low` instances of kind (a list or tuple; the message names
     the first wrong one name[i])."""
+    what = " or ".join(k.__name__ for k in kind) if isinstance(kind, tuple) else kind.__name__
     if not isinstance(value, (list, tuple)):
-        raise TypeError(f"{name} = {show(value)}: must be a list of {kind.__name__}, not {type(value).__name__}")
+        raise TypeError(f"{name} = {show(value)}: must be a list of {what}, not {type(value).__name__}")
     if len(value) < low:
-        raise InputError(f"{name}: must hold at least {low} {kind.__name__}")
+        raise InputError(f"{name}: must hold at least {low} {what}")
     for i, item in enumerate(value):
         if not isinstance(item, kind):
-            raise TypeError(f"{name}[{i}] = {show(item)}: must be a {kind.__name__}, not {type(item).__name__}")
+            raise TypeError(f"{name}[{i}] = {show(item)}: must be a {what}, not {type(item).__name__}")
     return list(value)
 
 

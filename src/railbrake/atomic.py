@@ -55,7 +55,9 @@ def save_figure(fig, path: Path | str, **kwargs) -> Path:
     """fig.savefig(path, **kwargs), whole or absent (the format from path's suffix)."""
     path = Path(path)
     with replacing(path) as temporary:
-        fig.savefig(temporary, format=kwargs.pop("format", path.suffix.lstrip(".") or None), **kwargs)
+        import matplotlib
+        kind = kwargs.pop("format", None) or path.suffix.lstrip(".") or matplotlib.rcParams["savefig.format"]
+        fig.savefig(temporary, format=kind, **kwargs)
     return path
 
 

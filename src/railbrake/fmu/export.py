@@ -20,7 +20,7 @@ import zipfile
 from pathlib import Path
 
 import railbrake
-from railbrake import atomic, scenario as scenarios
+from railbrake import _args, atomic, scenario as scenarios
 from railbrake.resolve import resolve
 from railbrake import simulation, vehicle
 from railbrake.errors import InputError
@@ -185,9 +185,13 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
     time; "portable"; None: RAILBRAKE_KERNEL, else auto); either way the sources stay portable C99.
     platforms: the binaries built (railbrake.fmu.binaries.PLATFORMS; none with binary=False);
     identifier: the modelIdentifier (default: model_identifier)."""
-    version = str(fmi_version)
+    version = str(fmi_version) if isinstance(fmi_version, (str, int)) and not isinstance(fmi_version, bool) else ""
     if version not in FMI_VERSIONS:
-        raise InputError(f"FMI version {fmi_version!r}: must be 2 or 3")
+        raise InputError(f"fmi_version: FMI version {_args.show(fmi_version)}: must be 2 or 3")
+    output = _args.path("output", output)
+    binary = _args.flag("binary", binary)
+    sets = _args.items("sets", sets, str, low=0)
+    platforms = _args.items("platforms", platforms, str, low=0)
     resolved = resolve(resolve_scenario(scenario), cars, sets)
     identifier = model_identifier(resolved, kernel) if identifier is None else check_identifier(identifier)
     sc, n_cars = resolved.scenario, resolved.cars
