@@ -34,6 +34,12 @@ class PolachFit:
 
 
 def _check_data(creep, coefficient, speed):
+    try:   # the lengths first: a shorter column is named as such, whatever it holds
+        sizes = np.size(creep), np.size(coefficient)
+    except (ValueError, TypeError):
+        sizes = None
+    if sizes and sizes[0] != sizes[1]:
+        raise InputError(f"coefficient: {sizes[1]} values for {sizes[0]} creep values")
     creep = _args.reals("creep", creep).ravel()
     coefficient = _args.reals("coefficient", coefficient).ravel()
     speed = _args.reals("speed", speed)
