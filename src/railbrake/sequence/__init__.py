@@ -168,6 +168,8 @@ def quantity(text, dimension: str | None, where: str) -> float:
             return float(text)
         raise InputError(f"{where} = {text!r}: expected a plain number (the signal has no unit)")
     allowed = [u for u, (d, _) in UNITS.items() if d == dimension]
+    if isinstance(text, str) and any(ch.isdigit() and not ch.isascii() for ch in text):
+        raise InputError(f"{where} = {text!r}: digits must be ASCII 0-9 (not another script's digits)")
     match = _QUANTITY.match(text) if isinstance(text, str) else None
     if not match or match.group(2) not in allowed:
         raise InputError(f"{where} = {text!r}: expected '<number> <unit>', unit one of {', '.join(allowed)}")
