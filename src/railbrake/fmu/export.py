@@ -190,7 +190,6 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
         raise InputError(f"fmi_version: FMI version {_args.show(fmi_version)}: must be 2 or 3")
     output = _args.path("output", output)
     binary = _args.flag("binary", binary)
-    sets = _args.items("sets", sets, str, low=0)
     platforms = _args.items("platforms", platforms, str, low=0)
     resolved = resolve(resolve_scenario(scenario), cars, sets)
     identifier = model_identifier(resolved, kernel) if identifier is None else check_identifier(identifier)
