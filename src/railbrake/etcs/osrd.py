@@ -102,9 +102,13 @@ def params_of(doc: dict) -> dict:
     raise InputError("no ETCS_LEVEL2 brake_params and no etcs_brake_params in the file")
 
 
-def check(params: dict, max_speed: float | None = None) -> list[str]:
-    """OSRD's rules on an EtcsBrakeParams (its Rust type's deserializer and documented ranges): the
-    list of every rule broken, empty when OSRD loads it. max_speed: the rolling stock's (m/s)."""
+def check(params: dict, max_speed: float | None = None, documented: bool = True) -> list[str]:
+    """OSRD's rules on an EtcsBrakeParams: the list of every rule broken. Its deserializer enforces
+    the fields and each curve's form (one more value than boundaries, >= 0, boundaries strictly
+    increasing); documented=True adds the rules its type documents ("should"): k_dry and k_wet on
+    gamma_emergency's boundaries, factors in [0, 1], Kn in [0, 10] m/s^2, decelerations > 0 and
+    boundaries below the maximum speed (m/s). OSRD's own ETCS test rolling stock gives k_dry on
+    other boundaries than gamma_emergency's: OSRD loads it (documented=False)."""
     errors = []
     if not isinstance(params, dict):
         return [f"brake_params = {params!r}: must be an object"]
@@ -126,6 +130,8 @@ def check(params: dict, max_speed: float | None = None) -> list[str]:
             errors.append(f"{name}: boundaries and values must be finite and >= 0")
         if any(x >= y for x, y in zip(b, b[1:])):
             errors.append(f"{name}: boundaries must be strictly increasing")
+        if not documented:
+            continue
         if max_speed is not None and b and b[-1] >= max_speed:
             errors.append(f"{name}: boundary {b[-1]:g} m/s at or above the maximum speed {max_speed:g} m/s")
         if name.startswith("gamma") and any(x <= 0.0 for x in v):
@@ -179,3 +185,45 @@ def train_data(model: dict, service: dict, level: int = DEFAULT_LEVEL) -> dict:
         var("T_traction_cut_off", service["T_traction_cut_off_s"], "s", "3.13.9.3.2.3",
             f"traction cut-off command to no traction acceleration ({service['T_traction_cut_off_source']})"),
     ], "osrd_k_dry_level": level}
+
+
+def _value(curve: dict, speed: float) -> float:
+    """OSRD's SpeedIntervalValueCurve.getValue: the first interval whose boundary is >= speed."""
+    for boundary, value in zip(curve["boundaries"], curve["values"]):
+        if speed <= boundary:
+            return value
+    return curve["values"][-1]
+
+
+def from_osrd(params: dict, max_speed: float, name: str = "osrd") -> tuple[dict, dict]:
+    """A braking model and service data (the JSON forms railbrake.etcs.curves reads) from an OSRD
+    EtcsBrakeParams and the rolling stock's max_speed (m/s): every curve on the union of all
+    boundaries; k_dry, the level OSRD was given, at every M_NVEBCL; no M_rotating_nom (SUBSET-026's
+    fixed values then apply); T_bs = t_bs2."""
+    errors = check(params, max_speed, documented=False)
+    if errors:
+        raise InputError(f"{name}: not an EtcsBrakeParams OSRD loads: {'; '.join(errors)}")
+    edges = sorted({b for c in CURVES for b in params[c]["boundaries"]})
+    lower = [0.0, *edges]
+    upper = [*edges, max_speed]
+    mids = [(a + b) / 2.0 for a, b in zip(lower, upper)]   # OSRD's intervals are (b_i, b_i+1]
+
+    def step(curve: str) -> list:
+        return [float(_value(params[curve], v)) for v in mids]
+
+    kdry = step("k_dry")
+    steps_kmh = [v / KMH for v in lower]
+    model = {"train": name, "A_brake_emergency": {"V_lower_kmh": steps_kmh, "A_m_s2": step("gamma_emergency")},
+             "T_brake_emergency_s": float(params["t_be"]),
+             "Kdry_rst": [{"M_NVEBCL": i, "coded": kdry} for i in range(len(confidence.EBCL))],
+             "Kwet_rst": {"coded": min(step("k_wet"))}}
+    if len(set(step("k_wet"))) > 1:
+        raise InputError(f"{name}: k_wet varies with speed; railbrake's braking model has one Kwet_rst")
+    kn_pos, kn_neg = step("k_n_pos"), step("k_n_neg")
+    service = {"V_lower_kmh": steps_kmh, "A_brake_service": step("gamma_service"),
+               "A_brake_normal_service": step("gamma_normal_service"),
+               "T_bs_s": float(params["t_bs2"]), "T_bs1_s": float(params["t_bs1"]), "T_bs2_s": float(params["t_bs2"]),
+               "Kn_plus_m_s2": min(kn_pos), "Kn_minus_m_s2": max(kn_neg), "M_rotating_nom_percent": None,
+               "T_traction_cut_off_s": float(params["t_traction_cut_off"]), "traction_cut_off_implemented": True,
+               "initial_speed_kmh": max_speed / KMH, "max_speed_kmh": max_speed / KMH}
+    return model, service
