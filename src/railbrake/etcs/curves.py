@@ -20,7 +20,8 @@ whole-train runs in the C core) and its service data (railbrake.etcs.service).
   restrictive SBI supervises.
 - W = SBI - V T_warning (3.13.9.3.4), P = SBI - V T_driver (3.13.9.3.5; with Q_NVGUIPERM the
   guidance curve from the EoA on A_normal_service = A_brake_normal_service + A_gradient - Kn
-  grad/1000 caps it), I = P - V (max(0.8 T_bs, 5 s) + T_driver) (3.13.9.3.6).
+  grad/1000 caps it), I = P - V (max(0.8 T_bs, 5 s) + T_driver) (3.13.9.3.6; the constants in the
+  national values file).
 
 The gradient is read at the train's front (the track files give it as sections; a profile whose
 gradient rises towards the EoA would need the lowest gradient under the whole train). Release
@@ -123,7 +124,7 @@ def times(model: dict, service: dict, national: National) -> dict:
     t_traction = max(0.0, cut - (national.T_warning_s + t_bs2)) if service["traction_cut_off_implemented"] else cut
     return {"T_be": t_be, "T_bs": t_bs, "T_bs1": t_bs1, "T_bs2": t_bs2, "T_traction": t_traction,
             "T_berem": max(0.0, t_be - t_traction),
-            "T_indication": max(0.8 * t_bs, 5.0) + national.T_driver_s}
+            "T_indication": max(national.T_indication.bs_factor * t_bs, national.T_indication.min_s) + national.T_driver_s}
 
 
 def compute(model: dict, service: dict, track: Track, national: National) -> dict:

@@ -32,6 +32,11 @@ class Ura(_Strict):
         return self
 
 
+class Indication(_Strict):
+    bs_factor: float = Field(ge=0.0, le=10.0)
+    min_s: float = Field(ge=0.0, le=60.0)
+
+
 class National(_Strict):
     schema_: Literal["railbrake.etcs-national/1"] = Field(alias="schema")
     name: str
@@ -44,6 +49,7 @@ class National(_Strict):
     Q_NVINHSMICPERM: bool
     T_warning_s: float = Field(ge=0.0, le=60.0)
     T_driver_s: float = Field(ge=0.0, le=60.0)
+    T_indication: Indication
     A_est2_m_s2: float = Field(ge=0.0, le=0.4)
     M_rotating_min_percent: float = Field(ge=0.0, le=100.0)
     M_rotating_max_percent: float = Field(ge=0.0, le=100.0)

@@ -157,3 +157,44 @@ def test_a_track_whose_svl_is_before_its_eoa_is_refused(tmp_path):
                     "svl_m: 800.0\ngradients: [{from_m: 0.0, permille: 0.0}]\n")
     with pytest.raises(Exception, match="eoa_m <= svl_m"):
         national.load_track(path)
+
+
+def test_supervision_limits_are_the_specifications_time_shifts(data):
+    """W, P, I from the most restrictive SBI by V T_warning, V T_driver, V T_indication; SBI1 and
+    SBI2 from SBD and EBI by V T_bs1, V T_bs2 (SUBSET-026 3.13.9.3.3-6, A.3.1 fixed values)."""
+    nv = national.load_national()
+    m, s = data[TRAINS[0]]
+    r = curves.compute(m, s, national.load_track("descent-10km"), nv)
+    t = r["times_s"]
+    assert t["T_indication"] == pytest.approx(max(0.8 * s["T_bs_s"], 5.0) + 4.0)
+    c = {n: {v: x for x, v in pts} for n, pts in r["curves"].items()}
+    for v_kmh, ebi in c["EBI"].items():
+        v = v_kmh * KMH
+        sbi = min(c["SBI1"][v_kmh], c["SBI2"][v_kmh])
+        assert c["SBI2"][v_kmh] == pytest.approx(ebi - v * t["T_bs2"], abs=1e-9)
+        assert c["SBI1"][v_kmh] == pytest.approx(c["SBD"][v_kmh] - v * t["T_bs1"], abs=1e-9)
+        assert c["W"][v_kmh] == pytest.approx(sbi - v * 2.0, abs=1e-9)
+        assert c["P"][v_kmh] == pytest.approx(sbi - v * 4.0, abs=1e-9)
+        assert c["I"][v_kmh] == pytest.approx(c["P"][v_kmh] - v * t["T_indication"], abs=1e-9)
+
+
+def test_guidance_caps_the_permitted_speed_when_the_nation_permits_it(data, tmp_path):
+    text = national._path("national", "default").read_text().replace("Q_NVGUIPERM: false", "Q_NVGUIPERM: true")
+    path = tmp_path / "nv.yaml"
+    path.write_text(text)
+    m, s = data[TRAINS[0]]
+    track = national.load_track("flat-10km")
+    plain = curves.compute(m, s, track, national.load_national())
+    guided = curves.compute(m, s, track, national.load_national(path))
+    assert "GUI" in guided["curves"] and "GUI" not in plain["curves"]
+    for (xp, v), (xg, _), (xgui, _) in zip(plain["curves"]["P"], guided["curves"]["P"], guided["curves"]["GUI"]):
+        assert xg == pytest.approx(min(xp, xgui), abs=1e-9)
+
+
+def test_a_bad_national_value_is_refused_with_its_file_and_key(tmp_path):
+    text = national._path("national", "default").read_text().replace("M_NVEBCL: 9", "M_NVEBCL: 12")
+    path = tmp_path / "nv.yaml"
+    path.write_text(text)
+    with pytest.raises(Exception, match=r"M_NVEBCL") as info:
+        national.load_national(path)
+    assert str(path) in str(info.value)
