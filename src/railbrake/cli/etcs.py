@@ -75,6 +75,7 @@ def curves(
     speed: Optional[float] = typer.Option(None, min=1.0, max=600.0, help="A train's initial speed, km/h (model "
                                           "computed here; default: its maximum)."),
     samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs per likely state (model computed here)."),
+    workers: int = typer.Option(2, min=1, max=64, help="Worker processes (model computed here)."),
     out: Optional[Path] = typer.Option(None, help="Folder for curves.json, curves.png and curves.html "
                                        "(default: out/etcs-curves/<train>)."),
     json: bool = typer.Option(False, "--json", help="Print the curves as JSON."),
@@ -96,7 +97,8 @@ def curves(
         train_data = json_module.loads(svc_path.read_text()) if svc_path.is_file() else service.service_data(data)
     else:
         settings = {"samples": samples} if samples is not None else {}
-        data = export.to_json(model.braking_model(model.spec(train, cars=cars, initial_speed_kmh=speed, **settings)))
+        spec = model.spec(train, cars=cars, initial_speed_kmh=speed, **settings)
+        data = json_module.loads(jsonio.dumps(export.to_json(model.braking_model(spec, workers=workers))))
         train_data = service.service_data(data)
     result = etcs_curves.compute(data, train_data, nv.load_track(track), nv.load_national(national))
     folder = prepare_folder(out or Path("out") / "etcs-curves" / Path(str(data["train"])).stem, "--out")
