@@ -23,10 +23,10 @@ from railbrake.errors import InputError
 from railbrake.etcs import confidence
 from railbrake.units import KMH
 
-SCHEMA_FILES = ("editoast/schemas/src/rolling_stock/etcs_brake_params.rs",
-                "editoast/schemas/src/rolling_stock/supported_signaling_system.rs")
-OSRD_VERSION = ("OSRD main branch, 2025 (the SupportedSignalingSystem enum with ETCS_LEVEL2 brake_params; "
-                "EtcsBrakeParams with its 11 fields, unchanged since railjson 3.3)")
+SCHEMA_FILES = ("editoast/schemas/src/rolling_stock/etcs_brake_params.rs at commit f902e39fbe59",
+                "editoast/schemas/src/rolling_stock/supported_signaling_system.rs at commit 502288eeef65")
+OSRD_VERSION = ("OSRD main branch, 2025 (OpenRailAssociation/osrd: the SupportedSignalingSystem enum with "
+                "ETCS_LEVEL2 brake_params; EtcsBrakeParams with its 11 fields, as in railjson 3.3)")
 FIELDS = ("gamma_emergency", "gamma_service", "gamma_normal_service", "k_dry", "k_wet", "k_n_pos", "k_n_neg",
           "t_traction_cut_off", "t_bs1", "t_bs2", "t_be")
 CURVES = FIELDS[:7]
