@@ -19,6 +19,9 @@ from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
 
 CURVE_STEP_S = 0.05   # s between the stop's output samples the interval decelerations interpolate
+# an interval from v1 counts when the braking curve starts at most this fraction below v1 (the
+# run-down by resistance during te), and is then evaluated from the curve's first speed
+INTERVAL_START_TOLERANCE = 0.01
 
 
 @cache
@@ -42,25 +45,42 @@ def equivalent_deceleration(v0: float, distance: float, response_time: float) ->
     return v0 * v0 / (2.0 * braking)
 
 
-def interval_decelerations(speed: np.ndarray, distance: np.ndarray, intervals_kmh) -> list[dict]:
+def braking_curve(time, speed, distance, response_time: float) -> tuple[np.ndarray, np.ndarray]:
+    """(speed m/s, distance m) of a stop from the end of its equivalent response time te on: the
+    brake acts from there (EN 14531-1), so a mean deceleration over the first speed interval does
+    not count the free run during te. The sample at te is interpolated."""
+    time, speed, distance = (np.asarray(x, float) for x in (time, speed, distance))
+    te = real("response_time", response_time, 0.0)
+    after = time > te
+    if not after.any():
+        raise InputError(f"response_time = {te:g} s: the stop ends at {time[-1]:g} s, before the brake acts")
+    return (np.concatenate([[np.interp(te, time, speed)], speed[after]]),
+            np.concatenate([[np.interp(te, time, distance)], distance[after]]))
+
+
+def interval_decelerations(speed, distance, intervals_kmh) -> list[dict]:
     """Mean deceleration (v1^2 - v2^2) / (2 s_12) over each speed interval [v1, v2] km/h (v1 > v2)
-    that the stop's curve (speed m/s falling with distance m) covers whole; the distance between the
-    two speeds interpolated linearly in speed."""
+    of a braking curve (speed m/s falling with distance m, from braking_curve), the distance between
+    the two speeds interpolated linearly in speed. An interval above the curve's first speed is left
+    out, one that holds it starts there: its from_kmh is that speed (a stop from 350 km/h has run
+    down a little by the end of te)."""
     speed, distance = np.asarray(speed, float), np.asarray(distance, float)
     if speed.size < 2 or speed.size != distance.size:
         raise InputError(f"the stop's curve: {speed.size} speeds and {distance.size} distances, "
                          "at least two of each and as many")
     falling = speed[::-1], distance[::-1]     # np.interp needs rising speeds
+    first = float(speed[0])
     rows = []
     for v1_kmh, v2_kmh in intervals_kmh:
         v1, v2 = kmh_to_ms(float(v1_kmh)), kmh_to_ms(float(v2_kmh))
         if not v1 > v2 >= 0.0:
             raise InputError(f"speed interval [{v1_kmh}, {v2_kmh}] km/h: the first speed must exceed the "
                              "second, both >= 0")
-        if v1 > speed[0] * (1 + 1e-9):
+        if v2 >= first or v1 > first * (1 + INTERVAL_START_TOLERANCE):
             continue
+        v1 = min(v1, first)
         s12 = float(np.interp(v2, *falling) - np.interp(v1, *falling))
-        rows.append({"from_kmh": float(v1_kmh), "to_kmh": float(v2_kmh), "distance_m": s12,
+        rows.append({"from_kmh": ms_to_kmh(v1), "to_kmh": float(v2_kmh), "distance_m": s12,
                      "deceleration_ms2": (v1 * v1 - v2 * v2) / (2.0 * s12)})
     return rows
 
@@ -94,7 +114,8 @@ class Stop:
     time: float               # s
     delay: float              # s, ta (simulated)
     build_up: float           # s, tb (simulated)
-    speed: np.ndarray         # m/s along the stop
+    curve_time: np.ndarray    # s along the stop
+    speed: np.ndarray         # m/s
     along: np.ndarray         # m
     warnings: list = field(default_factory=list)
 
@@ -110,8 +131,8 @@ def emergency_stop(train: vehicle.Train, v0: float, preset: str) -> Stop:
     measured = response.simulated(train, v0, preset=preset)
     r = sizing.stopping_distance(v0, train=train, delay=measured.delay, build_up=measured.build_up,
                                  dt_out=CURVE_STEP_S)
-    return Stop(v0, r.distance, r.time, measured.delay, measured.build_up, r.curve_speed, r.curve_distance,
-                list(r.warnings))
+    return Stop(v0, r.distance, r.time, measured.delay, measured.build_up, r.curve_time, r.curve_speed,
+                r.curve_distance, list(r.warnings))
 
 
 @dataclass(frozen=True)
@@ -160,7 +181,8 @@ def _en14531(train: vehicle.Train, preset: str) -> tuple[dict, list]:
            "stopping_time_s": stop.time, "delay_s": stop.delay, "build_up_s": stop.build_up,
            "response_time_s": stop.response,
            "equivalent_deceleration_ms2": equivalent_deceleration(stop.v0, stop.distance, stop.response),
-           "intervals": interval_decelerations(stop.speed, stop.along, settings()["en14531"]["speed_intervals_kmh"])}
+           "intervals": interval_decelerations(*braking_curve(stop.curve_time, stop.speed, stop.along, stop.response),
+                                               settings()["en14531"]["speed_intervals_kmh"])}
     return out, stop.warnings
 
 
