@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
 import yaml
@@ -125,7 +126,7 @@ class Stop:
         return self.delay + 0.5 * self.build_up
 
 
-def emergency_stop(train: vehicle.Train, v0: float, preset: str) -> Stop:
+def emergency_stop(train: vehicle.Train, v0: float, preset: str | None) -> Stop:
     """The emergency stop of `train` from v0 m/s on level track with its simulated build-up."""
     from railbrake.simulation import response
     measured = response.simulated(train, v0, preset=preset)
@@ -154,7 +155,7 @@ class BrakeCalculation:
         return all(row["passed"] for row in self.tsi) if self.tsi else None
 
 
-def _uic(train: vehicle.Train, preset: str, force: bool) -> dict:
+def _uic(train: vehicle.Train, preset: str | None, force: bool) -> dict:
     s = settings()["uic544"]
     limit = s["valid_up_to_kmh"]
     valid = ms_to_kmh(train.max_speed) <= limit * (1 + 1e-9)
@@ -175,7 +176,7 @@ def _uic(train: vehicle.Train, preset: str, force: bool) -> dict:
     return out
 
 
-def _en14531(train: vehicle.Train, preset: str) -> tuple[dict, list]:
+def _en14531(train: vehicle.Train, preset: str | None) -> tuple[dict, list]:
     stop = emergency_stop(train, train.max_speed, preset)
     out = {"initial_speed_kmh": ms_to_kmh(stop.v0), "stopping_distance_m": stop.distance,
            "stopping_time_s": stop.time, "delay_s": stop.delay, "build_up_s": stop.build_up,
@@ -186,7 +187,7 @@ def _en14531(train: vehicle.Train, preset: str) -> tuple[dict, list]:
     return out, stop.warnings
 
 
-def _tsi(train: vehicle.Train, preset: str) -> list[dict]:
+def _tsi(train: vehicle.Train, preset: str | None) -> list[dict]:
     s = settings()["tsi"]
     if ms_to_kmh(train.max_speed) < s["applies_from_max_speed_kmh"]:
         return []
@@ -202,13 +203,13 @@ def _tsi(train: vehicle.Train, preset: str) -> list[dict]:
     return rows
 
 
-def calculate(train: str, load_case: str | None = None, force_lambda: bool = False) -> BrakeCalculation:
-    """The brake calculation of `train` (preset name or train file) in `load_case` (tare, normal,
+def calculate(train, load_case: str | None = None, force_lambda: bool = False) -> BrakeCalculation:
+    """The brake calculation of `train` (preset name, train file or vehicle.Train) in `load_case` (tare, normal,
     crush; default: the train file's)."""
     t = vehicle.load_train(train, load_case or True)
+    preset = str(train) if isinstance(train, (str, Path)) else None   # the simulated stop's train
     _, ed = sizing.brake_step(t, "emergency")
     brakes = "friction and ED brake (the emergency step blends the ED brake)" if ed else "friction brake only"
-    en14531, warnings = _en14531(t, str(train))
+    en14531, warnings = _en14531(t, preset)
     return BrakeCalculation(t.name, t.title, t.load_case, t.mass / 1e3, ms_to_kmh(t.max_speed), brakes,
-                            _uic(t, str(train), force_lambda), en14531, _tsi(t, str(train)),
-                            sorted(set(warnings)))
+                            _uic(t, preset, force_lambda), en14531, _tsi(t, preset), sorted(set(warnings)))
