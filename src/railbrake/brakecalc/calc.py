@@ -197,7 +197,9 @@ def _tsi(train: vehicle.Train, preset: str | None) -> list[dict]:
             continue
         stop = emergency_stop(train, kmh_to_ms(v_kmh), preset)
         rows.append({"speed_kmh": float(v_kmh), "limit_m": float(limit), "stopping_distance_m": stop.distance,
-                     "response_time_s": stop.response, "margin_m": limit - stop.distance,
+                     "response_time_s": stop.response,
+                     "equivalent_deceleration_ms2": equivalent_deceleration(stop.v0, stop.distance, stop.response),
+                     "margin_m": limit - stop.distance,
                      "margin_percent": 100.0 * (limit - stop.distance) / limit,
                      "passed": bool(stop.distance <= limit)})
     return rows

@@ -93,11 +93,12 @@ def _train_html(c: BrakeCalculation) -> str:
         parts.append(f"<p>No TSI value applies: maximum speed below "
                      f"{settings()['tsi']['applies_from_max_speed_kmh']:g} km/h.</p>")
     else:
-        rows = [[f"{r['speed_kmh']:.0f}", f"{r['response_time_s']:.2f}", f"{up(r['stopping_distance_m']):.0f}",
+        rows = [[f"{r['speed_kmh']:.0f}", f"{r['response_time_s']:.2f}",
+                 f"{down(r['equivalent_deceleration_ms2'], 0.01):.2f}", f"{up(r['stopping_distance_m']):.0f}",
                  f"{r['limit_m']:.0f}", f"{down(r['margin_m']):.0f}", f"{down(r['margin_percent'], 0.1):.1f}",
                  _verdict_html(r["passed"])] for r in c.tsi]
-        parts.append(_table(["from (km/h)", "te (s)", "distance (m)", "TSI limit (m)", "margin (m)", "margin (%)",
-                             "verdict"], rows))
+        parts.append(_table(["from (km/h)", "te (s)", "a_e (m/s²)", "distance (m)", "TSI limit (m)", "margin (m)",
+                             "margin (%)", "verdict"], rows))
     parts += [f"<p class='fail'>warning: {html.escape(w)}</p>" for w in c.warnings]
     return "".join(parts)
 

@@ -97,6 +97,9 @@ def test_report_of_a_train_below_and_above_200_kmh():
     for r in fast.tsi:
         assert r["margin_m"] == pytest.approx(r["limit_m"] - r["stopping_distance_m"])
         assert r["passed"] == (r["stopping_distance_m"] <= r["limit_m"])
+        v = kmh_to_ms(r["speed_kmh"])
+        assert v * r["response_time_s"] + v ** 2 / (2 * r["equivalent_deceleration_ms2"]) == \
+            pytest.approx(r["stopping_distance_m"])
     assert fast.passed == all(r["passed"] for r in fast.tsi)
     distances = [r["stopping_distance_m"] for r in fast.tsi]
     assert distances == sorted(distances) and not math.isclose(distances[0], distances[-1])
