@@ -22,9 +22,9 @@ LAYERS = (
     ("core binding", "ctypes mirror of the C core's structs and functions (every law is in core/)",
      ("railbrake._core",)),
     ("data and schemas", "data files read and validated: trains, scenarios, adhesion conditions, valves, "
-     "pneumatic elements, wheel-rail contact",
+     "pneumatic elements, deceleration profiles, wheel-rail contact",
      ("railbrake.config", "railbrake.vehicle", "railbrake.scenario", "railbrake.contact", "railbrake.adhesion",
-      "railbrake.pneumatics", "railbrake.valves", "railbrake.train_template")),
+      "railbrake.pneumatics", "railbrake.valves", "railbrake.train_template", "railbrake.profiles")),
     ("resolution", "one resolved, validated configuration; sizing of the brake steps on a train",
      ("railbrake.resolve", "railbrake.sizing")),
     ("runs", "C structs of a resolved configuration, whole runs in the core",

@@ -641,7 +641,7 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
 def _check_references(model: _TrainFile, locate) -> None:
     """The brake steps' profiles load and the valve designs name a design file: a name that names
     nothing is refused here, with its key, not when a run first needs it."""
-    from railbrake.sizing import load_profile
+    from railbrake.profiles import load_profile
     for step in ("emergency", "service"):
         name = getattr(model.brake_steps, step).profile
         try:
