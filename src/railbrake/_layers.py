@@ -18,7 +18,7 @@ PACKAGE = "railbrake"
 LAYERS = (
     ("foundations", "units, errors, argument checks, JSON, the layer table",
      ("railbrake.units", "railbrake.errors", "railbrake._args", "railbrake.jsonio", "railbrake._changes",
-      "railbrake._layers")),
+      "railbrake._layers", "railbrake._version")),
     ("core binding", "ctypes mirror of the C core's structs and functions (every law is in core/)",
      ("railbrake._core",)),
     ("data and schemas", "data files read and validated: trains, scenarios, adhesion conditions, valves, "
@@ -27,15 +27,16 @@ LAYERS = (
       "railbrake.pneumatics", "railbrake.valves", "railbrake.train_template", "railbrake.profiles")),
     ("resolution", "one resolved, validated configuration; sizing of the brake steps on a train",
      ("railbrake.resolve", "railbrake.sizing")),
-    ("runs", "C structs of a resolved configuration, whole runs in the core",
+    ("C structs", "the C core's structs of a resolved configuration, its KPIs back as a dict",
+     ("railbrake.simulation.parameters",)),
+    ("results, plots and reports", "the Result type, its KPIs, records, files and readers; figures of results",
+     ("railbrake.results", "railbrake.plots")),
+    ("runs", "whole runs in the core (real-time and detailed models) into a Result",
      ("railbrake.simulation",)),
-    ("results", "the Result type, its KPIs, records, files and readers",
-     ("railbrake.results",)),
-    ("plots and reports", "figures of results",
-     ("railbrake.plots",)),
-    ("studies and systems", "campaigns, ETCS braking curves, validation cases, HIL, sequences, FMU export",
+    ("studies and systems", "campaigns, ETCS braking curves, validation cases, HIL, sequences, FMU export, "
+     "valve reduction on the detailed model",
      ("railbrake.campaign", "railbrake.etcs", "railbrake.validation", "railbrake.hil", "railbrake.sequence",
-      "railbrake.fmu")),
+      "railbrake.fmu", "railbrake.valves.reduce")),
     ("command line", "the railbrake command and the package's face",
      ("railbrake.cli", "railbrake._entry", "railbrake.__main__", "railbrake")),
 )

@@ -23,6 +23,7 @@ from railbrake._version import __version__
 from railbrake import scenario as scenarios
 from railbrake.resolve import resolve
 from railbrake import simulation, vehicle
+from railbrake.simulation.parameters import _scenario_struct
 from railbrake.errors import InputError
 from railbrake.fmu.binaries import DEFAULT_PLATFORMS, compile_binary
 from railbrake.fmu.description import Header, build_description, model_description
@@ -194,7 +195,7 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
     plant = simulation.plant_params(sc, n_cars, train=resolved.train, kernel=kernel)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True, resolved.train),
              "wsp": simulation.wsp_params(sc),
-             "scenario": simulation._scenario_struct(sc)}
+             "scenario": _scenario_struct(sc)}
     variables = table(roots, n_cars, plant.atmosphere)
     title = f"scenario {sc.name}, {n_cars} car{'s' if n_cars > 1 else ''}"
     body = generated_c(roots, variables, "@TOKEN@", title)

@@ -31,7 +31,7 @@ from railbrake.hil.keys import key_bytes
 from railbrake.hil.live import LiveView
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario
-from railbrake.simulation import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
+from railbrake.simulation.parameters import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
 from railbrake.vehicle import load_train
 
 DT = 1e-3                  # s, fixed by the interface
