@@ -278,7 +278,7 @@ def _check_size(study: Study, max_runs: int) -> None:
         first = {f.name: f.at(0.0) for f in study.factors}
 
         def measure():
-            from railbrake.campaign.plan import point_sets
+            from railbrake.campaign.points import point_sets
             base_tree = configuration.tree(configuration.resolve(study.base))
             return budget.measure_one(study.base, point_sets(study, first, base_tree))
 
