@@ -22,10 +22,18 @@ import pytest
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "bit_for_bit.json"
 STUDY = Path(__file__).resolve().parents[1] / "campaign" / "data" / "small.yaml"
-# (scenario, cars, kernel): 1 and 8 cars, dry and wet, rail cleaned cell by cell, a fault, a service step
-RUNS = [("emergency-250-dry", 1, None), ("emergency-250-dry", 8, None), ("emergency-250-dry", 2, "portable"),
-        ("emergency-300-heavy-rain", 1, None), ("service-200-wet", 1, None),
-        ("emergency-300-leaves-patch", 1, None), ("fault-vent-valve-stuck", 4, None)]
+# (scenario, cars, kernel, overrides): 1 and 8 cars, dry and wet, rail cleaned cell by cell, a fault, a
+# service step, the three WSP controllers, the conditioning mode
+RUNS = [("emergency-250-dry", 1, None, ()), ("emergency-250-dry", 8, None, ()),
+        ("emergency-250-dry", 2, "portable", ()), ("emergency-300-heavy-rain", 1, None, ()),
+        ("service-200-wet", 1, None, ()), ("emergency-300-leaves-patch", 1, None, ()),
+        ("fault-vent-valve-stuck", 4, None, ()),
+        ("emergency-300-heavy-rain", 1, None, ("wsp.controller=slip_setpoint",)),
+        ("emergency-300-heavy-rain", 2, None, ("wsp.controller=decel_slip_speed", "wsp.conditioning_mode=true"))]
+
+
+def _key(scenario: str, cars: int, kernel: str | None, sets: tuple) -> str:
+    return "/".join([scenario, str(cars), kernel or "auto", *sets])
 
 
 def _outputs_digest(result) -> str:
@@ -36,11 +44,12 @@ def _outputs_digest(result) -> str:
     return digest.hexdigest()
 
 
-def _run(scenario: str, cars: int, kernel: str | None) -> dict:
+def _run(scenario: str, cars: int, kernel: str | None, sets: tuple) -> dict:
+    from railbrake.resolve import resolve
     from railbrake.simulation import run
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")   # the conditions' validity notes: not the point here
-        result = run(scenario, cars, kernel=kernel)
+        result = run(resolve(scenario, cars, sets), kernel=kernel)
     return {"kpis": result.kpis, "rows": len(result.time), "outputs": _outputs_digest(result)}
 
 
@@ -62,7 +71,7 @@ def _study() -> list:
 
 
 def digests() -> dict:
-    return {"runs": {f"{s}/{c}/{k or 'auto'}": _run(s, c, k) for s, c, k in RUNS}, "study": _study()}
+    return {"runs": {_key(*r): _run(*r) for r in RUNS}, "study": _study()}
 
 
 def _canonical(value):
@@ -74,10 +83,10 @@ def stored():
     return json.loads(DATA.read_text())
 
 
-@pytest.mark.parametrize("scenario,cars,kernel", RUNS)
-def test_preset_run_bit_for_bit(stored, scenario, cars, kernel):
-    key = f"{scenario}/{cars}/{kernel or 'auto'}"
-    now, before = _canonical(_run(scenario, cars, kernel)), stored["runs"][key]
+@pytest.mark.parametrize("run", RUNS, ids=lambda r: _key(*r))
+def test_preset_run_bit_for_bit(stored, run):
+    key = _key(*run)
+    now, before = _canonical(_run(*run)), stored["runs"][key]
     assert now["rows"] == before["rows"], f"{key}: rows changed (code of {stored['commit']})"
     assert now["kpis"] == before["kpis"], f"{key}: KPIs changed (code of {stored['commit']})"
     assert now["outputs"] == before["outputs"], f"{key}: output arrays changed (code of {stored['commit']})"
