@@ -18,8 +18,8 @@ from railbrake.hil.faults import parse_fault
 from railbrake.resolve import resolve
 from railbrake.results import kpis as kpi_info
 from railbrake.units import BAR
-from railbrake.sequence import (CHANNEL_DIMENSION, COMPARISONS, Sequence, Threshold, WaitAt, duration, matching,
-                                quantity)
+from railbrake.sequence.schema import (CHANNEL_DIMENSION, COMPARISONS, Sequence, Threshold, WaitAt, duration,
+                                       matching, quantity)
 
 
 # the KPIs a condition may name: a MIL run's (run --json); a HIL run's also braked_distance_m
