@@ -138,10 +138,7 @@ def upward(edges: dict[str, set[str]]) -> list[tuple[str, str]]:
 
 
 def table(root: Path | None = None) -> list[tuple[str, str, list[str]]]:
-    """(layer, what it holds, its modules and packages) from the bottom up, for the docs."""
+    """(layer, what it holds, the prefixes of it that name modules) from the bottom up, for the docs."""
     names = modules(root)
-    rows = []
-    for index, (layer, what, _) in enumerate(LAYERS):
-        tops = sorted({".".join(n.split(".")[:2]) for n in names if layer_of(n) == index})
-        rows.append((layer, what, tops))
-    return rows
+    return [(layer, what, [p for p in prefixes if any(n == p or n.startswith(p + ".") for n in names)])
+            for layer, what, prefixes in LAYERS]

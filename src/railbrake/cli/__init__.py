@@ -1,6 +1,6 @@
 """The ``railbrake`` command line. Each concern registers its commands in its own module; the root
 command and main() are in railbrake.cli.root."""
 
-from railbrake.cli.root import app, main
+from railbrake.cli.root import app, main  # app: the Typer app (its tests run it)
 
-__all__ = ["app", "main"]
+__all__ = ["main"]
