@@ -63,13 +63,14 @@ def _body(path) -> list:
 @pytest.mark.parametrize("path", INITS, ids=lambda p: str(p.relative_to(_layers.source_root())))
 def test_init_is_a_face(path):
     body = _body(path)
-    lines = path.read_text().splitlines()
-    if body:   # from the first statement after the docstring to the end
-        used = len(lines) - body[0].lineno + 1 - sum(1 for line in lines[body[0].lineno - 1:] if not line.strip())
-        assert used <= FACE_LINES, f"{path}: {used} non-blank lines after the docstring (at most {FACE_LINES})"
+    tree = ast.parse(path.read_text())
+    docstring_end = tree.body[0].end_lineno if ast.get_docstring(tree, clean=False) is not None else 0
+    used = len(path.read_text().splitlines()) - docstring_end   # blank lines and comments count too
+    assert used <= FACE_LINES, f"{path}: {used} lines after the docstring (at most {FACE_LINES})"
     for node in ast.walk(ast.Module(body=body, type_ignores=[])):
         if isinstance(node, ast.ClassDef):
             pytest.fail(f"{path}, line {node.lineno}: class {node.name}: a face defines no class")
+        # a lazy import (PEP 562: a module's __getattr__ and the __dir__ that lists its names) is no logic
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name not in ("__getattr__", "__dir__"):
             pytest.fail(f"{path}, line {node.lineno}: def {node.name}: logic belongs in a module named for it")
 
