@@ -6,6 +6,7 @@ bcu*.c, run.c); railbrake.simulation.runs makes the runs, in chunks of simulated
 can show progress, into a railbrake.results.Result. Model: docs/simulation.md.
 """
 
+from railbrake import sizing  # noqa: F401 (simulation.sizing.SupplyWarning: the warning structs() gives)
 from railbrake.results.scripting import Result
 from railbrake.simulation.changes import Change
 from railbrake.simulation.response import (RESPONSE_WINDOW, emergency_scenario, response_times,
