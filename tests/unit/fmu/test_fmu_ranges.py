@@ -9,7 +9,7 @@ import math
 import pytest
 
 from fmi_session import SCENARIO, Session
-from railbrake import _core, simulation
+from railbrake import _core, scenario, simulation
 from railbrake.fmu import export_fmu
 from railbrake.fmu.variables import bound_name, table
 
@@ -20,7 +20,7 @@ PARTNERS = {"governor_off": "governor_on", "governor_on": "governor_off"}
 
 def table_of(session):
     """The exporter's variable table of the 1-car plant (conftest.SCENARIO), with the C paths."""
-    sc = simulation.load(SCENARIO)
+    sc = scenario.load(SCENARIO)
     plant = simulation.plant_params(sc, 1)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc)}
     return table(roots, 1, plant.atmosphere)
