@@ -414,6 +414,42 @@ static void test_bcu_server_input(void)
     rb_hil_bcu_close(&server);
 }
 
+/* The BCU's nonce lives one to two RB_HIL_NONCE_LIFETIME: a first keyed frame delayed longer opens
+ * no session (foreign), a hello without a plant nonce gets no challenge, and a fresh hello gets a
+ * challenge with another nonce that opens the session. */
+static void test_bcu_nonce_lifetime(void)
+{
+    setup(1, 30.0);
+    rb_udp plant_side;
+    uint8_t buf[1024];
+    int finished = 0;
+    uint64_t old = bcu_handshake(&plant_side);
+    usleep((useconds_t)(2.05 * RB_HIL_NONCE_LIFETIME * 1e6));
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 0, 1, old, SECRET));   /* delayed past its life */
+    serve(0.02, &finished);
+    CHECK(server.session == 0 && server.foreign == 1 && server.received == 0);
+    rb_plant_frame f;   /* a version 3 style hello: no plant nonce */
+    memset(&f, 0, sizeof f);
+    f.header = (rb_frame_header){SESSION, digest(1), 1, 1, 0, 0, 1, 4, 0};
+    uint8_t hello_key[RB_HIL_KEY_SIZE];
+    size_t size = 0;
+    rb_hil_session_key(SECRET, SESSION, 0, 0, hello_key);
+    CHECK(rb_plant_frame_encode(&f, hello_key, buf, sizeof buf, &size, NULL) == RB_OK);
+    send_raw(&plant_side, buf, size);
+    serve(0.02, &finished);
+    CHECK(server.challenges == 1 && server.foreign == 2);
+    send_raw(&plant_side, buf, hello(buf, 2, 1));
+    serve(0.02, &finished);
+    uint64_t fresh = read_challenge(&plant_side);
+    CHECK(fresh != 0 && fresh != old && server.challenges == 2);
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 3, 1, fresh, SECRET));
+    serve(0.02, &finished);
+    CHECK(server.session == SESSION && server.nonce == fresh && server.plant_nonce == PLANT_NONCE);
+    CHECK(server.received == 1);
+    rb_udp_close(&plant_side);
+    rb_hil_bcu_close(&server);
+}
+
 /* Hostile peers against the BCU: without the key, from another address, in another session, with an
  * old or foreign nonce, or spoofing the plant's address and session: foreign or forged, never served;
  * a third peer's hellos without the key get no challenge, so it cannot open a session before the
@@ -867,6 +903,7 @@ int main(void)
     test_hostile_frames();
     test_bcu_server_input();
     test_bcu_keeps_its_plant();
+    test_bcu_nonce_lifetime();
     test_plant_takes_only_its_bcu();
     test_spoofer_changes_nothing();
     test_sequence_window();
