@@ -153,6 +153,7 @@ class ControlServer:
 
             def process_request(self, request, client_address):
                 if guard_.admit(request, client_address[0]):
+                    guard.no_delay(request)
                     return super().process_request(request, client_address)
                 try:   # every connection of this peer carried the token: the newcomer waits
                     request.settimeout(1.0)

@@ -32,6 +32,7 @@ STATIC = {"/": ("index.html", "text/html; charset=utf-8"),
           "/dashboard.js": ("dashboard.js", "text/javascript; charset=utf-8"),
           "/dashboard.css": ("dashboard.css", "text/css; charset=utf-8")}
 MAX_BODY = control.MAX_LINE
+MAX_QUERY_FIELDS = 20
 
 
 def _static(name: str) -> bytes:
@@ -113,6 +114,7 @@ class _Server(ThreadingHTTPServer):
 
     def process_request(self, request, client_address):
         if self.guard.admit(request, client_address[0]):
+            guard.no_delay(request)
             return super().process_request(request, client_address)
         try:   # every connection of this peer carried the token: the newcomer waits
             request.settimeout(1.0)
@@ -148,9 +150,17 @@ def _content_length(headers) -> tuple[int, int, str]:
 def _handler(board: Dashboard):
     class Handler(BaseHTTPRequestHandler):
         timeout = guard.READ_TIMEOUT   # a silent connection is closed
+        default_request_version = "HTTP/1.0"   # an unparsable request line still gets a status line
 
         def log_message(self, *args):   # the run's console is the summary's
             pass
+
+        def parse_request(self):
+            if not str(self.raw_requestline, "iso-8859-1").split():   # http.server would close without a word
+                self.command, self.requestline, self.request_version = None, "", self.default_request_version
+                self.send_error(400, "empty request line")
+                return False
+            return super().parse_request()
 
         def handle(self):
             try:
@@ -179,7 +189,10 @@ def _handler(board: Dashboard):
             scheme, _, value = (self.headers.get("Authorization") or "").strip().partition(" ")
             if scheme.lower() == "bearer" and value.strip():
                 return value.strip()
-            return parse_qs(query, max_num_fields=20).get("token", [None])[0]
+            try:
+                return parse_qs(query, max_num_fields=MAX_QUERY_FIELDS).get("token", [None])[0]
+            except ValueError:   # more fields than any call of the page has: no token taken from it
+                return None
 
         def _guarded(self, serve) -> None:
             """serve(parts) answering any error no check foresaw with 500, counted, never a traceback."""
