@@ -191,6 +191,7 @@ def served(bcu):
 OUTAGES = [(1000, 1800), (3000, 3800)]   # steps: 0.8 s each
 
 
+@pytest.mark.slow
 def test_replayed_first_challenge_costs_nothing(bcu_process):
     """The reproducer of issue 41: traffic dropped twice and, as it returns, the session's first
     challenge replayed ahead of the BCU's real one. The plant refuses it (it echoes a hello nonce no

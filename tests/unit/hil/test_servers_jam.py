@@ -10,6 +10,8 @@ import socket
 import threading
 import time
 
+import pytest
+
 from conftest import SECRET
 from railbrake import hil
 from railbrake.hil import guard
@@ -233,6 +235,7 @@ def fuzz_dashboard(board, count, clients=4):
     return statuses
 
 
+@pytest.mark.slow
 def test_malformed_requests_are_answered_never_a_traceback(capfd):
     def attack(control, board):
         t0 = time.monotonic()
