@@ -40,7 +40,8 @@ extern "C" {
 #define RB_FRAME_MAC_SIZE 8
 #define RB_FRAME_TRAILER_SIZE (RB_FRAME_CRC_SIZE + RB_FRAME_MAC_SIZE)
 #define RB_HIL_KEY_SIZE 16
-#define RB_HIL_NONCE_LIFETIME 0.5   /* s: a hello nonce, and a BCU nonce not yet used, is good for one to two of these */
+/* s: a hello nonce, and a BCU nonce not yet used, is good for one to two of these (the ICD's design value) */
+#define RB_HIL_NONCE_LIFETIME 0.5
 
 /* challenge: BCU -> plant, header only, carrying the BCU's nonce and echoing the plant's (under the hello key) */
 typedef enum { RB_FRAME_PLANT = 1, RB_FRAME_BCU = 2, RB_FRAME_CHALLENGE = 3 } rb_frame_type;

@@ -185,6 +185,9 @@ def fuzz_control(control, count):
     return answered, errors
 
 
+BAD_LENGTHS = ['-5', 'x', '1e3', '', '99999999999999999', '0x10', ' 12', '12, 13']
+
+
 def malformed_requests(rng, token):
     """HTTP requests that are all wrong in some way."""
     paths = ["/api/fault", "/api/stop", "/api/snapshot", "/api/info", "/nope", "/" + "a" * 3000, "/api/fault?token=x"]
@@ -195,7 +198,7 @@ def malformed_requests(rng, token):
         lambda: f"{rng.choice(['GET', 'POST', 'PUT', 'BREW', 'DELETE'])} {rng.choice(paths)} HTTP/1.0\r\n"
                 f"{rng.choice(auth)}\r\n".encode(),
         lambda: (f"POST /api/fault HTTP/1.0\r\nAuthorization: Bearer {token}\r\nContent-Length: "
-                 f"{rng.choice(['-5', 'x', '1e3', '', '99999999999999999', '0x10', ' 12', '12, 13'])}\r\n\r\n").encode(),
+                 f"{rng.choice(BAD_LENGTHS)}\r\n\r\n").encode(),
         lambda: (lambda body: f"POST /api/fault HTTP/1.0\r\nAuthorization: Bearer {token}\r\nContent-Length: "
                  f"{len(body)}\r\n\r\n".encode() + body)(rng.choice(
                      [b"[" * 3000, b"not json", b'{"command": "inject", "fault": []}', b"\xff" * 10,
