@@ -175,7 +175,9 @@ def kernel_code(kernel: str | None = None) -> int:
 
 def scenario_train(scenario: Scenario, n_cars: int | None = None):
     """The scenario's train with its load case, lengthened to n_cars (default: the scenario's)."""
-    spec = scenario.spec
+    spec = instance("scenario", scenario, Scenario).spec
+    if n_cars is not None:
+        whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     train = load_train(spec.train.preset, spec.train.load_case or True)
     return with_cars(train, scenario.cars(n_cars) if n_cars is None else n_cars)
 
@@ -362,7 +364,7 @@ def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = N
 def demanded_steps(scenario: Scenario) -> dict:
     """The brake steps a scenario demands: {"emergency": 1.0, "service": largest fraction}."""
     steps = {}
-    for step in scenario.spec.demand:
+    for step in instance("scenario", scenario, Scenario).spec.demand:
         if step.emergency:
             steps["emergency"] = 1.0
         elif step.service > 0.0:
