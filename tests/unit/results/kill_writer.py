@@ -1,10 +1,11 @@
 """Driver of test_killed_writer: `railbrake run --out` SIGKILLed at random moments.
 
-python kill_writer.py FOLDER TRIALS SEED [RUN ARGS...] imports the command line once, then forks
-one `railbrake run ... --out FOLDER/ref` that it lets finish (its duration D), then TRIALS more,
-each into FOLDER/kill-N (every other one over a copy of the complete folder, as when a run is
-repeated into the same folder), each SIGKILLed at a moment drawn uniformly in [0, D] after its
-fork. Prints one JSON line: D and, per trial, its folder, the moment and how it ended."""
+python kill_writer.py FOLDER KILLS SEED [RUN ARGS...] imports the command line once, then forks
+one `railbrake run ... --out FOLDER/ref` that it lets finish (its duration D), then more, each
+into FOLDER/kill-N (every other one over a copy of the complete folder, as when a run is repeated
+into the same folder), each SIGKILLed at a moment drawn uniformly in [0, D] after its fork, until
+KILLS of them were killed before they ended (at most 2 KILLS trials). Prints one JSON line: D and,
+per trial, its folder, the moment and how it ended."""
 
 from __future__ import annotations
 
@@ -49,7 +50,7 @@ def _run(args: list[str], kill_after: float | None) -> tuple[str, float]:
 
 
 def main() -> None:
-    folder, trials, seed, run_args = Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4:]
+    folder, kills, seed, run_args = Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4:]
     import asammdf  # noqa: F401 - imported once here, not in each child
     import pyarrow.parquet  # noqa: F401
     import railbrake.cli  # noqa: F401
@@ -58,7 +59,9 @@ def main() -> None:
     rng = random.Random(seed)
     ended, duration = _run([*run_args, "--out", str(folder / "ref")], None)
     report = {"reference": ended, "duration": duration, "trials": []}
-    for n in range(trials):
+    for n in range(2 * kills):
+        if sum(t["ended"] == "killed" for t in report["trials"]) >= kills:
+            break
         out = folder / f"kill-{n}"
         if n % 2:
             shutil.copytree(folder / "ref", out)
