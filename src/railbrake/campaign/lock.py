@@ -35,27 +35,48 @@ def _refusal(out: Path, holder: dict) -> InputError:
                       "or run into another folder")
 
 
-@contextlib.contextmanager
-def holding(out: Path):
-    """Holds the campaign folder out (created) for the block; InputError naming the holder's host
-    and PID when another process holds it."""
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out}: is a file; give a folder")
-    out.mkdir(parents=True, exist_ok=True)
-    fd = os.open(out / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
-    with os.fdopen(fd, "r+") as handle:
+def _open_locked(out: Path):
+    """The lock file, open and flocked by this process; InputError naming the holder. A lock file
+    removed by its holder between our open and our flock (released with an empty folder) is opened
+    again, so that two clients never hold two files."""
+    while True:
+        handle = os.fdopen(os.open(out / LOCK, os.O_RDWR | os.O_CREAT, 0o644), "r+")
         try:
             fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            raise _refusal(out, _holder(handle)) from None
+            holder = _holder(handle)
+            handle.close()
+            raise _refusal(out, holder) from None
         try:
-            handle.seek(0)
-            handle.truncate()
-            handle.write(json.dumps({"host": socket.gethostname(), "pid": os.getpid(), "since": time.time()}))
-            handle.flush()
-            yield
-        finally:
-            handle.seek(0)
-            handle.truncate()   # released: no holder named any more
-            fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
+            same = os.stat(out / LOCK).st_ino == os.fstat(handle.fileno()).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            return handle
+        handle.close()
+
+
+@contextlib.contextmanager
+def holding(out: Path):
+    """Holds the campaign folder out (created) for the block; InputError naming the holder's host
+    and PID when another process holds it. A folder made here that holds nothing else when the
+    block ends (e.g. the scheduler did not answer) is removed again."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out}: is a file; give a folder")
+    created = not out.exists()
+    out.mkdir(parents=True, exist_ok=True)
+    handle = _open_locked(out)
+    try:
+        handle.seek(0)
+        handle.truncate()
+        handle.write(json.dumps({"host": socket.gethostname(), "pid": os.getpid(), "since": time.time()}))
+        handle.flush()
+        yield
+    finally:
+        handle.seek(0)
+        handle.truncate()   # released: no holder named any more
+        if created and [p.name for p in out.iterdir()] == [LOCK]:
+            (out / LOCK).unlink()   # still locked: a client that opened it meanwhile opens again
+            out.rmdir()
+        handle.close()   # closing releases the flock
