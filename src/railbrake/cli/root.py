@@ -11,7 +11,7 @@ import typer.core
 
 import railbrake
 from railbrake.cli import (_common, adhesion, campaign, compare, compare_runs, config, demo, etcs, fmu, hil, plot,
-                           sequence, simulation, sizing, train, validate, valve, wsp)
+                           report, sequence, simulation, sizing, train, validate, valve, wsp)
 
 app = typer.Typer(
     name="railbrake",
@@ -59,6 +59,7 @@ app.add_typer(adhesion.app, name="adhesion")
 app.add_typer(valve.app, name="valve")
 app.add_typer(config.app, name="config")
 app.add_typer(sequence.app, name="sequence")
+app.add_typer(report.app, name="report")
 campaign.register(app)
 compare.register(app)
 compare_runs.register(app)
