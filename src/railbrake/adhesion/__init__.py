@@ -16,6 +16,7 @@ from railbrake.adhesion.conditions import (
     load_condition,
     peak_adhesion,
     preset_names,
+    run_outside_validity,
     warn_outside_range,
 )
 
@@ -38,5 +39,5 @@ __all__ = [
     "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",
     "Peak", "PolachFit", "RailConditioning",
     "car_axles", "car_of_axle", "check_points", "conditions", "creep_curves", "identify_polach", "load_condition",
-    "peak_adhesion", "preset_names", "warn_outside_range",
+    "peak_adhesion", "preset_names", "run_outside_validity", "warn_outside_range",
 ]

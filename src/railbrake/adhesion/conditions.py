@@ -69,9 +69,14 @@ class Validity:
     speed_max_kmh: float
     conditions: str
     source: str
+    origin: str = ""            # the condition's file, and the line of validity.speed_kmh
+    line: int | None = None
 
     def contains(self, speed_kmh: float) -> bool:
         return self.speed_min_kmh <= speed_kmh <= self.speed_max_kmh
+
+    def where(self) -> str:
+        return f"{self.origin}{f', line {self.line}' if self.line else ''}: validity.speed_kmh"
 
 
 @dataclass(frozen=True)
@@ -209,7 +214,8 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
                          f"give [min, max] with min < max, each {config.range_text('train.table_speed', 'km/h', KMH)}")
     validity = None if valid is None else Validity(valid.speed_kmh[0], valid.speed_kmh[1],
                                                    " ".join(valid.conditions.split()),
-                                                   " ".join(valid.source.split()))
+                                                   " ".join(valid.source.split()), _file_of(origin),
+                                                   _config_lines(text).get(("validity", "speed_kmh")))
     try:
         return AdhesionCondition(
             name=model.name, title=model.title, params=_located(PolachParams, model.params, "params", text, origin),
@@ -218,6 +224,13 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
             validity=validity)
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") if origin not in str(exc) else exc from None
+
+
+def _file_of(origin: str) -> str:
+    """A preset's file (inside the package) or the file the condition was read from."""
+    if origin.startswith("preset "):
+        return f"railbrake/data/adhesion/{origin.removeprefix('preset ')}.yaml"
+    return origin
 
 
 def _conditioning(cond: _ConditioningModel, text: str, origin: str) -> RailConditioning:
@@ -288,6 +301,24 @@ def conditions() -> list[AdhesionCondition]:
 
 
 # ------------------------------------------------------------------ range of validity
+
+def run_outside_validity(condition: AdhesionCondition, initial_speed_kmh: float) -> str | None:
+    """Why a run from initial_speed_kmh uses the condition outside its validity, else None.
+
+    A stop passes every speed below the initial one: it is outside when it starts above the
+    range, or when it never reaches the range (starts below it). Conditions without a declared
+    range hold everywhere."""
+    instance("condition", condition, AdhesionCondition)
+    speed = real("initial_speed_kmh", initial_speed_kmh)
+    valid = condition.validity
+    slack = 1e-9 * max(speed, 1.0)   # km/h -> m/s -> km/h rounding
+    if valid is None or valid.speed_min_kmh - slack <= speed <= valid.speed_max_kmh + slack:
+        return None
+    side = "above" if speed > valid.speed_max_kmh else "below"
+    return (f"adhesion condition {condition.name!r} run from {speed:g} km/h, {side} its validity "
+            f"({valid.where()} = [{valid.speed_min_kmh:g}, {valid.speed_max_kmh:g}] km/h: "
+            f"{valid.conditions})")
+
 
 _warned: set = set()
 

@@ -21,7 +21,7 @@ import numpy as np
 import yaml
 
 from railbrake import _core, sizing
-from railbrake.adhesion import load_condition, warn_outside_range
+from railbrake.adhesion import AdhesionRangeWarning, load_condition
 from railbrake.contact import wheel_rail_contact
 from railbrake._args import choice, flag, function, instance, name_or_path, real, whole
 from railbrake.errors import InputError
@@ -31,7 +31,7 @@ from railbrake.scenario import Scenario, load
 from railbrake.simulation import changes as run_changes
 from railbrake.simulation import response
 from railbrake.simulation.changes import Change  # noqa: F401 (the run API's)
-from railbrake.units import KMH, ms_to_kmh
+from railbrake.units import KMH
 from railbrake.vehicle import LOAD_CASES, Train, load_train, with_cars
 
 DT = 1e-3
@@ -159,10 +159,7 @@ def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
 
 
 def _condition(name: str, initial_speed: float, cells: bool) -> _core.PlantCondition:
-    cond = load_condition(name)
-    # A stop passes every speed below the initial one; only starting above the range is flagged.
-    if cond.validity is not None and ms_to_kmh(initial_speed) > cond.validity.speed_max_kmh:
-        warn_outside_range(cond, ms_to_kmh(initial_speed), "run from")
+    cond = load_condition(name)   # its validity: checked with the scenario (Scenario.check_validity)
     c = _core.PlantCondition()
     c.polach = cond.params.to_c()
     k = cond.conditioning
@@ -408,6 +405,8 @@ def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = N
     sc, n_cars = resolved.scenario, resolved.cars
     train = with_cars(resolved.train if train is None else train, n_cars)
     plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
+    for text in sc.outside_validity():   # forced (adhesion.allow_outside_validity), else refused
+        warnings.warn(f"scenario {sc.name}: forced outside validity: {text}", AdhesionRangeWarning, stacklevel=3)
     for text in sizing.supply_warnings(train, demanded_steps(sc), sc.spec.initial_speed):
         warnings.warn(f"scenario {sc.name}: {text}", sizing.SupplyWarning, stacklevel=3)
     return plant, bcu_params(plant, sc, wsp, train), wsp_params(sc), _scenario_struct(sc)
@@ -491,8 +490,14 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     series = series[:n_rows]
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
-                  dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere,
+                  dict(names), kpi_dict(kpis, plant.atmosphere) | outside_validity_kpi(sc), plant.atmosphere,
                   resolved=configured)
+
+
+def outside_validity_kpi(scenario: Scenario) -> dict:
+    """{"adhesion_outside_validity": what} for a run forced outside a condition's validity, else {}."""
+    outside = scenario.outside_validity()
+    return {"adhesion_outside_validity": "; ".join(outside)} if outside else {}
 
 
 def demanded_steps(scenario: Scenario) -> dict:
@@ -557,8 +562,10 @@ RESPONSE_WINDOW = response.settings()["window_s"]   # s of emergency braking the
 
 
 def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-medium",
-                       max_time: float = 3600.0, load: str | None = None) -> Scenario:
-    """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`."""
+                       max_time: float = 3600.0, load: str | None = None,
+                       allow_outside_validity: bool = False) -> Scenario:
+    """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`;
+    allow_outside_validity: run the condition outside its validity (flagged) instead of refusing."""
     from railbrake.scenario import SCHEMA, from_data
     train, condition = name_or_path("train", train), name_or_path("condition", condition)
     initial_speed, max_time = real("initial_speed", initial_speed, 0.0), real("max_time", max_time, 0.0)
@@ -567,7 +574,9 @@ def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-m
     data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
             "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
             "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
-            "demand": [{"time": "0 s", "emergency": True}], "adhesion": {"condition": condition},
+            "demand": [{"time": "0 s", "emergency": True}],
+            "adhesion": {"condition": condition, "allow_outside_validity": flag("allow_outside_validity",
+                                                                                allow_outside_validity)},
             "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
     if load is not None:
         data["train"]["load_case"] = load

@@ -204,7 +204,7 @@ name: ed-lost
 train: {preset: crh380a-8}
 initial_speed: 200 km/h
 demand: [{time: 0 s, service: 1.0}]
-adhesion: {condition: wet}
+adhesion: {condition: wet, allow_outside_validity: true}
 faults: [{type: ed_lost, car: 2, start: 0 s}]
 """
     r = simulation.run(scenario.parse(source, "ed-lost"))
@@ -235,7 +235,7 @@ name: faults
 train: {{preset: crh380a-8, cars: {cars}}}
 initial_speed: 250 km/h
 demand: [{{time: 0 s, emergency: true}}]
-adhesion: {{condition: wet}}
+adhesion: {{condition: wet, allow_outside_validity: true}}
 faults: {faults}
 seed: 7
 """
