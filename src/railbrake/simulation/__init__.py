@@ -192,6 +192,7 @@ def _sanders(train, n_cars: int, p: _core.PlantParams) -> None:
         p.sander_start[i] = s.start_s
     p.n_sanders = len(sanders.units)
     p.sand_reference = sanders.sand_reference_kg_m
+    p.sand_entrained, p.sand_retention = sanders.sand_entrained, sanders.sand_retention
 
 
 def _rail_cells(names: list, p: _core.PlantParams) -> None:
