@@ -12,7 +12,8 @@
  * 128-140, there of the specific friction power; source and assumptions in rb_contact.h). With the
  * same e for every axle the axle-count law results, recovery_axles = E_ref / e. The axles behind
  * then see the cell their predecessors cleaned: the adhesion they find follows what the axles
- * ahead slid, not their index.
+ * ahead slid, not their index. An infinite reference_energy keeps the cells (sand conditions
+ * them) without the sliding wheels cleaning them: a contaminant they do not remove.
  *
  * Sanders are a second source: the sand a sander drops lies loose on the cell ahead of its axle.
  * Each axle that meets a cell entrains the fraction sand_entrained of its loose sand into the
@@ -45,10 +46,10 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
 {
     for (int i = 0; i < p->n_conditions; ++i) {
         const rb_plant_condition *c = &p->condition[i];
-        if (!isfinite(c->reference_energy) || c->reference_energy < 0.0)
-            return rb_fail(err, RB_EINVAL, "condition[%d].reference_energy = %g J/m2: must be >= 0 (0: no rail cells)",
-                           i, c->reference_energy);
-        if (c->reference_energy > 0.0) {
+        if (isnan(c->reference_energy) || c->reference_energy < 0.0)
+            return rb_fail(err, RB_EINVAL, "condition[%d].reference_energy = %g J/m2: must be >= 0 (0: no rail cells; "
+                           "infinite: cells the sliding wheels do not clean)", i, c->reference_energy);
+        if (c->reference_energy > 0.0 && isfinite(c->reference_energy)) {
             char name[48];
             snprintf(name, sizeof name, "condition[%d].reference_energy", i);
             rb_status st = rb_bound_check(err, "adhesion.reference_energy", name, c->reference_energy);

@@ -73,6 +73,10 @@ static void test_unreachable_energy_is_the_laid_rail(void)
     CHECK_CLOSE(s.v[0], t.v[0], 1e-6, 0);
     for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.polach[a].mu0, t.polach[a].mu0, 1e-3, 0);
     for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.omega[a], t.omega[a], 1e-3, 1e-6);
+    fill_sliding(&p, 2, INFINITY);   /* cells the sliding wheels do not clean: the laid rail exactly */
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    brake(&p, &s, 3.0);
+    for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.polach[a].mu0, t.polach[a].mu0, 1e-12, 0);
 }
 
 /* Off (no condition with reference_energy): the cell length has no effect at all. */

@@ -125,7 +125,8 @@ typedef struct {
     double recovery_axles;    /* axles over which conditioning recovers (<= 0: none) */
     double reference_energy;  /* J/m^2, > 0: the rail is conditioned cell by cell by the energy the
                                  axles dissipate in the contact (rail_conditioning.c), instead of by
-                                 axle index (recovery_axles must then be 0); 0: not */
+                                 axle index (recovery_axles must then be 0); 0: not; INFINITY:
+                                 rail cells that sand conditions, not the sliding wheels */
 } rb_plant_condition;
 
 /* Track zone: axles between x_start and x_end (m along the track) see condition `condition`. */

@@ -9,6 +9,7 @@ mapping with the five parameters.
 from __future__ import annotations
 
 import ctypes
+import math
 import warnings
 from dataclasses import dataclass, replace
 from importlib import resources
@@ -144,8 +145,9 @@ class _ParamsModel(BaseModel):
 class _CellsModel(BaseModel):
     """Rail conditioning cell by cell by the energy the axles dissipate (rail_conditioning.c)."""
     model_config = ConfigDict(extra="forbid")
-    reference_energy_J_m2: float = Field(ge=config.bound_in("adhesion.reference_energy")[0],
-                                         le=config.bound_in("adhesion.reference_energy")[1])
+    # null: the sliding wheels do not clean the contaminant (the cells are for sand alone)
+    reference_energy_J_m2: float | None = Field(ge=config.bound_in("adhesion.reference_energy")[0],
+                                                le=config.bound_in("adhesion.reference_energy")[1])
     cell_length_m: float = Field(ge=config.bound_in("adhesion.rail_cell_length")[0],
                                  le=config.bound_in("adhesion.rail_cell_length")[1])
     source: str
@@ -238,7 +240,8 @@ def _conditioning(cond: _ConditioningModel, text: str, origin: str) -> RailCondi
     if cond.cells is None:
         return base
     cells = cond.cells
-    return replace(base, reference_energy=cells.reference_energy_J_m2, cell_length=cells.cell_length_m,
+    energy = math.inf if cells.reference_energy_J_m2 is None else cells.reference_energy_J_m2
+    return replace(base, reference_energy=energy, cell_length=cells.cell_length_m,
                    energy_source=" ".join(cells.source.split()), calibration_scenario=cells.calibration_scenario,
                    calibration_above_kmh=cells.calibration_above_kmh)
 
