@@ -359,6 +359,13 @@ class _Sanders(_Strict):
         return self
 
 
+class _Etcs(_Strict):
+    """The train's ETCS train data not computed from its brake (railbrake.etcs.service)."""
+    traction_cut_off_s: float = Field(gt=0.0, le=60.0)   # SUBSET-026 T_traction_cut_off
+    traction_cut_off_implemented: bool = True             # the on-board commands the cut-off (3.13.9.3.2.3)
+    source: str
+
+
 class _TrainFile(_Strict):
     schema_: str = Field(alias="schema")
     name: str
@@ -379,6 +386,7 @@ class _TrainFile(_Strict):
     car_types: dict[str, _CarType]
     formation: list[str] = Field(min_length=1, max_length=_core.MAX_CARS)
     sanders: Optional[_Sanders] = None
+    etcs: Optional[_Etcs] = None
 
     @model_validator(mode="after")
     def _known_types(self):
