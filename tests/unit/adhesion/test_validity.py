@@ -99,3 +99,11 @@ def test_every_run_of_a_shipped_study_resolves_and_forces_only_explicitly(name):
             assert sets.get("adhesion.allow_outside_validity") is True
             forced += 1
     assert forced < len(seen)
+
+
+def test_a_forced_hil_run_carries_the_flag_too(tmp_path):
+    from railbrake import hil
+    path = tmp_path / "forced.yaml"
+    path.write_text(ONE_CAR % ("150 km/h", "wet", ", allow_outside_validity: true"))
+    result = hil.run(str(path), ("127.0.0.1", 9), duration=0.05, paced=False, priority=0, key=bytes(range(16)))
+    assert "[0, 120] km/h" in result.kpis["adhesion_outside_validity"]
