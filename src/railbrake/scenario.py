@@ -377,6 +377,17 @@ class Scenario:
                 out.append(f"{'.'.join(str(k) for k in key)}: {why}")
         return out
 
+    def creep_outside_validity(self, max_slip: float) -> list[str]:
+        """The run's conditions whose file gives a creep range that max_slip (the run's largest
+        creep of any axle, KPI max_slip) left, said in words."""
+        from railbrake.adhesion import creep_outside_validity, load_condition
+        out = []
+        for key, name in self.condition_keys():
+            why = creep_outside_validity(load_condition(name), max_slip)
+            if why:
+                out.append(f"{'.'.join(str(k) for k in key)}: {why}")
+        return out
+
     def check_validity(self) -> None:
         """A condition outside its validity is refused unless adhesion.allow_outside_validity."""
         if self.spec.adhesion.allow_outside_validity:

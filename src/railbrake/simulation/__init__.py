@@ -490,14 +490,22 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     n_rows = int(np.count_nonzero(series[:, 0])) + 1 if record else 0
     series = series[:n_rows]
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
+    k = kpi_dict(kpis, plant.atmosphere)
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
-                  dict(names), kpi_dict(kpis, plant.atmosphere) | outside_validity_kpi(sc), plant.atmosphere,
-                  resolved=configured)
+                  dict(names), k | outside_validity_kpi(sc, k["max_slip"]), plant.atmosphere, resolved=configured)
 
 
-def outside_validity_kpi(scenario: Scenario) -> dict:
-    """{"adhesion_outside_validity": what} for a run forced outside a condition's validity, else {}."""
+def outside_validity_kpi(scenario: Scenario, max_slip: float | None = None) -> dict:
+    """{"adhesion_outside_validity": what} for a run forced outside a condition's validity, else {}.
+    With the run's max_slip, a condition whose file gives a creep range the run left refuses the
+    run's result unless forced (the creep is known only once run)."""
     outside = scenario.outside_validity()
+    if max_slip is not None:
+        creep = scenario.creep_outside_validity(max_slip)
+        if creep and not scenario.spec.adhesion.allow_outside_validity:
+            raise InputError(f"scenario {scenario.name}: {creep[0]}: the run's largest creep (KPI max_slip) left the "
+                             "range the condition was measured in; force it with adhesion.allow_outside_validity: true")
+        outside += creep
     return {"adhesion_outside_validity": "; ".join(outside)} if outside else {}
 
 

@@ -107,3 +107,34 @@ def test_a_forced_hil_run_carries_the_flag_too(tmp_path):
     path.write_text(ONE_CAR % ("150 km/h", "wet", ", allow_outside_validity: true"))
     result = hil.run(str(path), ("127.0.0.1", 9), duration=0.05, paced=False, priority=0, key=bytes(range(16)))
     assert "[0, 120] km/h" in result.kpis["adhesion_outside_validity"]
+
+
+def _oil_with_creep(tmp_path, creep: str) -> str:
+    from importlib import resources
+    text = (resources.files("railbrake") / "data" / "adhesion" / "oil-film.yaml").read_text()
+    path = tmp_path / "oil-creep.yaml"
+    path.write_text(text.replace("  speed_kmh: [40, 200]\n", f"  speed_kmh: [40, 200]\n  creep: {creep}\n"))
+    return str(path)
+
+
+def test_a_creep_range_given_refuses_a_run_that_left_it_unless_forced(tmp_path):
+    """Creep is known once run: a run whose largest creep (max_slip) left the file's creep range is
+    refused, or flagged when forced; without WSP the wheels lock (creep near 1)."""
+    condition = _oil_with_creep(tmp_path, "[0, 0.05]")
+    text = ONE_CAR.replace("demand:", "wsp: {enabled: false}\ndemand:")
+    with pytest.raises(InputError, match=r"oil-creep\.yaml, line \d+: validity\.creep = \[0, 0\.05\]"):
+        simulation.run(scenario.parse(text % ("100 km/h", condition, ""), "no-wsp"))
+    forced = simulation.run(scenario.parse(text % ("100 km/h", condition, ", allow_outside_validity: true"), "f"))
+    assert forced.kpis["max_slip"] > 0.05 and "validity.creep" in forced.kpis["adhesion_outside_validity"]
+
+
+def test_a_bad_creep_range_is_refused_with_its_line(tmp_path):
+    with pytest.raises(InputError, match=r"line \d+: validity\.creep = \[0\.2, 0\.1\]: give \[min, max\]"):
+        load_condition(_oil_with_creep(tmp_path, "[0.2, 0.1]"))
+
+
+def test_creep_curves_outside_the_creep_range_warn(tmp_path):
+    from railbrake.adhesion import AdhesionRangeWarning, creep_curves
+    condition = load_condition(_oil_with_creep(tmp_path, "[0, 0.05]"))
+    with pytest.warns(AdhesionRangeWarning, match=r"creep 0\.3, outside its validity"):
+        creep_curves(condition, [20.0], creep=[0.0, 0.3])
