@@ -22,5 +22,6 @@ def test_the_table_holds_every_condition_against_every_data_set():
     for name, row in table.items():
         assert set(row) == sets, name
         assert all(v == OUTSIDE or isinstance(v, float) for v in row.values())
-    # the dry preset lies above the Curtius-Kniffler mean curve (the finding of curtius-kniffler-dry)
-    assert table["dry-medium"]["curtius-kniffler-dry"] > 0.1
+    # dry-medium is fitted on the Curtius-Kniffler curve (within 4 %); Polach's dry set lies far above it
+    assert abs(table["dry-medium"]["curtius-kniffler-dry"]) < 0.04
+    assert table["dry-high"]["curtius-kniffler-dry"] > 0.3
