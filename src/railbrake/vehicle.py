@@ -131,9 +131,23 @@ class _EmergencyLoop(_Strict):
     source: str
 
 
+class _ServiceStep(_BrakeStep):
+    """The service step; jerk_limit_m_s3: the BCU's limit on the rate of change of the service
+    deceleration it demands (core/src/bcu.c; none when absent), with its own source."""
+    jerk_limit_m_s3: Optional[float] = _num("bcu.service_jerk", default=None)
+    jerk_limit_source: Optional[str] = None
+
+    @model_validator(mode="after")
+    def _sourced(self):
+        if self.jerk_limit_m_s3 is not None and not (self.jerk_limit_source or "").strip():
+            raise ValueError(f"jerk_limit_m_s3 = {self.jerk_limit_m_s3:g} needs jerk_limit_source (where the "
+                             "value comes from)")
+        return self
+
+
 class _BrakeSteps(_Strict):
     emergency: _BrakeStep
-    service: _BrakeStep
+    service: _ServiceStep
 
 
 class _Compressor(_Strict):

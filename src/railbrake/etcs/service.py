@@ -5,7 +5,8 @@
   T_brake_service (the same reading as A_brake_emergency: railbrake.etcs.model.step_decelerations).
 - A_brake_normal_service(V): the same from the normal service demand of data/etcs/service.yaml.
 - T_brake_service: EN 14531-1's te = ta + tb/2 of the full service stop's total brake force
-  (railbrake.simulation.response, as T_brake_emergency). T_bs = T_brake_service (SUBSET-026
+  (railbrake.simulation.response, as T_brake_emergency), with the BCU's service jerk limit when
+  the train file gives one (brake_steps.service.jerk_limit_m_s3). T_bs = T_brake_service (SUBSET-026
   3.13.6.3); T_bs1 = T_bs2 = T_bs when the service brake feedback is not used (Q_NVSBFBPERM = No,
   and a train without that feedback): T_bs1 shifts the SBD to SBI1, T_bs2 the EBI to SBI2.
 - Kn+ and Kn-: the gradient correction of the normal service deceleration (SUBSET-026 3.13.6.4:

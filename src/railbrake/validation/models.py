@@ -383,14 +383,16 @@ def etcs_curve_distance(inputs, x, case):
     """Distance (m) to the SvL of an ETCS braking curve (inputs.curve: EBD, EBI, ...) from speed x
     (km/h), for an OSRD rolling stock's EtcsBrakeParams (inputs.rolling_stock, a JSON file beside
     the case) on a track (inputs.track: a preset or a file beside the case), national values
-    inputs.national (default: the shipped defaults). The curve is exact in V^2 between its points."""
+    inputs.national (a preset or a file beside the case; default: the shipped defaults). The curve is exact in V^2 between its points."""
     import json
     from railbrake.etcs import curves, national, osrd
     doc = json.loads((case.folder / _need(inputs, "rolling_stock")).read_text())
     model, service = osrd.from_osrd(osrd.params_of(doc), float(doc["max_speed"]), doc.get("name", "osrd"))
     track = str(_need(inputs, "track"))
     track = national.load_track(case.folder / track if track.endswith(".yaml") else track)
-    result = curves.compute(model, service, track, national.load_national(inputs.get("national", "default")))
+    values = str(inputs.get("national", "default"))
+    values = national.load_national(case.folder / values if values.endswith(".yaml") else values)
+    result = curves.compute(model, service, track, values)
     points = np.asarray(result["curves"][_need(inputs, "curve")])[::-1]   # lowest speed first
     v = _x(x, "speed, km/h")
     distance = result["svl_m"] - np.interp(v ** 2, points[:, 1] ** 2, points[:, 0])

@@ -48,3 +48,14 @@ def test_time_along_a_constant_deceleration_curve():
     speeds = [v0 * (1.0 - i / 50) for i in range(51)]
     points = [[eoa - v * v / (2.0 * a), v / KMH] for v in speeds]
     assert buys.time_following(points) == pytest.approx(v0 / a, rel=1e-12)
+
+
+def test_the_study_has_no_sander_case_because_no_preset_can_run_one():
+    """docs/etcs.md leaves sanders out of the study: no preset train carries them, and the
+    reduced-adhesion condition of the Kwet_rst pairs is not cleaned cell by cell (sand acts only
+    there). When either changes, the sander case belongs in railbrake.etcs.buys."""
+    from railbrake import vehicle
+    from railbrake.adhesion.conditions import load_condition
+    assert [t for t in vehicle.preset_names() if vehicle.load_train(t).spec.sanders is not None] == []
+    reduced = load_condition(model.method().reduced_condition)
+    assert reduced.conditioning is None or reduced.conditioning.reference_energy == 0.0
