@@ -17,7 +17,7 @@ import warnings
 
 import numpy as np
 
-from railbrake import scenario, simulation
+from railbrake import scenario, simulation, sizing
 from railbrake.etcs import confidence, curves, model, runs
 from railbrake.etcs.national import National, Track
 from railbrake.resolve import resolve
@@ -42,7 +42,7 @@ class _Stops:
                                            allow_outside_validity=condition == self.spec.reduced_condition
                                            ).with_(self.changes)
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", simulation.sizing.SupplyWarning)
+            warnings.simplefilter("ignore", sizing.SupplyWarning)
             return simulation.structs(resolve(sc, len(self.train.cars)))
 
 
