@@ -3,6 +3,7 @@ the scenario forces it and then flagged in the run's KPIs, report and JSON."""
 
 import json
 import re
+import secrets
 
 import pytest
 from typer.testing import CliRunner
@@ -105,7 +106,7 @@ def test_a_forced_hil_run_carries_the_flag_too(tmp_path):
     from railbrake import hil
     path = tmp_path / "forced.yaml"
     path.write_text(ONE_CAR % ("150 km/h", "wet", ", allow_outside_validity: true"))
-    result = hil.run(str(path), ("127.0.0.1", 9), duration=0.05, paced=False, priority=0, key=bytes(range(16)))
+    result = hil.run(str(path), ("127.0.0.1", 9), duration=0.05, paced=False, priority=0, key=secrets.token_bytes(16))
     assert "[0, 120] km/h" in result.kpis["adhesion_outside_validity"]
 
 
