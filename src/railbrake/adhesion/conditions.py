@@ -420,6 +420,8 @@ def creep_curves(condition: ConditionLike, speeds, axle: int = 0,
     params = cond.params_at_axle(axle)
     if creep is not None:
         creep = reals("creep", creep)
+        if creep.size == 0:
+            raise InputError("creep: an empty array; give the creep values of the curves (or None for 0 to 0.4)")
         outside = [why for why in (creep_outside_validity(cond, float(x)) for x in (creep.min(), creep.max())) if why]
         if outside:
             warnings.warn(outside[0], AdhesionRangeWarning, stacklevel=2)

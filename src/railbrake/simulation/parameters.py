@@ -382,8 +382,9 @@ def outside_validity_kpi(scenario: Scenario, max_slip: float | None = None) -> d
     """{"adhesion_outside_validity": what} for a run forced outside a condition's validity, else {}.
     With the run's max_slip, a condition whose file gives a creep range the run left refuses the
     run's result unless forced (the creep is known only once run)."""
-    outside = scenario.outside_validity()
+    outside = instance("scenario", scenario, Scenario).outside_validity()
     if max_slip is not None:
+        max_slip = real("max_slip", max_slip, 0.0)
         creep = scenario.creep_outside_validity(max_slip)
         if creep and not scenario.spec.adhesion.allow_outside_validity:
             raise InputError(f"scenario {scenario.name}: {creep[0]}: the run's largest creep (KPI max_slip) left the "
