@@ -32,7 +32,8 @@ _UNITS = {
     "mm^2": ("area", 1e-6), "m^2": ("area", 1.0),
     "‰": ("gradient", 1e-3), "permille": ("gradient", 1e-3), "%": ("gradient", 1e-2),
 }
-_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$")
+# ASCII digits only: Python's float() and \d also take other scripts' digits (Arabic-Indic ٣ is 3)
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$", re.ASCII)
 
 
 def _quantity(dimension: str, bound: str | None = None):

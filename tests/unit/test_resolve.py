@@ -91,3 +91,23 @@ def test_overrides_stack_on_a_resolved_configuration():
     assert second.train.name == "velaro-8" and second.cars == 2
     assert second.scenario.spec.initial_speed == pytest.approx(120 * KMH)
     assert resolve(first) is first
+
+
+SCENARIO_TEXT = (resources.files("railbrake") / "data" / "scenarios" / "emergency-250-dry.yaml").read_text()
+
+
+@pytest.mark.parametrize("train, words", [
+    ("train: crh380a-8", ["line 4", "train = 'crh380a-8'", "must be a mapping"]),   # a scalar: one error
+    ("train: {preset: " + "x" * 10_000 + "}", ["line 4", "train.preset", "too long"]),
+    ("train: {preset: " + "x" * 300 + ".yaml}", ["line 4", "train.preset", "too long"]),
+])
+def test_a_bad_train_gives_one_error_with_file_line_and_key(tmp_path, train, words):
+    lines = SCENARIO_TEXT.splitlines()
+    assert lines[3].startswith("train:")
+    path = tmp_path / "scenario.yaml"
+    path.write_text("\n".join(lines[:3] + [train] + lines[4:]) + "\n")
+    with pytest.raises(InputError) as caught:
+        resolve(str(path))
+    message = str(caught.value)
+    assert message.startswith(str(path)) and all(w in message for w in words), message
+    assert len(message) < 400 and "File name too long" not in message   # the 10 kB name is not echoed

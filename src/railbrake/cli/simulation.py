@@ -55,9 +55,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
     if out is not None:
         from railbrake.results.outputs import write_outputs
         prepare_folder(out)
-        from railbrake.results.config_file import write_config
-        write_outputs(record.from_simulation(result, sc), out, formats, axles, window)
-        write_config(resolved, out / "config.yaml")
+        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, resolved=resolved)
     return result
 
 

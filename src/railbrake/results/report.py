@@ -9,6 +9,7 @@ import json
 from html import escape
 from pathlib import Path
 
+from railbrake import atomic
 from railbrake.results import kpis as kpi_info
 from railbrake.results.files import dumps
 from railbrake.results.record import RunRecord
@@ -75,5 +76,4 @@ def write_report(record: RunRecord, plots: list[Path], path: Path) -> Path:
         "<h2>Resolved configuration</h2>",
         f'<pre id="configuration">{escape(dumps(m.get("configuration", {})))}</pre>',
         "</body></html>"]
-    Path(path).write_text("\n".join(html) + "\n", encoding="utf-8")
-    return Path(path)
+    return atomic.write_text(path, "\n".join(html) + "\n")

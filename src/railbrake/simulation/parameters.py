@@ -173,7 +173,9 @@ def kernel_code(kernel: str | None = None) -> int:
 
 def scenario_train(scenario: Scenario, n_cars: int | None = None):
     """The scenario's train with its load case, lengthened to n_cars (default: the scenario's)."""
-    spec = scenario.spec
+    spec = instance("scenario", scenario, Scenario).spec
+    if n_cars is not None:
+        whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     train = load_train(spec.train.preset, spec.train.load_case or True)
     return with_cars(train, scenario.cars(n_cars) if n_cars is None else n_cars)
 
@@ -362,7 +364,7 @@ def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = N
 def demanded_steps(scenario: Scenario) -> dict:
     """The brake steps a scenario demands: {"emergency": 1.0, "service": largest fraction}."""
     steps = {}
-    for step in scenario.spec.demand:
+    for step in instance("scenario", scenario, Scenario).spec.demand:
         if step.emergency:
             steps["emergency"] = 1.0
         elif step.service > 0.0:
@@ -380,8 +382,9 @@ def outside_validity_kpi(scenario: Scenario, max_slip: float | None = None) -> d
     """{"adhesion_outside_validity": what} for a run forced outside a condition's validity, else {}.
     With the run's max_slip, a condition whose file gives a creep range the run left refuses the
     run's result unless forced (the creep is known only once run)."""
-    outside = scenario.outside_validity()
+    outside = instance("scenario", scenario, Scenario).outside_validity()
     if max_slip is not None:
+        max_slip = real("max_slip", max_slip, 0.0)
         creep = scenario.creep_outside_validity(max_slip)
         if creep and not scenario.spec.adhesion.allow_outside_validity:
             raise InputError(f"scenario {scenario.name}: {creep[0]}: the run's largest creep (KPI max_slip) left the "

@@ -144,6 +144,8 @@ def response_times(result: Result, train=None) -> tuple[float, float]:
         if result.resolved is None:
             raise InputError("response_times: give the train of a run made with a train of its own")
         train = result.resolved.train
+    from railbrake.vehicle import Train
+    instance("train", train, Train)
     b = measure(result, train)
     return b.delay, b.build_up
 
