@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import yaml
@@ -18,6 +19,9 @@ from railbrake import sizing, vehicle
 from railbrake._args import flag, real, reals, show
 from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
+
+if TYPE_CHECKING:   # the simulation package is imported only when a stop is run (emergency_stop)
+    from railbrake.simulation.response import BuildUp
 
 CURVE_STEP_S = 0.05   # s between the stop's output samples the interval decelerations interpolate
 # an interval from v1 counts when the braking curve starts at most this fraction below v1 (the
@@ -121,17 +125,23 @@ class Stop:
     v0: float                 # m/s
     distance: float           # m
     time: float               # s
-    delay: float              # s, ta (simulated)
-    build_up: float           # s, tb (simulated)
+    measured: BuildUp         # ta, tb and te of the simulated emergency stop
     curve_time: np.ndarray    # s along the stop
     speed: np.ndarray         # m/s
     along: np.ndarray         # m
     warnings: list = field(default_factory=list)
 
     @property
+    def delay(self) -> float:
+        return self.measured.delay
+
+    @property
+    def build_up(self) -> float:
+        return self.measured.build_up
+
+    @property
     def response(self) -> float:
-        """te = ta + tb / 2 (s)."""
-        return self.delay + 0.5 * self.build_up
+        return self.measured.response
 
 
 def emergency_stop(train: vehicle.Train, v0: float, preset: str | None) -> Stop:
@@ -140,7 +150,7 @@ def emergency_stop(train: vehicle.Train, v0: float, preset: str | None) -> Stop:
     measured = response.simulated(train, v0, preset=preset)
     r = sizing.stopping_distance(v0, train=train, delay=measured.delay, build_up=measured.build_up,
                                  dt_out=CURVE_STEP_S)
-    return Stop(v0, r.distance, r.time, measured.delay, measured.build_up, r.curve_time, r.curve_speed,
+    return Stop(v0, r.distance, r.time, measured, r.curve_time, r.curve_speed,
                 r.curve_distance, list(r.warnings))
 
 

@@ -22,6 +22,7 @@ from railbrake._args import choice, flag, instance, name_or_path, real
 from railbrake.errors import InputError
 from railbrake.results.scripting import Result
 from railbrake.scenario import Scenario
+from railbrake.units import ms_to_kmh
 from railbrake.vehicle import LOAD_CASES, load_train
 
 
@@ -119,21 +120,36 @@ def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-m
                        allow_outside_validity: bool = False) -> Scenario:
     """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`;
     allow_outside_validity: run the condition outside its validity (flagged) instead of refusing."""
+    return _stop_scenario(train, initial_speed, condition, {"emergency": True}, "emergency", "Emergency brake",
+                          max_time, load, allow_outside_validity)
+
+
+def service_scenario(train: str, initial_speed: float, condition: str, demand: float,
+                     max_time: float = 3600.0) -> Scenario:
+    """A service stop of `train` (preset or file) from initial_speed (m/s) on `condition` at
+    `demand` (0-1 of full service)."""
+    demand = real("demand", demand, 0.0, 1.0, low_open=True)
+    return _stop_scenario(train, initial_speed, condition, {"service": demand}, "service",
+                          f"Service brake {demand:g}", max_time, None, False)
+
+
+def _stop_scenario(train, initial_speed, condition, demand: dict, kind: str, title: str, max_time,
+                   load, allow_outside_validity) -> Scenario:
     from railbrake.scenario import SCHEMA, from_data
     train, condition = name_or_path("train", train), name_or_path("condition", condition)
     initial_speed, max_time = real("initial_speed", initial_speed, 0.0), real("max_time", max_time, 0.0)
     if load is not None:
         choice("load", load, LOAD_CASES)
-    data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
-            "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
+    data = {"schema": SCHEMA, "name": f"{kind}-{ms_to_kmh(initial_speed):.0f}-{condition}",
+            "title": f"{title} from {ms_to_kmh(initial_speed):.0f} km/h, {train}",
             "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
-            "demand": [{"time": "0 s", "emergency": True}],
+            "demand": [{"time": "0 s", **demand}],
             "adhesion": {"condition": condition, "allow_outside_validity": flag("allow_outside_validity",
                                                                                 allow_outside_validity)},
             "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
     if load is not None:
         data["train"]["load_case"] = load
-    return from_data(data, f"emergency stop of {train}", {})
+    return from_data(data, f"{kind} stop of {train}", {})
 
 
 def response_times(result: Result, train=None) -> tuple[float, float]:
