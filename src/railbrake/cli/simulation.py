@@ -24,7 +24,14 @@ DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 def warnings_for(result) -> list[str]:
     """What a brake engineer must not miss in a run (railbrake.results.kpis.warnings)."""
     from railbrake.results import kpis as info
-    return info.warnings(result.kpis)
+    return info.warnings(result.kpis, healthy_reference(result))
+
+
+def healthy_reference(result) -> float | None:
+    """The healthy brake's cylinder_shortfall_s a run's is judged on, when the run had one
+    (simulation.response.healthy_shortfall: a short run, made only then)."""
+    from railbrake.simulation import response
+    return response.healthy_shortfall(result) if (result.kpis.get("cylinder_shortfall_s") or 0.0) > 0.0 else None
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
@@ -52,6 +59,7 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         result = simulation.run(resolved, wsp=wsp, progress=progress, kernel=kernel)
     finally:
         bar.stop()
+    healthy_reference(result)   # in result.meta, for the report's warnings
     if out is not None:
         from railbrake.results.outputs import write_outputs
         prepare_folder(out)

@@ -144,3 +144,30 @@ def simulated(train, initial_speed: float, condition: str = "dry-medium", preset
     scenario = emergency_scenario(preset, initial_speed, condition, settings()["window_s"] + 0.1,
                                   train.load_case)
     return measure(run(scenario, cars=len(train.cars), train=train), train)
+
+
+HEALTHY_SHORTFALL = "healthy_cylinder_shortfall_s"   # Result.meta key of healthy_shortfall
+
+
+def healthy_shortfall(result) -> float | None:
+    """s: how long a cylinder of a healthy brake of the run's train stays more than 0.2 bar below
+    its demand in its own emergency build-up (the KPI cylinder_shortfall_s of an emergency stop of
+    the same train, cars and load from the run's initial speed, on dry rail, without faults): what
+    the run's cylinder_shortfall_s is compared with (railbrake.results.kpis.warnings). None for a
+    run without its configuration (a loaded result) or from standstill. Kept in result.meta."""
+    import warnings
+    from railbrake.simulation import emergency_scenario, run
+    from railbrake.vehicle import with_cars
+    if HEALTHY_SHORTFALL in result.meta:
+        return result.meta[HEALTHY_SHORTFALL]
+    resolved = getattr(result, "resolved", None)
+    if resolved is None or not resolved.scenario.spec.initial_speed > 0.0:
+        return None
+    train = with_cars(resolved.train, result.cars)
+    with warnings.catch_warnings():   # the run's own warnings were given; this is its reference
+        warnings.simplefilter("ignore")
+        scenario = emergency_scenario(resolved.scenario.spec.train.preset, resolved.scenario.spec.initial_speed,
+                                      max_time=2.0 * settings()["window_s"], load=train.load_case)
+        value = run(scenario, cars=result.cars, train=train, record=False).kpis["cylinder_shortfall_s"]
+    result.meta[HEALTHY_SHORTFALL] = value
+    return value
