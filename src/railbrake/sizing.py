@@ -268,6 +268,12 @@ def brake_step(train, kind: str = "emergency") -> tuple:
         raise InputError(f"train {train.name}: brake_steps.{kind}.profile: {exc}") from None
 
 
+def _same_profile(a: Profile, b: Profile) -> bool:
+    """The same profile however it was named (a preset, or a file the train's brake step names)."""
+    return (a.name == b.name and a.speed.shape == b.speed.shape and np.array_equal(a.speed, b.speed)
+            and np.array_equal(a.deceleration, b.deceleration))
+
+
 def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
     """(profile, ED blending, why): the profile asked for (default: the train's emergency step) and
     whether the ED brake blends: as given, else as the train's brake step of that profile says,
@@ -284,7 +290,7 @@ def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
         return profile, ed, "as asked"
     for kind in ("emergency", "service"):
         step = train.brake_step(kind)
-        if step.profile == profile.name:
+        if step.profile == profile.name or _same_profile(brake_step(train, kind)[0], profile):
             return profile, step.ed_blending, f"as the train's brake_steps.{kind}.ed_blending says"
     return profile, False, "the profile is none of the train's brake steps"
 
