@@ -154,6 +154,10 @@ typedef struct {
     rb_speed_table pressure_per_newton[RB_PLANT_MAX_CARS];
     rb_speed_table emergency_profile;     /* m/s^2 demanded at full emergency (recorded) */
     rb_speed_table service_profile;       /* m/s^2 at full service */
+    /* blending under WSP: while the WSP acts on an axle of a motor car its ED demand is withdrawn
+       (the friction brake, which the WSP controls, takes the car's whole demand); once it is at
+       rest the ED demand comes back at this fraction of the car's demand per s (0: at once) */
+    double ed_restore_rate;               /* 1/s */
 } rb_bcu_params;
 
 typedef struct {
@@ -168,6 +172,7 @@ typedef struct {
     rb_wsp_inputs wsp_in;
     rb_wsp_commands wsp;
     rb_wsp_default wsp_default;
+    double ed_share[RB_PLANT_MAX_CARS];   /* fraction of its demand asked of each car's ED brake */
 } rb_bcu_state;
 
 size_t rb_bcu_params_size(void);

@@ -30,6 +30,7 @@ from railbrake.results import scripting
 from railbrake.scenario import Scenario, load
 from railbrake.simulation import changes as run_changes
 from railbrake.simulation import response
+from railbrake.simulation import traction
 from railbrake.simulation.changes import Change  # noqa: F401 (the run API's)
 from railbrake.units import KMH, ms_to_kmh
 from railbrake.vehicle import LOAD_CASES, Train, load_train, with_cars
@@ -106,6 +107,7 @@ def _car(train, index: int) -> _core.PlantCar:
     car.contact = wheel_rail_contact(wheel_radius=w.wheel_radius, axle_load=w.axle_load).creep_contact()
     ed = train.spec.ed_brake
     car.ed_tau = ed.response_s if ed is not None else 1.0   # no ED brake: the lag is never used
+    traction.set_car(car, entry.motor and ed is not None)
     cyl, discs = t.cylinder, t.discs
     pipe = train.spec.air_supply.pipe
     car.supply_volume = t.supply_reservoir.volume_l * L
@@ -372,6 +374,7 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=No
     b.emergency_profile, b.service_profile = emergency.table(), service.table()
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
+    traction.set_bcu(b)
     return b
 
 
