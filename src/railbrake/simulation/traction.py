@@ -27,4 +27,5 @@ def set_car(car: _core.PlantCar, motor: bool) -> None:
 
 def set_bcu(bcu: _core.BcuParams) -> None:
     """The BCU's return of the ED demand after its WSP has acted."""
-    bcu.ed_restore_rate = slide_control()["blending_restore_rate_per_s"]
+    s = slide_control()
+    bcu.ed_restore_rate, bcu.ed_restore_delay = s["blending_restore_rate_per_s"], s["blending_restore_delay_s"]
