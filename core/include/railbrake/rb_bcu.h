@@ -154,6 +154,11 @@ typedef struct {
     rb_speed_table pressure_per_newton[RB_PLANT_MAX_CARS];
     rb_speed_table emergency_profile;     /* m/s^2 demanded at full emergency (recorded) */
     rb_speed_table service_profile;       /* m/s^2 at full service */
+    /* The service brake's jerk limit (a comfort limit of the BCU, m/s^3; 0: none): the service
+     * fraction the BCU applies moves towards the demanded one by at most service_jerk x (time
+     * since its previous cycle) / (full service deceleration at the BCU's speed), applying and
+     * releasing. The emergency demand is never limited. */
+    double service_jerk;
     /* blending under WSP: while the WSP acts on an axle of a motor car its ED demand is withdrawn
        (the friction brake, which the WSP controls, takes the car's whole demand); once it is at
        rest the ED demand comes back at this fraction of the car's demand per s (0: at once) */
@@ -173,6 +178,7 @@ typedef struct {
     rb_wsp_inputs wsp_in;
     rb_wsp_commands wsp;
     rb_wsp_default wsp_default;
+    double service_applied;               /* 0..1, the service demand after the jerk limit */
     double ed_share[RB_PLANT_MAX_CARS];   /* fraction of its demand asked of each car's ED brake */
     double wsp_quiet[RB_PLANT_MAX_CARS];  /* s since the WSP last acted on the car */
 } rb_bcu_state;
