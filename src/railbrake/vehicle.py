@@ -459,10 +459,9 @@ class Train:
         """A copy with keys of the train file changed, e.g. ``with_(max_speed_kmh=300)`` or
         ``with_({'car_types.motor.tare_t': 50, 'load_case': 'crush'})``: keys and values in file
         units, as ``--set train.KEY=VALUE`` takes them, validated as a whole as a train file is."""
-        from railbrake import resolve
         merged = _changes.merge(changes, kwargs, "Train.with_")
         data = self.spec.model_dump(mode="json", by_alias=True)
-        labels = resolve.apply_changes(data, merged, _TrainFile)
+        labels = _changes.apply_changes(data, merged, _TrainFile)
         loaded = data.get("load_case") if "load_case" in merged else self.load_case
         train = parse_train_data(data, self.origin, self.lines, loaded, overrides=labels)
         return train if len(self.cars) == len(self.spec.formation) else with_cars(train, len(self.cars))
@@ -664,7 +663,7 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
 def _check_references(model: _TrainFile, locate) -> None:
     """The brake steps' profiles load and the valve designs name a design file: a name that names
     nothing is refused here, with its key, not when a run first needs it."""
-    from railbrake.sizing import load_profile
+    from railbrake.profiles import load_profile
     for step in ("emergency", "service"):
         name = getattr(model.brake_steps, step).profile
         try:
