@@ -316,7 +316,7 @@ class PlantParams(Structure):
                 + [("wall_time", c_double), ("rail_cell_length", c_double)]
                 + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
                    ("sander_rate", SpeedTable * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
-                   ("sand_reference", c_double)])
+                   ("sand_reference", c_double), ("sand_entrained", c_double), ("sand_retention", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.

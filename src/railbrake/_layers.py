@@ -33,10 +33,10 @@ LAYERS = (
      ("railbrake.results", "railbrake.plots")),
     ("runs", "whole runs in the core (real-time and detailed models) into a Result",
      ("railbrake.simulation",)),
-    ("studies and systems", "campaigns, ETCS braking curves, validation cases, HIL, sequences, FMU export, "
-     "valve reduction on the detailed model",
-     ("railbrake.campaign", "railbrake.etcs", "railbrake.validation", "railbrake.hil", "railbrake.sequence",
-      "railbrake.fmu", "railbrake.valves.reduce")),
+    ("studies and systems", "campaigns, ETCS braking curves, brake calculation reports, validation cases, HIL, "
+     "sequences, FMU export, valve reduction on the detailed model",
+     ("railbrake.campaign", "railbrake.etcs", "railbrake.brakecalc", "railbrake.validation", "railbrake.hil",
+      "railbrake.sequence", "railbrake.fmu", "railbrake.valves.reduce")),
     ("command line", "the railbrake command and the package's face",
      ("railbrake.cli", "railbrake._entry", "railbrake.__main__", "railbrake")),
 )

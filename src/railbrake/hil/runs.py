@@ -32,7 +32,8 @@ from railbrake.hil.keys import key_bytes
 from railbrake.hil.live import LiveView
 from railbrake.resolve import resolve
 from railbrake.scenario import Scenario
-from railbrake.simulation.parameters import _scenario_struct, bcu_params, kpi_dict, plant_params, wsp_params
+from railbrake.simulation.parameters import (_scenario_struct, bcu_params, kpi_dict, outside_validity_kpi, plant_params,
+                                             wsp_params)
 from railbrake.vehicle import load_train
 
 DT = 1e-3                  # s, fixed by the interface
@@ -366,7 +367,8 @@ def run(scenario="emergency-300-heavy-rain", bcu: tuple[str, int] = ("127.0.0.1"
     finally:
         sys.setswitchinterval(switch_interval)
         switch.end()
-        kpis = run_kpis(plant, state)   # before the close: the KPIs of what ran, also when interrupted
+        # before the close: the KPIs of what ran, also when interrupted; a forced run says so
+        kpis = run_kpis(plant, state) | outside_validity_kpi(sc)
         _core.rb_hil_runner_close(state)
         if collecting:
             gc.enable()

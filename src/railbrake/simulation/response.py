@@ -18,7 +18,7 @@ import numpy as np
 import yaml
 
 from railbrake import _core
-from railbrake._args import choice, instance, name_or_path, real
+from railbrake._args import choice, flag, instance, name_or_path, real
 from railbrake.errors import InputError
 from railbrake.results.scripting import Result
 from railbrake.scenario import Scenario
@@ -155,8 +155,10 @@ RESPONSE_WINDOW = settings()["window_s"]   # s of emergency braking the build-up
 
 
 def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-medium",
-                       max_time: float = 3600.0, load: str | None = None) -> Scenario:
-    """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`."""
+                       max_time: float = 3600.0, load: str | None = None,
+                       allow_outside_validity: bool = False) -> Scenario:
+    """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`;
+    allow_outside_validity: run the condition outside its validity (flagged) instead of refusing."""
     from railbrake.scenario import SCHEMA, from_data
     train, condition = name_or_path("train", train), name_or_path("condition", condition)
     initial_speed, max_time = real("initial_speed", initial_speed, 0.0), real("max_time", max_time, 0.0)
@@ -165,7 +167,9 @@ def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-m
     data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
             "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
             "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
-            "demand": [{"time": "0 s", "emergency": True}], "adhesion": {"condition": condition},
+            "demand": [{"time": "0 s", "emergency": True}],
+            "adhesion": {"condition": condition, "allow_outside_validity": flag("allow_outside_validity",
+                                                                                allow_outside_validity)},
             "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
     if load is not None:
         data["train"]["load_case"] = load
