@@ -173,6 +173,9 @@ def from_simulation(result, sc, command_line: list[str] | None = None) -> RunRec
                                  "configuration": getattr(result, "configuration", None)
                                  or configuration(sc, result.cars, result.wsp),
                                  "provenance": provenance(command_line)}
+    from railbrake.simulation.response import HEALTHY_SHORTFALL
+    if HEALTHY_SHORTFALL in result.meta:   # the reference the run's warnings were judged on
+        meta[HEALTHY_SHORTFALL] = result.meta[HEALTHY_SHORTFALL]
     return RunRecord(np.asarray(result.time), dict(result.outputs), dict(result.units), dict(result.kpis), meta)
 
 
@@ -189,4 +192,7 @@ def from_hil(result, sc, command_line: list[str] | None = None) -> RunRecord:
                                  "hil": {"counters": result.counters, "timing": result.timing,
                                          "fault_changes": [c.as_dict() for c in getattr(result, "fault_changes", [])]},
                                  "provenance": provenance(command_line)}
+    from railbrake.simulation.response import HEALTHY_SHORTFALL
+    if HEALTHY_SHORTFALL in result.meta:   # the reference the run's warnings were judged on
+        meta[HEALTHY_SHORTFALL] = result.meta[HEALTHY_SHORTFALL]
     return RunRecord(np.asarray(result.time), dict(result.outputs), dict(result.units), dict(result.kpis), meta)

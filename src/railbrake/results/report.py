@@ -52,7 +52,7 @@ def _image(path: Path) -> str:
 def write_report(record: RunRecord, plots: list[Path], path: Path) -> Path:
     m = record.meta
     prov = m.get("provenance", {})
-    warnings = kpi_info.warnings(record.kpis)
+    warnings = kpi_info.warnings(record.kpis, m.get("healthy_cylinder_shortfall_s"))
     faults = ", ".join(f"{f['type']} car {f['car']}{'' if f.get('axle') is None else ' axle ' + str(f['axle'])} "
                        f"from {f['start']:g} s" for f in m.get("faults", [])) or "none"
     zones = ", ".join(f"{z['start']:g}-{z['end']:g} m {z['condition']}" for z in m.get("zones", [])) or "none"

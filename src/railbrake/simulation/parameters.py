@@ -22,6 +22,7 @@ from railbrake.contact import wheel_rail_contact
 from railbrake._args import instance, real, whole
 from railbrake.errors import InputError
 from railbrake.scenario import Scenario
+from railbrake.simulation import traction
 from railbrake.units import KMH
 from railbrake.vehicle import load_train, with_cars
 
@@ -56,6 +57,7 @@ def _car(train, index: int) -> _core.PlantCar:
     car.contact = wheel_rail_contact(wheel_radius=w.wheel_radius, axle_load=w.axle_load).creep_contact()
     ed = train.spec.ed_brake
     car.ed_tau = ed.response_s if ed is not None else 1.0   # no ED brake: the lag is never used
+    traction.set_car(car, entry.motor and ed is not None)
     cyl, discs = t.cylinder, t.discs
     pipe = train.spec.air_supply.pipe
     car.supply_volume = t.supply_reservoir.volume_l * L
@@ -323,6 +325,7 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=No
     b.service_jerk = train.brake_step("service").jerk_limit_m_s3 or 0.0   # 0: no limit
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
+    traction.set_bcu(b)
     return b
 
 
