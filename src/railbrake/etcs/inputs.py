@@ -124,6 +124,18 @@ class ReliabilityFile(_File):
             if (f.kind, f.unit) in seen:
                 raise ValueError(f"failures: {f.kind} on the {f.unit} given twice")
             seen.add((f.kind, f.unit))
+        # a group given twice (by name, or the same kind on the same cars) would count one
+        # cause twice: refused, not summed
+        names, groups = set(), set()
+        for g in self.common_cause:
+            cars = "all" if g.cars == "all" else tuple(sorted(set(g.cars)))
+            if g.name in names or (g.kind, cars) in groups:
+                raise ValueError(f"common_cause: the group {g.name!r} ({g.kind} on cars {g.cars}) is given twice: "
+                                 "give each common cause once")
+            if g.cars != "all" and len(set(g.cars)) != len(g.cars):
+                raise ValueError(f"common_cause {g.name!r}: cars = {g.cars}: a car named twice")
+            names.add(g.name)
+            groups.add((g.kind, cars))
         return self
 
 

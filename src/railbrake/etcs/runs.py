@@ -97,7 +97,7 @@ class Context:
     def prepared(self, state: int, sample: int) -> tuple:
         plant, bcu, wsp, scen = self.structs
         plant, bcu = scatter.apply(plant, bcu, self.draws[sample])
-        failures.set_faults(plant, failures.plant_faults(self.states[state], self.classes, self.common))
+        failures.set_faults(plant, failures.plant_faults(self.states[state]))
         return plant, bcu, wsp, scen
 
 
