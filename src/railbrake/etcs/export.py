@@ -31,6 +31,9 @@ def to_json(m: BrakingModel) -> dict:
         "emergency_braking_distance_m": [{"M_NVEBCL": i, "M_NVAVADH_0": braking_distance(m, i, 0.0),
                                           "M_NVAVADH_1": braking_distance(m, i, 1.0)} for i in levels],
         "failure_states": m.states,
+        "unenumerated_probability": m.unenumerated_probability,
+        "failure_effects": m.effects,
+        "warnings": m.warnings,
         "runs": m.runs,
         "analysis": asdict(m.spec),
     }

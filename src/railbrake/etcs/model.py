@@ -28,7 +28,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from railbrake import _core, config, simulation
 from railbrake.simulation import response
 from railbrake.errors import InputError
-from railbrake.etcs import confidence, mixture, runs
+from railbrake.etcs import confidence, effects, mixture, runs
 from railbrake.units import KMH
 
 
@@ -45,6 +45,7 @@ class Method(BaseModel):
     rare_samples: int = Field(ge=2, le=100_000)
     likely_state: float = Field(ge=0.0, le=1.0)
     state_floor: float = Field(gt=0.0, lt=1e-9)
+    no_effect_ratio: float = Field(gt=0.0, lt=0.05)
 
 
 def method() -> Method:
@@ -96,6 +97,9 @@ class BrakingModel:
     deciding: list               # [step][M_NVEBCL]: the state most likely at the quantile
     runs: int = 0
     ratios: list = field(default_factory=list, repr=False)   # per state, per step: the sorted sample
+    effects: list = field(default_factory=list)   # each failure alone: railbrake.etcs.effects.screen
+    warnings: list = field(default_factory=list)
+    unenumerated_probability: float = 0.0         # states below the floor, counted as no brake
 
     def kdry_coded(self) -> list:
         return [[confidence.coded(k) for k in step] for step in self.kdry]
@@ -144,6 +148,7 @@ def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) ->
     t_be = nominal_build_up(ctx)
     stop_speed = ctx.structs[3].stop_speed
     nominal = nominal_decelerations(ctx, t_be, stop_speed)
+    effects_, warnings_ = screen(ctx, t_be, nominal)
     rows = runs.run_all(spec, ctx.jobs(), out, workers, progress)
     n_steps = len(ctx.marks) + 1
     per_state = [[] for _ in ctx.states]
@@ -161,7 +166,15 @@ def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) ->
     summary = [{"label": st.label, "probability": st.probability, "runs": len(r),
                 "mean_ratio": [float(x) for x in r.mean(axis=0)]} for st, r in zip(ctx.states, ratios)]
     return BrakingModel(spec.train, spec, steps, [float(a) for a in nominal], t_be, kdry, k_wet, pairs,
-                        summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios])
+                        summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios],
+                        effects_, warnings_, max(0.0, 1.0 - sum(st.probability for st in ctx.states)))
+
+
+def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, list]:
+    """Each failure and scatter factor run on its own (railbrake.etcs.effects.screen)."""
+    stop_speed = ctx.structs[3].stop_speed
+    return effects.screen(ctx, lambda kpis: step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(kpis), t_be)
+                          / nominal, method().no_effect_ratio)
 
 
 def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float) -> np.ndarray:
