@@ -48,7 +48,8 @@ VALUE_KEYS = {"cylinder_leak": "leak_area_mm2", "sensor_noisy": "noise_kmh", "re
 # A normal factor without bounds must keep zero this many standard deviations below its mean
 # (P < 1e-23): a factor on friction, pressure or mass cannot be negative.
 UNBOUNDED_SIGMAS = 10.0
-QUANTITIES = ("pad_friction", "pressure_control", "rigging_efficiency", "wheel_diameter", "load", "valve_response")
+QUANTITIES = ("pad_friction", "pressure_control", "rigging_efficiency", "wheel_diameter", "load", "valve_response",
+              "emergency_choke", "limiter_setting")
 
 
 class _Strict(BaseModel):
@@ -195,6 +196,8 @@ class ScatterFile(_File):
     wheel_diameter: Distribution | None = None
     load: Distribution | None = None                  # the car's mass against the mass the BCU weighs
     valve_response: Distribution | None = None        # EP and relay valve response times
+    emergency_choke: Distribution | None = None       # the emergency valve's choke area (its filling rate)
+    limiter_setting: Distribution | None = None       # the load-weighing valve's limit (gauge pressure)
 
     def quantities(self) -> dict[str, Distribution]:
         return {q: getattr(self, q) for q in QUANTITIES if getattr(self, q) is not None}

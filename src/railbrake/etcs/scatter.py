@@ -66,7 +66,8 @@ def _scale_table(table, factor: float) -> None:
 
 def apply(plant, bcu, factors: np.ndarray) -> tuple:
     """Copies of the plant and BCU structs with one draw (len(QUANTITIES) x n_cars factors): pad
-    friction, caliper efficiency, wheel radius, mass and valve response in the plant, which the BCU
+    friction, caliper efficiency, wheel radius, mass, valve response, the emergency valve's choke
+    and the load-weighing valve's limit (gauge) in the plant, which the BCU
     does not know (it brakes for the nominal train: load = the mass it weighs); the pressure its
     control gives per newton demanded in the BCU."""
     plant, bcu = type(plant).from_buffer_copy(plant), type(bcu).from_buffer_copy(bcu)
@@ -81,6 +82,8 @@ def apply(plant, bcu, factors: np.ndarray) -> tuple:
         v.wheelset.axle_load *= f["load"][c]
         car.ep_tau *= f["valve_response"][c]
         car.relay_tau *= f["valve_response"][c]
+        car.emergency_area *= f["emergency_choke"][c]
+        car.emergency_limit = plant.atmosphere + (car.emergency_limit - plant.atmosphere) * f["limiter_setting"][c]
         _scale_table(bcu.pressure_per_newton[c], f["pressure_control"][c])
     return plant, bcu
 

@@ -17,6 +17,13 @@ failures:
   - {kind: emergency_valve_failed, unit: car, per_demand: 1.0e-5, source: test}
 """
 
+SCATTER = """schema: railbrake.scatter/1
+name: t
+source: test
+valve_response: {distribution: uniform, bounds: [0.5, 2.0], per: car, source: test}
+emergency_choke: {distribution: uniform, bounds: [0.5, 2.0], per: car, source: test}
+"""
+
 
 def _screen(spec):
     ctx = runs.context(spec)
@@ -55,8 +62,11 @@ def test_the_ep_valve_in_emergency_is_reported_as_no_effect(tmp_path):
     assert not any(e["no_effect"] for e in by_kind["emergency_valve_failed"])
     assert any("ep_valve_failed" in w and "no effect on this brake" in w for w in warnings)
     assert not any("emergency_valve_failed" in w for w in warnings)
-    # the shipped scatter: valve_response scales the EP and relay valves' time constants; reported
-    # if it moves no step's ratio by the method's threshold
-    _, warnings = _screen(model.spec("crh380a-8", reliability=path, cars=2, initial_speed_kmh=80,
+    # a scatter factor that cannot move the emergency stop (the EP and relay valves' response: the
+    # emergency valve's choke sets the filling) is reported; the choke's area is not
+    scatter = tmp_path / "scatter.yaml"
+    scatter.write_text(SCATTER)
+    _, warnings = _screen(model.spec("crh380a-8", reliability=path, scatter=scatter, cars=2, initial_speed_kmh=80,
                                      samples=2, rare_samples=2))
-    print(warnings)
+    assert any(w.startswith("scatter valve_response: no effect on this brake") for w in warnings), warnings
+    assert not any(w.startswith("scatter emergency_choke") for w in warnings), warnings
