@@ -1,9 +1,11 @@
 """Drawing the scatter file's tolerances and applying a draw to a run's C structs.
 
-The draws are a Latin hypercube over every factor (one per quantity, or one per quantity and car):
+The draws are Latin hypercubes over every factor (one per quantity, or one per quantity and car):
 each factor's range is covered in equal-probability strata, so a state's mean and spread converge
-faster than with independent draws (McKay, Beckman & Conover 1979), and the same design, seeded,
-is used in every failure state, so the states differ by their failures only.
+faster than with independent draws (McKay, Beckman & Conover 1979). Each failure state draws its
+own, in blocks (block_draws: a block is one hypercube, seeded by the analysis' seed, the state and
+the block's number), so that the states' samples are independent of one another (the bootstrap of
+railbrake.etcs.bound needs it) and each is balanced whatever number of blocks it gets.
 """
 
 from __future__ import annotations
@@ -45,6 +47,13 @@ def draws(scatter: ScatterFile | None, n_cars: int, n: int, seed: int) -> np.nda
         out[:, q, :] = values if k == n_cars else values[:, :1]
         column += k
     return out
+
+
+def block_draws(scatter: ScatterFile | None, n_cars: int, size: int, seed: int, state: int, block: int) -> np.ndarray:
+    """Block `block` of failure state `state`'s draws: a Latin hypercube of `size` draws of its own
+    (array (size, len(QUANTITIES), n_cars), as draws)."""
+    sub = int(np.random.SeedSequence([seed, state, block]).generate_state(1, dtype=np.uint64)[0] >> 1)
+    return draws(scatter, n_cars, size, sub)
 
 
 def check_against(scatter: ScatterFile | None, plant, origin: str) -> None:
