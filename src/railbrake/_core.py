@@ -358,7 +358,8 @@ class BcuParams(Structure):
                 + [("demand_tables", c_int), ("ed_in_service", c_int)]
                 + [(n, SpeedTable * PLANT_MAX_CARS) for n in ("emergency_force", "service_force",
                                                              "pressure_per_newton")]
-                + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)])
+                + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)]
+                + [("service_jerk", c_double)])
 
 
 class Scenario(Structure):
@@ -604,7 +605,7 @@ class HilConfig(Structure):
 
 HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",
                 "safe_state_steps", "overruns", "foreign", "forged", "duplicate", "out_of_order", "replayed",
-                "challenges")
+                "challenges", "stale_challenges", "hellos")
 # the BCU's loss (rb_hil_result): how often, when (steps), for how long, and what it cost
 HIL_LOSS = ("losses", "lost_step", "last_valid_step", "lost_steps", "lost_lock_events")
 HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us", "work_mean_us",
@@ -625,7 +626,8 @@ class HilEvent(Structure):
 
 class FrameHeader(Structure):
     _fields_ = [("session", c_uint32), ("config", c_uint32), ("sequence", c_uint32), ("step", c_uint64),
-                ("nonce", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8), ("type", c_uint8)]
+                ("nonce", c_uint64), ("plant_nonce", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8),
+                ("type", c_uint8)]
 
 
 class PlantFrame(Structure):
@@ -654,7 +656,7 @@ rb_challenge_frame_encode = _declare("rb_challenge_frame_encode", c_int, POINTER
 rb_frame_check = _declare("rb_frame_check", c_int, c_char_p, c_size_t, POINTER(FrameHeader), _err_p)
 rb_frame_authentic = _declare("rb_frame_authentic", c_int, c_char_p, c_size_t, c_char_p)
 rb_siphash24 = _declare("rb_siphash24", c_uint64, c_char_p, c_char_p, c_size_t)
-rb_hil_session_key = _declare("rb_hil_session_key", None, c_char_p, c_uint32, c_uint64, c_char_p)
+rb_hil_session_key = _declare("rb_hil_session_key", None, c_char_p, c_uint32, c_uint64, c_uint64, c_char_p)
 rb_plant_frame_decode = _declare("rb_plant_frame_decode", c_int, c_char_p, c_size_t, POINTER(PlantFrame), _err_p)
 rb_bcu_frame_decode = _declare("rb_bcu_frame_decode", c_int, c_char_p, c_size_t, POINTER(BcuFrame), _err_p)
 rb_hil_config_digest = _declare("rb_hil_config_digest", c_uint32, c_char_p, c_int, c_int, c_double)

@@ -329,8 +329,9 @@ class Scenario:
         if not self._data:
             raise InputError(f"scenario {self.name}: built in code (no file data behind it), so it cannot be "
                              "changed with with_; load it from a file or preset")
-        from railbrake import resolve
-        return resolve.resolve(self, sets=merged).scenario
+        data = self.data
+        labels = _changes.apply_changes(data, merged, ScenarioFile)   # as --set: unknown keys refused
+        return from_data(data, self.origin, self._lines, labels)
 
     @property
     def name(self) -> str:

@@ -131,9 +131,23 @@ class _EmergencyLoop(_Strict):
     source: str
 
 
+class _ServiceStep(_BrakeStep):
+    """The service step; jerk_limit_m_s3: the BCU's limit on the rate of change of the service
+    deceleration it demands (core/src/bcu.c; none when absent), with its own source."""
+    jerk_limit_m_s3: Optional[float] = _num("bcu.service_jerk", default=None)
+    jerk_limit_source: Optional[str] = None
+
+    @model_validator(mode="after")
+    def _sourced(self):
+        if self.jerk_limit_m_s3 is not None and not (self.jerk_limit_source or "").strip():
+            raise ValueError(f"jerk_limit_m_s3 = {self.jerk_limit_m_s3:g} needs jerk_limit_source (where the "
+                             "value comes from)")
+        return self
+
+
 class _BrakeSteps(_Strict):
     emergency: _BrakeStep
-    service: _BrakeStep
+    service: _ServiceStep
 
 
 class _Compressor(_Strict):
@@ -348,6 +362,13 @@ class _Sanders(_Strict):
     source: str
 
 
+class _Etcs(_Strict):
+    """The train's ETCS train data not computed from its brake (railbrake.etcs.service)."""
+    traction_cut_off_s: float = Field(gt=0.0, le=60.0)   # SUBSET-026 T_traction_cut_off
+    traction_cut_off_implemented: bool = True             # the on-board commands the cut-off (3.13.9.3.2.3)
+    source: str
+
+
 class _TrainFile(_Strict):
     schema_: str = Field(alias="schema")
     name: str
@@ -368,6 +389,7 @@ class _TrainFile(_Strict):
     car_types: dict[str, _CarType]
     formation: list[str] = Field(min_length=1, max_length=_core.MAX_CARS)
     sanders: Optional[_Sanders] = None
+    etcs: Optional[_Etcs] = None
 
     @model_validator(mode="after")
     def _known_types(self):
@@ -437,10 +459,9 @@ class Train:
         """A copy with keys of the train file changed, e.g. ``with_(max_speed_kmh=300)`` or
         ``with_({'car_types.motor.tare_t': 50, 'load_case': 'crush'})``: keys and values in file
         units, as ``--set train.KEY=VALUE`` takes them, validated as a whole as a train file is."""
-        from railbrake import resolve
         merged = _changes.merge(changes, kwargs, "Train.with_")
         data = self.spec.model_dump(mode="json", by_alias=True)
-        labels = resolve.apply_changes(data, merged, _TrainFile)
+        labels = _changes.apply_changes(data, merged, _TrainFile)
         loaded = data.get("load_case") if "load_case" in merged else self.load_case
         train = parse_train_data(data, self.origin, self.lines, loaded, overrides=labels)
         return train if len(self.cars) == len(self.spec.formation) else with_cars(train, len(self.cars))
@@ -642,7 +663,7 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
 def _check_references(model: _TrainFile, locate) -> None:
     """The brake steps' profiles load and the valve designs name a design file: a name that names
     nothing is refused here, with its key, not when a run first needs it."""
-    from railbrake.sizing import load_profile
+    from railbrake.profiles import load_profile
     for step in ("emergency", "service"):
         name = getattr(model.brake_steps, step).profile
         try:

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railbrake import simulation
+from railbrake import simulation, sizing
 from railbrake.errors import InputError
 from railbrake.etcs import failures, inputs, scatter
 from railbrake.resolve import resolve
@@ -84,7 +84,7 @@ class Context:
         """The C structs of an emergency stop from v0 (m/s) on `condition`, with the speed marks."""
         sc = simulation.emergency_scenario(self.spec.train, v0, condition)
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", simulation.sizing.SupplyWarning)
+            warnings.simplefilter("ignore", sizing.SupplyWarning)
             plant, bcu, wsp, scen = simulation.structs(resolve(sc, self.spec.cars or len(self.train.cars)))
         scen.n_speed_marks = len(self.marks)
         for i, v in enumerate(self.marks):

@@ -8,7 +8,7 @@ import math
 from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
 
-import railbrake
+from railbrake._version import __version__
 from railbrake.fmu.variables import Unit, Variable, units
 
 
@@ -116,8 +116,8 @@ def model_description(fmu: Header, variables: list[Variable]) -> str:
     """modelDescription.xml in the FMI `fmu.version` ("2" or "3") flavour."""
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     head = dict(modelName=fmu.identifier, description=f"railbrake real-time plant: {fmu.title}", author=AUTHOR,
-                version=railbrake.__version__, copyright=f"Copyright {AUTHOR}", license=LICENSE,
-                generationTool=f"railbrake {railbrake.__version__}", generationDateAndTime=stamp,
+                version=__version__, copyright=f"Copyright {AUTHOR}", license=LICENSE,
+                generationTool=f"railbrake {__version__}", generationDateAndTime=stamp,
                 variableNamingConvention="flat")
     table = units(fmu.atmosphere)
     if fmu.version == "2":

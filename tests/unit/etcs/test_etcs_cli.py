@@ -47,9 +47,14 @@ def test_json_codings_bounds_osrd_export_and_report(tmp_path):
     assert 0 < kwet["coded"] <= kwet["value"] <= 1 and kwet["reduced_condition"] == "en15595-low"
     assert any(w.startswith("forced: adhesion condition 'en15595-low'") for w in data["warnings"])
     assert any("ep_valve_failed" in w and "no effect on this brake" in w for w in data["warnings"])
-    osrd = json.loads((out / "osrd-etcs-brake-params.json").read_text())["etcs_brake_params"]
+    doc = json.loads((out / "osrd-etcs-brake-params.json").read_text())
+    (entry,) = doc["supported_signaling_systems"]   # OSRD's current layout, k_dry at M_NVEBCL 9
+    assert entry["type"] == "ETCS_LEVEL2" and doc["railbrake"]["M_NVEBCL_of_k_dry"] == 9
+    osrd = entry["brake_params"]
     assert osrd["gamma_emergency"]["boundaries"] == [50 / 3.6]
-    assert len(osrd["k_dry"]["values"]) == 2 and osrd["k_dry"]["values"] == data["Kdry_rst"][2]["coded"]
+    assert len(osrd["k_dry"]["values"]) == 2 and osrd["k_dry"]["values"] == data["Kdry_rst"][9]["coded"]
+    names = [v["name"] for v in json.loads((out / "etcs-train-data.json").read_text())["variables"]]
+    assert {"A_brake_service", "T_bs1", "T_bs2", "Kn+", "Kn-", "T_traction_cut_off"} <= set(names)
     assert osrd["t_be"] == data["T_brake_emergency_s"]
     page = (out / "report.html").read_text()
     assert "<svg" in page and "99.9999999 %" in page and "initial speed 80 km/h" in page
