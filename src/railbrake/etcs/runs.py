@@ -126,7 +126,8 @@ def context(spec: Spec) -> Context:
 def _row(kpis) -> dict:
     if isinstance(kpis, Exception):
         return {"error": str(kpis)}
-    return {"stopping_distance_m": kpis["stopping_distance_m"], "marks_m": kpis["speed_marks"]["distance_m"]}
+    marks = kpis["speed_marks"]["distance_m"] if "speed_marks" in kpis else []   # none: one speed step
+    return {"stopping_distance_m": kpis["stopping_distance_m"], "marks_m": marks}
 
 
 def run_batch(spec: Spec, jobs: list) -> list[dict]:
