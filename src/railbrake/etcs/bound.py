@@ -20,8 +20,6 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import norm
 
-from railbrake.etcs import mixture
-
 GRID = 801
 CARRY = 1e-4          # a state carries the quantile if its CDF share moves by this x level
 COVERAGE = 0.95
@@ -86,7 +84,3 @@ def bound(states: list, level: float, estimate: float, missing: float, rng: np.r
     low, high = np.quantile(qs, [(1 - COVERAGE) / 2, (1 + COVERAGE) / 2])
     return max(0.0, estimate - float(low)), max(0.0, float(high) - estimate), carrying
 
-
-def share_below(state: mixture.State, x: float) -> float:
-    """The state's share of the mixture's probability below x: P(s) F_s(x)."""
-    return state.probability * state.cdf(x)

@@ -41,7 +41,8 @@ def ratios(spec: runs.Spec, n: int, seed: int) -> np.ndarray:
         prepared = []
         for _ in range(min(CHUNK, n - start)):
             plant, bcu = scatter.apply(ctx.structs[0], ctx.structs[1], _draw_factors(ctx, rng))
-            failures.set_faults(plant, failures.plant_faults(failures.draw(ctx.reliability, ctx.train, ctx.common, rng)))
+            faults = failures.draw(ctx.reliability, ctx.train, ctx.common, rng)
+            failures.set_faults(plant, failures.plant_faults(faults))
             prepared.append((plant, bcu, ctx.structs[2], ctx.structs[3]))
         for row in simulation.run_structs(prepared):
             out.append(model.step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(row), t_be) / nominal)
