@@ -67,7 +67,7 @@ def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
         for k in sets:
             if not isinstance(k, str) or not k.strip():
                 raise TypeError(f"sets: key {k!r}: must be a dotted key such as 'initial_speed'")
-        items = [(k, v, f"set {k}") for k, v in sets.items()]
+        items = [(k, v, f"sets[{k!r}]") for k, v in sets.items()]   # the caller's mapping, by its key
     else:
         items = []
         for i, text in enumerate(sets):

@@ -270,6 +270,7 @@ def _doubles(*names):
 class PlantCar(Structure):
     _fields_ = ([("vehicle", Car), ("length", c_double), ("axle_position", c_double * AXLES_PER_CAR),
                  ("contact", CreepContact), ("ed_tau", c_double)]
+                + _doubles("ed_slide_slip", "ed_slide_release", "ed_cut_rate", "ed_restore_rate")
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
                            "charge_area", "ep_area", "ep_tau", "ep_band", "ep_supply_margin", "ep_bleed_area",
                            "relay_supply_area", "relay_exhaust_area", "relay_band", "relay_tau", "relay_sweep",
@@ -316,7 +317,7 @@ class PlantParams(Structure):
                 + [("wall_time", c_double), ("rail_cell_length", c_double)]
                 + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
                    ("sander_rate", SpeedTable * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
-                   ("sand_reference", c_double)])
+                   ("sand_reference", c_double), ("sand_entrained", c_double), ("sand_retention", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.
@@ -359,7 +360,8 @@ class BcuParams(Structure):
                 + [(n, SpeedTable * PLANT_MAX_CARS) for n in ("emergency_force", "service_force",
                                                              "pressure_per_newton")]
                 + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)]
-                + [("service_jerk", c_double)])
+                + [("service_jerk", c_double)]
+                + _doubles("ed_restore_rate", "ed_restore_delay"))
 
 
 class Scenario(Structure):

@@ -16,9 +16,9 @@ PACKAGE = "railbrake"
 
 # (layer, what it holds, module prefixes), lowest first. A prefix names a module and its submodules.
 LAYERS = (
-    ("foundations", "units, errors, argument checks, JSON, the layer table",
-     ("railbrake.units", "railbrake.errors", "railbrake._args", "railbrake.jsonio", "railbrake._changes",
-      "railbrake._layers", "railbrake._version")),
+    ("foundations", "units, errors, argument checks, JSON, whole-or-absent output files, the layer table",
+     ("railbrake.units", "railbrake.errors", "railbrake._args", "railbrake.jsonio", "railbrake.atomic",
+      "railbrake._changes", "railbrake._layers", "railbrake._version")),
     ("core binding", "ctypes mirror of the C core's structs and functions (every law is in core/)",
      ("railbrake._core",)),
     ("data and schemas", "data files read and validated: trains, scenarios, adhesion conditions, valves, "
@@ -33,10 +33,10 @@ LAYERS = (
      ("railbrake.results", "railbrake.plots")),
     ("runs", "whole runs in the core (real-time and detailed models) into a Result",
      ("railbrake.simulation",)),
-    ("studies and systems", "campaigns, ETCS braking curves, validation cases, HIL, sequences, FMU export, "
-     "valve reduction on the detailed model",
-     ("railbrake.campaign", "railbrake.etcs", "railbrake.validation", "railbrake.hil", "railbrake.sequence",
-      "railbrake.fmu", "railbrake.valves.reduce")),
+    ("studies and systems", "campaigns, ETCS braking curves, brake calculation reports, validation cases, HIL, "
+     "sequences, FMU export, valve reduction on the detailed model",
+     ("railbrake.campaign", "railbrake.etcs", "railbrake.brakecalc", "railbrake.validation", "railbrake.hil",
+      "railbrake.sequence", "railbrake.fmu", "railbrake.valves.reduce")),
     ("command line", "the railbrake command and the package's face",
      ("railbrake.cli", "railbrake._entry", "railbrake.__main__", "railbrake")),
 )

@@ -19,6 +19,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 from railbrake import _changes, config
 from railbrake._args import name_or_path, text as _text
 from railbrake.errors import InputError
+from railbrake.units import ms_to_kmh
 
 SCHEMA = "railbrake.scenario/1"
 
@@ -32,7 +33,8 @@ _UNITS = {
     "mm^2": ("area", 1e-6), "m^2": ("area", 1.0),
     "‰": ("gradient", 1e-3), "permille": ("gradient", 1e-3), "%": ("gradient", 1e-2),
 }
-_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$")
+# ASCII digits only: Python's float() and \d also take other scripts' digits (Arabic-Indic ٣ is 3)
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$", re.ASCII)
 
 
 def _quantity(dimension: str, bound: str | None = None):
@@ -176,6 +178,9 @@ class Adhesion(_Strict):
     # index, or "cells", the rail under the train cleaned cell by cell by the energy each axle
     # dissipates (where the condition's file gives conditioning.cells; core/src/rail_conditioning.c)
     rail_conditioning: Literal["axles", "cells"] = "axles"
+    # true: a condition run outside its validity (its file's validity.speed_kmh) is run anyway, and
+    # the run's KPIs, report and JSON say so (adhesion_outside_validity); false: refused
+    allow_outside_validity: bool = False
 
 
 class WspSettings(_Strict):
@@ -358,6 +363,46 @@ class Scenario:
                              f"maximum speed of train {train.name}, {train.max_speed * 3.6:g} km/h "
                              f"(allowed: 0 to {train.max_speed * 3.6:g} km/h)")
 
+    def condition_keys(self) -> list[tuple[tuple, str]]:
+        """(key, condition name) of the run's condition and of each adhesion zone's."""
+        adhesion = self.spec.adhesion
+        return [(("adhesion", "condition"), adhesion.condition)] + [
+            (("adhesion", "zones", i, "condition"), z.condition) for i, z in enumerate(adhesion.zones)]
+
+    def outside_validity(self) -> list[str]:
+        """Each condition the run uses outside its validity, said in words (a zone is met at the
+        initial speed at most: judged at it)."""
+        from railbrake.adhesion import load_condition, run_outside_validity
+        out = []
+        for key, name in self.condition_keys():
+            why = run_outside_validity(load_condition(name), ms_to_kmh(self.spec.initial_speed))
+            if why:
+                out.append(f"{'.'.join(str(k) for k in key)}: {why}")
+        return out
+
+    def creep_outside_validity(self, max_slip: float) -> list[str]:
+        """The run's conditions whose file gives a creep range that max_slip (the run's largest
+        creep of any axle, KPI max_slip) left, said in words."""
+        from railbrake.adhesion import creep_outside_validity, load_condition
+        out = []
+        for key, name in self.condition_keys():
+            why = creep_outside_validity(load_condition(name), max_slip)
+            if why:
+                out.append(f"{'.'.join(str(k) for k in key)}: {why}")
+        return out
+
+    def check_validity(self) -> None:
+        """A condition outside its validity is refused unless adhesion.allow_outside_validity."""
+        if self.spec.adhesion.allow_outside_validity:
+            return
+        from railbrake.adhesion import load_condition, run_outside_validity
+        for key, name in self.condition_keys():
+            why = run_outside_validity(load_condition(name), ms_to_kmh(self.spec.initial_speed))
+            if why:
+                raise InputError(f"{self.where(*key)} = {name!r} with {self.where('initial_speed')} = "
+                                 f"{self._as_written('initial_speed')}: {why}; give a condition valid there, "
+                                 "or force the run with adhesion.allow_outside_validity: true")
+
     def check_faults_on(self, train) -> None:
         """An ED-brake fault on a car without an ED brake (a trailer) changes nothing: refused."""
         for i, fault in enumerate(self.spec.faults):
@@ -497,6 +542,7 @@ def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = Non
         except InputError as exc:   # an error inside the adhesion file names that file and line
             detail = str(exc).removeprefix(f"condition = {name!r}: ")
             raise InputError(f"{scenario.where(*key)} = {name!r}: {detail}") from None
+    scenario.check_validity()
     try:
         train = load_train(spec.train.preset)
     except InputError as exc:

@@ -359,7 +359,18 @@ class _Sanders(_Strict):
     runs whose adhesion condition cleans the rail cell by cell (scenario rail_conditioning: cells)."""
     units: list[_Sander] = Field(min_length=1, max_length=_core.MAX_SANDERS)
     sand_reference_kg_m: float = Field(gt=0.0, le=10.0)  # sand per metre of track that removes 63 % of the contamination
+    # of a cell's loose sand, the part each passing axle crushes into its contact and the part it
+    # leaves loose for the axles behind (the rest is carried away; core/src/rail_conditioning.c)
+    sand_entrained: float = Field(gt=0.0, le=1.0)
+    sand_retention: float = Field(ge=0.0, le=1.0)
     source: str
+
+    @model_validator(mode="after")
+    def _shares(self):
+        if self.sand_entrained + self.sand_retention > 1.0:
+            raise ValueError(f"sand_entrained + sand_retention = {self.sand_entrained + self.sand_retention:g}: "
+                             "must be <= 1 (shares of the same sand)")
+        return self
 
 
 class _Etcs(_Strict):

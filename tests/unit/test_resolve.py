@@ -25,8 +25,8 @@ def test_overrides_reach_scenario_and_train():
 
 
 def test_mapping_overrides_and_train_preset():
-    r = resolve("emergency-250-dry", sets={"train.preset": "velaro-8", "adhesion.condition": "wet"})
-    assert r.train.name == "velaro-8" and r.scenario.spec.adhesion.condition == "wet"
+    r = resolve("emergency-250-dry", sets={"train.preset": "velaro-8", "adhesion.condition": "hs-wet"})
+    assert r.train.name == "velaro-8" and r.scenario.spec.adhesion.condition == "hs-wet"
     assert r.cars == len(r.train.cars)
 
 
@@ -67,7 +67,7 @@ def test_relative_files_resolve_against_the_scenario_folder(tmp_path, monkeypatc
     folder = tmp_path / "study"
     folder.mkdir()
     shutil.copy(data / "trains" / "crh380a-8.yaml", folder / "my-train.yaml")
-    shutil.copy(data / "adhesion" / "wet.yaml", folder / "my-rail.yaml")
+    shutil.copy(data / "adhesion" / "hs-wet.yaml", folder / "my-rail.yaml")   # valid at 250 km/h
     text = (data / "scenarios" / "emergency-250-dry.yaml").read_text()
     text = text.replace("preset: crh380a-8", "preset: my-train.yaml").replace("dry-medium", "my-rail.yaml")
     assert "my-train.yaml" in text and "my-rail.yaml" in text
@@ -91,3 +91,23 @@ def test_overrides_stack_on_a_resolved_configuration():
     assert second.train.name == "velaro-8" and second.cars == 2
     assert second.scenario.spec.initial_speed == pytest.approx(120 * KMH)
     assert resolve(first) is first
+
+
+SCENARIO_TEXT = (resources.files("railbrake") / "data" / "scenarios" / "emergency-250-dry.yaml").read_text()
+
+
+@pytest.mark.parametrize("train, words", [
+    ("train: crh380a-8", ["line 4", "train = 'crh380a-8'", "must be a mapping"]),   # a scalar: one error
+    ("train: {preset: " + "x" * 10_000 + "}", ["line 4", "train.preset", "too long"]),
+    ("train: {preset: " + "x" * 300 + ".yaml}", ["line 4", "train.preset", "too long"]),
+])
+def test_a_bad_train_gives_one_error_with_file_line_and_key(tmp_path, train, words):
+    lines = SCENARIO_TEXT.splitlines()
+    assert lines[3].startswith("train:")
+    path = tmp_path / "scenario.yaml"
+    path.write_text("\n".join(lines[:3] + [train] + lines[4:]) + "\n")
+    with pytest.raises(InputError) as caught:
+        resolve(str(path))
+    message = str(caught.value)
+    assert message.startswith(str(path)) and all(w in message for w in words), message
+    assert len(message) < 400 and "File name too long" not in message   # the 10 kB name is not echoed

@@ -8,6 +8,7 @@ import io
 import numpy as np
 from scipy.stats import norm
 
+from railbrake import atomic
 from railbrake.etcs import confidence, mixture
 from railbrake.etcs.model import BrakingModel, braking_distance
 
@@ -86,7 +87,7 @@ def write(m: BrakingModel, path, max_states: int = 40) -> None:
     files = "".join(f"<li>{k}: {esc(v['name'])} (SHA-256 {v['sha256']})</li>" if v else f"<li>{k}: none</li>"
                     for k, v in inputs.items())
     svg = buffer.getvalue()[buffer.getvalue().find('<svg'):]
-    path.write_text(f"""<!doctype html><html><head><meta charset="utf-8"><title>ETCS braking model: {esc(m.train)}</title>
+    atomic.write_text(path, f"""<!doctype html><html><head><meta charset="utf-8"><title>ETCS braking model: {esc(m.train)}</title>
 <style>body{{font-family:sans-serif;max-width:80em}}td,th{{padding:2px 8px;text-align:right}}</style></head><body>
 <h1>ETCS braking model: {esc(m.train)}</h1>
 <p>Emergency brake from the initial speed {m.initial_speed_kmh:.0f} km/h; T_brake_emergency {m.t_brake_emergency:.2f} s;

@@ -6,11 +6,11 @@ the folder it is copied to, bit for bit: nothing in it points back to the machin
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import yaml
 
+from railbrake import atomic
 from railbrake.errors import InputError
 from railbrake.resolve import PROVENANCE_KEY
 
@@ -31,7 +31,7 @@ def _copy_condition(name: str, folder: Path) -> str:
     if target.resolve() != path.resolve():
         if target.exists() and target.read_bytes() != path.read_bytes():
             raise InputError(f"{target}: exists with other contents than adhesion condition {path}")
-        shutil.copyfile(path, target)
+        atomic.write_bytes(target, path.read_bytes())
     return path.name
 
 
@@ -43,7 +43,7 @@ def _train_file(train: dict, folder: Path) -> str:
         return train["preset"]
     name = f"{display_name(train.get('name') or train['preset'])}.yaml"
     contents = {k: v for k, v in train.items() if k not in ("preset", "cars")}
-    (folder / name).write_text(yaml.safe_dump(contents, sort_keys=False, allow_unicode=True, width=100))
+    atomic.write_text(folder / name, yaml.safe_dump(contents, sort_keys=False, allow_unicode=True, width=100))
     return name
 
 
@@ -70,5 +70,4 @@ def write_config(resolved, path: Path) -> Path:
                             "overrides": resolved.override_texts(), **provenance()}
     header = (f"# {resolved.name}: the configuration this run used, resolved (railbrake run {path.name} "
               "runs it again)\n")
-    path.write_text(header + yaml.safe_dump(tree, sort_keys=False, allow_unicode=True, width=100))
-    return path
+    return atomic.write_text(path, header + yaml.safe_dump(tree, sort_keys=False, allow_unicode=True, width=100))

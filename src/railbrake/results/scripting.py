@@ -89,12 +89,15 @@ def plot(result, kind: str = "braking_curve", path: Path | str | None = None, ax
     """One standard figure: path None returns the matplotlib Figure, else writes it (format from the
     suffix) and returns the path. axle: wsp_cycle's axle (default the worst); axles: slip's
     coloured axles besides the worst ('c3a2,c1a1'); window: 'T0:T1' in s for wsp_cycle."""
+    from railbrake import _args
     from railbrake.plots import simulation as plots
     from railbrake.results import episodes
     if kind not in PLOT_KINDS:
-        raise InputError(f"plot kind = {kind!r}: must be one of {', '.join(PLOT_KINDS)}")
+        raise InputError(f"plot kind = {_args.show(kind)}: must be one of {', '.join(PLOT_KINDS)}")
     record = record_of(result)
-    path = None if path is None else Path(path)
+    path = None if path is None else _args.path("path", path)
+    if path is not None and not path.parent.is_dir():
+        raise InputError(f"path = {_args.show(str(path))}: no folder {path.parent} to write it into")
     if kind == "wsp_cycle":
         chosen = parse_axles(axle, record, "axle") or [episodes.plotted_axles(record, None)[0]]
         return plots.plot_wsp_cycle(record, chosen[0], path, parse_window(window, record, "window"))
@@ -108,20 +111,31 @@ def plot(result, kind: str = "braking_curve", path: Path | str | None = None, ax
 
 def save(result, folder: Path | str) -> Path:
     """timeseries.parquet, kpis.json and run.json into folder (and config.yaml, the resolved
-    configuration, when the result knows it); load_result reads it back bit for bit."""
+    configuration, when the result knows it), then manifest.json; load_result reads it back bit
+    for bit, and refuses a folder whose writing was cut short."""
     from railbrake.results import files
     from railbrake.results.config_file import write_config
-    folder = Path(folder)
-    files.write_run(record_of(result), folder, ["parquet"])
+    from railbrake import _args
+    folder = _args.path("folder", folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"folder = {_args.show(str(folder))}: is a file; give a folder")
+    folder = files.begin_folder(folder)
+    record = record_of(result)
+    paths = files.write_run(record, folder, ["parquet"], complete=False)
     if result.resolved is not None:
-        write_config(result.resolved, folder / "config.yaml")
+        paths.append(write_config(result.resolved, folder / "config.yaml"))
+    files.write_manifest(folder, record, paths)   # last: a folder without it is an interrupted save
     return folder
 
 
 def load_result(folder: Path | str):
     """The Result saved in a run folder (Result.save, `railbrake run --out`, `hil --out`) or one of its
     time-series files."""
+    from railbrake import _args
     from railbrake.results import files
+    folder = _args.path("folder", folder)
+    if not folder.exists():
+        raise InputError(f"folder = {_args.show(str(folder))}: no such run folder or file")
     record = files.load(folder)
     meta = {k: v for k, v in record.meta.items() if k != "source"}
     return Result(meta.get("scenario", Path(folder).name), record.cars, record.wsp, record.time, record.outputs,

@@ -14,12 +14,12 @@ from railbrake.simulation.response import (RESPONSE_WINDOW, emergency_scenario, 
 from railbrake.simulation.runs import CHUNK, QUIET_CHUNK, WspCallback, run, run_batch, run_structs  # noqa: F401
 from railbrake.simulation.parameters import (DT, KERNEL_ENV, MAX_SUBSTEP, WSP_CONTROLLERS, ZERO_CELSIUS,
                                              axle_name, bcu_params, channels, demanded_steps, kernel_code,
-                                             kpi_dict, plant_params, scenario_train, structs, substeps_for,
-                                             wall_time, wsp_params)
+                                             kpi_dict, outside_validity_kpi, plant_params, scenario_train, structs,
+                                             substeps_for, wall_time, wsp_params)
 from railbrake.simulation.timing import bench, bench_plant
 
 __all__ = ["CHUNK", "Change", "DT", "KERNEL_ENV", "MAX_SUBSTEP", "QUIET_CHUNK", "RESPONSE_WINDOW", "Result",
            "WSP_CONTROLLERS", "ZERO_CELSIUS", "axle_name", "bcu_params", "bench", "bench_plant",
-           "channels", "demanded_steps", "emergency_scenario", "kernel_code", "kpi_dict", "plant_params",
+           "channels", "demanded_steps", "emergency_scenario", "kernel_code", "kpi_dict", "outside_validity_kpi", "plant_params",
            "response_times", "run", "run_batch", "run_structs", "scenario_train", "simulated_response", "structs",
            "substeps_for", "wall_time", "wsp_params"]

@@ -17,12 +17,13 @@ import numpy as np
 import yaml
 
 from railbrake import _core, sizing
-from railbrake.adhesion import load_condition, warn_outside_range
+from railbrake.adhesion import AdhesionRangeWarning, load_condition
 from railbrake.contact import wheel_rail_contact
 from railbrake._args import instance, real, whole
 from railbrake.errors import InputError
 from railbrake.scenario import Scenario
-from railbrake.units import KMH, ms_to_kmh
+from railbrake.simulation import traction
+from railbrake.units import KMH
 from railbrake.vehicle import load_train, with_cars
 
 DT = 1e-3
@@ -56,6 +57,7 @@ def _car(train, index: int) -> _core.PlantCar:
     car.contact = wheel_rail_contact(wheel_radius=w.wheel_radius, axle_load=w.axle_load).creep_contact()
     ed = train.spec.ed_brake
     car.ed_tau = ed.response_s if ed is not None else 1.0   # no ED brake: the lag is never used
+    traction.set_car(car, entry.motor and ed is not None)
     cyl, discs = t.cylinder, t.discs
     pipe = train.spec.air_supply.pipe
     car.supply_volume = t.supply_reservoir.volume_l * L
@@ -109,10 +111,7 @@ def _gradients(scenario: Scenario, p: _core.PlantParams) -> None:
 
 
 def _condition(name: str, initial_speed: float, cells: bool) -> _core.PlantCondition:
-    cond = load_condition(name)
-    # A stop passes every speed below the initial one; only starting above the range is flagged.
-    if cond.validity is not None and ms_to_kmh(initial_speed) > cond.validity.speed_max_kmh:
-        warn_outside_range(cond, ms_to_kmh(initial_speed), "run from")
+    cond = load_condition(name)   # its validity: checked with the scenario (Scenario.check_validity)
     c = _core.PlantCondition()
     c.polach = cond.params.to_c()
     k = cond.conditioning
@@ -145,6 +144,7 @@ def _sanders(train, n_cars: int, p: _core.PlantParams) -> None:
         p.sander_start[i] = s.start_s
     p.n_sanders = len(sanders.units)
     p.sand_reference = sanders.sand_reference_kg_m
+    p.sand_entrained, p.sand_retention = sanders.sand_entrained, sanders.sand_retention
 
 
 def _rail_cells(names: list, p: _core.PlantParams) -> None:
@@ -175,7 +175,9 @@ def kernel_code(kernel: str | None = None) -> int:
 
 def scenario_train(scenario: Scenario, n_cars: int | None = None):
     """The scenario's train with its load case, lengthened to n_cars (default: the scenario's)."""
-    spec = scenario.spec
+    spec = instance("scenario", scenario, Scenario).spec
+    if n_cars is not None:
+        whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     train = load_train(spec.train.preset, spec.train.load_case or True)
     return with_cars(train, scenario.cars(n_cars) if n_cars is None else n_cars)
 
@@ -323,6 +325,7 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=No
     b.service_jerk = train.brake_step("service").jerk_limit_m_s3 or 0.0   # 0: no limit
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
+    traction.set_bcu(b)
     return b
 
 
@@ -354,6 +357,8 @@ def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = N
     sc, n_cars = resolved.scenario, resolved.cars
     train = with_cars(resolved.train if train is None else train, n_cars)
     plant = plant_params(sc, n_cars, dt, substeps, kernel, train)
+    for text in sc.outside_validity():   # forced (adhesion.allow_outside_validity), else refused
+        warnings.warn(f"scenario {sc.name}: forced outside validity: {text}", AdhesionRangeWarning, stacklevel=3)
     for text in sizing.supply_warnings(train, demanded_steps(sc), sc.spec.initial_speed):
         warnings.warn(f"scenario {sc.name}: {text}", sizing.SupplyWarning, stacklevel=3)
     return plant, bcu_params(plant, sc, wsp, train), wsp_params(sc), _scenario_struct(sc)
@@ -362,7 +367,7 @@ def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = N
 def demanded_steps(scenario: Scenario) -> dict:
     """The brake steps a scenario demands: {"emergency": 1.0, "service": largest fraction}."""
     steps = {}
-    for step in scenario.spec.demand:
+    for step in instance("scenario", scenario, Scenario).spec.demand:
         if step.emergency:
             steps["emergency"] = 1.0
         elif step.service > 0.0:
@@ -374,6 +379,21 @@ def axle_name(index: int) -> str:
     """'c3a2' (car 3, axle 2, 1-based) for the 0-based global axle index, as in channel names."""
     index = whole("index", index, 0)
     return f"c{index // _core.AXLES_PER_CAR + 1}a{index % _core.AXLES_PER_CAR + 1}"
+
+
+def outside_validity_kpi(scenario: Scenario, max_slip: float | None = None) -> dict:
+    """{"adhesion_outside_validity": what} for a run forced outside a condition's validity, else {}.
+    With the run's max_slip, a condition whose file gives a creep range the run left refuses the
+    run's result unless forced (the creep is known only once run)."""
+    outside = instance("scenario", scenario, Scenario).outside_validity()
+    if max_slip is not None:
+        max_slip = real("max_slip", max_slip, 0.0)
+        creep = scenario.creep_outside_validity(max_slip)
+        if creep and not scenario.spec.adhesion.allow_outside_validity:
+            raise InputError(f"scenario {scenario.name}: {creep[0]}: the run's largest creep (KPI max_slip) left the "
+                             "range the condition was measured in; force it with adhesion.allow_outside_validity: true")
+        outside += creep
+    return {"adhesion_outside_validity": "; ".join(outside)} if outside else {}
 
 
 def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:

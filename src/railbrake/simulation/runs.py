@@ -20,7 +20,7 @@ from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.results.scripting import Result
 from railbrake.simulation import changes as run_changes
-from railbrake.simulation.parameters import DT, channels, kpi_dict, structs
+from railbrake.simulation.parameters import DT, channels, kpi_dict, outside_validity_kpi, structs
 from railbrake.vehicle import Train
 
 CHUNK = 2.0                         # s of simulated time per C call with a progress callback
@@ -106,6 +106,6 @@ def run(scenario="emergency-300-heavy-rain", cars: int | None = None, wsp: bool 
     n_rows = int(np.count_nonzero(series[:, 0])) + 1 if record else 0
     series = series[:n_rows]
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
+    k = kpi_dict(kpis, plant.atmosphere)
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs.get("time", np.zeros(0)), outputs,
-                  dict(names), kpi_dict(kpis, plant.atmosphere), plant.atmosphere,
-                  resolved=configured)
+                  dict(names), k | outside_validity_kpi(sc, k["max_slip"]), plant.atmosphere, resolved=configured)

@@ -85,3 +85,14 @@ def test_no_core_file_calls_back_into_a_file_that_calls_it():
 def test_no_longer_circle_of_calls_between_core_files():
     graph = call_graph()
     assert not cycles({a: set(targets) for a, targets in graph.items()})
+
+
+def test_the_check_sees_a_call_back(tmp_path):
+    (tmp_path / "a.c").write_text('/* a */\n#include "x.h"\nstatic int helper(void) { return 1; }\n'
+                                  'int rb_a(int x)\n{\n    return rb_b(x) + helper(); /* rb_c( in a comment */\n}\n')
+    (tmp_path / "b.c").write_text('int rb_b(int x)\n{\n    const char *s = "rb_a(";\n    return x > 0 ? rb_a(x - 1) : 0;\n}\n'
+                                  'static int rb_c(void) { return 0; }\n')
+    graph = call_graph(tmp_path)
+    assert {a: {b: sorted(n) for b, n in t.items()} for a, t in graph.items()} == \
+        {"a.c": {"b.c": ["rb_b"]}, "b.c": {"a.c": ["rb_a"]}}
+    assert cycles({a: set(t) for a, t in graph.items()}) == [["a.c", "b.c"]]

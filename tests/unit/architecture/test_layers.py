@@ -31,6 +31,11 @@ def test_the_graph_sees_function_level_and_relative_imports(tmp_path):
     assert _layers.cycles(edges) == [["railbrake.sub", "railbrake.sub.high"]]
 
 
+def test_an_upward_import_is_seen():
+    edges = {"railbrake.units": {"railbrake.cli.root"}, "railbrake.simulation.runs": {"railbrake.results.scripting"}}
+    assert _layers.upward(edges) == [("railbrake.units", "railbrake.cli.root")]
+
+
 def test_no_import_circle():
     found = _layers.cycles(GRAPH)
     assert not found, "\n".join(
