@@ -9,7 +9,7 @@ JOBS ?= 2
 OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
-.PHONY: demo test install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
+.PHONY: demo test test-long install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
         fuzz-frames fuzz-python wine wheel browser
 
 $(VENV)/.installed: $(SOURCES)
@@ -73,7 +73,12 @@ browser:
 	    echo "note: chromium not installed (needs root): the dashboard's browser test will be skipped"
 
 pytest: install wine browser
-	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile --durations=15
+	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile -m "not long" --durations=15
+
+# The statistical must-holds that take tens of minutes of CPU (ETCS: the method against a brute
+# force on the plant, five seeds giving the same coded Kdry): not part of `make test`.
+test-long: install
+	$(PY) -m pytest -q -n $(JOBS) --dist load -m long --durations=15
 
 # The Python tests again, with the C core built under AddressSanitizer and UBSan.
 # Python itself is not instrumented, so leak detection is left to the C tests. The FMU tests are
@@ -85,7 +90,7 @@ pytest-sanitize: install ctest-sanitize
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
 	RAILBRAKE_CORE_LIBRARY=$(CURDIR)/$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
-	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow" -p no:cacheprovider --durations=15 \
+	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow and not long" -p no:cacheprovider --durations=15 \
 	    --ignore=tests/unit/fmu --ignore=tests/unit/docs --ignore=tests/unit/sequence
 
 # Every verification and validation case (docs/validation-cases.md): the HTML report into out/,

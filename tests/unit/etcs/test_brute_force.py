@@ -21,7 +21,7 @@ failures:
 """
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_method_within_the_brute_force_interval_at_ebcl_0_to_2(tmp_path):
     path = tmp_path / "rel.yaml"
     path.write_text(RELIABILITY)

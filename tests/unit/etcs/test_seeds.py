@@ -22,7 +22,7 @@ pad_friction: {distribution: truncated_normal, mean: 1.0, sd: 0.01, bounds: [0.9
 """
 
 
-@pytest.mark.slow   # five analyses of a few thousand 2-car runs each
+@pytest.mark.long   # five analyses of a few thousand 2-car runs each
 def test_five_seeds_give_the_same_coded_kdry_with_bounds_within_the_target(tmp_path):
     rel, sca = tmp_path / "rel.yaml", tmp_path / "scatter.yaml"
     rel.write_text(RELIABILITY)
