@@ -195,8 +195,9 @@ def _refusal(function, kwargs, name) -> str | None:
     return None
 
 
-def test_every_refusal_names_the_argument(bases):
+def test_every_refusal_names_the_argument(bases, monkeypatch):
     cases, folder = bases
+    monkeypatch.chdir(folder)   # an accepted empty or relative output path writes there, not into the checkout
     problems, calls, refusals = [], 0, 0
     for function, (label, base) in cases.items():
         for name in _parameters(function):
