@@ -67,6 +67,16 @@ def read_bytes(path: str | Path, limit: int = MAX_BYTES) -> bytes:
     return data
 
 
+def in_folder(name: str, folder: Path | None, presets) -> str:
+    """A file name relative to the folder of the file that names it, made absolute: a file names
+    other files from where it lies, whatever the current folder (presets, absolute paths, names
+    that are no file there, and names in a preset (folder None) stay as they are)."""
+    if folder is None or name in presets or Path(name).is_absolute():
+        return name
+    candidate = Path(folder) / name
+    return str(candidate) if candidate.exists() else name
+
+
 def read_text(path: str | Path) -> str:
     """A configuration file's text (read_bytes: a regular file under MAX_BYTES); InputError (naming
     the file) if it cannot be read or is not UTF-8."""

@@ -144,10 +144,23 @@ def _zip(folder: Path, output: Path) -> None:
 BASE_SCENARIO = "emergency-300-heavy-rain"
 
 
+def _train_file(name) -> bool:
+    """A YAML file of a train (schema railbrake.train/N), not a scenario."""
+    path = Path(str(name))
+    if path.suffix not in (".yaml", ".yml") or not path.is_file():
+        return False
+    from railbrake import config
+    return str(config.load_mapping(config.read_text(path), str(path)).get("schema", "")).startswith("railbrake.train/")
+
+
 def resolve_scenario(name):
-    """A scenario (preset, file, Scenario or Resolved), or a train preset: then BASE_SCENARIO with that train."""
-    if isinstance(name, str) and name in vehicle.preset_names() and name not in scenarios.preset_names():
-        return resolve(BASE_SCENARIO, sets={"train.preset": name, "name": f"{BASE_SCENARIO} with train {name}"})
+    """A scenario (preset, file, Scenario or Resolved), or a train (preset or file): then BASE_SCENARIO
+    with that train."""
+    if isinstance(name, (str, Path)) and ((str(name) in vehicle.preset_names() and str(name) not in
+                                           scenarios.preset_names()) or _train_file(name)):
+        train = str(name) if str(name) in vehicle.preset_names() else str(Path(name).resolve())
+        return resolve(BASE_SCENARIO, sets={"train.preset": train,
+                                            "name": f"{BASE_SCENARIO} with train {Path(str(name)).stem}"})
     try:
         return resolve(name)
     except InputError as exc:

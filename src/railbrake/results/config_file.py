@@ -2,7 +2,8 @@
 whole train file's contents inline, after every --cars and --set), with what it was resolved from
 and by which version under `provenance:`. `railbrake run OUT/config.yaml` runs it again from
 the folder it is copied to, bit for bit: nothing in it points back to the machine it was written on
-(adhesion condition files and a train that is no preset are copied beside it)."""
+(adhesion condition files, a train that is no preset and the profiles and valve designs it names
+are copied beside it)."""
 
 from __future__ import annotations
 
@@ -23,18 +24,35 @@ def display_name(name: str) -> str:
     return Path(text).stem if ("/" in text or "\\" in text or text.endswith((".yaml", ".yml"))) else text
 
 
-def _copy_condition(name: str, folder: Path) -> str:
-    """An adhesion condition file copied into folder (its name there); a preset name as it is."""
-    from railbrake.adhesion import preset_names
+def _copy_file(name: str, folder: Path, presets, what: str) -> str:
+    """A file the configuration names copied into folder (its name there); a preset name as it is."""
     path = Path(name)
-    if name in preset_names() or not path.is_file():
+    if name in presets or not path.is_file():
         return name
     target = folder / path.name
     if target.resolve() != path.resolve():
         if target.exists() and target.read_bytes() != path.read_bytes():
-            raise InputError(f"{target}: exists with other contents than adhesion condition {path}")
+            raise InputError(f"{target}: exists with other contents than {what} {path}")
         shutil.copyfile(path, target)
     return path.name
+
+
+def _copy_condition(name: str, folder: Path) -> str:
+    """An adhesion condition file copied into folder (its name there); a preset name as it is."""
+    from railbrake.adhesion import preset_names
+    return _copy_file(name, folder, preset_names(), "adhesion condition")
+
+
+def _copy_train_files(train: dict, folder: Path) -> None:
+    """The files the train names (brake step profiles, valve designs) copied into folder."""
+    from railbrake.sizing import profile_names
+    from railbrake.vehicle import valve_design_names
+    for step in (train.get("brake_steps") or {}).values():
+        step["profile"] = _copy_file(step["profile"], folder, profile_names(), "deceleration profile")
+    for car_type in (train.get("car_types") or {}).values():
+        for valve in ("ep_valve", "relay_valve"):
+            car_type[valve]["design"] = _copy_file(car_type[valve]["design"], folder, valve_design_names(),
+                                                   "valve design")
 
 
 def _train_file(train: dict, folder: Path) -> str:
@@ -53,6 +71,7 @@ def config_tree(resolved, folder: Path) -> dict:
     """The resolved tree made portable: the train's contents inline (a train that is no preset also
     as a file beside it), adhesion condition files copied into folder."""
     tree = resolved.tree()
+    _copy_train_files(tree["train"], folder)
     tree["train"]["preset"] = _train_file(tree["train"], folder)
     adhesion = tree.get("adhesion") or {}
     if adhesion.get("condition"):

@@ -51,8 +51,8 @@ SHORTEN = [
     (r"(railbrake validate\b[^\n#&]*?)(\s*(#|$))", r"\1 --fast\2", "validate: the quick cases (--fast)"),
     (r"(railbrake hil(?=\s)[^\n#&]*?)(\s*(#|$))", r"\1 --duration 2\2", "hil: 2 s of the paced stop"),
     (r"--budget \d+", "--budget 2", "wsp tune: the default WSP and one trial"),
-    (r"(railbrake etcs braking-model\b[^\n#&]*?)(\s*(#|$))", r"\1 --cars 1 --samples 2 --rare-samples 1\2",
-     "etcs: 1 car, 2 scatter runs per likely failure state, 1 per rare one"),
+    (r"(railbrake etcs braking-model\b[^\n#&]*?)(\s*(#|$))", r"\1 --cars 4 --speed 80 --samples 2 --rare-samples 2\2",
+     "etcs: 4 cars (the shipped common causes span 4) from 80 km/h, 2 scatter runs per failure state"),
     (r"\bwsp-en15595\b", "short-en15595.yaml", "the EN 15595 study: a copy with fewer levels (short_study)"),
 ]
 
