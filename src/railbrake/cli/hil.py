@@ -244,7 +244,7 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
         write_outputs(records.from_hil(result, sc), out, formats, axles, window,
                       mdf_extra={"counters": result.counters, "timing": result.timing,
                                  "fault_changes": [c.as_dict() for c in result.fault_changes]},
-                      mdf_events=recording_events(result))
+                      mdf_events=recording_events(result, sc))
     _summary(result, json, written, out, bcu)
     return result
 

@@ -56,7 +56,8 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         from railbrake.results.outputs import write_outputs
         prepare_folder(out)
         from railbrake.results.config_file import write_config
-        write_outputs(record.from_simulation(result, sc), out, formats, axles, window)
+        from railbrake.results.events import run_events
+        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, mdf_events=run_events(sc))
         write_config(resolved, out / "config.yaml")
     return result
 
