@@ -34,3 +34,7 @@ def register(app: typer.Typer) -> None:
         path = export_fmu(scenario, prepare_output(output, "--output", (".fmu",)), fmi, cars, sets=sets,
                           kernel=kernel, platforms=parse_platforms(platforms), identifier=identifier)
         typer.echo(f"{path}: FMI {fmi}.0 co-simulation, {platforms}, {path.stat().st_size / 1024:.0f} kB")
+        from railbrake.fmu.binaries import host_toolchain_note
+        note = host_toolchain_note(path)
+        if note:
+            typer.echo(f"note: {note}", err=True)
