@@ -14,6 +14,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import hil as hil_runner
+from railbrake.cli import _common
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.hil.keys import read_key, write_key
@@ -253,7 +254,7 @@ def register(app: typer.Typer) -> None:
     @app.command("hil")
     @reports_errors
     def hil(
-        scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
+        scenario: str = typer.Argument(DEFAULT_SCENARIO, autocompletion=_common.complete_scenario, help="Preset name or scenario YAML file."),
         bcu: str = typer.Option(..., "--bcu", help="The BCU's address, udp://HOST:PORT."),
         key: Path = typer.Option(..., "--key", help=KEY_HELP),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
@@ -309,7 +310,7 @@ def register(app: typer.Typer) -> None:
     @app.command("bcu")
     @reports_errors
     def bcu(
-        scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file (demand profile, "
+        scenario: str = typer.Argument(DEFAULT_SCENARIO, autocompletion=_common.complete_scenario, help="Preset name or scenario YAML file (demand profile, "
                                        "train)."),
         listen: str = typer.Option(..., "--listen", help="Address to listen on, udp://HOST:PORT (port 0: any, "
                                    "printed)."),
