@@ -10,7 +10,7 @@ OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
 .PHONY: demo test install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
-        fuzz-frames fuzz-python wine wheel browser system-packages
+        fuzz-frames fuzz-python wine wheel wheel-test browser system-packages
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -139,13 +139,25 @@ fuzz-python: install
 	$(FUZZ_RECORD) "make fuzz-python FUZZ_CONFIG_VARIANTS=$(FUZZ_CONFIG_VARIANTS) FUZZ_API_CALLS=$(FUZZ_API_CALLS)" -- \
 	  $(PY) -m pytest -q -s -p no:cacheprovider tests/unit/fuzz
 
-# The wheel and sdist into dist/: py3-none-<platform> (the core is loaded with ctypes), then checked and
-# retagged manylinux by auditwheel (the core needs only libc and libm); LICENSE is in both.
+# The wheel and sdist into dist/: one py3-none wheel for every CPython >= 3.10 (the core is a plain C
+# library loaded with ctypes), its core compiled by zig's clang against glibc 2.17 (the `fmu` extra's
+# toolchain, which builds the FMU binaries too), then checked and tagged manylinux2014 (manylinux_2_17)
+# by auditwheel, so pip takes it on RHEL 7/8-class systems; LICENSE is in both.
+# tests/unit/wheel/test_wheel.py (make wheel-test) installs and runs it in a fresh venv per CPython found.
+ARCH := $(shell uname -m)
+ZIG_CC := $(abspath $(BUILD))/zig-cc-glibc2.17
+
 wheel: install
-	$(PY) -m pip install -q '.[dist]' build
-	rm -rf dist && $(PY) -m build --sdist --wheel --outdir dist/raw .
-	PATH=$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --only-plat --wheel-dir dist dist/raw/*.whl
+	$(PY) -m pip install -q '.[dist,fmu]' build
+	mkdir -p $(BUILD) && printf '#!/bin/sh\nexec "%s" -m ziglang cc -target $(ARCH)-linux-gnu.2.17 "$$@"\n' \
+	    "$(abspath $(PY))" > $(ZIG_CC) && chmod +x $(ZIG_CC)
+	rm -rf dist $(BUILD)/wheel-glibc2.17 && CC=$(ZIG_CC) $(PY) -m build --sdist --wheel \
+	    -C build-dir=$(abspath $(BUILD))/wheel-glibc2.17 --outdir dist/raw .
+	PATH=$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --plat manylinux2014_$(ARCH) --wheel-dir dist dist/raw/*.whl
 	mv dist/raw/*.tar.gz dist/ && rm -rf dist/raw && ls dist
+
+wheel-test: wheel
+	RAILBRAKE_WHEEL=$$(ls dist/*.whl) $(PY) -m pytest -q -p no:cacheprovider tests/unit/wheel
 
 bench: install
 	$(PY) bench/run_all.py
