@@ -2,6 +2,7 @@
 #include "railbrake/rb_bcu.h"
 #include "railbrake/rb_bounds.h"
 
+#include <math.h>
 #include <string.h>
 
 rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err)
@@ -13,6 +14,7 @@ rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err)
     if ((s = rb_check_range(err, "bcu.cycle", p->cycle, 1e-4, 0.1))) return s;
     if ((s = rb_check_range(err, "bcu.service_decel", p->service_decel, 0.0, 3.0))) return s;
     if ((s = rb_check_range(err, "bcu.emergency_decel", p->emergency_decel, 0.0, 3.0))) return s;
+    if ((s = rb_check_range(err, "bcu.service_jerk", p->service_jerk, 0.0, 20.0))) return s;
     for (int c = 0; c < p->n_cars; ++c) {
         if ((s = rb_check_positive(err, "bcu.car_mass", p->car_mass[c]))) return s;
         if ((s = rb_check_nonnegative(err, "bcu.pressure_gain", p->pressure_gain[c]))) return s;
@@ -119,6 +121,20 @@ static double car_force(const rb_bcu_params *p, int c, int emergency, double ser
                      : service * rb_speed_table_at(&p->service_force[c], speed);
 }
 
+/* The service fraction after the jerk limit: towards the demanded one by at most the limit's
+ * share of the full service deceleration over dt (s). Without a limit, the demand as it is. */
+static double jerk_limited_service(const rb_bcu_params *p, rb_bcu_state *s, double demanded, double speed,
+                                   double dt)
+{
+    if (!(p->service_jerk > 0.0)) return demanded;
+    const rb_brake_demand full = {.emergency = 0.0, .service = 1.0};
+    double a_full = rb_bcu_demand_deceleration(p, &full, speed);
+    double step = a_full > 0.0 ? p->service_jerk * dt / a_full : 1.0;
+    double x = s->service_applied;
+    s->service_applied = demanded > x ? fmin(demanded, x + step) : fmax(demanded, x - step);
+    return s->service_applied;
+}
+
 static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand *d,
                       const rb_plant_outputs *out)
 {
@@ -131,11 +147,12 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
     w->n_axles = p->n_cars * RB_AXLES_PER_CAR;
     w->atmosphere = p->atmosphere;
     w->body_decel = out->deceleration;
+    double service = jerk_limited_service(p, s, d->service, speed, w->cycle);
     for (int c = 0; c < p->n_cars; ++c) {
         int wsp_active = 0;
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) wsp_active |= s->wsp.active[c * RB_AXLES_PER_CAR + k];
         double gain = 0.0;
-        double needed = car_force(p, c, emergency, d->service, speed, &gain);
+        double needed = car_force(p, c, emergency, service, speed, &gain);
         int ed_allowed = p->motor[c] && ed_step && !wsp_active;
         s->command.ed_demand[c] = ed_allowed ? needed : 0.0;
         double ed = ed_allowed ? out->ed_force[c] : 0.0;

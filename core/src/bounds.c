@@ -42,6 +42,7 @@ static const rb_bound bounds[] = {
     {"bcu.cycle", "s", 1e-4, 0.1, "a BCU cycle of 0.1 to 100 ms"},
     {"bcu.service_decel", "m/s2", 0.0, 3.0, "up to 3 m/s2"},
     {"bcu.emergency_decel", "m/s2", 0.0, 3.0, "up to 3 m/s2"},
+    {"bcu.service_jerk", "m/s3", 0.0, 20.0, "a service jerk limit up to 20 m/s3 (0: none)"},
     {"wsp.ref_decel_max", "m/s2", 0.1, 10.0, "a reference speed that can follow a braking train"},
     {"wsp.ref_accel_max", "m/s2", 0.0, 10.0, "a bounded rise of the reference speed"},
     {"wsp.speed_threshold", "m/s", 0.01, 10.0, "a slide of 0.04 to 36 km/h starts venting"},

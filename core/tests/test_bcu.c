@@ -2,6 +2,7 @@
 #include "rb_test.h"
 #include "railbrake/rb_bcu.h"
 
+#include <math.h>
 #include <string.h>
 
 static rb_wsp_inputs inputs(double t, double train, double axle0)
@@ -89,10 +90,55 @@ static void test_cylinder_vented_without_command_isolates_the_axle(void)
     CHECK(out.hold[0] == 0);
 }
 
+/* The service jerk limit against the analytic ramp: a step of full service on a 1-car BCU with
+ * constant decelerations (demand_tables = 0) gives a demanded force rising at jerk x mass per s
+ * from the step's first cycle until the full service force, then held; releasing ramps down at the
+ * same rate; the emergency demand is not limited. */
+static void test_service_jerk_ramp(void)
+{
+    const double cycle = 0.01, jerk = 0.75, decel = 0.9, mass = 5e4, gain = 2.0, atm = 1.01325e5;
+    rb_bcu_params b;
+    rb_bcu_state s;
+    rb_plant_outputs out;
+    rb_error err;
+    memset(&b, 0, sizeof b);
+    memset(&out, 0, sizeof out);
+    b.n_cars = 1; b.cycle = cycle; b.atmosphere = atm; b.service_decel = decel; b.emergency_decel = 1.2;
+    b.car_mass[0] = mass; b.pressure_gain[0] = gain; b.pressure_offset[0] = atm; b.pressure_max[0] = 1e6;
+    b.service_jerk = jerk;
+    CHECK(rb_bcu_init(&b, NULL, &s, &err) == RB_OK);
+    for (int a = 0; a < RB_AXLES_PER_CAR; ++a) out.wheel_speed_measured[a] = 30.0;
+    rb_brake_demand d = {.emergency = 0.0, .service = 0.0};
+    int k = 0;
+    for (; k < 10; ++k) { out.time = k * cycle; rb_bcu_update(&b, &s, &d, &out); }
+    d.service = 1.0;   /* the step, between cycles 9 and 10 */
+    const double ramp = decel / jerk;   /* s to full service */
+    double worst = 0.0;
+    for (int i = 1; k < 10 + (int)(3.0 * ramp / cycle); ++k, ++i) {
+        out.time = k * cycle;
+        rb_bcu_update(&b, &s, &d, &out);
+        double expected = fmin(jerk * i * cycle, decel) * mass;     /* N */
+        double force = (s.command.pressure_demand[0] - atm) / gain;
+        worst = fmax(worst, fabs(force - expected));
+    }
+    CHECK_CLOSE(worst, 0.0, 0.0, 1e-6 * decel * mass);
+    CHECK_CLOSE(s.service_applied, 1.0, 0.0, 1e-12);
+    d.service = 0.5;   /* a release to half service: down at the same rate */
+    rb_bcu_update(&b, &s, &d, &(rb_plant_outputs){.time = k * cycle});
+    CHECK_CLOSE(s.service_applied, 1.0 - jerk * cycle / decel, 0.0, 1e-12);
+    d.emergency = 1.0;   /* emergency: the full emergency force at once */
+    out.time = (k + 1) * cycle;
+    rb_bcu_update(&b, &s, &d, &out);
+    CHECK_CLOSE((s.command.pressure_demand[0] - atm) / gain, 1.2 * mass, 1e-12, 0.0);
+    b.service_jerk = -1.0;
+    CHECK(rb_bcu_check(&b, &err) == RB_EINVAL);
+}
+
 int main(void)
 {
     test_slide_cycle();
     test_safety_timer_on_continuous_venting();
     test_cylinder_vented_without_command_isolates_the_axle();
+    test_service_jerk_ramp();
     return rb_test_summary("test_bcu");
 }

@@ -357,7 +357,8 @@ class BcuParams(Structure):
                 + [("demand_tables", c_int), ("ed_in_service", c_int)]
                 + [(n, SpeedTable * PLANT_MAX_CARS) for n in ("emergency_force", "service_force",
                                                              "pressure_per_newton")]
-                + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)])
+                + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)]
+                + [("service_jerk", c_double)])
 
 
 class Scenario(Structure):

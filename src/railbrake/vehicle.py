@@ -131,9 +131,23 @@ class _EmergencyLoop(_Strict):
     source: str
 
 
+class _ServiceStep(_BrakeStep):
+    """The service step; jerk_limit_m_s3: the BCU's limit on the rate of change of the service
+    deceleration it demands (core/src/bcu.c; none when absent), with its own source."""
+    jerk_limit_m_s3: Optional[float] = _num("bcu.service_jerk", default=None)
+    jerk_limit_source: Optional[str] = None
+
+    @model_validator(mode="after")
+    def _sourced(self):
+        if self.jerk_limit_m_s3 is not None and not (self.jerk_limit_source or "").strip():
+            raise ValueError(f"jerk_limit_m_s3 = {self.jerk_limit_m_s3:g} needs jerk_limit_source (where the "
+                             "value comes from)")
+        return self
+
+
 class _BrakeSteps(_Strict):
     emergency: _BrakeStep
-    service: _BrakeStep
+    service: _ServiceStep
 
 
 class _Compressor(_Strict):
@@ -348,6 +362,13 @@ class _Sanders(_Strict):
     source: str
 
 
+class _Etcs(_Strict):
+    """The train's ETCS train data not computed from its brake (railbrake.etcs.service)."""
+    traction_cut_off_s: float = Field(gt=0.0, le=60.0)   # SUBSET-026 T_traction_cut_off
+    traction_cut_off_implemented: bool = True             # the on-board commands the cut-off (3.13.9.3.2.3)
+    source: str
+
+
 class _TrainFile(_Strict):
     schema_: str = Field(alias="schema")
     name: str
@@ -368,6 +389,7 @@ class _TrainFile(_Strict):
     car_types: dict[str, _CarType]
     formation: list[str] = Field(min_length=1, max_length=_core.MAX_CARS)
     sanders: Optional[_Sanders] = None
+    etcs: Optional[_Etcs] = None
 
     @model_validator(mode="after")
     def _known_types(self):

@@ -118,7 +118,64 @@ def kdry_equal_units():
           "binomial mixture of normals, 8 units, p = 1e-4, friction N(1, 0.05); scipy.stats + brentq")
 
 
+# OSRD's ETCS test rolling stock (OpenRailAssociation/osrd, tests/data/rolling_stocks/
+# etcs_level2_rolling_stock.json at commit 143f77aabdd1666887824744bb9869e94a8fb919): boundaries m/s
+OSRD_GAMMA_E = ([8.333333, 16.666667, 55.555556, 61.111111], [1.11, 1.25, 1.34, 1.17, 0.94])
+OSRD_K_DRY = ([8.333333, 61.111111], [0.72, 0.69, 0.7])
+OSRD_K_WET, OSRD_T_BE, OSRD_MAX_SPEED = 0.89, 2.5, 80.0
+G = 9.80665
+ETCS_SPEEDS_KMH = [5.0, 20.0, 30.0, 45.0, 60.0, 80.0, 100.0, 130.0, 160.0, 200.0, 220.0, 240.0, 280.0]
+
+
+def _osrd_value(curve, v):
+    """OSRD's SpeedIntervalValueCurve.getValue: the first interval whose boundary is >= v."""
+    for bound, value in zip(*curve):
+        if v <= bound:
+            return value
+    return curve[1][-1]
+
+
+def _ebd_distance(v, grad_permille=0.0, m_rotating_percent=2.0):
+    """Distance (m) from v (m/s) to standstill at A_brake_safe + A_gradient (SUBSET-026 3.13.6.2.1,
+    M_NVAVADH = 0: A_brake_emergency Kdry Kwet; 3.13.4.3: g grad / (1000 + 10 M_rotating)), summed
+    over the intervals between all boundaries, each of constant deceleration."""
+    edges = sorted(set(OSRD_GAMMA_E[0]) | set(OSRD_K_DRY[0]))
+    lower, upper = [0.0] + edges, edges + [math.inf]
+    total = 0.0
+    for lo, hi in zip(lower, upper):
+        if v <= lo:
+            break
+        mid = lo + 1e-6
+        a = _osrd_value(OSRD_GAMMA_E, mid) * _osrd_value(OSRD_K_DRY, mid) * OSRD_K_WET
+        a += G * grad_permille / (1000.0 + 10.0 * m_rotating_percent)
+        total += (min(v, hi) ** 2 - lo ** 2) / (2.0 * a)
+    return total
+
+
+def etcs_osrd_test_stock():
+    """EBD and EBI distances to the SvL of OSRD's ETCS test rolling stock (SUBSET-026 3.13)."""
+    kmh = 1.0 / 3.6
+    write("etcs-osrd-test-stock-ebd-flat", "speed_kmh,distance_m",
+          [(v, _ebd_distance(v * kmh)) for v in ETCS_SPEEDS_KMH],
+          "EBD distance to the SvL, level track: sum of (V_hi^2 - V_lo^2) / (2 A_brake_safe) per interval")
+    write("etcs-osrd-test-stock-ebd-descent", "speed_kmh,distance_m",
+          [(v, _ebd_distance(v * kmh, -10.0, 2.0)) for v in ETCS_SPEEDS_KMH],
+          "EBD distance to the SvL on a 10 per-mille descent: A_brake_safe - g 10 / (1000 + 10 M_rotating_min 2 %)")
+
+    def ebi(v):
+        # T_traction = max(0, T_traction_cut_off 1 s - (T_warning 2 s + T_bs2 2 s)) = 0: T_berem = T_be
+        ura = (2.0 + (12.0 - 2.0) * min(max(v / kmh - 30.0, 0.0), 470.0) / 470.0) * kmh   # SUBSET-041 5.3.1.2
+        v_bec = v + ura + 0.4 * OSRD_T_BE
+        d_bec = (v + ura + 0.4 * OSRD_T_BE / 2.0) * OSRD_T_BE
+        return _ebd_distance(v_bec) + d_bec
+
+    write("etcs-osrd-test-stock-ebi-flat", "speed_kmh,distance_m", [(v, ebi(v * kmh)) for v in ETCS_SPEEDS_KMH],
+          "EBI distance to the SvL, level track: d_EBD(V_bec) + D_bec, V_bec = V + V_ura + A_est2 T_be, "
+          "D_bec = (V + V_ura + A_est2 T_be / 2) T_be")
+
+
 if __name__ == "__main__":
+    etcs_osrd_test_stock()
     crh380al_published_curves()
     hertz_sphere()
     orifice()

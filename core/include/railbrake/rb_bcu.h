@@ -154,6 +154,11 @@ typedef struct {
     rb_speed_table pressure_per_newton[RB_PLANT_MAX_CARS];
     rb_speed_table emergency_profile;     /* m/s^2 demanded at full emergency (recorded) */
     rb_speed_table service_profile;       /* m/s^2 at full service */
+    /* The service brake's jerk limit (a comfort limit of the BCU, m/s^3; 0: none): the service
+     * fraction the BCU applies moves towards the demanded one by at most service_jerk x (time
+     * since its previous cycle) / (full service deceleration at the BCU's speed), applying and
+     * releasing. The emergency demand is never limited. */
+    double service_jerk;
 } rb_bcu_params;
 
 typedef struct {
@@ -168,6 +173,7 @@ typedef struct {
     rb_wsp_inputs wsp_in;
     rb_wsp_commands wsp;
     rb_wsp_default wsp_default;
+    double service_applied;               /* 0..1, the service demand after the jerk limit */
 } rb_bcu_state;
 
 size_t rb_bcu_params_size(void);

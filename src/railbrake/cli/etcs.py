@@ -1,4 +1,5 @@
-"""`railbrake etcs braking-model TRAIN`: the ETCS braking model of a train (docs/etcs.md)."""
+"""`railbrake etcs braking-model TRAIN`: the ETCS braking model of a train; `railbrake etcs curves`: its
+SUBSET-026 braking curves on a track (docs/etcs.md)."""
 
 from __future__ import annotations
 
@@ -31,12 +32,14 @@ def braking_model(
     out: Optional[Path] = typer.Option(None, help="Folder for the runs (a rerun resumes), the JSON, the "
                                        "OSRD export and the report (default: out/etcs/<train>)."),
     workers: int = typer.Option(2, min=1, max=64, help="Worker processes."),
-    osrd_level: int = typer.Option(2, min=0, max=9, help="M_NVEBCL of the k_dry exported to OSRD."),
+    osrd_level: int = typer.Option(9, min=0, max=9, help="M_NVEBCL of the k_dry exported to OSRD (OSRD's national "
+                                   "default: 9)."),
+    osrd_layout: str = typer.Option("current", help="OSRD rolling-stock layout: current (signalling systems) or legacy."),
     json: bool = typer.Option(False, "--json", help="Print the braking model as JSON."),
 ):
     """Compute the braking model from whole-train runs over failure states and tolerances."""
     from railbrake import jsonio
-    from railbrake.etcs import export, model, report
+    from railbrake.etcs import export, model, osrd, report, service
     settings = {k: v for k, v in (("samples", samples), ("rare_samples", rare_samples)) if v is not None}
     spec = model.spec(train, reliability, None if scatter == "none" else scatter, cars, speed, seed, **settings)
     folder = prepare_folder(out or Path("out") / "etcs" / Path(train).stem, "--out")
@@ -48,13 +51,65 @@ def braking_model(
                                 progress=lambda n, total: bar.update(task, completed=n, total=total))
     data = export.to_json(m)
     (folder / "braking-model.json").write_text(jsonio.dumps(data, indent=1))
-    (folder / "osrd-etcs-brake-params.json").write_text(jsonio.dumps(export.to_osrd(m, osrd_level), indent=1))
+    train_data = service.service_data(data)
+    (folder / "service-brake.json").write_text(jsonio.dumps(train_data, indent=1))
+    (folder / "osrd-etcs-brake-params.json").write_text(
+        jsonio.dumps(osrd.document(data, train_data, osrd_level, osrd_layout), indent=1))
+    (folder / "etcs-train-data.json").write_text(jsonio.dumps(osrd.train_data(data, train_data, osrd_level), indent=1))
     report.write(m, folder / "report.html")
     if json:
         print_json(data)
         return
     typer.echo(report.table_text(m))
     typer.echo(f"{m.runs} runs; {folder / 'braking-model.json'}, {folder / 'report.html'}")
+
+
+@app.command("curves")
+@reports_errors
+def curves(
+    train: str = typer.Argument(..., help="A braking model: the folder `etcs braking-model` wrote, or its "
+                                "braking-model.json; or a train preset or file (its model computed first)."),
+    track: str = typer.Option("flat-10km", help="Track file or preset (data/etcs/track-*.yaml)."),
+    national: str = typer.Option("default", help="National values file or preset (data/etcs/national-*.yaml)."),
+    cars: Optional[int] = typer.Option(None, min=1, max=16, help="A train's number of cars (model computed here)."),
+    speed: Optional[float] = typer.Option(None, min=1.0, max=600.0, help="A train's initial speed, km/h (model "
+                                          "computed here; default: its maximum)."),
+    samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs per likely state (model computed here)."),
+    workers: int = typer.Option(2, min=1, max=64, help="Worker processes (model computed here)."),
+    out: Optional[Path] = typer.Option(None, help="Folder for curves.json, curves.png and curves.html "
+                                       "(default: out/etcs-curves/<train>)."),
+    json: bool = typer.Option(False, "--json", help="Print the curves as JSON."),
+):
+    """The SUBSET-026 braking curves EBD, EBI, SBD, SBI1, SBI2, W, P, I of a train on a track."""
+    import json as json_module
+
+    from railbrake import jsonio
+    from railbrake.errors import InputError
+    from railbrake.etcs import curves as etcs_curves, curves_report, export, model, national as nv, service
+    path = Path(train)
+    if path.is_dir():
+        path = path / "braking-model.json"
+    if path.suffix == ".json":
+        if not path.is_file():
+            raise InputError(f"{path}: no such braking-model JSON")
+        data = json_module.loads(path.read_text())
+        svc_path = path.with_name("service-brake.json")
+        train_data = json_module.loads(svc_path.read_text()) if svc_path.is_file() else service.service_data(data)
+    else:
+        settings = {"samples": samples} if samples is not None else {}
+        spec = model.spec(train, cars=cars, initial_speed_kmh=speed, **settings)
+        data = json_module.loads(jsonio.dumps(export.to_json(model.braking_model(spec, workers=workers))))
+        train_data = service.service_data(data)
+    result = etcs_curves.compute(data, train_data, nv.load_track(track), nv.load_national(national))
+    folder = prepare_folder(out or Path("out") / "etcs-curves" / Path(str(data["train"])).stem, "--out")
+    (folder / "curves.json").write_text(jsonio.dumps(result, indent=1))
+    curves_report.write(result, folder / "curves.html", folder / "curves.png")
+    if json:
+        print_json(result)
+        return
+    for name, points in result["curves"].items():
+        typer.echo(f"{name:>5}: from {points[0][1]:.0f} km/h at {points[0][0]:.0f} m to 0 at {points[-1][0]:.0f} m")
+    typer.echo(f"{folder / 'curves.json'}, {folder / 'curves.html'}")
 
 
 def register(root: typer.Typer) -> None:

@@ -370,6 +370,7 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=No
         b.pressure_per_newton[c] = _core.speed_table(e_demand[c].speed, e_demand[c].pressure_per_newton)
         b.pressure_offset[c] = e_demand[c].threshold
     b.emergency_profile, b.service_profile = emergency.table(), service.table()
+    b.service_jerk = train.brake_step("service").jerk_limit_m_s3 or 0.0   # 0: no limit
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
     return b

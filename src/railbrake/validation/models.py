@@ -377,7 +377,28 @@ def kdry_equal_units(inputs, x, case):
                        {"states": len(states), "samples per state": samples})
 
 
-REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, kdry_equal_units,
+def etcs_curve_distance(inputs, x, case):
+    """Distance (m) to the SvL of an ETCS braking curve (inputs.curve: EBD, EBI, ...) from speed x
+    (km/h), for an OSRD rolling stock's EtcsBrakeParams (inputs.rolling_stock, a JSON file beside
+    the case) on a track (inputs.track: a preset or a file beside the case), national values
+    inputs.national (a preset or a file beside the case; default: the shipped defaults). The curve is exact in V^2 between its points."""
+    import json
+    from railbrake.etcs import curves, national, osrd
+    doc = json.loads((case.folder / _need(inputs, "rolling_stock")).read_text())
+    model, service = osrd.from_osrd(osrd.params_of(doc), float(doc["max_speed"]), doc.get("name", "osrd"))
+    track = str(_need(inputs, "track"))
+    track = national.load_track(case.folder / track if track.endswith(".yaml") else track)
+    values = str(inputs.get("national", "default"))
+    values = national.load_national(case.folder / values if values.endswith(".yaml") else values)
+    result = curves.compute(model, service, track, values)
+    points = np.asarray(result["curves"][_need(inputs, "curve")])[::-1]   # lowest speed first
+    v = _x(x, "speed, km/h")
+    distance = result["svl_m"] - np.interp(v ** 2, points[:, 1] ** 2, points[:, 0])
+    return ModelOutput(distance, {"T_be s": result["times_s"]["T_be"], "T_traction s": result["times_s"]["T_traction"]},
+                       {"x": list(points[:, 1]), "y": list(result["svl_m"] - points[:, 0])})
+
+
+REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, kdry_equal_units, etcs_curve_distance,
     hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
     tank_pressure, stop_constant, caliper_force, train_stopping_distance, train_build_up, solenoid_c_core, pad_friction, pad_friction_drop, ed_brake_force,
     running_resistance, plant_order, sander_stopping_distance)}

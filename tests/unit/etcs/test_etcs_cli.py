@@ -38,9 +38,14 @@ def test_json_codes_osrd_export_and_report(tmp_path):
             assert coded == pytest.approx(code * confidence.K_STEP, abs=1e-12) and coded <= value + 1e-12
     kwet = data["Kwet_rst"]
     assert 0 < kwet["coded"] <= kwet["value"] <= 1 and kwet["code"] == round(kwet["coded"] / confidence.K_STEP)
-    osrd = json.loads((out / "osrd-etcs-brake-params.json").read_text())["etcs_brake_params"]
+    doc = json.loads((out / "osrd-etcs-brake-params.json").read_text())
+    (entry,) = doc["supported_signaling_systems"]   # OSRD's current layout, k_dry at M_NVEBCL 9
+    assert entry["type"] == "ETCS_LEVEL2" and doc["railbrake"]["M_NVEBCL_of_k_dry"] == 9
+    osrd = entry["brake_params"]
     assert osrd["gamma_emergency"]["boundaries"] == [50 / 3.6]
-    assert len(osrd["k_dry"]["values"]) == 2 and osrd["k_dry"]["values"] == data["Kdry_rst"][2]["coded"]
+    assert len(osrd["k_dry"]["values"]) == 2 and osrd["k_dry"]["values"] == data["Kdry_rst"][9]["coded"]
+    names = [v["name"] for v in json.loads((out / "etcs-train-data.json").read_text())["variables"]]
+    assert {"A_brake_service", "T_bs1", "T_bs2", "Kn+", "Kn-", "T_traction_cut_off"} <= set(names)
     assert osrd["t_be"] == data["T_brake_emergency_s"]
     assert "<svg" in (out / "report.html").read_text()
     # the braking distance grows with the wet-rail reduction and with the level (None: no brake)
