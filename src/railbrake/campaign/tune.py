@@ -211,7 +211,8 @@ def _storage(out: Path):
 
 
 def tune(study: Study, names: list[str], objective: str, budget: int, out: Path, workers=None,
-         scheduler=None, only=(), air_limit: float | None = None, progress=None, start=(), controller=None) -> dict:
+         scheduler=None, only=(), air_limit: float | None = None, progress=None, start=(),
+         controller=None) -> dict:
     """start: WSP fragments tried right after the default WSP (each once, also on a resume);
     controller: the WSP controller tuned (default: the one that reads the parameters), see
     controller_only."""

@@ -7,9 +7,10 @@ out/rain8`) and a server started with `&` answers the commands after it (the REA
 
 Shortened, and only so (SHORTEN, each with its reason): long runs get a documented option that
 shortens them (`bench --runs`, `validate --fast`, `hil --duration`, `wsp tune --budget`, `etcs
-braking-model --samples`); the EN 15595 study is replaced by a copy of it with fewer levels (same
-assessment and tuning ranges); the README's fixed UDP port by a free one. Files the pages name as
-the user's own (`my-scenario.yaml`, `my-fmeca.yaml`, ...) are copies of shipped files (FIXTURES).
+braking-model --samples`, `etcs curves --samples`); the EN 15595 study is replaced by a copy of it
+with fewer levels (same assessment and tuning ranges); the README's fixed UDP port by a free one.
+Files the pages name as the user's own (`my-scenario.yaml`, `my-fmeca.yaml`, ...) are copies of
+shipped files (FIXTURES).
 The blocks not run are listed in NOT_RUN with the reason; a new block must be run or listed.
 """
 
@@ -53,6 +54,8 @@ SHORTEN = [
     (r"--budget \d+", "--budget 2", "wsp tune: the default WSP and one trial"),
     (r"(railbrake etcs braking-model\b[^\n#&]*?)(\s*(#|$))", r"\1 --cars 4 --speed 80 --samples 2 --rare-samples 2\2",
      "etcs: 4 cars (the shipped common causes span 4) from 80 km/h, 2 scatter runs per failure state"),
+    (r"(railbrake etcs curves (?!out/)[^\n#&]*?)(\s*(#|$))", r"\1 --cars 4 --samples 2\2",
+     "etcs curves of a train (its braking model made on the fly): 4 cars, 2 scatter runs per failure state"),
     (r"\bwsp-en15595\b", "short-en15595.yaml", "the EN 15595 study: a copy with fewer levels (short_study)"),
 ]
 
@@ -112,6 +115,7 @@ FIXTURES = {   # files the pages name as the reader's own: copies of shipped one
     "my-scenario.yaml": DATA / "scenarios" / "emergency-250-dry.yaml",
     "my-fmeca.yaml": DATA / "etcs" / "reliability-hs-emu.yaml",
     "my-tolerances.yaml": DATA / "etcs" / "scatter-hs-emu.yaml",
+    "my-nv.yaml": DATA / "etcs" / "national-default.yaml",
 }
 
 
