@@ -26,12 +26,13 @@ VERSIONS = ("3.10", "3.11", "3.12", "3.13")
 
 
 def interpreter(version: str) -> str | None:
-    found = shutil.which(f"python{version}")
-    if found:
-        return found
+    """A CPython `version` that runs: pyenv's installed versions, else on PATH (a pyenv shim of a
+    version not selected exits 127: not taken)."""
     root = Path(os.environ.get("PYENV_ROOT", Path.home() / ".pyenv")) / "versions"
-    candidates = sorted(root.glob(f"{version}.*/bin/python{version}")) if root.is_dir() else []
-    return str(candidates[-1]) if candidates else None
+    candidates = [str(p) for p in sorted(root.glob(f"{version}.*/bin/python{version}"))] if root.is_dir() else []
+    candidates += [found] if (found := shutil.which(f"python{version}")) else []
+    return next((c for c in candidates if subprocess.run([c, "-c", "pass"], capture_output=True).returncode == 0),
+                None)
 
 
 def test_the_wheel_is_tagged_manylinux_2_17_for_every_python_3():
