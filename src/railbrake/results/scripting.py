@@ -63,12 +63,19 @@ def plot(result, kind: str = "braking_curve", path: Path | str | None = None, ax
             "reservoirs": plots.plot_reservoirs}[kind](record, path)
 
 
-def save(result, folder: Path | str) -> Path:
+def save(result, folder: Path | str, overwrite: bool = False) -> Path:
     """timeseries.parquet, kpis.json and run.json into folder (and config.yaml, the resolved
-    configuration, when the result knows it); load_result reads it back bit for bit."""
+    configuration, when the result knows it); load_result reads it back bit for bit. A folder
+    that exists with anything in it is refused unless overwrite=True (its files are then replaced)."""
+    from railbrake.errors import InputError
     from railbrake.results import files
     from railbrake.results.config_file import write_config
     folder = Path(folder)
+    if not isinstance(overwrite, bool):
+        raise TypeError(f"overwrite = {overwrite!r}: must be True or False")
+    if folder.exists() and (not folder.is_dir() or any(folder.iterdir())) and not overwrite:
+        raise InputError(f"{folder}: exists and is not empty: save(folder, overwrite=True) replaces its run "
+                         "files, or choose a new folder")
     files.write_run(record_of(result), folder, ["parquet"])
     if result.resolved is not None:
         write_config(result.resolved, folder / "config.yaml")

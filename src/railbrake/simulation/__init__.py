@@ -74,9 +74,10 @@ class Result:
         """A standard figure (railbrake.results.scripting.PLOT_KINDS): the Figure, or written to path."""
         return scripting.plot(self, kind, path, **options)
 
-    def save(self, folder):
-        """The run folder: timeseries.parquet, kpis.json, run.json (+ config.yaml); load_result reads it."""
-        return scripting.save(self, folder)
+    def save(self, folder, overwrite: bool = False):
+        """The run folder: timeseries.parquet, kpis.json, run.json (+ config.yaml); load_result reads it.
+        An existing folder with files in it is refused unless overwrite=True."""
+        return scripting.save(self, folder, overwrite)
 
     def axle_channels(self, quantity: str) -> list[str]:
         return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" in n.split("_c")[-1]]

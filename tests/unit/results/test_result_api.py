@@ -103,3 +103,17 @@ def test_a_run_folder_reproduces_its_kpis_from_another_folder_without_its_train_
     assert str(tmp_path) not in report.split("<h2>Provenance")[0]    # the command line as typed follows
     shown = CliRunner().invoke(app, ["config", "show", str(elsewhere / "config.yaml"), "--json"])
     assert json.loads(shown.stdout)["digest"] == yaml.safe_load(config)["provenance"]["digest"]
+
+
+def test_save_refuses_a_folder_with_files_unless_told(result, tmp_path):
+    from railbrake.errors import InputError
+    folder = tmp_path / "run"
+    result.save(folder)
+    before = (folder / "kpis.json").read_bytes()
+    with pytest.raises(InputError, match="exists and is not empty: save\\(folder, overwrite=True\\)"):
+        result.save(folder)
+    assert (folder / "kpis.json").read_bytes() == before
+    result.save(folder, overwrite=True)
+    assert railbrake.load_result(folder).kpis == result.kpis
+    (tmp_path / "empty").mkdir()
+    result.save(tmp_path / "empty")       # an empty folder is no run to lose
