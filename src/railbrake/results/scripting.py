@@ -82,6 +82,28 @@ def save(result, folder: Path | str, overwrite: bool = False) -> Path:
     return folder
 
 
+def compare(*runs) -> dict:
+    """Runs side by side as `railbrake compare` gives them (its --json): each a Result or a saved
+    run (folder or time-series file); KPIs with their differences from the first run, the largest
+    channel differences per unit."""
+    from railbrake.errors import InputError
+    from railbrake.results import files
+    from railbrake.results.compare import compare_runs
+    if len(runs) < 2:
+        raise InputError(f"compare: {len(runs)} run given: needs at least two")
+    records, names = [], []
+    for i, run in enumerate(runs):
+        if isinstance(run, (str, Path)):
+            records.append(files.load(run))
+            names.append(str(run))
+        elif hasattr(run, "outputs") and hasattr(run, "kpis"):
+            records.append(record_of(run))
+            names.append(getattr(run, "scenario", f"run {i + 1}"))
+        else:
+            raise TypeError(f"compare: run {i + 1} = {run!r}: a Result or a saved run's folder")
+    return compare_runs(records, names)
+
+
 def load_result(folder: Path | str):
     """The Result saved in a run folder (Result.save, `railbrake run --out`, `hil --out`) or one of its
     time-series files."""

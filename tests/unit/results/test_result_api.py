@@ -117,3 +117,19 @@ def test_save_refuses_a_folder_with_files_unless_told(result, tmp_path):
     assert railbrake.load_result(folder).kpis == result.kpis
     (tmp_path / "empty").mkdir()
     result.save(tmp_path / "empty")       # an empty folder is no run to lose
+
+
+def test_compare_takes_results_and_saved_runs_as_the_cli_does(result, tmp_path):
+    """railbrake.compare(a, b) is `railbrake compare A B --json`: the same report from a Result and
+    its saved folder, no difference between a run and itself."""
+    import json
+    from typer.testing import CliRunner
+    from railbrake.cli import app
+    result.save(tmp_path / "a")
+    report = railbrake.compare(result, tmp_path / "a")
+    assert all(d in (None, 0, 0.0, "same") for k in report["kpis"].values() for d in k["differences"])
+    cli = CliRunner().invoke(app, ["compare", str(tmp_path / "a"), str(tmp_path / "a"), "--json"])
+    assert cli.exit_code == 0, cli.output
+    assert set(json.loads(cli.stdout)) == set(report)
+    with pytest.raises(railbrake.InputError, match="needs at least two"):
+        railbrake.compare(result)
