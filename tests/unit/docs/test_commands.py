@@ -90,6 +90,7 @@ def not_run(file: str, text: str) -> str | None:
 
 
 def shortened(text: str, port: int) -> str:
+    text = re.sub(r"\\\n\s*", " ", text)   # a command continued over lines: one line
     for pattern, replacement, _ in SHORTEN:
         text = re.sub(pattern, replacement, text, flags=re.M)
     text = text.replace("udp://127.0.0.1:5005", f"udp://127.0.0.1:{port}")
