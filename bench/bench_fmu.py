@@ -26,6 +26,7 @@ from fmpy.fmi3 import FMU3Slave
 from railbrake import _core
 from railbrake import scenario as scenarios
 from railbrake import simulation
+from railbrake.simulation.parameters import _scenario_struct
 from railbrake.fmu import export_fmu
 
 SCENARIO = "emergency-250-dry"
@@ -60,7 +61,7 @@ def native_run_steps_per_second(cars: int) -> float:
     recording), timed without the Python set-up."""
     sc = scenarios.load(SCENARIO)
     plant = simulation.plant_params(sc, cars)
-    bcu, wsp, spec = simulation.bcu_params(plant, sc, True), simulation.wsp_params(sc), simulation._scenario_struct(sc)
+    bcu, wsp, spec = simulation.bcu_params(plant, sc, True), simulation.wsp_params(sc), _scenario_struct(sc)
     state = ctypes.create_string_buffer(_core.rb_run_state_size())
     _core.call(_core.rb_run_init, ctypes.byref(plant), ctypes.byref(bcu), ctypes.byref(wsp), ctypes.byref(spec), state)
     finished = ctypes.c_int(0)

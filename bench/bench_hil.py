@@ -3,7 +3,7 @@ clock against the reference BCU in its own process over UDP loopback, 8 cars. Pr
 latency, step execution time and overruns, what the OS granted (SCHED_FIFO, mlockall) and the load
 average, since other jobs on the machine show up in the latencies; then, as a baseline, the same loop
 for a third of the time with 1 car and no BCU (nothing to wait for but the clock), so overruns that
-both runs show can be put down to the machine. First, the cost of the frames' SipHash-2-4 tag (ICD v3)
+both runs show can be put down to the machine. First, the cost of the frames' SipHash-2-4 tag (ICD v4)
 per frame: rb_frame_authentic on the largest plant frame (16 cars), an 8-car plant frame and an
 8-car BCU frame, less the cost of a ctypes call that does nothing (rb_crc32 of 0 bytes).
 Usage: bench_hil.py [SECONDS]."""

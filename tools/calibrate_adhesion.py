@@ -87,9 +87,34 @@ def calibrate_hs_wet():
     return PolachParams(best.x[0], best.x[1], best.x[2], 0.3, 0.1)
 
 
+CK_SPEEDS = np.array([20.0, 50.0, 80.0, 120.0, 160.0, 200.0, 250.0, 300.0, 350.0])
+
+
+def curtius_kniffler(v_kmh):
+    """The Curtius-Kniffler dry-rail curve (Elektrische Bahnen 20 (1950) 201-210), v in km/h."""
+    return 7.5 / (v_kmh + 44.0) + 0.161
+
+
+def calibrate_dry_medium():
+    """mu0, A, B (kA, kS from Polach's dry set) so that the peak follows Curtius-Kniffler from 20 to
+    350 km/h, with a falling tail (F/Q at 30 % creep <= 0.8 peak); every parameter ends inside
+    its bounds."""
+    bounds = ([0.05, 0.0, 0.0], [1.5, 1.0, 20.0])
+
+    def residual(x):
+        p = PolachParams(x[0], x[1], x[2], 1.0, 0.4)
+        r = [peak(p, v) / curtius_kniffler(v) - 1.0 for v in CK_SPEEDS]
+        return r + [3.0 * max(0.0, tail_ratio(p, v) - 0.8) for v in (60.0, 300.0)]
+
+    fit = least_squares(residual, [0.358, 0.4, 0.6], bounds=bounds)
+    print("dry-medium residuals (peak / Curtius-Kniffler - 1 at 20..350 km/h, tails):", np.round(fit.fun, 3))
+    inside = np.all((fit.x > np.array(bounds[0]) + 1e-6) & (fit.x < np.array(bounds[1]) - 1e-6))
+    print("dry-medium parameters inside their bounds:", bool(inside))
+    return PolachParams(fit.x[0], fit.x[1], fit.x[2], 1.0, 0.4)
+
+
 def main():
-    dry = PolachParams(0.55, 0.40, 0.60, 1.00, 0.40)
-    print("dry-medium mu0 (0.30 at 30 km/h):", scale_mu0(dry, 30.0, 0.30))
+    print("dry-medium:", calibrate_dry_medium())
     contaminated = PolachParams(0.3, 0.40, 0.60, 0.50, 0.20)
     print("dry-contaminated mu0 (0.15 at 30 km/h):", scale_mu0(contaminated, 30.0, 0.15))
     wet_shape = PolachParams(0.3, 0.40, 0.20, 0.30, 0.10)

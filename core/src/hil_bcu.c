@@ -82,6 +82,7 @@ static void send_commands(const rb_bcu_params *p, rb_hil_bcu *b, const rb_brake_
     f.header.sequence = b->sequence++;
     f.header.step = step;
     f.header.nonce = b->nonce;
+    f.header.plant_nonce = b->plant_nonce;
     f.header.n_cars = (uint8_t)p->n_cars;
     f.header.n_axles = (uint8_t)n_axles;
     f.brake_demand = d->emergency > 0.5 ? 2.0f : (float)d->service;
@@ -115,6 +116,7 @@ static void refuse(const rb_bcu_params *p, rb_hil_bcu *b, const rb_plant_frame *
     r.header.config = b->config;
     r.header.sequence = b->sequence++;
     r.header.step = f->header.step;
+    r.header.plant_nonce = f->header.plant_nonce;
     r.header.n_cars = (uint8_t)p->n_cars;
     r.header.n_axles = (uint8_t)(p->n_cars * RB_AXLES_PER_CAR);
     for (int c = 0; c < p->n_cars; ++c) r.pressure_demand[c] = (float)p->atmosphere;
@@ -125,24 +127,35 @@ static void refuse(const rb_bcu_params *p, rb_hil_bcu *b, const rb_plant_frame *
         b->send_errors++;
 }
 
-/* This BCU's nonce for the plant at `from` in `session`: a keyed hash (SipHash-2-4 under the BCU's
- * own random secret) of session, address and epoch, never 0. Nothing is stored per plant. */
-static uint64_t cookie(const rb_hil_bcu *b, uint32_t session, const uint8_t from[16])
+/* The time slot a BCU nonce belongs to: a nonce is good in its slot and the next (one to two
+ * RB_HIL_NONCE_LIFETIME), so a challenge delayed longer cannot open a session. */
+static int64_t slot(int64_t now) { return now / (int64_t)(RB_HIL_NONCE_LIFETIME * 1e9); }
+
+/* This BCU's nonce for the plant at `from` in `session` offering `plant_nonce`: a keyed hash
+ * (SipHash-2-4 under the BCU's own random secret) of session, address, plant nonce, epoch and time
+ * slot, never 0. Nothing is stored per plant. */
+static uint64_t cookie(const rb_hil_bcu *b, uint32_t session, const uint8_t from[16], uint64_t plant_nonce,
+                       int64_t time_slot)
 {
-    uint8_t input[4 + 16 + 8];
+    uint8_t input[4 + 16 + 8 + 8 + 8];
     for (int i = 0; i < 4; ++i) input[i] = (uint8_t)(session >> (8 * i));
     memcpy(input + 4, from, 16);
-    for (int i = 0; i < 8; ++i) input[20 + i] = (uint8_t)(b->epoch >> (8 * i));
+    for (int i = 0; i < 8; ++i) {
+        input[20 + i] = (uint8_t)(plant_nonce >> (8 * i));
+        input[28 + i] = (uint8_t)(b->epoch >> (8 * i));
+        input[36 + i] = (uint8_t)((uint64_t)time_slot >> (8 * i));
+    }
     uint64_t nonce = rb_siphash24(b->cookie_secret, input, sizeof input);
     return nonce ? nonce : 1u;
 }
 
-/* A hello: the challenge that gives the plant this BCU's nonce (under the key of nonce 0). */
+/* A hello: the challenge that gives the plant this BCU's nonce, echoing the plant's (under the hello key). */
 static void challenge(const rb_bcu_params *p, rb_hil_bcu *b, const rb_frame_header *h, const uint8_t *hello_key,
-                      const uint8_t from[16])
+                      const uint8_t from[16], int64_t now)
 {
-    rb_frame_header c = {h->session, b->config, 0, h->step, cookie(b, h->session, from), (uint8_t)p->n_cars,
-                         (uint8_t)(p->n_cars * RB_AXLES_PER_CAR), RB_FRAME_CHALLENGE};
+    rb_frame_header c = {h->session, b->config, 0, h->step, cookie(b, h->session, from, h->plant_nonce, slot(now)),
+                         h->plant_nonce, (uint8_t)p->n_cars, (uint8_t)(p->n_cars * RB_AXLES_PER_CAR),
+                         RB_FRAME_CHALLENGE};
     size_t size = 0;
     if (rb_challenge_frame_encode(&c, hello_key, b->buffer, sizeof b->buffer, &size, NULL) == RB_OK &&
         rb_udp_send_to(&b->udp, from, b->buffer, size) == (long)size)
@@ -164,6 +177,7 @@ static void open_session(const rb_bcu_params *p, rb_hil_bcu *b, const rb_frame_h
     memcpy(b->udp.peer, from, sizeof b->udp.peer);
     b->udp.have_peer = 1;
     b->nonce = h->nonce;
+    b->plant_nonce = h->plant_nonce;
     memcpy(b->key, key, RB_HIL_KEY_SIZE);
     b->epoch++;
     b->sequence = 0;
@@ -177,16 +191,26 @@ static int may_open(const rb_hil_bcu *b, const rb_frame_header *h, const uint8_t
     return h->session == b->session && rb_udp_same_address(from, b->udp.peer);
 }
 
-/* The key the frame must carry: the session's, that of nonce 0 for a hello, that of this BCU's
- * nonce for the plant; 0 if its nonce is none of them (an old handshake, another BCU's). */
-static int key_for(const rb_hil_bcu *b, const rb_frame_header *h, const uint8_t from[16], uint8_t key[RB_HIL_KEY_SIZE])
+/* The key the frame must carry: the session's (both its nonces, from its plant), the hello key for
+ * a hello (nonce 0 and a plant nonce), that of both nonces when the BCU's is the one it gives that
+ * plant for that plant nonce now or in the slot before; 0 if none (an old handshake, another BCU's). */
+static int key_for(const rb_hil_bcu *b, const rb_frame_header *h, const uint8_t from[16], int64_t now,
+                   uint8_t key[RB_HIL_KEY_SIZE])
 {
-    if (b->session && h->session == b->session && h->nonce == b->nonce && rb_udp_same_address(from, b->udp.peer)) {
+    if (b->session && h->session == b->session && h->nonce == b->nonce && h->plant_nonce == b->plant_nonce &&
+        rb_udp_same_address(from, b->udp.peer)) {
         memcpy(key, b->key, RB_HIL_KEY_SIZE);
         return 1;
     }
-    if (h->nonce != 0 && h->nonce != cookie(b, h->session, from)) return 0;
-    rb_hil_session_key(b->secret, h->session, h->nonce, key);
+    if (h->plant_nonce == 0) return 0;
+    if (h->nonce == 0) {
+        rb_hil_session_key(b->secret, h->session, 0, 0, key);
+        return 1;
+    }
+    if (h->nonce != cookie(b, h->session, from, h->plant_nonce, slot(now)) &&
+        h->nonce != cookie(b, h->session, from, h->plant_nonce, slot(now) - 1))
+        return 0;
+    rb_hil_session_key(b->secret, h->session, h->plant_nonce, h->nonce, key);
     return 1;
 }
 
@@ -243,7 +267,7 @@ static void take_datagram(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_
         else b->malformed++;
         return;
     }
-    if (!key_for(b, &h, from, key)) {
+    if (!key_for(b, &h, from, now, key)) {
         b->foreign++;
         return;
     }
@@ -264,10 +288,11 @@ static void take_datagram(const rb_bcu_params *p, const rb_scenario *sc, rb_hil_
         return;
     }
     if (h.nonce == 0) {
-        challenge(p, b, &h, key, from);
+        challenge(p, b, &h, key, from, now);
         return;
     }
-    int current = b->session && h.session == b->session && h.nonce == b->nonce && from_peer;
+    int current = b->session && h.session == b->session && h.nonce == b->nonce &&
+                  h.plant_nonce == b->plant_nonce && from_peer;
     if (!current) {
         if (!may_open(b, &h, from, now)) {
             b->foreign++;

@@ -82,6 +82,7 @@ static void put_header(writer *w, const rb_frame_header *h, rb_frame_type type, 
     put_u8(w, h->n_axles);
     put_u16(w, 0);  /* reserved */
     put_u64(w, h->nonce);
+    put_u64(w, h->plant_nonce);
 }
 
 /* Checks key, counts and capacity, then writes the header. */
@@ -172,6 +173,7 @@ static rb_status read_header(reader *r, size_t size, rb_frame_header *h, rb_erro
     h->n_axles = get_u8(r);
     (void)get_u16(r);
     h->nonce = get_u64(r);
+    h->plant_nonce = get_u64(r);
     rb_status s = check_counts(h, err);
     if (s) return s;
     size_t expected = frame_size((int)type, h->n_cars, h->n_axles);

@@ -61,21 +61,39 @@ uint64_t rb_siphash24(const uint8_t key[RB_HIL_KEY_SIZE], const uint8_t *data, s
     return s.v0 ^ s.v1 ^ s.v2 ^ s.v3;
 }
 
-/* A counter-mode KDF (NIST SP 800-108r1, section 4.1) with SipHash-2-4 as the PRF: two 64-bit
- * blocks over label, counter, session and nonce make the 128-bit session key. */
-void rb_hil_session_key(const uint8_t secret[RB_HIL_KEY_SIZE], uint32_t session, uint64_t nonce,
-                        uint8_t key[RB_HIL_KEY_SIZE])
+static size_t put_le(uint8_t *at, uint64_t v, int bytes)
 {
-    static const char label[] = "railbrake-hil/3 session key";
-    uint8_t input[sizeof label + 1 + 4 + 8];
+    for (int i = 0; i < bytes; ++i) at[i] = (uint8_t)(v >> (8 * i));
+    return (size_t)bytes;
+}
+
+/* A counter-mode KDF (NIST SP 800-108r1, section 4.1) with SipHash-2-4 as the PRF: two 64-bit
+ * blocks over label, counter, session and both nonces make the 128-bit session key. */
+void rb_hil_session_key(const uint8_t secret[RB_HIL_KEY_SIZE], uint32_t session, uint64_t plant_nonce,
+                        uint64_t bcu_nonce, uint8_t key[RB_HIL_KEY_SIZE])
+{
+    static const char label[] = "railbrake-hil/4 session key";
+    uint8_t input[sizeof label + 1 + 4 + 8 + 8];
     size_t n = sizeof label;
     memcpy(input, label, n);   /* with its NUL: the label ends unambiguously */
     size_t counter_at = n++;
-    for (int i = 0; i < 4; ++i) input[n++] = (uint8_t)(session >> (8 * i));
-    for (int i = 0; i < 8; ++i) input[n++] = (uint8_t)(nonce >> (8 * i));
+    n += put_le(input + n, session, 4);
+    n += put_le(input + n, plant_nonce, 8);
+    n += put_le(input + n, bcu_nonce, 8);
     for (int block = 0; block < 2; ++block) {
         input[counter_at] = (uint8_t)(block + 1);
-        uint64_t out = rb_siphash24(secret, input, n);
-        for (int i = 0; i < 8; ++i) key[8 * block + i] = (uint8_t)(out >> (8 * i));
+        put_le(key + 8 * block, rb_siphash24(secret, input, n), 8);
     }
+}
+
+uint64_t rb_hil_plant_nonce(const uint8_t secret[RB_HIL_KEY_SIZE], uint32_t session, uint64_t count)
+{
+    static const char label[] = "railbrake-hil/4 plant nonce";
+    uint8_t input[sizeof label + 4 + 8];
+    size_t n = sizeof label;
+    memcpy(input, label, n);
+    n += put_le(input + n, session, 4);
+    n += put_le(input + n, count, 8);
+    uint64_t nonce = rb_siphash24(secret, input, n);
+    return nonce ? nonce : 1u;
 }

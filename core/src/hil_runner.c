@@ -112,6 +112,12 @@ static rb_status check_config(const rb_plant_params *plant, const rb_hil_config 
 
 static uint64_t to_steps(double seconds) { return (uint64_t)llround(seconds / RB_HIL_DT); }
 
+/* the shortest silence after which the plant says hello again, whatever its hold time: longer
+ * than the slowest BCU cycle of the ICD (20 ms) many times over */
+#define REHELLO_MIN_STEPS 100u
+
+static void say_hello(const rb_hil_config *c, rb_hil_runner *r, uint64_t previous);
+
 rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *config, const char *bind_host,
                              int bind_port, const char *bcu_host, int bcu_port, rb_hil_runner *r, rb_error *err)
 {
@@ -138,7 +144,10 @@ rb_status rb_hil_runner_open(const rb_plant_params *plant, const rb_hil_config *
         rb_udp_close(&r->udp);
         return s;
     }
-    rb_hil_session_key(config->secret, config->session, 0, r->hello_key);
+    rb_hil_session_key(config->secret, config->session, 0, 0, r->hello_key);
+    r->rehello_steps = r->watchdog.hold_steps > REHELLO_MIN_STEPS ? r->watchdog.hold_steps : REHELLO_MIN_STEPS;
+    r->nonce_steps = to_steps(RB_HIL_NONCE_LIFETIME);
+    say_hello(config, r, 0);
     r->n_faults = plant->n_faults;
     memcpy(r->fault, plant->fault, sizeof r->fault);
     r->safe = 1;   /* until the first valid frame */
@@ -373,29 +382,64 @@ static void mismatch(rb_hil_runner *r, const rb_hil_config *c, const rb_frame_he
     log_event(r, RB_HIL_EVENT_MISMATCH, text);
 }
 
-/* The BCU's challenge: while saying hello, take its nonce. A new nonce brings a new session key,
- * under which the BCU numbers its frames from 0; the same nonce again (the BCU kept the session)
- * keeps key and numbering. */
+/* Begins a round of hellos with a fresh plant nonce (the one before stays good for a challenge on
+ * its way: a nonce lives one to two RB_HIL_NONCE_LIFETIME). The session key stays good meanwhile. */
+static void say_hello(const rb_hil_config *c, rb_hil_runner *r, uint64_t previous)
+{
+    r->nonce = 0;
+    r->previous_hello_nonce = previous;
+    r->hello_nonce = rb_hil_plant_nonce(c->secret, c->session, ++r->hellos);
+    r->hello_step = r->step;
+}
+
+/* Before each step's frame: a plant that has had no valid BCU frame for the hold time (at least
+ * 0.1 s) since the key was agreed says hello again, whatever the reason (a lost link, a BCU that
+ * restarted, a key the BCU no longer holds); a round of hellos renews its nonce each lifetime. */
+static void keep_handshake(const rb_hil_config *c, rb_hil_runner *r)
+{
+    if (r->nonce) {
+        uint64_t since = r->keyed_step;
+        if (r->watchdog.have_valid && r->watchdog.last_valid_step > since) since = r->watchdog.last_valid_step;
+        if (r->step >= since + r->rehello_steps) say_hello(c, r, 0);
+    } else if (r->step >= r->hello_step + r->nonce_steps) {
+        say_hello(c, r, r->hello_nonce);
+    }
+}
+
+/* The BCU's challenge: while saying hello, one that echoes a hello nonce the plant offers gives the
+ * session key of both nonces (the BCU numbers its frames from 0 under it); any other (a replayed or
+ * delayed challenge of an earlier exchange) is refused. Once agreed, the hello nonces are retired. */
 static void take_challenge(const rb_hil_config *c, rb_hil_runner *r, const rb_frame_header *h)
 {
     char text[RB_HIL_LOG_TEXT];
     r->challenges++;
-    if (r->nonce || h->nonce == 0) return;
-    r->nonce = h->nonce;
-    if (h->nonce == r->key_nonce) return;
-    r->key_nonce = h->nonce;
-    rb_hil_session_key(c->secret, c->session, r->key_nonce, r->key);
+    if (r->nonce && h->plant_nonce == r->key_plant_nonce) return;   /* more answers to the hellos just keyed */
+    int offered = h->plant_nonce && (h->plant_nonce == r->hello_nonce || h->plant_nonce == r->previous_hello_nonce);
+    if (r->nonce || h->nonce == 0 || !offered) {
+        if (!r->challenges_refused++) {
+            snprintf(text, sizeof text, "challenge for plant nonce 0x%016llx: not a hello on offer, refused "
+                     "(further ones only counted)", (unsigned long long)h->plant_nonce);
+            log_event(r, RB_HIL_EVENT_KEYED, text);
+        }
+        return;
+    }
+    r->nonce = r->key_nonce = h->nonce;
+    r->key_plant_nonce = h->plant_nonce;
+    r->hello_nonce = r->previous_hello_nonce = 0;
+    r->keyed_step = r->step;
+    rb_hil_session_key(c->secret, c->session, r->key_plant_nonce, r->key_nonce, r->key);
     rb_watchdog_rekey(&r->watchdog);
-    snprintf(text, sizeof text, "BCU nonce 0x%016llx: session key agreed", (unsigned long long)r->key_nonce);
+    snprintf(text, sizeof text, "BCU nonce 0x%016llx, plant nonce 0x%016llx: session key agreed",
+             (unsigned long long)r->key_nonce, (unsigned long long)r->key_plant_nonce);
     log_event(r, RB_HIL_EVENT_KEYED, text);
 }
 
-/* The key a BCU frame of this session must carry: that of nonce 0 for challenges and refusals,
- * that of the agreed nonce for commands (also while saying hello again); NULL for any other nonce. */
+/* The key a BCU frame of this session must carry: the hello key for challenges and refusals, the
+ * session key for commands under both its nonces (also while saying hello again); NULL otherwise. */
 static const uint8_t *key_for(const rb_hil_runner *r, const rb_frame_header *h)
 {
     if (h->type == RB_FRAME_CHALLENGE || h->nonce == 0) return r->hello_key;
-    return r->key_nonce && h->nonce == r->key_nonce ? r->key : NULL;
+    return r->key_nonce && h->nonce == r->key_nonce && h->plant_nonce == r->key_plant_nonce ? r->key : NULL;
 }
 
 static const char *const outcome_text[] = {"applied", "late", "out of order: older than the newest, not applied",
@@ -519,7 +563,6 @@ static void choose_commands(const rb_hil_config *c, rb_hil_runner *r)
     if (safe != r->safe) {
         log_event(r, safe ? RB_HIL_EVENT_SAFE_ON : RB_HIL_EVENT_SAFE_OFF,
                   safe ? "no valid BCU frame within the hold time: safe state" : "valid BCU frames: safe state left");
-        if (safe) r->nonce = 0;   /* say hello again (a restarted BCU has another nonce); the key stays good */
     }
     note_loss(r, safe);
     if (safe) safe_commands(c, r, !r->safe);
@@ -554,6 +597,7 @@ static void send_frame(const rb_plant_params *p, const rb_hil_config *c, rb_hil_
     f.header.sequence = r->sequence++;
     f.header.step = r->step;
     f.header.nonce = r->nonce;
+    f.header.plant_nonce = r->nonce ? r->key_plant_nonce : r->hello_nonce;
     f.header.n_cars = (uint8_t)p->n_cars;
     f.header.n_axles = (uint8_t)n_axles;
     f.train_speed = (float)o->speed;
@@ -682,6 +726,7 @@ rb_status rb_hil_runner_advance(const rb_plant_params *plant, const rb_hil_confi
         receive(p, config, r);       /* frames echo at most r->step, the last step sent */
         if (r->mismatch) break;      /* the BCU refuses this plant: nothing to wait for */
         choose_commands(config, r);
+        keep_handshake(config, r);
         check_braking(p, r);
         double position = r->out.position;
         rb_plant_step(p, &r->plant, &r->applied);
@@ -736,6 +781,8 @@ void rb_hil_runner_result(const rb_hil_runner *r, rb_hil_result *res)
     res->out_of_order = w->out_of_order;
     res->replayed = w->replayed;
     res->challenges = r->challenges;
+    res->stale_challenges = r->challenges_refused;
+    res->hellos = r->hellos;
     res->losses = r->losses;
     res->lost_step = r->lost_step;
     res->last_valid_step = r->last_valid_step;

@@ -181,6 +181,7 @@ static inline void rb_plant_table_interval(const rb_speed_table *t, double speed
 /* PORTABLE, or AVX2 when requested is AUTO and this build and CPU have it. */
 int rb_plant_resolve_kernel(int requested);
 
+/* ---- the adhesion at each axle (rail_conditioning.c) */
 /* Zone (condition index) of axle `axle` at track position x; refreshes its cached Polach set. */
 int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x);
 /* Sets axle's Polach parameters and the wheelset kernel's constants derived from them. */

@@ -12,11 +12,15 @@
  * 128-140, there of the specific friction power; source and assumptions in rb_contact.h). With the
  * same e for every axle the axle-count law results, recovery_axles = E_ref / e. The axles behind
  * then see the cell their predecessors cleaned: the adhesion they find follows what the axles
- * ahead slid, not their index.
+ * ahead slid, not their index. An infinite reference_energy keeps the cells (sand conditions
+ * them) without the sliding wheels cleaning them: a contaminant they do not remove.
  *
- * Sanders are a second source: the sand a sander drops in front of its axle (m kg per metre of
- * track in a cell) multiplies the cell's contamination by exp(-m / sand_reference), so its axle
- * and every axle behind brake on the sanded rail. A fixed-rate sander drops R kg/s, R / v kg per
+ * Sanders are a second source: the sand a sander drops lies loose on the cell ahead of its axle.
+ * Each axle that meets a cell entrains the fraction sand_entrained of its loose sand into the
+ * contact, where crushed it multiplies the cell's contamination by exp(-m / sand_reference) (m kg
+ * per metre of track), and leaves the fraction sand_retention loose for the axles behind; the rest
+ * is carried away. So the sander's axle and every axle behind brake on rail the sand improves
+ * further with each passage (never less), by steps that shrink as the sand is used up. A fixed-rate sander drops R kg/s, R / v kg per
  * metre, more as the train slows; a variable-rate one R(v), a table over its car's speed (R = q v
  * lays q kg per metre at every speed). The law's form mirrors the energy law; its one
  * parameter has no published value (sand rates and their adhesion gain are not public in the
@@ -26,6 +30,7 @@
 #include "railbrake/rb_bounds.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 
 static int condition_conditions(const rb_plant_condition *c) { return c->reference_energy > 0.0; }
@@ -41,10 +46,10 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
 {
     for (int i = 0; i < p->n_conditions; ++i) {
         const rb_plant_condition *c = &p->condition[i];
-        if (!isfinite(c->reference_energy) || c->reference_energy < 0.0)
-            return rb_fail(err, RB_EINVAL, "condition[%d].reference_energy = %g J/m2: must be >= 0 (0: no rail cells)",
-                           i, c->reference_energy);
-        if (c->reference_energy > 0.0) {
+        if (isnan(c->reference_energy) || c->reference_energy < 0.0)
+            return rb_fail(err, RB_EINVAL, "condition[%d].reference_energy = %g J/m2: must be >= 0 (0: no rail cells; "
+                           "infinite: cells the sliding wheels do not clean)", i, c->reference_energy);
+        if (c->reference_energy > 0.0 && isfinite(c->reference_energy)) {
             char name[48];
             snprintf(name, sizeof name, "condition[%d].reference_energy", i);
             rb_status st = rb_bound_check(err, "adhesion.reference_energy", name, c->reference_energy);
@@ -85,6 +90,11 @@ rb_status rb_rail_check(const rb_plant_params *p, rb_error *err)
     }
     if (p->n_sanders > 0 && !(p->sand_reference > 0.0 && p->sand_reference <= 10.0))
         return rb_fail(err, RB_EINVAL, "sand_reference = %g kg/m: must be in (0, 10] kg/m", p->sand_reference);
+    if (p->n_sanders > 0 && !(p->sand_entrained > 0.0 && p->sand_entrained <= 1.0))
+        return rb_fail(err, RB_EINVAL, "sand_entrained = %g: must be in (0, 1]", p->sand_entrained);
+    if (p->n_sanders > 0 && !(p->sand_retention >= 0.0 && p->sand_retention + p->sand_entrained <= 1.0))
+        return rb_fail(err, RB_EINVAL, "sand_retention = %g: must be in [0, 1 - sand_entrained = %g]",
+                       p->sand_retention, 1.0 - p->sand_entrained);
     if (!rail_in_use(p)) return RB_OK;
     rb_status st;
     if ((st = rb_bound_check(err, "adhesion.rail_cell_length", "rail_cell_length", p->rail_cell_length))) return st;
@@ -119,8 +129,9 @@ void rb_rail_init(const rb_plant_params *p, rb_plant_state *s)
 {
     s->rail_active = rail_in_use(p);
     if (!s->rail_active) return;
-    for (int i = 0; i < RB_RAIL_MAX_CELLS; ++i) s->rail_contamination[i] = 1.0;
+    for (int i = 0; i < RB_RAIL_MAX_CELLS; ++i) s->rail_contamination[i] = 1.0, s->rail_sand[i] = 0.0;
     s->rail_front = cell_of(p, -p->car[0].axle_position[0]);   /* the leading axle; the train's front at 0 */
+    for (int a = 0; a < RB_PLANT_MAX_AXLES; ++a) s->axle_cell[a] = INT64_MIN;   /* set at the first step */
 }
 
 double rb_rail_factor(const rb_plant_params *p, const rb_plant_state *s, int axle, double leading_factor)
@@ -135,7 +146,22 @@ double rb_rail_factor(const rb_plant_params *p, const rb_plant_state *s, int axl
 /* Cells up to `cell` enter the ring as laid. */
 static void enter_cells(rb_plant_state *s, int64_t cell)
 {
-    while (s->rail_front < cell) s->rail_contamination[slot_of(++s->rail_front)] = 1.0;
+    while (s->rail_front < cell) {
+        int slot = slot_of(++s->rail_front);
+        s->rail_contamination[slot] = 1.0;
+        s->rail_sand[slot] = 0.0;
+    }
+}
+
+/* An axle meets cell k: it crushes the part sand_entrained of the loose sand into the contact and
+ * leaves the part sand_retention loose. */
+static void pass_sand(const rb_plant_params *p, rb_plant_state *s, int64_t k)
+{
+    int slot = slot_of(k);
+    double loose = s->rail_sand[slot];
+    if (!(loose > 0.0)) return;
+    s->rail_contamination[slot] *= exp(-p->sand_entrained * loose / p->sand_reference);
+    s->rail_sand[slot] = p->sand_retention * loose;
 }
 
 /* Sander i's rate (kg/s) at its car's speed: a fixed-rate sander's table has one point. */
@@ -154,16 +180,29 @@ static int sander_on(const rb_plant_params *p, const rb_plant_state *s, const rb
     return 0;
 }
 
-/* The sand of a step falls on the cell ahead of the axle's (the rail its contact meets next). */
+/* The sand of a step falls loose on the cell beyond the one the axle's contact meets now: the
+ * axle meets it next (pass_sand). */
 static void sand(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in, double dt)
 {
     for (int i = 0; i < p->n_sanders; ++i) {
         if (!sander_on(p, s, in, i)) continue;
         double mass = sander_rate(p, s, i) * dt;
-        int64_t cell = cell_of(p, axle_x(p, s, p->sander_axle[i])) + 1;
+        int64_t cell = cell_of(p, axle_x(p, s, p->sander_axle[i])) + 2;
         enter_cells(s, cell);   /* the leading axle's sander sands the rail just ahead of the train */
-        s->rail_contamination[slot_of(cell)] *= exp(-mass / (p->rail_cell_length * p->sand_reference));
+        s->rail_sand[slot_of(cell)] += mass / p->rail_cell_length;
         s->sand_used += mass;
+    }
+}
+
+/* Each axle that has come to new cells meets them (in order) and works their loose sand. */
+static void axles_meet_sand(const rb_plant_params *p, rb_plant_state *s)
+{
+    if (p->n_sanders == 0) return;
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
+        int64_t met = cell_of(p, axle_x(p, s, a)) + 1;
+        if (met > s->rail_front) met = s->rail_front;   /* beyond: rail as laid, no sand yet */
+        if (s->axle_cell[a] == INT64_MIN) s->axle_cell[a] = met;   /* the cars' places are set after init */
+        while (s->axle_cell[a] < met) pass_sand(p, s, ++s->axle_cell[a]);
     }
 }
 
@@ -182,6 +221,53 @@ void rb_rail_step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_in
         if (cell <= s->rail_front) s->rail_contamination[slot_of(cell)] *= exp(-cleaned);
     }
     sand(p, s, in, dt);
+    axles_meet_sand(p, s);
     for (int a = 0; a < n_axles; ++a)
         if (condition_conditions(&p->condition[s->zone_of[a]])) rb_plant_condition_axle(p, s, a);
+}
+
+/* ---- the adhesion each axle finds: its zone's condition, conditioned by axle index or by the
+ * rail cell it stands on (here, below the plant's other parts, which call down into it) */
+
+/* Polach parameters of the condition at axle index `axle` (0 = leading), with conditioning (by
+ * axle index, or by the rail cell the axle stands on). */
+static rb_polach_params condition_at_axle(const rb_plant_params *p, const rb_plant_state *s, int condition, int axle)
+{
+    const rb_plant_condition *c = &p->condition[condition];
+    rb_polach_params q = c->polach;
+    if (c->recovery_axles > 0.0)
+        q.mu0 *= rb_conditioning_factor((double)axle, c->leading_factor, c->recovery_axles);
+    if (c->reference_energy > 0.0)
+        q.mu0 *= rb_rail_factor(p, s, axle, c->leading_factor);
+    return q;
+}
+
+void rb_plant_set_axle_adhesion(rb_plant_state *s, int axle, const rb_polach_params *q)
+{
+    rb_plant_derived *d = &s->derived;
+    s->polach[axle] = *q;
+    d->mu_static[axle] = q->mu0 * q->A;
+    d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
+    d->polach_B[axle] = q->B;
+    d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
+    d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];
+}
+
+int rb_plant_zone_update(const rb_plant_params *p, rb_plant_state *s, int axle, double x)
+{
+    int condition = 0;
+    for (int z = 0; z < p->n_zones; ++z)
+        if (x >= p->zone[z].x_start && x < p->zone[z].x_end) condition = p->zone[z].condition;
+    if (condition != s->zone_of[axle]) {
+        s->zone_of[axle] = condition;
+        rb_polach_params q = condition_at_axle(p, s, condition, axle);
+        rb_plant_set_axle_adhesion(s, axle, &q);
+    }
+    return condition;
+}
+
+void rb_plant_condition_axle(const rb_plant_params *p, rb_plant_state *s, int axle)
+{
+    rb_polach_params q = condition_at_axle(p, s, s->zone_of[axle], axle);
+    rb_plant_set_axle_adhesion(s, axle, &q);
 }

@@ -1,4 +1,5 @@
-/* Private to the WSP controllers (bcu_wsp.c, wsp_controllers.c, wsp_decel_slip.c): what they share. */
+/* Private to the WSP controllers (bcu_wsp.c, wsp_controllers.c, wsp_decel_slip.c): what they share,
+ * defined in wsp_guards.c below them all (the defaults and steps in the controllers' own files). */
 #ifndef RAILBRAKE_WSP_INTERNAL_H
 #define RAILBRAKE_WSP_INTERNAL_H
 

@@ -106,7 +106,7 @@ static size_t seed_frame(uint8_t *buf)
     int n_axles = next_random() % 4 ? 4 * n_cars : 1 + (int)(next_random() % RB_FRAME_MAX_AXLES);
     size_t size = 0;
     rb_frame_header h = {1 + next_random(), next_random(), next_random(), (uint64_t)next_random() << (next_random() % 32),
-                         next_random(), (uint8_t)n_cars, (uint8_t)n_axles, 0};
+                         next_random(), next_random(), (uint8_t)n_cars, (uint8_t)n_axles, 0};
     if (next_random() % 2) {
         rb_plant_frame f;
         memset(&f, 0, sizeof f);

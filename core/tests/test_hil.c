@@ -21,10 +21,12 @@ static rb_run_state mil;
 static const rb_scenario scenario = {1, {0.0}, {0.0}, {1.0}, 300.0, 0.05, 1e9, 0.1, 0, {0}};
 #define SESSION 0x5e55104du
 #define NONCE 0x0123456789abcdefULL
+#define PLANT_NONCE 0x0fedcba987654321ULL   /* the fake plant's hello nonce (BCU tests) */
 static const uint8_t SECRET[RB_HIL_KEY_SIZE] = {0x52, 0x42, 0x52, 0x4b, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
 static const uint8_t WRONG[RB_HIL_KEY_SIZE] = {0x52, 0x42, 0x52, 0x4b, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 13};
 static const uint8_t COOKIE[RB_HIL_KEY_SIZE] = {9, 9, 9, 9, 8, 8, 8, 8, 7, 7, 7, 7, 6, 6, 6, 6};
 static uint8_t session_key[RB_HIL_KEY_SIZE];   /* the fake BCU's (NONCE), as the plant derives it */
+static uint64_t agreed_plant_nonce;            /* the plant's nonce of session_key */
 
 static uint32_t digest(int n_cars) { return rb_hil_config_digest("fixture", n_cars, 4 * n_cars, 1e-3); }
 
@@ -42,7 +44,6 @@ static void setup(int n_cars, double speed)
     config.session = SESSION; config.config = digest(n_cars);
     memcpy(config.secret, SECRET, sizeof SECRET);
     CHECK(rb_hil_safe_bcu(&bcu, &config.safe, NULL) == RB_OK);
-    rb_hil_session_key(SECRET, SESSION, NONCE, session_key);
 }
 
 /* The BCU's emergency demand of car c by its linear map: offset + gain * decel * mass, capped. */
@@ -193,8 +194,8 @@ static void keyed_frame(uint8_t *buf, size_t *size, uint32_t sequence, uint64_t 
 {
     rb_bcu_frame f;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){SESSION, config.config, sequence, step, NONCE, (uint8_t)n_cars,
-                                 (uint8_t)(4 * n_cars), 0};
+    f.header = (rb_frame_header){SESSION, config.config, sequence, step, NONCE, agreed_plant_nonce,
+                                 (uint8_t)n_cars, (uint8_t)(4 * n_cars), 0};
     for (int c = 0; c < n_cars; ++c) f.pressure_demand[c] = demand;
     CHECK(rb_bcu_frame_encode(&f, key, buf, 1024, size, NULL) == RB_OK);
 }
@@ -210,19 +211,30 @@ static void step_runner(int steps)
     CHECK(rb_hil_runner_advance(&plant, &config, &runner, (uint64_t)steps, NULL, 0, NULL, &finished, NULL) == RB_OK);
 }
 
-/* A fake BCU at `peer` answers the plant's hello with a challenge of nonce NONCE (under the key of
- * nonce 0), then the plant takes frames under session_key. */
+/* The fake BCU's challenge of nonce NONCE echoing plant_nonce (under the hello key). */
+static size_t challenge_frame(uint8_t *buf, size_t capacity, uint64_t plant_nonce)
+{
+    uint8_t hello_key[RB_HIL_KEY_SIZE];
+    size_t size = 0;
+    rb_frame_header h = {SESSION, config.config, 0, 0, NONCE, plant_nonce, (uint8_t)plant.n_cars,
+                         (uint8_t)(4 * plant.n_cars), 0};
+    rb_hil_session_key(SECRET, SESSION, 0, 0, hello_key);
+    CHECK(rb_challenge_frame_encode(&h, hello_key, buf, capacity, &size, NULL) == RB_OK);
+    return size;
+}
+
+/* A fake BCU at `peer` answers the plant's hello with a challenge of nonce NONCE echoing the
+ * plant's hello nonce, then the plant takes frames under session_key (of both nonces). */
 static void handshake(rb_udp *peer)
 {
-    uint8_t buf[256], hello_key[RB_HIL_KEY_SIZE];
-    size_t size = 0;
-    rb_frame_header h = {SESSION, config.config, 0, 0, NONCE, (uint8_t)plant.n_cars, (uint8_t)(4 * plant.n_cars), 0};
-    rb_hil_session_key(SECRET, SESSION, 0, hello_key);
-    CHECK(rb_challenge_frame_encode(&h, hello_key, buf, sizeof buf, &size, NULL) == RB_OK);
+    uint8_t buf[256];
     step_runner(1);
-    send_raw(peer, buf, size);
+    CHECK(runner.nonce == 0 && runner.hello_nonce != 0);
+    agreed_plant_nonce = runner.hello_nonce;
+    send_raw(peer, buf, challenge_frame(buf, sizeof buf, agreed_plant_nonce));
     step_runner(1);
-    CHECK(runner.nonce == NONCE);
+    CHECK(runner.nonce == NONCE && runner.key_plant_nonce == agreed_plant_nonce);
+    rb_hil_session_key(SECRET, SESSION, agreed_plant_nonce, NONCE, session_key);
 }
 
 /* Opens the runner against a fake BCU endpoint (peer) and agrees the session key. */
@@ -275,15 +287,22 @@ static void test_hostile_frames(void)
     step_runner(2);
     CHECK(runner.safe && runner.applied.pressure_demand[0] == emergency_demand(0));
     CHECK(runner.log[(runner.events - 1) % RB_HIL_LOG_SIZE].kind == RB_HIL_EVENT_SAFE_ON);
-    /* the safe state says hello again (a restarted BCU has another nonce): the same challenge again
-     * keeps key and numbering */
-    CHECK(runner.nonce == 0);
+    /* no valid frame for the hold time (at least 0.1 s): the plant says hello again with a fresh
+     * nonce (a restarted BCU has another nonce; a key the BCU dropped is no use) */
+    uint64_t first_hello = agreed_plant_nonce;
+    CHECK(runner.nonce == NONCE);
+    step_runner((int)(last_valid + 101 - runner.step));
+    CHECK(runner.nonce == 0 && runner.hello_nonce != 0 && runner.hello_nonce != first_hello);
+    /* the challenge of the first exchange, replayed: refused, no key taken; the real one is taken */
+    send_raw(&peer, buf, challenge_frame(buf, sizeof buf, first_hello));
+    step_runner(1);
+    CHECK(runner.nonce == 0 && runner.challenges_refused == 1);
     handshake(&peer);
-    /* a sequence gap counts as lost; an old echo as late (not applied) */
+    /* under the new key the BCU numbers from 0: a sequence gap counts as lost; an old echo as late */
     valid_frame(buf, &size, 8, runner.step, 1, 3e5f);
     send_raw(&peer, buf, size);
     step_runner(1);
-    CHECK(runner.watchdog.lost == 7 && !runner.safe && runner.applied.pressure_demand[0] == 3e5);
+    CHECK(runner.watchdog.lost == 8 && !runner.safe && runner.applied.pressure_demand[0] == 3e5);
     valid_frame(buf, &size, 9, 1, 1, 4e5f);
     send_raw(&peer, buf, size);
     step_runner(1);
@@ -300,12 +319,12 @@ static size_t keyed_plant_frame(uint8_t *buf, uint32_t session, uint64_t step, i
     uint8_t key[RB_HIL_KEY_SIZE];
     size_t size = 0;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){session, digest(n_cars), (uint32_t)step, step, nonce, (uint8_t)n_cars,
-                                 (uint8_t)(4 * n_cars), 0};
+    f.header = (rb_frame_header){session, digest(n_cars), (uint32_t)step, step, nonce, PLANT_NONCE,
+                                 (uint8_t)n_cars, (uint8_t)(4 * n_cars), 0};
     f.train_speed = 30.0f;
     for (int a = 0; a < 4 * n_cars; ++a) f.wheel_speed[a] = 30.0f, f.cylinder_pressure[a] = 1.01325e5f;
     for (int c = 0; c < n_cars; ++c) f.supply_pressure[c] = 5.5e5f;
-    rb_hil_session_key(secret, session, nonce, key);
+    rb_hil_session_key(secret, session, nonce ? PLANT_NONCE : 0, nonce, key);
     CHECK(rb_plant_frame_encode(&f, key, buf, 1024, &size, NULL) == RB_OK);
     return size;
 }
@@ -315,15 +334,15 @@ static size_t hello(uint8_t *buf, uint64_t step, int n_cars)
     return keyed_plant_frame(buf, SESSION, step, n_cars, 0, SECRET);
 }
 
-/* Reads the BCU's answer to a hello: its nonce (0 if no authentic challenge came). */
+/* Reads the BCU's answer to a hello: its nonce (0 if no authentic challenge echoing PLANT_NONCE came). */
 static uint64_t read_challenge(rb_udp *plant_side)
 {
     uint8_t buf[256], hello_key[RB_HIL_KEY_SIZE];
     rb_frame_header h;
     long n = rb_udp_recv(plant_side, buf, sizeof buf);
-    rb_hil_session_key(SECRET, SESSION, 0, hello_key);
+    rb_hil_session_key(SECRET, SESSION, 0, 0, hello_key);
     if (n <= 0 || rb_frame_check(buf, (size_t)n, &h, NULL) || h.type != RB_FRAME_CHALLENGE ||
-        !rb_frame_authentic(buf, (size_t)n, hello_key))
+        !rb_frame_authentic(buf, (size_t)n, hello_key) || h.plant_nonce != PLANT_NONCE)
         return 0;
     return h.nonce;
 }
@@ -358,7 +377,7 @@ static void test_bcu_server_input(void)
     uint8_t buf[1024], hello_key[RB_HIL_KEY_SIZE];
     int finished = 0;
     uint64_t nonce = bcu_handshake(&plant_side);
-    rb_hil_session_key(SECRET, SESSION, 0, hello_key);
+    rb_hil_session_key(SECRET, SESSION, 0, 0, hello_key);
     send_raw(&plant_side, (const uint8_t *)"garbage", 7);
     send_raw(&plant_side, buf, hello(buf, 0, 2));                                     /* two cars: not this train */
     send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 0, 1, nonce, WRONG));  /* no key: forged */
@@ -391,6 +410,42 @@ static void test_bcu_server_input(void)
     CHECK(!finished);
     CHECK(rb_hil_bcu_serve(&bcu, &scenario, &server, 2.0, 0.0, 0.1, &finished, NULL) == RB_OK);
     CHECK(finished);                                              /* idle for 0.1 s after the last frame */
+    rb_udp_close(&plant_side);
+    rb_hil_bcu_close(&server);
+}
+
+/* The BCU's nonce lives one to two RB_HIL_NONCE_LIFETIME: a first keyed frame delayed longer opens
+ * no session (foreign), a hello without a plant nonce gets no challenge, and a fresh hello gets a
+ * challenge with another nonce that opens the session. */
+static void test_bcu_nonce_lifetime(void)
+{
+    setup(1, 30.0);
+    rb_udp plant_side;
+    uint8_t buf[1024];
+    int finished = 0;
+    uint64_t old = bcu_handshake(&plant_side);
+    usleep((useconds_t)(2.05 * RB_HIL_NONCE_LIFETIME * 1e6));
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 0, 1, old, SECRET));   /* delayed past its life */
+    serve(0.02, &finished);
+    CHECK(server.session == 0 && server.foreign == 1 && server.received == 0);
+    rb_plant_frame f;   /* a version 3 style hello: no plant nonce */
+    memset(&f, 0, sizeof f);
+    f.header = (rb_frame_header){SESSION, digest(1), 1, 1, 0, 0, 1, 4, 0};
+    uint8_t hello_key[RB_HIL_KEY_SIZE];
+    size_t size = 0;
+    rb_hil_session_key(SECRET, SESSION, 0, 0, hello_key);
+    CHECK(rb_plant_frame_encode(&f, hello_key, buf, sizeof buf, &size, NULL) == RB_OK);
+    send_raw(&plant_side, buf, size);
+    serve(0.02, &finished);
+    CHECK(server.challenges == 1 && server.foreign == 2);
+    send_raw(&plant_side, buf, hello(buf, 2, 1));
+    serve(0.02, &finished);
+    uint64_t fresh = read_challenge(&plant_side);
+    CHECK(fresh != 0 && fresh != old && server.challenges == 2);
+    send_raw(&plant_side, buf, keyed_plant_frame(buf, SESSION, 3, 1, fresh, SECRET));
+    serve(0.02, &finished);
+    CHECK(server.session == SESSION && server.nonce == fresh && server.plant_nonce == PLANT_NONCE);
+    CHECK(server.received == 1);
     rb_udp_close(&plant_side);
     rb_hil_bcu_close(&server);
 }
@@ -468,12 +523,12 @@ static void test_plant_takes_only_its_bcu(void)
     send_raw(&hostile, (const uint8_t *)"garbage", 7);
     rb_bcu_frame f;
     memset(&f, 0, sizeof f);
-    f.header = (rb_frame_header){0x0badf00du, digest(1), 2, runner.step, NONCE, 1, 4, 0};
+    f.header = (rb_frame_header){0x0badf00du, digest(1), 2, runner.step, NONCE, agreed_plant_nonce, 1, 4, 0};
     f.pressure_demand[0] = 6e5f;
     CHECK(rb_bcu_frame_encode(&f, session_key, buf, sizeof buf, &size, NULL) == RB_OK);
     send_raw(&bcu_side, buf, size);                                   /* the BCU's address, another session */
     uint8_t wrong_key[RB_HIL_KEY_SIZE];
-    rb_hil_session_key(WRONG, SESSION, NONCE, wrong_key);
+    rb_hil_session_key(WRONG, SESSION, agreed_plant_nonce, NONCE, wrong_key);
     keyed_frame(buf, &size, 1, runner.step, 1, 6e5f, wrong_key);      /* the BCU's address and session, no key */
     send_raw(&bcu_side, buf, size);
     step_runner(1);
@@ -503,9 +558,9 @@ static void run_with_spoofer(int spoof, double *cylinders, int steps, rb_hil_res
     rb_udp bcu_side;
     uint8_t buf[1024], wrong_key[RB_HIL_KEY_SIZE], wrong_hello[RB_HIL_KEY_SIZE];
     size_t size;
-    rb_hil_session_key(WRONG, SESSION, NONCE, wrong_key);
-    rb_hil_session_key(WRONG, SESSION, 0, wrong_hello);
     open_against(&bcu_side);
+    rb_hil_session_key(WRONG, SESSION, agreed_plant_nonce, NONCE, wrong_key);
+    rb_hil_session_key(WRONG, SESSION, 0, 0, wrong_hello);
     for (int i = 0; i < steps; ++i) {
         if (i % 10 == 0) {
             valid_frame(buf, &size, (uint32_t)(i / 10), runner.step, 1, 3.5e5f);
@@ -514,7 +569,7 @@ static void run_with_spoofer(int spoof, double *cylinders, int steps, rb_hil_res
         if (spoof) {
             keyed_frame(buf, &size, (uint32_t)(i / 10 + 1), runner.step, 1, 1.0e5f, wrong_key);
             send_raw(&bcu_side, buf, size);
-            rb_frame_header h = {SESSION, config.config, 0, runner.step, NONCE + 1, 1, 4, 0};
+            rb_frame_header h = {SESSION, config.config, 0, runner.step, NONCE + 1, runner.hello_nonce, 1, 4, 0};
             CHECK(rb_challenge_frame_encode(&h, wrong_hello, buf, sizeof buf, &size, NULL) == RB_OK);
             send_raw(&bcu_side, buf, size);
         }
@@ -848,6 +903,7 @@ int main(void)
     test_hostile_frames();
     test_bcu_server_input();
     test_bcu_keeps_its_plant();
+    test_bcu_nonce_lifetime();
     test_plant_takes_only_its_bcu();
     test_spoofer_changes_nothing();
     test_sequence_window();

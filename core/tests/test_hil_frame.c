@@ -61,20 +61,26 @@ static void test_siphash_vectors(void)
     CHECK(matched == 64);
 }
 
-/* Session keys: a function of secret, session and nonce, each of which changes the key. */
+/* Session keys: a function of secret, session and both nonces, each of which changes the key;
+ * plant nonces: fresh for each count and session, never 0. */
 static void test_session_keys(void)
 {
-    uint8_t a[16], b[16], c[16], d[16], other[16];
+    uint8_t a[16], b[16], c[16], d[16], e[16], other[16];
     memcpy(other, KEY, 16);
     other[15] ^= 1;
-    rb_hil_session_key(KEY, 5, 0, a);
-    rb_hil_session_key(KEY, 5, 0, b);
+    rb_hil_session_key(KEY, 5, 0, 0, a);
+    rb_hil_session_key(KEY, 5, 0, 0, b);
     CHECK(memcmp(a, b, 16) == 0);
-    rb_hil_session_key(KEY, 6, 0, b);
-    rb_hil_session_key(KEY, 5, 1, c);
-    rb_hil_session_key(other, 5, 0, d);
-    CHECK(memcmp(a, b, 16) != 0 && memcmp(a, c, 16) != 0 && memcmp(a, d, 16) != 0);
+    rb_hil_session_key(KEY, 6, 0, 0, b);
+    rb_hil_session_key(KEY, 5, 0, 1, c);
+    rb_hil_session_key(other, 5, 0, 0, d);
+    rb_hil_session_key(KEY, 5, 1, 0, e);
+    CHECK(memcmp(a, b, 16) != 0 && memcmp(a, c, 16) != 0 && memcmp(a, d, 16) != 0 && memcmp(a, e, 16) != 0);
+    CHECK(memcmp(c, e, 16) != 0);      /* plant and BCU nonce do not commute */
     CHECK(memcmp(a, a + 8, 8) != 0);   /* the two counter blocks differ */
+    uint64_t n1 = rb_hil_plant_nonce(KEY, 5, 1), n2 = rb_hil_plant_nonce(KEY, 5, 2);
+    CHECK(n1 != 0 && n2 != 0 && n1 != n2 && n1 == rb_hil_plant_nonce(KEY, 5, 1));
+    CHECK(n1 != rb_hil_plant_nonce(KEY, 6, 1) && n1 != rb_hil_plant_nonce(other, 5, 1));
 }
 
 /* The tag: any changed bit of header or payload, or another key, fails it; a challenge is header only. */
@@ -96,10 +102,11 @@ static void test_tag(void)
     CHECK(failed == (int)(n - RB_FRAME_TRAILER_SIZE));
     rb_frame_header h = f.header, back;
     h.nonce = 0x1122334455667788ULL;
+    h.plant_nonce = 0x99aabbccddeeff00ULL;
     CHECK(rb_challenge_frame_encode(&h, KEY, buf, sizeof buf, &n, NULL) == RB_OK);
     CHECK(n == rb_challenge_frame_size() && n == RB_FRAME_HEADER_SIZE + RB_FRAME_TRAILER_SIZE);
     CHECK(rb_frame_check(buf, n, &back, NULL) == RB_OK && back.type == RB_FRAME_CHALLENGE);
-    CHECK(back.nonce == h.nonce && back.session == h.session && rb_frame_authentic(buf, n, KEY));
+    CHECK(back.nonce == h.nonce && back.plant_nonce == h.plant_nonce && back.session == h.session && rb_frame_authentic(buf, n, KEY));
     rb_error err;
     CHECK(rb_plant_frame_encode(&f, NULL, buf, sizeof buf, &n, &err) == RB_EINVAL && strstr(err.message, "key"));
 }

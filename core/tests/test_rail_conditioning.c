@@ -73,6 +73,10 @@ static void test_unreachable_energy_is_the_laid_rail(void)
     CHECK_CLOSE(s.v[0], t.v[0], 1e-6, 0);
     for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.polach[a].mu0, t.polach[a].mu0, 1e-3, 0);
     for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.omega[a], t.omega[a], 1e-3, 1e-6);
+    fill_sliding(&p, 2, INFINITY);   /* cells the sliding wheels do not clean: the laid rail exactly */
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    brake(&p, &s, 3.0);
+    for (int a = 0; a < 8; ++a) CHECK_CLOSE(s.polach[a].mu0, t.polach[a].mu0, 1e-12, 0);
 }
 
 /* Off (no condition with reference_energy): the cell length has no effect at all. */
@@ -132,6 +136,7 @@ static void test_sand_conditions_the_rail(void)
     fill_sliding(&p, 2, 2.0e5);
     q = p;
     p.n_sanders = 1;
+    p.sand_entrained = 1.0; p.sand_retention = 0.0;   /* the axle meeting the sand takes it all */
     p.sander_axle[0] = 0; p.sander_trigger[0] = RB_SAND_DRIVER; p.sander_rate[0] = fixed_rate(0.02); p.sander_start[0] = 0.0;
     p.sand_reference = 2e-4;   /* kg/m: about 2.4e-4 kg/m fall at 300 km/h, cleaning 70 % */
     CHECK(rb_plant_init(&p, &s, NULL) == RB_OK && rb_plant_init(&q, &t, NULL) == RB_OK);
@@ -167,6 +172,7 @@ static void test_variable_rate_sand_per_metre(void)
     p.condition[0].reference_energy = 1e9;
     p.rail_cell_length = 0.5;
     p.n_sanders = 1;
+    p.sand_entrained = 1.0; p.sand_retention = 0.0;   /* the axle meeting the sand takes it all */
     p.sander_axle[0] = 0; p.sander_trigger[0] = RB_SAND_DRIVER; p.sander_start[0] = 0.0;
     p.sander_rate[0] = (rb_speed_table){2, {0.0, 100.0}, {0.0, 100.0 * q}};
     p.sand_reference = 2e-4;
@@ -193,6 +199,52 @@ static void test_variable_rate_sand_per_metre(void)
     CHECK(s.sand_used > 1.2 * q * (s.x[0] - x0));
 }
 
+/* Each axle meeting a cell crushes sand_entrained of its loose sand into the rail and leaves
+ * sand_retention loose: behind the n = 4 axles of a car sanded from its leading axle, a cell laid
+ * with q kg/m keeps the contamination exp(-e q (1 - r^n) / (1 - r) / sand_reference) and r^n q of
+ * loose sand (the rest was carried away), and every axle finds at least the adhesion of the one
+ * ahead of it. */
+static void test_passing_axles_work_the_sand(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state s;
+    const double q = 2e-4, e = 0.2, r = 0.5;
+    fill_plant(&p, 1, 30.0);
+    p.condition[0].leading_factor = 0.5;
+    p.condition[0].reference_energy = 1e9;
+    p.rail_cell_length = 0.5;
+    p.n_sanders = 1;
+    p.sand_entrained = e; p.sand_retention = r;
+    p.sander_axle[0] = 0; p.sander_trigger[0] = RB_SAND_DRIVER; p.sander_start[0] = 0.0;
+    p.sander_rate[0] = (rb_speed_table){2, {0.0, 100.0}, {0.0, 100.0 * q}};
+    p.sand_reference = 2e-4;
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    brake(&p, &s, 15.0);
+    double crushed = e * q * (1.0 - pow(r, 4)) / (1.0 - r);
+    double sum_c = 0.0, sum_sand = 0.0, last = s.x[0] - p.car[0].axle_position[3];
+    int n = 0;
+    for (double x = last - 100.0; x < last - 1.0; x += p.rail_cell_length, ++n) {
+        long cell = (long)floor(x / p.rail_cell_length);
+        int slot = (int)(((cell % RB_RAIL_MAX_CELLS) + RB_RAIL_MAX_CELLS) % RB_RAIL_MAX_CELLS);
+        sum_c += s.rail_contamination[slot];
+        sum_sand += s.rail_sand[slot];
+    }
+    CHECK(n > 100);
+    CHECK_CLOSE(sum_c / n, exp(-crushed / p.sand_reference), 0.01, 0);
+    CHECK_CLOSE(sum_sand / n, pow(r, 4) * q, 0.01, 0);
+    double ahead = 2.0;
+    for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {   /* the contamination of the cell each axle meets */
+        long cell = (long)floor((s.x[0] - p.car[0].axle_position[a]) / p.rail_cell_length) + 1;
+        double c = s.rail_contamination[((cell % RB_RAIL_MAX_CELLS) + RB_RAIL_MAX_CELLS) % RB_RAIL_MAX_CELLS];
+        CHECK(c <= ahead + 1e-12);   /* never dirtier than the one ahead's: adhesion never falls */
+        ahead = c;
+    }
+    p.sand_retention = 0.9;   /* with 0.2 entrained: more than all of it */
+    rb_error err;
+    CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "sand_retention = 0.9") != NULL);
+}
+
 static void test_bad_parameters(void)
 {
     static rb_plant_params p;
@@ -211,6 +263,7 @@ static void test_bad_parameters(void)
     CHECK(strstr(err.message, "condition[0].reference_energy = -1") != NULL);
     fill_sliding(&p, 2, 2.0e5);
     p.n_sanders = 1;
+    p.sand_entrained = 1.0; p.sand_retention = 0.0;   /* the axle meeting the sand takes it all */
     p.sander_axle[0] = 8;   /* two cars: axles 0 to 7 */
     p.sander_rate[0] = fixed_rate(0.01); p.sand_reference = 1e-3;
     CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
@@ -223,7 +276,9 @@ static void test_bad_parameters(void)
     CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
     CHECK(strstr(err.message, "sander[0].rate") != NULL);
     fill_plant(&p, 2, 10.0);   /* no rail cells: sand would act on nothing */
-    p.n_sanders = 1; p.sander_rate[0] = fixed_rate(0.01); p.sand_reference = 1e-3;
+    p.n_sanders = 1;
+    p.sand_entrained = 1.0; p.sand_retention = 0.0;   /* the axle meeting the sand takes it all */
+    p.sander_rate[0] = fixed_rate(0.01); p.sand_reference = 1e-3;
     CHECK(rb_plant_init(&p, &s, &err) == RB_EINVAL);
     CHECK(strstr(err.message, "no condition uses") != NULL);
 }
@@ -236,6 +291,7 @@ int main(void)
     test_energy_and_air_balance();
     test_sand_conditions_the_rail();
     test_variable_rate_sand_per_metre();
+    test_passing_axles_work_the_sand();
     test_bad_parameters();
     return rb_test_summary("test_rail_conditioning");
 }

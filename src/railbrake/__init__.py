@@ -8,9 +8,9 @@ For scripts: :func:`run` a scenario into a :class:`Result` (``to_dataframe()``, 
 ``save()``), :func:`load_result` a saved run, :func:`compare` runs side by side; :func:`railbrake.resolve.resolve` a configuration with overrides.
 """
 
+from railbrake._version import __version__
 from railbrake.errors import InputError
 
-__version__ = "0.1.0"
 __all__ = ["InputError", "Result", "__version__", "compare", "load_result", "run"]
 
 # Imported when first used, so `import railbrake` (and the CLI's start) does not load the C core.

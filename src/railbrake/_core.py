@@ -315,7 +315,7 @@ class PlantParams(Structure):
                 + [("wall_time", c_double), ("rail_cell_length", c_double)]
                 + [("n_sanders", c_int), ("sander_axle", c_int * MAX_SANDERS), ("sander_trigger", c_int * MAX_SANDERS),
                    ("sander_rate", SpeedTable * MAX_SANDERS), ("sander_start", c_double * MAX_SANDERS),
-                   ("sand_reference", c_double)])
+                   ("sand_reference", c_double), ("sand_entrained", c_double), ("sand_retention", c_double)])
 
 
 # rb_plant_kernel: the wheelset kernel asked for (rb_plant_params.kernel) and the one in use.
@@ -604,7 +604,7 @@ class HilConfig(Structure):
 
 HIL_COUNTERS = ("steps", "frames_sent", "send_errors", "datagrams", "received", "lost", "late", "malformed",
                 "safe_state_steps", "overruns", "foreign", "forged", "duplicate", "out_of_order", "replayed",
-                "challenges")
+                "challenges", "stale_challenges", "hellos")
 # the BCU's loss (rb_hil_result): how often, when (steps), for how long, and what it cost
 HIL_LOSS = ("losses", "lost_step", "last_valid_step", "lost_steps", "lost_lock_events")
 HIL_TIMING = ("wakeup_p50_us", "wakeup_p99_us", "wakeup_max_us", "wakeup_mean_us", "work_mean_us",
@@ -625,7 +625,8 @@ class HilEvent(Structure):
 
 class FrameHeader(Structure):
     _fields_ = [("session", c_uint32), ("config", c_uint32), ("sequence", c_uint32), ("step", c_uint64),
-                ("nonce", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8), ("type", c_uint8)]
+                ("nonce", c_uint64), ("plant_nonce", c_uint64), ("n_cars", c_uint8), ("n_axles", c_uint8),
+                ("type", c_uint8)]
 
 
 class PlantFrame(Structure):
@@ -654,7 +655,7 @@ rb_challenge_frame_encode = _declare("rb_challenge_frame_encode", c_int, POINTER
 rb_frame_check = _declare("rb_frame_check", c_int, c_char_p, c_size_t, POINTER(FrameHeader), _err_p)
 rb_frame_authentic = _declare("rb_frame_authentic", c_int, c_char_p, c_size_t, c_char_p)
 rb_siphash24 = _declare("rb_siphash24", c_uint64, c_char_p, c_char_p, c_size_t)
-rb_hil_session_key = _declare("rb_hil_session_key", None, c_char_p, c_uint32, c_uint64, c_char_p)
+rb_hil_session_key = _declare("rb_hil_session_key", None, c_char_p, c_uint32, c_uint64, c_uint64, c_char_p)
 rb_plant_frame_decode = _declare("rb_plant_frame_decode", c_int, c_char_p, c_size_t, POINTER(PlantFrame), _err_p)
 rb_bcu_frame_decode = _declare("rb_bcu_frame_decode", c_int, c_char_p, c_size_t, POINTER(BcuFrame), _err_p)
 rb_hil_config_digest = _declare("rb_hil_config_digest", c_uint32, c_char_p, c_int, c_int, c_double)

@@ -21,17 +21,19 @@ import json
 import typing
 from importlib import resources
 from pathlib import Path
-from typing import Mapping, Sequence, Union
 
-import yaml
 from pydantic import BaseModel
 
-from railbrake import __version__, _core, config, vehicle
+from railbrake import _core, config, vehicle
+from railbrake._changes import SetsLike, _assign, _keys_of, _parse_sets, _unwrap, apply_changes  # noqa: F401
+from railbrake._version import __version__
 from railbrake._args import name_or_path, whole
 from railbrake import scenario as scenarios
 from railbrake.errors import InputError
 
-SetsLike = Union[Sequence[str], Mapping[str, object]]
+# The key of a run folder's config.yaml that is no part of the configuration (results.config_file
+# writes it, _resolve reads past it).
+PROVENANCE_KEY = "provenance"
 _TRAIN_KEYS = ("preset", "cars")   # the scenario's own keys under `train`; the rest is the train file
 
 
@@ -127,7 +129,6 @@ def _read_scenario(name) -> _Source:
 
 _in_folder = config.in_folder   # a file name relative to the scenario's folder made absolute
 
-
 def _read_train(preset: str) -> _Source:
     if preset in vehicle.preset_names():
         text = (resources.files("railbrake") / "data" / "trains" / f"{preset}.yaml").read_text()
@@ -136,121 +137,6 @@ def _read_train(preset: str) -> _Source:
     if path.suffix in (".yaml", ".yml") and path.is_file():
         return _read(config.read_text(path), str(path), path.resolve().parent)
     raise InputError(f"train = {preset!r}: not a preset ({', '.join(vehicle.preset_names())}) nor a YAML file")
-
-
-# ------------------------------------------------------------------ overrides
-
-def _set_value(raw: str):
-    """A value written as in a file (YAML: '300 km/h', 45, [a, b], {k: v}), as --set reads it."""
-    try:
-        return yaml.safe_load(raw) if raw.strip() else ""
-    except yaml.YAMLError:
-        return raw
-
-
-def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
-    """(key path, value, label) per override; a mapping's string values are read as --set reads
-    its values (so sets={"k": "[1, 2]"} is the list, as --set k=[1,2]), its other values as they are."""
-    if isinstance(sets, (str, bytes)) or not isinstance(sets, (Mapping, Sequence, tuple, list)):
-        raise TypeError(f"sets = {sets!r}: must be a list of 'KEY=VALUE' strings or a mapping of keys to values")
-    if isinstance(sets, Mapping):
-        for k in sets:
-            if not isinstance(k, str) or not k.strip():
-                raise TypeError(f"sets: key {k!r}: must be a dotted key such as 'initial_speed'")
-        items = [(k, _set_value(v) if isinstance(v, str) else v, f"set {k}") for k, v in sets.items()]
-    else:
-        items = []
-        for i, text in enumerate(sets):
-            if not isinstance(text, str):
-                raise TypeError(f"sets[{i}] = {text!r}: must be a 'KEY=VALUE' string")
-            key, sep, raw = text.partition("=")
-            if not sep or not key.strip():
-                raise InputError(f"--set {text!r}: expected KEY=VALUE, e.g. --set initial_speed='300 km/h'")
-            items.append((key.strip(), _set_value(raw), f"--set {key.strip()}"))
-    return [(tuple(int(p) if p.isdigit() else p for p in key.split(".")), value, label)
-            for key, value, label in items]
-
-
-def _assign(tree: dict, path: tuple, value, label: str, known: set,
-            listed: str = " (`railbrake config show` lists them)") -> None:
-    dotted = ".".join(str(p) for p in path)
-    if dotted not in known:
-        close = difflib.get_close_matches(dotted, sorted(known), n=3, cutoff=0.5)
-        hint = f"; closest valid keys: {', '.join(close)}" if close else ""
-        raise InputError(f"{label}: no such key{hint}{listed}")
-    node = tree
-    for part in path[:-1]:
-        if isinstance(node, list) and isinstance(part, int) and part < len(node):
-            node = node[part]
-        elif isinstance(node, dict):
-            node = node.setdefault(part, {})
-        else:
-            raise InputError(f"{label}: {part!r} is not a key of {dotted}")
-    if isinstance(node, list):
-        if not (isinstance(path[-1], int) and path[-1] < len(node)):
-            raise InputError(f"{label}: index {path[-1]!r} is outside the list")
-    current = node[path[-1]] if isinstance(node, list) else node.get(path[-1])
-    if isinstance(current, dict) and not isinstance(value, dict):   # a section, not a value
-        keys = ", ".join(str(k) for k in list(current)[:4]) + (", ..." if len(current) > 4 else "")
-        raise InputError(f"{label} = {value!r}: {dotted} is a section ({keys}); set one of its keys, "
-                         f"e.g. --set {dotted}.{next(iter(current), 'KEY')}=VALUE")
-    node[path[-1]] = value
-
-
-def apply_changes(tree: dict, changes: Mapping, model: type[BaseModel], open_sections: tuple = ()) -> dict:
-    """Each dotted key of `changes` set in `tree` (file data of `model`), as --set does: a key the
-    schema does not know is refused, except under `open_sections` (free mappings, e.g. a study's
-    factors), where the schema's own validation judges. Returns key path -> label for errors."""
-    labels = {}
-    for path, value, label in _parse_sets(changes):
-        known: set = set()
-        _keys_of(model, tree, "", known)
-        dotted = ".".join(str(p) for p in path)
-        if any(dotted.startswith(f"{section}.") for section in open_sections):
-            known.add(dotted)
-        _assign(tree, path, value, label, known, listed="")
-        labels[path] = label
-    return labels
-
-
-# ------------------------------------------------------------------ the keys the schemas know
-
-def _unwrap(annotation):
-    """The model, dict or list type inside Optional[...] / Annotated[...]."""
-    while True:
-        origin = typing.get_origin(annotation)
-        if origin is typing.Annotated:
-            annotation = typing.get_args(annotation)[0]
-        elif origin is Union or str(origin) == "types.UnionType":
-            args = [a for a in typing.get_args(annotation) if a is not type(None)]
-            if len(args) != 1:
-                return annotation
-            annotation = args[0]
-        else:
-            return annotation
-
-
-def _keys_of(model: type[BaseModel], data, prefix: str, out: set) -> None:
-    data = data if isinstance(data, dict) else {}
-    for name, field in model.model_fields.items():
-        key = field.alias or name
-        path = f"{prefix}{key}"
-        out.add(path)
-        kind = _unwrap(field.annotation)
-        origin, args = typing.get_origin(kind), typing.get_args(kind)
-        sub = data.get(key)
-        if isinstance(kind, type) and issubclass(kind, BaseModel):
-            _keys_of(kind, sub, f"{path}.", out)
-        elif origin is dict and args and isinstance(_unwrap(args[1]), type) \
-                and issubclass(_unwrap(args[1]), BaseModel) and isinstance(sub, dict):
-            for item_key, item in sub.items():
-                out.add(f"{path}.{item_key}")
-                _keys_of(_unwrap(args[1]), item, f"{path}.{item_key}.", out)
-        elif origin is list and args and isinstance(_unwrap(args[0]), type) \
-                and issubclass(_unwrap(args[0]), BaseModel) and isinstance(sub, list):
-            for i, item in enumerate(sub):
-                out.add(f"{path}.{i}")
-                _keys_of(_unwrap(args[0]), item, f"{path}.{i}.", out)
 
 
 def choices(key: str) -> tuple | None:
@@ -313,7 +199,6 @@ def _inline_train(source: _Source) -> _Source | None:
 
 
 def _resolve(scenario, overrides: list) -> Resolved:
-    from railbrake.results.config_file import PROVENANCE_KEY
     source = _read_scenario(scenario)
     source.data.pop(PROVENANCE_KEY, None)   # a run folder's config.yaml: what it was resolved from
     tree = copy.deepcopy(source.data)

@@ -176,6 +176,9 @@ class Adhesion(_Strict):
     # index, or "cells", the rail under the train cleaned cell by cell by the energy each axle
     # dissipates (where the condition's file gives conditioning.cells; core/src/rail_conditioning.c)
     rail_conditioning: Literal["axles", "cells"] = "axles"
+    # true: a condition run outside its validity (its file's validity.speed_kmh) is run anyway, and
+    # the run's KPIs, report and JSON say so (adhesion_outside_validity); false: refused
+    allow_outside_validity: bool = False
 
 
 class WspSettings(_Strict):
@@ -329,8 +332,9 @@ class Scenario:
         if not self._data:
             raise InputError(f"scenario {self.name}: built in code (no file data behind it), so it cannot be "
                              "changed with with_; load it from a file or preset")
-        from railbrake import resolve
-        return resolve.resolve(self, sets=merged).scenario
+        data = self.data
+        labels = _changes.apply_changes(data, merged, ScenarioFile)   # as --set: unknown keys refused
+        return from_data(data, self.origin, self._lines, labels)
 
     @property
     def name(self) -> str:
@@ -356,6 +360,46 @@ class Scenario:
             raise InputError(f"{self.where('initial_speed')} = {self.spec.initial_speed * 3.6:g} km/h: above the "
                              f"maximum speed of train {train.name}, {train.max_speed * 3.6:g} km/h "
                              f"(allowed: 0 to {train.max_speed * 3.6:g} km/h)")
+
+    def condition_keys(self) -> list[tuple[tuple, str]]:
+        """(key, condition name) of the run's condition and of each adhesion zone's."""
+        adhesion = self.spec.adhesion
+        return [(("adhesion", "condition"), adhesion.condition)] + [
+            (("adhesion", "zones", i, "condition"), z.condition) for i, z in enumerate(adhesion.zones)]
+
+    def outside_validity(self) -> list[str]:
+        """Each condition the run uses outside its validity, said in words (a zone is met at the
+        initial speed at most: judged at it)."""
+        from railbrake.adhesion import load_condition, run_outside_validity
+        out = []
+        for key, name in self.condition_keys():
+            why = run_outside_validity(load_condition(name), self.spec.initial_speed * 3.6)
+            if why:
+                out.append(f"{'.'.join(str(k) for k in key)}: {why}")
+        return out
+
+    def creep_outside_validity(self, max_slip: float) -> list[str]:
+        """The run's conditions whose file gives a creep range that max_slip (the run's largest
+        creep of any axle, KPI max_slip) left, said in words."""
+        from railbrake.adhesion import creep_outside_validity, load_condition
+        out = []
+        for key, name in self.condition_keys():
+            why = creep_outside_validity(load_condition(name), max_slip)
+            if why:
+                out.append(f"{'.'.join(str(k) for k in key)}: {why}")
+        return out
+
+    def check_validity(self) -> None:
+        """A condition outside its validity is refused unless adhesion.allow_outside_validity."""
+        if self.spec.adhesion.allow_outside_validity:
+            return
+        from railbrake.adhesion import load_condition, run_outside_validity
+        for key, name in self.condition_keys():
+            why = run_outside_validity(load_condition(name), self.spec.initial_speed * 3.6)
+            if why:
+                raise InputError(f"{self.where(*key)} = {name!r} with {self.where('initial_speed')} = "
+                                 f"{self._as_written('initial_speed')}: {why}; give a condition valid there, "
+                                 "or force the run with adhesion.allow_outside_validity: true")
 
     def check_faults_on(self, train) -> None:
         """An ED-brake fault on a car without an ED brake (a trailer) changes nothing: refused."""
@@ -496,6 +540,7 @@ def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = Non
         except InputError as exc:   # an error inside the adhesion file names that file and line
             detail = str(exc).removeprefix(f"condition = {name!r}: ")
             raise InputError(f"{scenario.where(*key)} = {name!r}: {detail}") from None
+    scenario.check_validity()
     try:
         train = load_train(spec.train.preset)
     except InputError as exc:

@@ -359,7 +359,18 @@ class _Sanders(_Strict):
     runs whose adhesion condition cleans the rail cell by cell (scenario rail_conditioning: cells)."""
     units: list[_Sander] = Field(min_length=1, max_length=_core.MAX_SANDERS)
     sand_reference_kg_m: float = Field(gt=0.0, le=10.0)  # sand per metre of track that removes 63 % of the contamination
+    # of a cell's loose sand, the part each passing axle crushes into its contact and the part it
+    # leaves loose for the axles behind (the rest is carried away; core/src/rail_conditioning.c)
+    sand_entrained: float = Field(gt=0.0, le=1.0)
+    sand_retention: float = Field(ge=0.0, le=1.0)
     source: str
+
+    @model_validator(mode="after")
+    def _shares(self):
+        if self.sand_entrained + self.sand_retention > 1.0:
+            raise ValueError(f"sand_entrained + sand_retention = {self.sand_entrained + self.sand_retention:g}: "
+                             "must be <= 1 (shares of the same sand)")
+        return self
 
 
 class _Etcs(_Strict):
@@ -459,10 +470,9 @@ class Train:
         """A copy with keys of the train file changed, e.g. ``with_(max_speed_kmh=300)`` or
         ``with_({'car_types.motor.tare_t': 50, 'load_case': 'crush'})``: keys and values in file
         units, as ``--set train.KEY=VALUE`` takes them, validated as a whole as a train file is."""
-        from railbrake import resolve
         merged = _changes.merge(changes, kwargs, "Train.with_")
         data = self.spec.model_dump(mode="json", by_alias=True)
-        labels = resolve.apply_changes(data, merged, _TrainFile)
+        labels = _changes.apply_changes(data, merged, _TrainFile)
         loaded = data.get("load_case") if "load_case" in merged else self.load_case
         train = parse_train_data(data, self.origin, self.lines, loaded, overrides=labels)
         return train if len(self.cars) == len(self.spec.formation) else with_cars(train, len(self.cars))
@@ -664,7 +674,7 @@ def parse_train_data(data: dict, origin: str, lines: dict, loaded: Union[bool, s
 def _check_references(model: _TrainFile, locate) -> None:
     """The brake steps' profiles load and the valve designs name a design file: a name that names
     nothing is refused here, with its key, not when a run first needs it."""
-    from railbrake.sizing import load_profile
+    from railbrake.profiles import load_profile
     for step in ("emergency", "service"):
         name = getattr(model.brake_steps, step).profile
         try:

@@ -25,8 +25,8 @@ def test_overrides_reach_scenario_and_train():
 
 
 def test_mapping_overrides_and_train_preset():
-    r = resolve("emergency-250-dry", sets={"train.preset": "velaro-8", "adhesion.condition": "wet"})
-    assert r.train.name == "velaro-8" and r.scenario.spec.adhesion.condition == "wet"
+    r = resolve("emergency-250-dry", sets={"train.preset": "velaro-8", "adhesion.condition": "hs-wet"})
+    assert r.train.name == "velaro-8" and r.scenario.spec.adhesion.condition == "hs-wet"
     assert r.cars == len(r.train.cars)
 
 
@@ -67,7 +67,7 @@ def test_relative_files_resolve_against_the_scenario_folder(tmp_path, monkeypatc
     folder = tmp_path / "study"
     folder.mkdir()
     shutil.copy(data / "trains" / "crh380a-8.yaml", folder / "my-train.yaml")
-    shutil.copy(data / "adhesion" / "wet.yaml", folder / "my-rail.yaml")
+    shutil.copy(data / "adhesion" / "hs-wet.yaml", folder / "my-rail.yaml")   # valid at 250 km/h
     text = (data / "scenarios" / "emergency-250-dry.yaml").read_text()
     text = text.replace("preset: crh380a-8", "preset: my-train.yaml").replace("dry-medium", "my-rail.yaml")
     assert "my-train.yaml" in text and "my-rail.yaml" in text

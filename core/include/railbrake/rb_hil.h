@@ -92,6 +92,8 @@ typedef struct {
     uint64_t forged;           /* frames of the session whose tag does not authenticate: touch nothing else */
     uint64_t duplicate, out_of_order, replayed;   /* rb_seq_outcome: not applied */
     uint64_t challenges;       /* authenticated challenges from the BCU */
+    uint64_t stale_challenges; /* ... refused: not echoing a hello nonce the plant offers (replayed, delayed) */
+    uint64_t hellos;           /* rounds of hellos begun (a fresh plant nonce each) */
     /* the BCU lost: the safe state applied after a valid frame, or no valid frame within the hold time */
     uint64_t losses;           /* times the BCU was lost */
     uint64_t lost_step;        /* step of the first loss */
@@ -126,9 +128,13 @@ typedef struct {
     int started, finished, stopped, braking, safe;
     double brake_time, brake_position;
     uint64_t frames_sent, send_errors, datagrams, foreign, forged, challenges;
-    uint8_t hello_key[RB_HIL_KEY_SIZE], key[RB_HIL_KEY_SIZE];   /* keys of nonce 0 and of the BCU's nonce */
-    uint64_t nonce;                  /* the nonce the plant's frames carry (0: saying hello) */
-    uint64_t key_nonce;              /* the BCU's nonce of `key` (0: none agreed yet) */
+    uint8_t hello_key[RB_HIL_KEY_SIZE], key[RB_HIL_KEY_SIZE];   /* the hello key; the session key */
+    uint64_t nonce;                  /* the BCU's nonce the plant's frames carry (0: saying hello) */
+    uint64_t key_nonce, key_plant_nonce;   /* the nonces of `key` (0: none agreed yet) */
+    uint64_t hello_nonce, previous_hello_nonce;   /* offered while saying hello (renewed each lifetime) */
+    uint64_t hello_step, keyed_step; /* steps the hello nonce was drawn, the key agreed */
+    uint64_t rehello_steps, nonce_steps;   /* no valid frame for this long: hello again; a hello nonce's life */
+    uint64_t challenges_refused, hellos;
     int had_valid, lost;             /* a valid frame came; the BCU is lost now */
     uint64_t losses, lost_step, last_valid_step, lost_steps, lost_lock_events, lock_events_before;
     double lost_lock_time, lost_distance;
@@ -217,7 +223,7 @@ typedef struct {
     uint8_t secret[RB_HIL_KEY_SIZE];         /* shared with the plant (the key file) */
     uint8_t cookie_secret[RB_HIL_KEY_SIZE];  /* this BCU's own, random: its nonces derive from it */
     uint8_t key[RB_HIL_KEY_SIZE];            /* the session key */
-    uint64_t nonce;                  /* the nonce of the session key */
+    uint64_t nonce, plant_nonce;     /* the nonces of the session key (the BCU's, the plant's) */
     uint64_t epoch;                  /* session keys agreed so far: a nonce is good until the next one */
     uint64_t last_step;
     int have_frame, finished;
@@ -239,10 +245,12 @@ rb_status rb_hil_bcu_open(const rb_bcu_params *bcu, const rb_wsp_params *wsp, co
 /* Local UDP port (useful after binding port 0). */
 int rb_hil_bcu_port(const rb_hil_bcu *b);
 /* Serves plant frames for up to `for_s` seconds of wall time, waiting with poll(). A hello (a plant
- * frame of nonce 0 that authenticates under the key of nonce 0) is answered with a challenge carrying
- * this BCU's nonce for that plant (a keyed hash of session, address and epoch: nothing is stored, and
- * it is good until the next session key is agreed, so no recorded handshake can be replayed). The
- * first plant frame under the key of that nonce opens the session (its sender and session id); later frames
+ * frame of BCU nonce 0 with a plant nonce, that authenticates under the hello key) is answered, at
+ * any time, with a challenge echoing the plant nonce and carrying this BCU's nonce for that plant (a
+ * keyed hash of session, address, plant nonce, epoch and time slot: nothing is stored; it is good for
+ * one to two RB_HIL_NONCE_LIFETIME and until the next session key is agreed, so no recorded or
+ * delayed handshake can be replayed). The first plant frame under the key of both nonces opens the
+ * session (its sender and session id), or gives the session's plant its new key; later frames
  * count only from that sender in that session (others: foreign, touching no other counter), unless
  * the session has been silent for RB_HIL_SESSION_IDLE s, when a new one may open (the BCU restarts).
  * Each session frame newer than the last (and at most RB_HIL_MAX_STEP_JUMP steps plus the wall time

@@ -125,7 +125,8 @@ typedef struct {
     double recovery_axles;    /* axles over which conditioning recovers (<= 0: none) */
     double reference_energy;  /* J/m^2, > 0: the rail is conditioned cell by cell by the energy the
                                  axles dissipate in the contact (rail_conditioning.c), instead of by
-                                 axle index (recovery_axles must then be 0); 0: not */
+                                 axle index (recovery_axles must then be 0); 0: not; INFINITY:
+                                 rail cells that sand conditions, not the sliding wheels */
 } rb_plant_condition;
 
 /* Track zone: axles between x_start and x_end (m along the track) see condition `condition`. */
@@ -213,14 +214,18 @@ typedef struct {
      * sander_rate[i] kg/s, a table over its car's speed (m/s: one point for a fixed-rate sander,
      * more for a variable-rate one), in front of axle sander_axle[i] (global index) while it is
      * on: from sander_start[i] s (trigger RB_SAND_DRIVER), or while any WSP valve of the train is
-     * commanded (RB_SAND_WSP). The sand a cell gets, m kg per metre of track, multiplies its
-     * contamination by exp(-m / sand_reference). */
+     * commanded (RB_SAND_WSP). The sand lies loose on the cell; each axle that passes entrains
+     * the fraction sand_entrained of it, m kg per metre of track, which multiplies the cell's
+     * contamination by exp(-m / sand_reference), and leaves the fraction sand_retention of it
+     * loose for the axles behind (the rest is carried away). */
     int n_sanders;
     int sander_axle[RB_MAX_SANDERS];
     int sander_trigger[RB_MAX_SANDERS];
     rb_speed_table sander_rate[RB_MAX_SANDERS];
     double sander_start[RB_MAX_SANDERS];
     double sand_reference;    /* kg/m */
+    double sand_entrained;    /* fraction of the loose sand an axle passing crushes into the contact */
+    double sand_retention;    /* fraction of it left loose behind the axle; sum of the two <= 1 */
 } rb_plant_params;
 
 typedef enum { RB_SAND_DRIVER = 0, RB_SAND_WSP = 1 } rb_sand_trigger;
@@ -397,6 +402,8 @@ typedef struct {
     int rail_active;
     int64_t rail_front;
     double rail_contamination[RB_RAIL_MAX_CELLS];   /* 1: as laid, 0: cleaned */
+    double rail_sand[RB_RAIL_MAX_CELLS];            /* kg per metre of track: loose sand on the cell */
+    int64_t axle_cell[RB_PLANT_MAX_AXLES];          /* the last cell each axle met (rb_rail_factor's) */
     double sand_used;         /* kg the sanders dropped since t = 0 */
     /* emergency circuit (emergency_circuit.c) */
     double loop_open_time;                        /* s, when the emergency loop opened; < 0: closed */

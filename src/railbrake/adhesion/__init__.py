@@ -13,9 +13,11 @@ from railbrake.adhesion.conditions import (
     car_of_axle,
     conditions,
     creep_curves,
+    creep_outside_validity,
     load_condition,
     peak_adhesion,
     preset_names,
+    run_outside_validity,
     warn_outside_range,
 )
 
@@ -37,6 +39,7 @@ def __dir__():
 __all__ = [
     "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",
     "Peak", "PolachFit", "RailConditioning",
-    "car_axles", "car_of_axle", "check_points", "conditions", "creep_curves", "identify_polach", "load_condition",
-    "peak_adhesion", "preset_names", "warn_outside_range",
+    "car_axles", "car_of_axle", "check_points", "conditions", "creep_curves", "creep_outside_validity",
+    "identify_polach", "load_condition",
+    "peak_adhesion", "preset_names", "run_outside_validity", "warn_outside_range",
 ]

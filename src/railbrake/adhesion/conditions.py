@@ -9,8 +9,10 @@ mapping with the five parameters.
 from __future__ import annotations
 
 import ctypes
+import math
 import warnings
 from dataclasses import dataclass, replace
+from functools import cache
 from importlib import resources
 from pathlib import Path
 from typing import Mapping, Union
@@ -69,9 +71,17 @@ class Validity:
     speed_max_kmh: float
     conditions: str
     source: str
+    origin: str = ""            # the condition's file, and the line of validity.speed_kmh
+    line: int | None = None
+    creep: tuple | None = None  # (min, max) creep (fraction) of the measurements, if the file gives it
+    creep_line: int | None = None
 
     def contains(self, speed_kmh: float) -> bool:
         return self.speed_min_kmh <= speed_kmh <= self.speed_max_kmh
+
+    def where(self, key: str = "speed_kmh") -> str:
+        line = self.line if key == "speed_kmh" else self.creep_line
+        return f"{self.origin}{f', line {line}' if line else ''}: validity.{key}"
 
 
 @dataclass(frozen=True)
@@ -139,8 +149,9 @@ class _ParamsModel(BaseModel):
 class _CellsModel(BaseModel):
     """Rail conditioning cell by cell by the energy the axles dissipate (rail_conditioning.c)."""
     model_config = ConfigDict(extra="forbid")
-    reference_energy_J_m2: float = Field(ge=config.bound_in("adhesion.reference_energy")[0],
-                                         le=config.bound_in("adhesion.reference_energy")[1])
+    # null: the sliding wheels do not clean the contaminant (the cells are for sand alone)
+    reference_energy_J_m2: float | None = Field(ge=config.bound_in("adhesion.reference_energy")[0],
+                                                le=config.bound_in("adhesion.reference_energy")[1])
     cell_length_m: float = Field(ge=config.bound_in("adhesion.rail_cell_length")[0],
                                  le=config.bound_in("adhesion.rail_cell_length")[1])
     source: str
@@ -173,6 +184,7 @@ class _TargetModel(BaseModel):
 class _ValidityModel(BaseModel):
     model_config = ConfigDict(extra="forbid")
     speed_kmh: list[float] = Field(min_length=2, max_length=2)   # [min, max]
+    creep: list[float] | None = Field(default=None, min_length=2, max_length=2)   # [min, max], fractions
     conditions: str
     source: str
 
@@ -207,9 +219,16 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
         line = _config_lines(text).get(("validity", "speed_kmh"))
         raise InputError(f"{origin}{f', line {line}' if line else ''}: validity.speed_kmh = {list(valid.speed_kmh)}: "
                          f"give [min, max] with min < max, each {config.range_text('train.table_speed', 'km/h', KMH)}")
+    if valid is not None and valid.creep is not None and not 0.0 <= valid.creep[0] < valid.creep[1] <= 1.0:
+        line = _config_lines(text).get(("validity", "creep"))
+        raise InputError(f"{origin}{f', line {line}' if line else ''}: validity.creep = {list(valid.creep)}: "
+                         "give [min, max] with 0 <= min < max <= 1 (creep as a fraction)")
     validity = None if valid is None else Validity(valid.speed_kmh[0], valid.speed_kmh[1],
                                                    " ".join(valid.conditions.split()),
-                                                   " ".join(valid.source.split()))
+                                                   " ".join(valid.source.split()), _file_of(origin),
+                                                   _config_lines(text).get(("validity", "speed_kmh")),
+                                                   None if valid.creep is None else tuple(valid.creep),
+                                                   _config_lines(text).get(("validity", "creep")))
     try:
         return AdhesionCondition(
             name=model.name, title=model.title, params=_located(PolachParams, model.params, "params", text, origin),
@@ -220,12 +239,20 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
         raise InputError(f"{origin}: {exc}") if origin not in str(exc) else exc from None
 
 
+def _file_of(origin: str) -> str:
+    """A preset's file (inside the package) or the file the condition was read from."""
+    if origin.startswith("preset "):
+        return f"railbrake/data/adhesion/{origin.removeprefix('preset ')}.yaml"
+    return origin
+
+
 def _conditioning(cond: _ConditioningModel, text: str, origin: str) -> RailConditioning:
     base = _located(RailConditioning, cond, "conditioning", text, origin, exclude={"cells"})
     if cond.cells is None:
         return base
     cells = cond.cells
-    return replace(base, reference_energy=cells.reference_energy_J_m2, cell_length=cells.cell_length_m,
+    energy = math.inf if cells.reference_energy_J_m2 is None else cells.reference_energy_J_m2
+    return replace(base, reference_energy=energy, cell_length=cells.cell_length_m,
                    energy_source=" ".join(cells.source.split()), calibration_scenario=cells.calibration_scenario,
                    calibration_above_kmh=cells.calibration_above_kmh)
 
@@ -271,8 +298,7 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
         return load_condition(PolachParams(**{k: float(condition[k]) for k in ("mu0", "A", "B", "kA", "kS")}))
     name = name_or_path("condition", condition)
     if name in preset_names():
-        text = (_preset_dir() / f"{name}.yaml").read_text()
-        return _parse_condition_file(text, f"preset {name}")
+        return _preset(name)
     path = Path(name)
     if path.suffix in (".yaml", ".yml"):   # read_text names a missing or unreadable file
         try:
@@ -283,11 +309,46 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
     raise InputError(f"condition = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
 
+@cache
+def _preset(name: str) -> AdhesionCondition:
+    """A shipped preset, read once per process (the package's files do not change under it)."""
+    return _parse_condition_file((_preset_dir() / f"{name}.yaml").read_text(), f"preset {name}")
+
+
 def conditions() -> list[AdhesionCondition]:
     return [load_condition(n) for n in preset_names()]
 
 
 # ------------------------------------------------------------------ range of validity
+
+def run_outside_validity(condition: AdhesionCondition, initial_speed_kmh: float) -> str | None:
+    """Why a run from initial_speed_kmh uses the condition outside its validity, else None.
+
+    A stop passes every speed below the initial one: it is outside when it starts above the
+    range, or when it never reaches the range (starts below it). Conditions without a declared
+    range hold everywhere."""
+    instance("condition", condition, AdhesionCondition)
+    speed = real("initial_speed_kmh", initial_speed_kmh)
+    valid = condition.validity
+    slack = 1e-9 * max(speed, 1.0)   # km/h -> m/s -> km/h rounding
+    if valid is None or valid.speed_min_kmh - slack <= speed <= valid.speed_max_kmh + slack:
+        return None
+    side = "above" if speed > valid.speed_max_kmh else "below"
+    return (f"adhesion condition {condition.name!r} run from {speed:g} km/h, {side} its validity "
+            f"({valid.where()} = [{valid.speed_min_kmh:g}, {valid.speed_max_kmh:g}] km/h: "
+            f"{valid.conditions})")
+
+
+def creep_outside_validity(condition: AdhesionCondition, creep: float) -> str | None:
+    """Why a creep (fraction) lies outside the creep range the condition's file gives, else None."""
+    instance("condition", condition, AdhesionCondition)
+    creep = real("creep", creep)
+    valid = condition.validity
+    if valid is None or valid.creep is None or valid.creep[0] <= abs(creep) <= valid.creep[1]:
+        return None
+    return (f"adhesion condition {condition.name!r} at creep {abs(creep):.3g}, outside its validity "
+            f"({valid.where('creep')} = [{valid.creep[0]:g}, {valid.creep[1]:g}])")
+
 
 _warned: set = set()
 
@@ -355,7 +416,12 @@ def creep_curves(condition: ConditionLike, speeds, axle: int = 0,
     for v in speeds:
         warn_outside_range(cond, ms_to_kmh(float(v)))
     params = cond.params_at_axle(axle)
-    creep = np.linspace(0.0, 0.4, 401) if creep is None else reals("creep", creep)
+    if creep is not None:
+        creep = reals("creep", creep)
+        outside = [why for why in (creep_outside_validity(cond, float(x)) for x in (creep.min(), creep.max())) if why]
+        if outside:
+            warnings.warn(outside[0], AdhesionRangeWarning, stacklevel=2)
+    creep = np.linspace(0.0, 0.4, 401) if creep is None else creep
     curves = []
     for v in speeds:
         coefficient = polach_coefficient(creep, v, contact.normal_force, contact, params)

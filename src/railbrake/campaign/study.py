@@ -133,13 +133,12 @@ class Study:
         """A copy with keys of the study file changed, e.g. ``with_(seeds=4)`` or
         ``with_({"design.samples": 64, "factors.initial_speed": ["250 km/h", "300 km/h"]})``:
         keys and values as in the file, and the whole study checked again as `campaign plan` does."""
-        from railbrake import resolve
         merged = _changes.merge(changes, kwargs, "Study.with_")
         data = config.load_mapping(self.text, self.origin)
         if "base" not in merged:
             data["base"] = self.base   # a file named relative to the study's folder, made absolute
-        labels = resolve.apply_changes(data, merged, StudyFile,
-                                       ("set", "factors", "design.points", "assessment.reference", "tuning.params"))
+        labels = _changes.apply_changes(data, merged, StudyFile,
+                                        ("set", "factors", "design.points", "assessment.reference", "tuning.params"))
         text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
         return parse(text, self.origin, lines=self.lines, overrides=labels,
                      max_runs=self.max_runs)
@@ -279,7 +278,7 @@ def _check_size(study: Study, max_runs: int) -> None:
         first = {f.name: f.at(0.0) for f in study.factors}
 
         def measure():
-            from railbrake.campaign.plan import point_sets
+            from railbrake.campaign.points import point_sets
             base_tree = configuration.tree(configuration.resolve(study.base))
             return budget.measure_one(study.base, point_sets(study, first, base_tree))
 

@@ -60,7 +60,9 @@ def _recorded(base: str, run: dict, options: dict, row: dict) -> None:
             resolved = configuration.resolve(base, run["sets"])
             result = configuration.run(resolved, record=True)
         row["warnings"] = [f"{w.category.__name__}: {w.message}" for w in caught]
-        row["kpis"] = dict(result.kpis)
+        # a forced run outside a condition's validity says so in its warnings (simulation.structs):
+        # every row keeps the same KPI columns
+        row["kpis"] = {k: v for k, v in result.kpis.items() if k != "adhesion_outside_validity"}
         if options.get("build_up"):
             build_up = _needs_build_up(run, options)
             row["kpis"]["equivalent_response_time_s"] = (equivalent_response_time(result, resolved.train)
@@ -77,25 +79,34 @@ def _recorded(base: str, run: dict, options: dict, row: dict) -> None:
 def _kpis_only(base: str, runs: list[dict], rows: list[dict], options: dict) -> None:
     """Runs without time series: each resolved and set up here, then all run in one C call."""
     from railbrake import _core, simulation
-    prepared, ready = [], []
+    prepared, ready, scenarios = [], [], []
     for run, row in zip(runs, rows):
         try:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                prepared.append(simulation.structs(configuration.resolve(base, run["sets"])))
+                resolved = configuration.resolve(base, run["sets"])
+                prepared.append(simulation.structs(resolved))
             row["warnings"] = [f"{w.category.__name__}: {w.message}" for w in caught]
             ready.append(row)
+            scenarios.append(resolved.scenario)
         except Exception as exc:   # noqa: BLE001
             _failed(row, exc)
     outcomes = [o for i in range(0, len(prepared), _core.MAX_BATCH)
                 for o in simulation.run_structs(prepared[i:i + _core.MAX_BATCH])]
-    for row, outcome in zip(ready, outcomes):
+    for row, outcome, sc in zip(ready, outcomes, scenarios):
         if isinstance(outcome, Exception):
             _failed(row, outcome)
-        else:
-            row["kpis"] = dict(outcome)
-            if options.get("build_up"):
-                row["kpis"]["equivalent_response_time_s"] = None
+            continue
+        try:   # a condition's creep range, known once run (its speed range: refused before)
+            flag = simulation.outside_validity_kpi(sc, outcome["max_slip"]).get("adhesion_outside_validity", "")
+        except Exception as exc:   # noqa: BLE001
+            _failed(row, exc)
+            continue
+        if "validity.creep" in flag:
+            row["warnings"].append(f"AdhesionRangeWarning: forced outside validity: {flag}")
+        row["kpis"] = dict(outcome)
+        if options.get("build_up"):
+            row["kpis"]["equivalent_response_time_s"] = None
 
 
 def execute_batch(base: str, runs: list[dict], options: dict) -> dict:

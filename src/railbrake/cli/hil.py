@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import ipaddress
+
 import signal
 import sys
 import time
@@ -98,8 +100,14 @@ def parse_control(text: str | None, option: str = "--control") -> tuple[str, int
     if text is None:
         return None
     host, _, port = text.rpartition(":")
-    if not port.isdigit() or not 0 <= int(port) <= 65535:
+    if not port.isascii() or not port.isdigit() or not 0 <= int(port) <= 65535:
         raise InputError(f"{option} = {text!r}: port = {port!r}: expected [HOST:]PORT, port in [0, 65535]")
+    if host and host.replace(".", "").isdigit():
+        try:
+            ipaddress.IPv4Address(host)
+        except ValueError:
+            raise InputError(f"{option} = {text!r}: host = {host!r}: expected an IPv4 address a.b.c.d (four "
+                             "numbers 0-255) or a host name") from None
     return host or "127.0.0.1", int(port)
 
 

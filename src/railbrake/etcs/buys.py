@@ -17,7 +17,7 @@ import warnings
 
 import numpy as np
 
-from railbrake import scenario, simulation
+from railbrake import scenario, simulation, sizing
 from railbrake.etcs import confidence, curves, model, runs
 from railbrake.etcs.national import National, Track
 from railbrake.resolve import resolve
@@ -37,9 +37,12 @@ class _Stops:
         self.v0 = spec.initial_speed_kmh * KMH if spec.initial_speed_kmh else self.train.max_speed
 
     def stop(self, v0: float, condition: str) -> tuple:
-        sc = simulation.emergency_scenario(self.spec.train, v0, condition).with_(self.changes)
+        # the EN 15595 test level at the test speeds, forced as in runs.Context.stop
+        sc = simulation.emergency_scenario(self.spec.train, v0, condition,
+                                           allow_outside_validity=condition == self.spec.reduced_condition
+                                           ).with_(self.changes)
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", simulation.sizing.SupplyWarning)
+            warnings.simplefilter("ignore", sizing.SupplyWarning)
             return simulation.structs(resolve(sc, len(self.train.cars)))
 
 

@@ -28,7 +28,7 @@ from importlib import resources
 import numpy as np
 import yaml
 
-from railbrake import simulation
+from railbrake import simulation, sizing
 from railbrake.errors import InputError
 from railbrake.etcs.model import step_decelerations
 from railbrake.resolve import resolve
@@ -55,7 +55,7 @@ def scenario(train: str, v0: float, condition: str, demand: float, max_time: flo
 def _stop(train: str, cars: int, v0: float, condition: str, demand: float, marks: tuple) -> dict:
     sc = scenario(train, v0, condition, demand)
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", simulation.sizing.SupplyWarning)
+        warnings.simplefilter("ignore", sizing.SupplyWarning)
         four = simulation.structs(resolve(sc, cars))
     four[3].n_speed_marks = len(marks)
     for i, v in enumerate(marks):
@@ -72,7 +72,7 @@ def build_up(train_obj, train: str, v0: float, condition: str) -> float:
     """T_brake_service: te = ta + tb/2 of the full service brake's total force (EN 14531-1)."""
     sc = scenario(train, v0, condition, 1.0, response.settings()["window_s"] + 0.1)
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", simulation.sizing.SupplyWarning)
+        warnings.simplefilter("ignore", sizing.SupplyWarning)
         return response.measure(simulation.run(sc, cars=len(train_obj.cars), train=train_obj), train_obj).response
 
 

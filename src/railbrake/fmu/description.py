@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
 
-import railbrake
+from railbrake._version import __version__
 from railbrake.fmu.variables import Unit, Variable, units
 
 
@@ -133,8 +133,8 @@ def model_description(fmu: Header, variables: list[Variable], generated: datetim
     generationDateAndTime (default: generation_time())."""
     stamp = (generated or generation_time()).strftime("%Y-%m-%dT%H:%M:%SZ")
     head = dict(modelName=fmu.identifier, description=f"railbrake real-time plant: {fmu.title}", author=AUTHOR,
-                version=railbrake.__version__, copyright=f"Copyright {AUTHOR}", license=LICENSE,
-                generationTool=f"railbrake {railbrake.__version__}", generationDateAndTime=stamp,
+                version=__version__, copyright=f"Copyright {AUTHOR}", license=LICENSE,
+                generationTool=f"railbrake {__version__}", generationDateAndTime=stamp,
                 variableNamingConvention="flat")
     table = units(fmu.atmosphere)
     if fmu.version == "2":

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from railbrake import _core
 from railbrake.units import BAR, KMH, KN, TONNE
@@ -144,6 +144,21 @@ def parameter_range(path: str) -> tuple[float, float]:
     return _core.bound(name)
 
 
+# governor_off >= governor_on (rb_plant_check), which independent min/max cannot state: the declared
+# ranges meet halfway between the two start values, so every pair inside them initialises
+ORDERED = ("governor_on", "governor_off")
+
+
+def split_ordered(variables: list[Variable]) -> None:
+    """Narrows the ranges of the ORDERED pair (in place) to the two sides of their start values'
+    midpoint: what the FMU declares is then exactly what exitInitializationMode accepts."""
+    at = {v.name: i for i, v in enumerate(variables)}
+    low, high = (variables[at[name]] for name in ORDERED)
+    pivot = 0.5 * (low.start + high.start)
+    variables[at[low.name]] = replace(low, max=min(low.max, pivot))
+    variables[at[high.name]] = replace(high, min=max(high.min, pivot))
+
+
 def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
     """Every variable of the FMU; roots: the ctypes structs plant, bcu, wsp (start values)."""
     plant = roots["plant"]
@@ -157,6 +172,7 @@ def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
 
     for name, path, unit, description in _PARAMETERS:
         parameter(name, path, unit, description)
+    split_ordered(v)
     for c in range(n_cars):
         for name, path, unit, description in _CAR_PARAMETERS:
             parameter(name + car(c), path.format(i=c), unit, f"car {c + 1}: {description}")

@@ -1,7 +1,7 @@
 """The HIL frames from Python, through the C codec (one layout: core/src/hil_frame.c,
 docs/hil-interface.md). For peers written in Python: test peers, or a BCU prototype. Frames carry a
-SipHash-2-4 tag under the session key (session_key: from the key file's secret, the plant's session
-and the BCU's nonce; nonce 0 for hellos and challenges)."""
+SipHash-2-4 tag under the session key (session_key: from the key file's secret, the plant's session,
+the plant's nonce and the BCU's nonce; both 0, the hello key, for hellos, challenges and refusals)."""
 
 from __future__ import annotations
 
@@ -28,16 +28,20 @@ def _key(key: bytes) -> bytes:
     return bytes(key)
 
 
-def session_key(secret: bytes, session: int, nonce: int) -> bytes:
-    """The key frames of `session` under the BCU's `nonce` carry (0: hello and challenge frames)."""
+def session_key(secret: bytes, session: int, nonce: int, plant_nonce: int = 0) -> bytes:
+    """The key frames of `session` under the BCU's `nonce` and the plant's `plant_nonce` carry (both
+    0: the hello key, of hello, challenge and refusal frames)."""
     out = ctypes.create_string_buffer(_core.HIL_KEY_SIZE)
-    _core.rb_hil_session_key(_key(secret), session & 0xFFFFFFFF, nonce & 0xFFFFFFFFFFFFFFFF, out)
+    _core.rb_hil_session_key(_key(secret), session & 0xFFFFFFFF, plant_nonce & 0xFFFFFFFFFFFFFFFF,
+                             nonce & 0xFFFFFFFFFFFFFFFF, out)
     return out.raw
 
 
-def _header(h, session: int, config: int, sequence: int, step: int, nonce: int, n_cars: int, n_axles: int) -> None:
+def _header(h, session: int, config: int, sequence: int, step: int, nonce: int, n_cars: int, n_axles: int,
+            plant_nonce: int = 0) -> None:
     h.session, h.config = session & 0xFFFFFFFF, config & 0xFFFFFFFF
     h.sequence, h.step, h.nonce = sequence & 0xFFFFFFFF, step, nonce & 0xFFFFFFFFFFFFFFFF
+    h.plant_nonce = plant_nonce & 0xFFFFFFFFFFFFFFFF
     h.n_cars, h.n_axles = n_cars, n_axles
 
 
@@ -50,10 +54,10 @@ def _encode(encoder, frame, key: bytes) -> bytes:
 
 def encode_bcu_frame(sequence: int, step: int, n_cars: int, brake_demand: float, pressure_demand,
                      hold=(), vent=(), n_axles: int | None = None, session: int = 1, config: int = 0,
-                     nonce: int = 0, key: bytes | None = None, check: bool = True) -> bytes:
+                     nonce: int = 0, key: bytes | None = None, check: bool = True, plant_nonce: int = 0) -> bytes:
     """A BCU frame (pressures in Pa absolute, hold/vent per axle 0/1) in `session` (echo the plant
     frame's) with the configuration digest `config` (the plant's, to be accepted), tagged under key
-    (session_key(secret, session, nonce)). Its values are checked as the receiver checks them (the
+    (session_key(secret, session, nonce, plant_nonce)). Its values are checked as the receiver checks them (the
     ICD's ranges: InputError naming the field); check=False leaves them as given, so a test peer
     can send what a faulty BCU would."""
     f = _core.BcuFrame()
@@ -63,7 +67,7 @@ def encode_bcu_frame(sequence: int, step: int, n_cars: int, brake_demand: float,
         raise InputError(f"pressure_demand, hold, vent: at most n_cars = {n_cars} pressures and "
                          f"{_core.PLANT_MAX_AXLES} valve states")
     _header(f.header, session, config, sequence, step, nonce, n_cars,
-            _core.AXLES_PER_CAR * n_cars if n_axles is None else n_axles)
+            _core.AXLES_PER_CAR * n_cars if n_axles is None else n_axles, plant_nonce)
     f.brake_demand = brake_demand
     for i, p in enumerate(pressure_demand):
         f.pressure_demand[i] = p
@@ -78,10 +82,12 @@ def encode_bcu_frame(sequence: int, step: int, n_cars: int, brake_demand: float,
     return data
 
 
-def encode_challenge(session: int, config: int, step: int, nonce: int, n_cars: int, key: bytes) -> bytes:
-    """The BCU's challenge: its nonce for the plant of `session`, under the key of nonce 0."""
+def encode_challenge(session: int, config: int, step: int, nonce: int, n_cars: int, key: bytes,
+                     plant_nonce: int = 0) -> bytes:
+    """The BCU's challenge: its nonce for the plant of `session`, echoing the plant's hello nonce,
+    under the hello key."""
     h = _core.FrameHeader()
-    _header(h, session, config, 0, step, nonce, n_cars, _core.AXLES_PER_CAR * n_cars)
+    _header(h, session, config, 0, step, nonce, n_cars, _core.AXLES_PER_CAR * n_cars, plant_nonce)
     return _encode(_core.rb_challenge_frame_encode, h, key)
 
 
@@ -90,7 +96,8 @@ def frame_header(data: bytes) -> dict:
     h = _core.FrameHeader()
     _core.call(_core.rb_frame_check, data, len(data), ctypes.byref(h))
     return {"type": FRAME_TYPES[h.type], "session": h.session, "config": h.config, "sequence": h.sequence,
-            "step": h.step, "nonce": h.nonce, "n_cars": h.n_cars, "n_axles": h.n_axles}
+            "step": h.step, "nonce": h.nonce, "plant_nonce": h.plant_nonce, "n_cars": h.n_cars,
+            "n_axles": h.n_axles}
 
 
 def authentic(data: bytes, key: bytes) -> bool:
@@ -105,7 +112,8 @@ def decode_plant_frame(data: bytes) -> dict:
     _core.call(_core.rb_plant_frame_decode, data, len(data), ctypes.byref(f))
     n_cars, n_axles = f.header.n_cars, f.header.n_axles
     return {"session": f.header.session, "config": f.header.config, "sequence": f.header.sequence,
-            "step": f.header.step, "nonce": f.header.nonce, "n_cars": n_cars, "n_axles": n_axles,
+            "step": f.header.step, "nonce": f.header.nonce, "plant_nonce": f.header.plant_nonce, "n_cars": n_cars,
+            "n_axles": n_axles,
             "train_speed": f.train_speed, "position": f.position,
             "main_reservoir_pressure": f.main_reservoir_pressure,
             "wheel_speed": list(f.wheel_speed[:n_axles]), "cylinder_pressure": list(f.cylinder_pressure[:n_axles]),

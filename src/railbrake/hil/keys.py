@@ -24,10 +24,13 @@ def read_key(path: Path | str) -> bytes:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)   # a FIFO must not block the open
     except OSError as exc:
         raise InputError(f"key file {path}: {exc.strerror}") from None
+    info = os.fstat(fd)
+    if not stat.S_ISREG(info.st_mode):   # checked on the descriptor: a directory cannot be read as a file
+        os.close(fd)
+        kind = "a directory" if stat.S_ISDIR(info.st_mode) else "not a regular file"
+        raise InputError(f"key file {path}: {kind}: give the path of the key file (`railbrake hil-key FILE` "
+                         "makes one)")
     with os.fdopen(fd, "rb") as f:
-        info = os.fstat(f.fileno())
-        if not stat.S_ISREG(info.st_mode):
-            raise InputError(f"key file {path}: not a regular file")
         if info.st_mode & 0o077:
             raise InputError(f"key file {path}: mode {stat.S_IMODE(info.st_mode):04o} lets others read it: "
                              f"chmod 600 {path}")
@@ -51,12 +54,34 @@ def _parse(path: Path, data: bytes) -> bytes:
     if len(line) != 2 * KEY_SIZE or any(c not in "0123456789abcdefABCDEF" for c in line):
         raise InputError(f"key file {path}, line {number}: {len(line)} characters: expected {2 * KEY_SIZE} "
                          "hexadecimal digits (a 128-bit key)")
-    return bytes.fromhex(line)
+    key = bytes.fromhex(line)
+    weak = weakness(key)
+    if weak:
+        raise InputError(f"key file {path}, line {number}: {weak}: make a random one with `railbrake hil-key FILE`")
+    return key
+
+
+MIN_DISTINCT = 6   # byte values a key holds at least (a random key holds about 15; fewer: P < 1e-17)
+
+
+def weakness(key: bytes) -> str | None:
+    """Why a key has too little entropy to be a secret (all one byte, a few byte values, a counting
+    sequence), or None. Never shows the key."""
+    if len(set(key)) == 1:
+        return f"every byte the same (0x{key[0]:02x} repeated): too little entropy for a secret"
+    if len(set(key)) < MIN_DISTINCT:
+        return f"only {len(set(key))} distinct byte values: too little entropy for a secret (a random key " \
+               f"holds about 15 of its {KEY_SIZE})"
+    if len({(b - a) % 256 for a, b in zip(key, key[1:])}) == 1:
+        return "bytes counting up or down by a constant step: too little entropy for a secret"
+    return None
 
 
 def write_key(path: Path | str) -> Path:
     """A new random key file at path (mode 600; an existing file is not overwritten)."""
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"key file {path}: a directory: give the path of a new file")
     try:
         fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
     except FileExistsError:
@@ -74,6 +99,9 @@ def key_bytes(key) -> bytes:
     if isinstance(key, (bytes, bytearray)):
         if len(key) != KEY_SIZE:
             raise InputError(f"key: {len(key)} bytes: expected {KEY_SIZE}")
+        weak = weakness(bytes(key))
+        if weak:
+            raise InputError(f"key: {weak}: use a random key (secrets.token_bytes({KEY_SIZE}) or a key file)")
         return bytes(key)
     if isinstance(key, (str, os.PathLike)):
         return read_key(key)

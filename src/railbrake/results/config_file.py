@@ -13,9 +13,7 @@ from pathlib import Path
 import yaml
 
 from railbrake.errors import InputError
-
-# The key of config.yaml that is no part of the configuration (resolve reads past it).
-PROVENANCE_KEY = "provenance"
+from railbrake.resolve import PROVENANCE_KEY
 
 
 def display_name(name: str) -> str:

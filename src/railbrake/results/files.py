@@ -116,7 +116,7 @@ def write_mdf(record: RunRecord, path: Path, extra: dict | None = None, events=(
     from asammdf import MDF
     from asammdf.blocks import v4_constants
     from asammdf.blocks.v4_blocks import EventBlock
-    import railbrake
+    from railbrake._version import __version__
     mdf = MDF(version="4.10")
     t = np.asarray(record.time, dtype=np.float64)
     mdf.append([_mdf_signal(n, v, t, record.units.get(n, "")) for n, v in record.outputs.items() if n != "time"],
@@ -128,7 +128,7 @@ def write_mdf(record: RunRecord, path: Path, extra: dict | None = None, events=(
                                                   "faults", "configuration")}
     for name, content, what in (("scenario.json", scenario, "the scenario as run"), ("kpis.json", record.kpis, "KPIs")):
         mdf.attach(dumps(content).encode(), file_name=name, comment=f"railbrake {what}", mime="application/json")
-    mdf.file_history[:] = [_history(railbrake.__version__)]   # the attachments' creator: railbrake
+    mdf.file_history[:] = [_history(__version__)]   # the attachments' creator: railbrake
     for time_s, name, comment in events:
         # the event's time is sync_base * sync_factor s: in integer microseconds, exact for 1 ms steps
         event = EventBlock(event_type=v4_constants.EVENT_TYPE_TRIGGER, sync_type=v4_constants.EVENT_SYNC_TYPE_S,

@@ -37,6 +37,8 @@ KPI_INFO = {
     "max_sliding_energy_kj": ("kJ", "largest over the axles of the sliding energy, the time integral of creep "
                                     "force x slip velocity while braking: the wheel-flat risk"),
     "sliding_energy_kj": ("kJ", "the sliding energy summed over the axles"),
+    "adhesion_outside_validity": ("", "the run was forced (adhesion.allow_outside_validity) with an adhesion "
+                                      "condition outside its validity: which, and where it holds"),
 }
 
 AIR_BALANCE_LIMIT = 1e-6   # a larger relative error means the air model lost mass (model check)
@@ -82,6 +84,8 @@ def warnings(kpis: dict) -> list[str]:
     if margin is not None and margin < 0.0:
         out.append(f"a supply reservoir fell {-margin:.2f} bar below its car's cylinder demand (lowest supply "
                    f"{kpis['min_supply_bar']:.2f} bar g): the brake could not get its pressure")
+    if kpis.get("adhesion_outside_validity"):
+        out.append(f"forced outside the adhesion condition's validity: {kpis['adhesion_outside_validity']}")
     error = kpis.get("air_balance_error")
     if error is not None and error > AIR_BALANCE_LIMIT:
         out.append(f"air balance error {error:.2g} above {AIR_BALANCE_LIMIT:g}: the air model lost mass")

@@ -6,7 +6,7 @@ import shlex
 import sys
 from datetime import datetime, timezone
 
-import railbrake
+from railbrake._version import __version__
 
 
 def _current_context():
@@ -44,7 +44,7 @@ def _from_click() -> list[str] | None:
 def provenance(command_line: list[str] | None = None) -> dict:
     from railbrake import _core
     words = command_line or _from_click() or ["python", *sys.argv]
-    return {"railbrake_version": railbrake.__version__,
+    return {"railbrake_version": __version__,
             "core_version": _core.rb_version().decode(),
             "core_build_hash": _core.rb_build_hash().decode(),
             "command_line": shlex.join(words),

@@ -147,7 +147,7 @@ def _struct_dict(struct) -> dict:
 
 def configuration(sc, cars: int, wsp: bool) -> dict:
     """The configuration a run resolved to: the scenario as validated (SI) and the WSP parameters."""
-    from railbrake.simulation import wsp_params
+    from railbrake.simulation.parameters import wsp_params
     return {"scenario": sc.spec.model_dump(mode="json", by_alias=True), "cars": cars, "wsp_enabled": wsp,
             "wsp_parameters": _struct_dict(wsp_params(sc))}
 

@@ -1,16 +1,60 @@
-"""What a script does with a run's result (railbrake.simulation.Result): a pandas DataFrame or an
-Arrow table with the units, the standard figures, and saving it to a run folder and loading it
-back unchanged, bit for bit (railbrake.load_result)."""
+"""A run's result (Result, built by railbrake.simulation.run) and what a script does with it: a
+pandas DataFrame or an Arrow table with the units, the standard figures, and saving it to a run
+folder and loading it back unchanged, bit for bit (railbrake.load_result)."""
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from railbrake.errors import InputError
 from railbrake.results.record import RunRecord, from_simulation, parse_axles, parse_window
 
 # The standard figures of a run folder (railbrake.plots.simulation), by the name of their file.
 PLOT_KINDS = ("wsp_cycle", "braking_curve", "speed_time", "slip", "reservoirs", "cylinders")
+
+
+@dataclass
+class Result:
+    """A run's time series (SI), their units and KPIs (`run --json`'s units). For scripts:
+    to_dataframe(), to_arrow(), plot(kind), save(folder) and railbrake.load_result(folder)."""
+
+    scenario: str
+    cars: int
+    wsp: bool
+    time: np.ndarray
+    outputs: dict          # channel name -> array (SI)
+    units: dict            # channel name -> SI unit
+    kpis: dict
+    atmosphere: float = math.nan   # Pa, the plant's (the train file's)
+    meta: dict = field(default_factory=dict)   # what was run, as in run.json (a loaded result)
+    resolved: object = field(default=None, repr=False, compare=False)   # the resolve.Resolved run
+
+    def to_dataframe(self):
+        """pandas DataFrame, a column per channel; units in .attrs["units"], KPIs in .attrs["kpis"]."""
+        return to_dataframe(self)
+
+    def to_arrow(self):
+        """pyarrow Table, a column per channel, each field's unit in its metadata."""
+        return to_arrow(self)
+
+    def plot(self, kind: str = "braking_curve", path=None, **options):
+        """A standard figure (PLOT_KINDS): the Figure, or written to path."""
+        return plot(self, kind, path, **options)
+
+    def save(self, folder, overwrite: bool = False):
+        """The run folder: timeseries.parquet, kpis.json, run.json (+ config.yaml); load_result reads it.
+        An existing folder with files in it is refused unless overwrite=True."""
+        return save(self, folder, overwrite)
+
+    def axle_channels(self, quantity: str) -> list[str]:
+        return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" in n.split("_c")[-1]]
+
+    def car_channels(self, quantity: str) -> list[str]:
+        return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" not in n.split("_c")[-1]]
 
 
 def record_of(result) -> RunRecord:
@@ -108,7 +152,6 @@ def load_result(folder: Path | str):
     """The Result saved in a run folder (Result.save, `railbrake run --out`, `hil --out`) or one of its
     time-series files."""
     from railbrake.results import files
-    from railbrake.simulation import Result
     record = files.load(folder)
     meta = {k: v for k, v in record.meta.items() if k != "source"}
     return Result(meta.get("scenario", Path(folder).name), record.cars, record.wsp, record.time, record.outputs,

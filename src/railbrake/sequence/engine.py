@@ -12,13 +12,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railbrake import _core, simulation
+from railbrake.simulation.parameters import _condition
 from railbrake.errors import InputError
 from railbrake.hil.faults import parse_fault
 from railbrake.resolve import resolve
 from railbrake.results import kpis as kpi_info
 from railbrake.units import BAR
-from railbrake.sequence import (CHANNEL_DIMENSION, COMPARISONS, Sequence, Threshold, WaitAt, duration, matching,
-                                quantity)
+from railbrake.sequence.schema import (CHANNEL_DIMENSION, COMPARISONS, Sequence, Threshold, WaitAt, duration,
+                                       matching, quantity)
 
 
 # the KPIs a condition may name: a MIL run's (run --json); a HIL run's also braked_distance_m
@@ -108,7 +109,7 @@ class MilPlant:
         try:
             spec = self.resolved.scenario.spec   # cell by cell only where this run has rail cells
             cells = spec.adhesion.rail_conditioning == "cells" and self.plant.rail_cell_length > 0.0
-            self.plant.condition[0] = simulation._condition(condition, spec.initial_speed, cells)
+            self.plant.condition[0] = _condition(condition, spec.initial_speed, cells)
         except InputError as exc:
             raise InputError(f"{where} = {condition!r}: {exc}") from None
         _core.call(_core.rb_run_retune, ctypes.byref(self.plant), ctypes.byref(self.wsp), self.state)

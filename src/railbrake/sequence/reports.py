@@ -15,7 +15,7 @@ import numpy as np
 
 from railbrake.units import BAR
 
-from railbrake.sequence import Sequence
+from railbrake.sequence.schema import Sequence
 
 PLOT_MARGIN = 1.0   # s shown before and after an expectation's window
 

@@ -17,7 +17,9 @@ from typing import Callable
 import numpy as np
 
 from railbrake.resolve import resolve
-from railbrake.simulation import Result, run, substeps_for
+from railbrake.results.scripting import Result
+from railbrake.simulation.runs import run
+from railbrake.simulation.parameters import substeps_for
 from railbrake.simulation.detailed import run_detailed
 from railbrake.units import BAR
 

@@ -21,8 +21,9 @@ import yaml
 from railbrake import _core
 from railbrake.resolve import resolve
 from railbrake.scenario import load
-from railbrake.simulation import (CHUNK, Result, _scenario_struct, bcu_params, channels, plant_params,
-                                  wsp_params)
+from railbrake.results.scripting import Result
+from railbrake.simulation.runs import CHUNK
+from railbrake.simulation.parameters import _scenario_struct, bcu_params, channels, plant_params, wsp_params
 from railbrake.valves import load_epv, load_relay, read_force_table
 from railbrake.valves.params import _merge
 

@@ -18,8 +18,11 @@ import numpy as np
 import yaml
 
 from railbrake import _core
-from railbrake._args import instance, real
+from railbrake._args import choice, flag, instance, name_or_path, real
 from railbrake.errors import InputError
+from railbrake.results.scripting import Result
+from railbrake.scenario import Scenario
+from railbrake.vehicle import LOAD_CASES, load_train
 
 
 @cache
@@ -97,10 +100,57 @@ def simulated(train, initial_speed: float, condition: str = "dry-medium", preset
     """The build-up of `train`'s emergency brake (a vehicle.Train, its load case as it is) in an
     emergency stop from initial_speed (m/s) on `condition`, measured over the window; preset: the
     preset name or file the train was read from (default: its name), for the run's scenario."""
-    from railbrake.simulation import emergency_scenario, run
+    from railbrake.simulation.runs import run
     from railbrake.vehicle import Train
     instance("train", train, Train)
     initial_speed = real("initial_speed", initial_speed, 0.0, low_open=True)
     scenario = emergency_scenario(preset or train.spec.name, initial_speed, condition, settings()["window_s"] + 0.1,
                                   train.load_case)
     return measure(run(scenario, cars=len(train.cars), train=train), train)
+
+
+# ------------------------------------------------------------------ the simulated chain's response (the API's)
+
+RESPONSE_WINDOW = settings()["window_s"]   # s of emergency braking the build-up is measured over
+
+
+def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-medium",
+                       max_time: float = 3600.0, load: str | None = None,
+                       allow_outside_validity: bool = False) -> Scenario:
+    """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`;
+    allow_outside_validity: run the condition outside its validity (flagged) instead of refusing."""
+    from railbrake.scenario import SCHEMA, from_data
+    train, condition = name_or_path("train", train), name_or_path("condition", condition)
+    initial_speed, max_time = real("initial_speed", initial_speed, 0.0), real("max_time", max_time, 0.0)
+    if load is not None:
+        choice("load", load, LOAD_CASES)
+    data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
+            "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
+            "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
+            "demand": [{"time": "0 s", "emergency": True}],
+            "adhesion": {"condition": condition, "allow_outside_validity": flag("allow_outside_validity",
+                                                                                allow_outside_validity)},
+            "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
+    if load is not None:
+        data["train"]["load_case"] = load
+    return from_data(data, f"emergency stop of {train}", {})
+
+
+def response_times(result: Result, train=None) -> tuple[float, float]:
+    """EN 14531-1 delay ta and build-up tb of a run's brake, measured on its total brake force
+    (measure); train: the run's (default: its resolved configuration's)."""
+    instance("result", result, Result)
+    if train is None:
+        if result.resolved is None:
+            raise InputError("response_times: give the train of a run made with a train of its own")
+        train = result.resolved.train
+    b = measure(result, train)
+    return b.delay, b.build_up
+
+
+def simulated_response(train: str, initial_speed: float, load: str | None = None) -> tuple[float, float]:
+    """(ta, tb) of `train`'s simulated emergency brake from initial_speed (m/s) on dry rail: the
+    first RESPONSE_WINDOW s of a run (simulated)."""
+    train = name_or_path("train", train)
+    b = simulated(load_train(train, load or True), initial_speed, preset=str(train))
+    return b.delay, b.build_up

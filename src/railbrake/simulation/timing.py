@@ -62,18 +62,18 @@ def bench(scenario=DEFAULT_SCENARIO, cars: int | None = 16, kernel: str | None =
     runs). `runs` of each, or as many whole runs as fit in half of `seconds` (at least 3) and as many
     passes inside C as fit in the other half; each figure is its fastest, the whole runs' median
     beside it."""
-    from railbrake import simulation
+    from railbrake.simulation import parameters, runs as running
     runs, seconds = _check_counts(runs, seconds)
     cars = None if cars is None else whole("cars", cars, 1, _core.PLANT_MAX_CARS)
     t0 = time.process_time()
     resolved = resolve(scenario, cars)
     resolve_cpu = time.process_time() - t0
     n_cars = resolved.cars
-    plant = simulation.plant_params(resolved.scenario, n_cars, kernel=kernel, train=resolved.train)
+    plant = parameters.plant_params(resolved.scenario, n_cars, kernel=kernel, train=resolved.train)
 
     def whole_run() -> tuple[float, float]:
         c0, w0 = time.process_time(), time.perf_counter()
-        simulation.run(resolved, kernel=kernel, record=False)
+        running.run(resolved, kernel=kernel, record=False)
         return time.process_time() - c0, time.perf_counter() - w0
 
     made = _repeat(whole_run, runs, seconds / 2)
@@ -100,9 +100,9 @@ def bench(scenario=DEFAULT_SCENARIO, cars: int | None = 16, kernel: str | None =
 def _core_bench(resolved, plant, passes: int) -> dict:
     """rb_run_bench: the whole run inside C against the plant alone on its recorded inputs, the
     fastest of `passes` alternating passes."""
-    from railbrake import simulation
+    from railbrake.simulation import parameters
     sc = resolved.scenario
-    _, bcu, wsp, spec = simulation.structs(resolved)
+    _, bcu, wsp, spec = parameters.structs(resolved)
     state = ctypes.create_string_buffer(_core.rb_run_state_size())
     max_steps = int(math.ceil(sc.spec.stop.max_time / plant.dt)) + 2
     trace = (_core.PlantInputs * max_steps)()   # 384 B a step: 0.35 GB for a 900 s run, 1.4 GB at 3600 s
@@ -122,12 +122,12 @@ def bench_plant(cars: int = 16, steps: int = 20000, kernel: str | None = None, r
     per step (other processes do not count); step_us_wall_mean: wall-clock; realtime_factor: 1 ms
     over the wall-clock step; p99 and max: wall-clock times of single steps; load_average: the
     machine's 1-minute load when the runs ended."""
-    from railbrake import simulation
+    from railbrake.simulation import parameters
     runs, seconds = _check_counts(runs, seconds)
     cars = whole("cars", cars, 1, _core.PLANT_MAX_CARS)
     steps = whole("steps", steps, 1, MAX_STEPS)
     sc = load("emergency-250-dry")
-    plant = simulation.plant_params(sc, cars, kernel=kernel)
+    plant = parameters.plant_params(sc, cars, kernel=kernel)
     timed = _repeat(lambda: _plant_run(plant, steps), runs, seconds)
     best = min(timed, key=lambda f: f["step_us_cpu_mean"])
     factors = sorted(plant.dt * 1e6 / f["step_us_wall_mean"] for f in timed)

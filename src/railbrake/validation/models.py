@@ -324,6 +324,8 @@ def _sanders(units: list, calibration: dict) -> dict | None:
     if not units:
         return None
     return {"units": units, "sand_reference_kg_m": float(_need(calibration, "sand_reference_kg_m")),
+            "sand_entrained": float(_need(calibration, "sand_entrained")),
+            "sand_retention": float(_need(calibration, "sand_retention")),
             "source": str(calibration.get("source", ""))}
 
 

@@ -11,7 +11,7 @@ from datetime import datetime, timezone
 
 import numpy as np
 
-from railbrake import __version__ as RAILBRAKE_VERSION
+from railbrake._version import __version__ as RAILBRAKE_VERSION
 from railbrake import _core
 from railbrake.validation.cases import AREAS, KINDS
 from railbrake.validation.runner import CaseResult, summary

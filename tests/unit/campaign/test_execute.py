@@ -177,7 +177,7 @@ def test_scheduling_share_counts_the_gaps_between_a_workers_batches():
 WARNS = """schema: railbrake.study/1
 name: warns
 base: emergency-250-dry
-set: {train.cars: 1, stop.max_time: "5 s"}
+set: {train.cars: 1, stop.max_time: "5 s", adhesion.allow_outside_validity: true}
 factors:
   adhesion.condition: [dry-medium, leaves]
 design: {kind: grid}
@@ -187,7 +187,7 @@ design: {kind: grid}
 @pytest.mark.slow
 def test_local_dashboard_answers_and_worker_warnings_reach_the_user(tmp_path):
     """The default install serves the Dask dashboard (bokeh); a warning raised in a run on a
-    worker (leaves from 250 km/h: outside the condition's speed range) reaches the client once."""
+    worker (leaves from 250 km/h, forced outside the condition's speed range) reaches the client once."""
     import urllib.request
     links = []
 
@@ -196,7 +196,7 @@ def test_local_dashboard_answers_and_worker_warnings_reach_the_user(tmp_path):
         with urllib.request.urlopen(client.dashboard_link, timeout=30) as page:
             links.append(page.status)
 
-    with pytest.warns(RuntimeWarning, match="on a worker, run .*AdhesionRangeWarning: adhesion condition 'leaves'"):
+    with pytest.warns(RuntimeWarning, match="on a worker, run .*AdhesionRangeWarning: .*forced outside validity: .*'leaves'"):
         summary = execute.run_study(study.parse(WARNS, "warns"), tmp_path / "out", workers=1,
                                     dashboard="127.0.0.1:0", on_connect=on_connect)
     assert links[0].startswith("http://127.0.0.1:") and links[1] == 200

@@ -100,12 +100,12 @@ def test_sobol_design_is_saltelli_a_b_ab():
 
 def test_fault_and_zone_parts_become_one_fault_and_one_zone():
     s = parse("factors:\n  fault.type: [none, vent_stuck_open]\n  fault.car: [1]\n  fault.start: [\"2 s\"]\n"
-              "  zone.start: [\"100 m\"]\n  zone.length: [\"50 m\"]\n  zone.condition: [oil-film]\n"
+              "  zone.start: [\"100 m\"]\n  zone.length: [\"50 m\"]\n  zone.condition: [hs-wet]\n"
               "design: {kind: grid}\n")
     runs = plan.plan(s)
     assert "faults" not in runs[0].sets
     assert runs[1].sets["faults"] == [{"type": "vent_stuck_open", "car": 1, "start": "2 s"}]
-    assert runs[1].sets["adhesion.zones"] == [{"start": "100 m", "end": "150 m", "condition": "oil-film"}]
+    assert runs[1].sets["adhesion.zones"] == [{"start": "100 m", "end": "150 m", "condition": "hs-wet"}]
 
 
 def test_a_fault_on_a_missing_car_fails_before_any_run():
@@ -116,7 +116,7 @@ def test_a_fault_on_a_missing_car_fails_before_any_run():
 
 def test_named_cases_set_several_keys():
     s = parse("factors:\n  case:\n    - {name: dry, adhesion.condition: dry-medium}\n"
-              "    - {name: patch, zone.start: 100 m, zone.length: 50 m, zone.condition: oil-film}\n"
+              "    - {name: patch, zone.start: 100 m, zone.length: 50 m, zone.condition: hs-wet}\n"
               "design: {kind: grid}\n")
     runs = plan.plan(s)
     assert [r.factors["case"] for r in runs] == ["dry", "patch"]

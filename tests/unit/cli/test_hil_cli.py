@@ -67,6 +67,10 @@ def test_bcu_stops_after_its_duration_without_a_plant():
     ("00" * 15 + "\n", 0o600, "line 1: 30 characters: expected 32 hexadecimal digits"),
     ("# comment\n" + "zz" * 16 + "\n", 0o600, "line 2: 32 characters: expected 32 hexadecimal digits"),
     ("# only a comment\n", 0o600, "0 key lines"),
+    ("00" * 16 + "\n", 0o600, "line 1: every byte the same (0x00 repeated): too little entropy"),
+    ("# a comment\n" + "ab" * 16 + "\n", 0o600, "line 2: every byte the same (0xab repeated)"),
+    ("0102" * 8 + "\n", 0o600, "line 1: only 2 distinct byte values: too little entropy"),
+    ("000102030405060708090a0b0c0d0e0f\n", 0o600, "line 1: bytes counting up or down by a constant step"),
 ])
 def test_bad_key_files_are_refused_naming_file_and_line(tmp_path, content, mode, words):
     key = tmp_path / "bad.key"
@@ -74,6 +78,28 @@ def test_bad_key_files_are_refused_naming_file_and_line(tmp_path, content, mode,
     key.chmod(mode)
     result = CliRunner().invoke(app, ["bcu", "--listen", "udp://127.0.0.1:0", "--key", str(key)])
     assert result.exit_code == 2 and f"key file {key}" in result.output and words in result.output
+
+
+@pytest.mark.parametrize("where", ["directory", "missing"])
+def test_a_key_path_that_is_no_file_is_named(tmp_path, where):
+    key = tmp_path / "keys" if where == "directory" else tmp_path / "none.key"
+    if where == "directory":
+        key.mkdir()
+    words = {"directory": "a directory: give the path of the key file", "missing": "No such file or directory"}
+    for command in (["bcu", "--listen", "udp://127.0.0.1:0"],
+                    ["hil", "--bcu", "udp://127.0.0.1:9", "--cars", "1", "--duration", "0.05", "--priority", "0"]):
+        result = CliRunner().invoke(app, [*command, "--key", str(key)])
+        text = " ".join(result.output.split())
+        assert result.exit_code == 2 and f"key file {key}: {words[where]}" in text, result.output
+
+
+def test_weak_key_bytes_are_refused_by_the_api():
+    from railbrake.errors import InputError
+    from railbrake.hil.keys import key_bytes
+    for weak in (bytes(16), b"\x5a" * 16, bytes(range(16))):
+        with pytest.raises(InputError, match="key: .*too little entropy"):
+            key_bytes(weak)
+    assert key_bytes(bytes.fromhex("9f3c01d2e47a5b68c0ffee1234abcd77")) == bytes.fromhex("9f3c01d2e47a5b68c0ffee1234abcd77")
 
 
 def test_hil_key_makes_a_private_key_and_never_overwrites(tmp_path):

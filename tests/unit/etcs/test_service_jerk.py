@@ -29,7 +29,7 @@ def train():
 
 def _t_bs(train):
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", simulation.sizing.SupplyWarning)
+        warnings.simplefilter("ignore", sizing.SupplyWarning)
         return service.build_up(train, TRAIN, V0, model.method().dry_condition)
 
 

@@ -9,18 +9,14 @@ import math
 import pytest
 
 from fmi_session import SCENARIO, Session
-from railbrake import _core, simulation
+from railbrake import _core, scenario, simulation
 from railbrake.fmu import export_fmu
-from railbrake.fmu.variables import bound_name, table
-
-# Two parameters bound to each other, which min/max cannot state: governor_off >= governor_on
-# (rb_plant_check). At an end of one of them the other is set to the same end.
-PARTNERS = {"governor_off": "governor_on", "governor_on": "governor_off"}
+from railbrake.fmu.variables import ORDERED, bound_name, table
 
 
 def table_of(session):
     """The exporter's variable table of the 1-car plant (conftest.SCENARIO), with the C paths."""
-    sc = simulation.load(SCENARIO)
+    sc = scenario.load(SCENARIO)
     plant = simulation.plant_params(sc, 1)
     roots = {"plant": plant, "bcu": simulation.bcu_params(plant, sc, True), "wsp": simulation.wsp_params(sc)}
     return table(roots, 1, plant.atmosphere)
@@ -30,10 +26,9 @@ def ranged(md):
     return [v for v in md.modelVariables if v.type in ("Real", "Float64") and v.causality in ("parameter", "input")]
 
 
-def _set_and_initialise(session, name, value):
-    partner = PARTNERS.get(name)
-    if partner:
-        session.set_real(partner, value)
+def _set_and_initialise(session, name, value, others=()):
+    for other, other_value in others:
+        session.set_real(other, other_value)
     session.set_real(name, value)
     if session.version == "2":
         session.fmu.setupExperiment(startTime=0.0)
@@ -62,6 +57,17 @@ def test_declared_ends_are_accepted_and_beyond_refused(session):
     assert check_declared_ends(session) > 20
 
 
+def test_the_governor_pair_initialises_at_every_corner_of_its_declared_ranges(session):
+    """governor_off >= governor_on: the declared ranges of the pair meet, so each combination of
+    their ends initialises (with the other at its start value above, with each other here)."""
+    by_name = {v.name: v for v in session.md.modelVariables}
+    on, off = (by_name[name] for name in ORDERED)
+    assert float(on.max) == float(off.min) and float(on.start) < float(on.max) < float(off.start)
+    for on_end in (float(on.min), float(on.max)):
+        for off_end in (float(off.min), float(off.max)):
+            _set_and_initialise(session, "governor_off", off_end, others=(("governor_on", on_end),))
+
+
 @pytest.fixture(scope="module")
 def two_cars(tmp_path_factory):
     """The 2-car plant (FMI 2): the coupler's parameters exist only between two cars."""
@@ -81,9 +87,15 @@ def test_declared_ends_of_the_coupler_parameters_too(two_cars, tmp_path):
 def test_declared_parameter_ranges_are_the_bounds_table(session):
     """Every Real parameter has an entry in the core's table and declares exactly its range."""
     paths = {v.name: v.where for v in table_of(session)}
+    starts = {v.name: float(v.start) for v in session.md.modelVariables if v.name in ORDERED}
+    pivot = 0.5 * (starts["governor_on"] + starts["governor_off"])
     for v in ranged(session.md):
         if v.causality == "parameter":
             low, high = _core.bound(bound_name(paths[v.name]))
+            if v.name == "governor_on":     # the ordered pair: each on its side of the midpoint
+                high = pivot
+            elif v.name == "governor_off":
+                low = pivot
             assert (float(v.min), float(v.max)) == (low, high), v.name
 
 

@@ -66,7 +66,7 @@ def run_with_dashboard(board, visitor, duration):
     worker.start()
     try:
         return hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=duration, priority=0,
-                       key=bytes(16), on_live=lambda view: board.attach(view=view),
+                       key=SECRET, on_live=lambda view: board.attach(view=view),
                        on_faults=lambda switch: board.attach(switch=switch), stop=board.stop_requested)
     finally:
         worker.join()

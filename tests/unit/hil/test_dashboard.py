@@ -21,8 +21,12 @@ def get(url):
         return r.status, r.read()
 
 
-def post(url, data):
-    request = urllib.request.Request(url, json.dumps(data).encode(), {"Content-Type": "application/json"})
+def post(url, data, token=None):
+    """A POST as the page sends it: the token in `Authorization: Bearer`, checked before the body."""
+    headers = {"Content-Type": "application/json"}
+    if token is not None:
+        headers["Authorization"] = f"Bearer {token}"
+    request = urllib.request.Request(url, json.dumps(data).encode(), headers)
     try:
         with urllib.request.urlopen(request, timeout=30) as r:
             return r.status, json.loads(r.read())
@@ -55,21 +59,23 @@ def test_dashboard_api_during_a_paced_run(tmp_path):
             seen["snapshot"] = snapshot
             fault = {"type": "vent_stuck_open", "car": 1, "axle": 3}
             seen["nokey"] = post(base + "/api/fault", {"command": "inject", "fault": fault})
-            seen["bad"] = post(base + "/api/fault", {"token": token, "command": "inject",
-                                                      "fault": {"type": "vent_stuck_open", "car": 4}})
-            seen["inject"] = post(base + "/api/fault", {"token": token, "command": "inject", "fault": fault})
+            seen["bodykey"] = post(base + "/api/fault", {"token": token, "command": "inject", "fault": fault})
+            seen["bad"] = post(base + "/api/fault", {"command": "inject",
+                                                      "fault": {"type": "vent_stuck_open", "car": 4}}, token)
+            seen["inject"] = post(base + "/api/fault", {"command": "inject", "fault": fault}, token)
             late = None   # null while the loop writes faster than a (slow, sanitized) reader can copy
             while late is None or late["time"] < seen["inject"][1]["time_s"] + 0.3:
                 late = json.loads(get(f"{base}/api/snapshot?token={token}")[1])["snapshot"]
             seen["late"] = late
-            seen["stop"] = post(base + "/api/stop", {"token": token})
+            seen["stop"] = post(f"{base}/api/stop?token={token}", {})
         except Exception as exc:   # noqa: BLE001 - reported by the test
             errors.append(repr(exc))
             board.request_stop()
 
     result = run_with_dashboard(board, page, 60.0)
     assert not errors, errors
-    assert seen["nokey"][0] == 400 and "token" in seen["nokey"][1]["error"]
+    assert seen["nokey"][0] == 401 and "token" in seen["nokey"][1]["error"]
+    assert seen["bodykey"][0] == 401    # a token in the body only: the body is not read before the token
     assert seen["bad"][0] == 400 and "cars 1..1" in seen["bad"][1]["error"]
     assert seen["inject"][0] == 200 and seen["stop"][0] == 200
     assert result.interrupted and result.time[-1] < 60.0          # the page stopped the run

@@ -13,6 +13,7 @@ import pytest
 from railbrake import hil
 from railbrake.hil.control import ControlServer
 from railbrake.hil.mdf import write_mdf
+from conftest import SECRET
 
 DURATION = 3.0   # s paced, 1 car, no BCU: the safe state (valves de-energised) throughout
 
@@ -71,7 +72,7 @@ def test_faults_changed_over_the_control_socket_are_in_the_recording(tmp_path):
         threads[-1].start()
 
     result = hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=DURATION, priority=0,
-                     key=bytes(16), on_faults=on_faults)
+                     key=SECRET, on_faults=on_faults)
     threads[0].join()
     servers[0].stop()
     assert "error" not in outcome, outcome
@@ -107,7 +108,7 @@ def test_recording_has_comments_state_texts_attachments_and_railbrake_as_its_too
     """A short unpaced run against no BCU: the safe state applies from the start (demand 2)."""
     from asammdf import MDF
     result = hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=0.3, paced=False,
-                     priority=0, key=bytes(16))
+                     priority=0, key=SECRET)
     path = write_mdf(result, tmp_path / "run.mf4")
     with MDF(path) as mdf:
         cylinder = mdf.get("cylinder_c1a2")

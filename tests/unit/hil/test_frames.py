@@ -25,28 +25,29 @@ def test_siphash_worked_example_of_the_paper():
 
 
 def test_bcu_frame_layout_matches_the_icd():
-    key = session_key(KEY, 0xABCD, 0x1122334455667788)
+    key = session_key(KEY, 0xABCD, 0x1122334455667788, 0x99)
     data = encode_bcu_frame(7, 1234, 2, 2.0, [4.5e5, 4.6e5], hold=[1] * 8, vent=[0, 1] * 4, session=0xABCD,
-                            config=0x1234, nonce=0x1122334455667788, key=key)
-    assert len(data) == 40 + 4 * (1 + 2) + 2 * 8 + 4 + 8 == _core.rb_bcu_frame_size(2, 8)
-    fields = struct.unpack_from("<IBBHIIIQBBHQ", data)
-    assert fields == (0x4B524252, 3, 2, 28, 0xABCD, 0x1234, 7, 1234, 2, 8, 0, 0x1122334455667788)
-    assert struct.unpack_from("<3f", data, 40) == (2.0, 4.5e5, 4.6e5)
-    assert list(data[52:60]) == [1] * 8 and list(data[60:68]) == [0, 1] * 4
-    assert struct.unpack_from("<IQ", data, 68) == (crc32(data[:68]), siphash24(key, data[:68]))
+                            config=0x1234, nonce=0x1122334455667788, plant_nonce=0x99, key=key)
+    assert len(data) == 48 + 4 * (1 + 2) + 2 * 8 + 4 + 8 == _core.rb_bcu_frame_size(2, 8)
+    fields = struct.unpack_from("<IBBHIIIQBBHQQ", data)
+    assert fields == (0x4B524252, 4, 2, 28, 0xABCD, 0x1234, 7, 1234, 2, 8, 0, 0x1122334455667788, 0x99)
+    assert struct.unpack_from("<3f", data, 48) == (2.0, 4.5e5, 4.6e5)
+    assert list(data[60:68]) == [1] * 8 and list(data[68:76]) == [0, 1] * 4
+    assert struct.unpack_from("<IQ", data, 76) == (crc32(data[:76]), siphash24(key, data[:76]))
     assert authentic(data, key) and not authentic(data, session_key(KEY, 0xABCD, 0))
+    assert not authentic(data, session_key(KEY, 0xABCD, 0x1122334455667788))   # the plant's nonce keys it too
 
 
 def test_challenge_is_header_and_trailer_under_the_hello_key():
     hello = session_key(KEY, 9, 0)
-    data = encode_challenge(9, 0x77, 100, 0xFEED, 1, hello)
-    assert len(data) == 52 and authentic(data, hello)
+    data = encode_challenge(9, 0x77, 100, 0xFEED, 1, hello, plant_nonce=0xBEEF)
+    assert len(data) == 60 and authentic(data, hello)
     assert frame_header(data) == {"type": "challenge", "session": 9, "config": 0x77, "sequence": 0, "step": 100,
-                                  "nonce": 0xFEED, "n_cars": 1, "n_axles": 4}
+                                  "nonce": 0xFEED, "plant_nonce": 0xBEEF, "n_cars": 1, "n_axles": 4}
 
 
 def test_plant_frame_decode_validates():
-    header = struct.pack("<IBBHIIIQBBHQ", 0x4B524252, 3, 1, 4 * (3 + 8 + 1), 77, 0xC0FFEE, 5, 99, 1, 4, 0, 0)
+    header = struct.pack("<IBBHIIIQBBHQQ", 0x4B524252, 4, 1, 4 * (3 + 8 + 1), 77, 0xC0FFEE, 5, 99, 1, 4, 0, 0, 0)
     payload = struct.pack("<3f4f4ff", 80.0, 12.5, 9e5, *[220.0] * 4, *[3e5] * 4, 5.5e5)
     frame = header + payload
     tag = struct.pack("<Q", siphash24(KEY, frame))
@@ -59,8 +60,8 @@ def test_plant_frame_decode_validates():
     with pytest.raises(InputError, match="train_speed"):
         decode_plant_frame(bad + struct.pack("<I", crc32(bad)) + tag)
     old = bytearray(frame)
-    old[4] = 2
-    with pytest.raises(InputError, match="version = 2: expected 3"):
+    old[4] = 3
+    with pytest.raises(InputError, match="version = 3: expected 4"):
         decode_plant_frame(bytes(old) + struct.pack("<I", crc32(bytes(old))) + tag)
 
 

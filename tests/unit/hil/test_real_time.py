@@ -7,6 +7,7 @@ import pytest
 
 from railbrake.errors import InputError
 from railbrake.hil import RealTime, request_real_time
+from conftest import SECRET
 
 
 def test_refusals_are_explained():
@@ -26,7 +27,7 @@ def test_priority_zero_asks_nothing_and_out_of_range_is_an_error():
 def _a_short_run(**options):
     from railbrake import hil
     return hil.run("emergency-300-heavy-rain", ("127.0.0.1", 9), cars=1, duration=0.05, paced=False,
-                   priority=0, key=bytes(16), **options)
+                   priority=0, key=SECRET, **options)
 
 
 @pytest.mark.skipif(len(os.sched_getaffinity(0)) < 2, reason="needs two CPUs")

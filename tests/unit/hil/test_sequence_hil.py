@@ -5,6 +5,8 @@ recorded rows (plant time, not wall time), the verdicts in the JUnit XML."""
 import subprocess
 import xml.etree.ElementTree as ET
 
+from conftest import SECRET
+
 SEQUENCE = """format: railbrake.sequence/1
 name: short-hil
 scenario: emergency-300-heavy-rain
@@ -43,7 +45,7 @@ def test_a_demand_other_than_the_bcus_is_refused_in_hil(tmp_path):
     from railbrake import sequence
     from railbrake.sequence import engine
     (tmp_path / "s.yaml").write_text(SEQUENCE.replace("{emergency: true}", "{service: 0.5}"))
-    results = engine.run(sequence.load(tmp_path / "s.yaml"), bcu=("127.0.0.1", 9), key=bytes(16))
+    results = engine.run(sequence.load(tmp_path / "s.yaml"), bcu=("127.0.0.1", 9), key=SECRET)
     step = results[0].steps[0]
     assert step.verdict == "error" and "the demand is the BCU's" in step.message and "emergency" in step.message
     assert len(results[0].steps) == 1   # an error ends the test

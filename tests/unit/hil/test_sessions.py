@@ -43,12 +43,13 @@ def test_bcu_of_another_train_both_say_why(bcu_process, railbrake_cli):
 def forged_frame(step):
     """A CRC-valid plant hello of this train (1 car) with the given step, in session 1, tagged under
     a key that is not the session's (the forger has no key file)."""
-    forged = bytearray(40 + 4 * (3 + 2 * 4 + 1))
-    forged[0:8] = bytes([0x52, 0x42, 0x52, 0x4B, 3, 1, 48, 0])
+    forged = bytearray(48 + 4 * (3 + 2 * 4 + 1))
+    forged[0:8] = bytes([0x52, 0x42, 0x52, 0x4B, 4, 1, 48, 0])
     forged[8:12] = (1).to_bytes(4, "little")
     forged[12:16] = hil.config_digest(scenario.load(SCENARIO), 1).to_bytes(4, "little")
     forged[20:28] = step.to_bytes(8, "little")
     forged[28:30] = bytes([1, 4])
+    forged[40:48] = (0xF00D).to_bytes(8, "little")   # a plant nonce: a hello
     return (bytes(forged) + crc32(bytes(forged)).to_bytes(4, "little")
             + siphash24(bytes(16), bytes(forged)).to_bytes(8, "little"))
 

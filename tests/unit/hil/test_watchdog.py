@@ -53,6 +53,7 @@ class Peer(threading.Thread):
         self.valid, self.hostile = valid, hostile
         self.session = self.config = 0     # the plant's, from its frames (ICD version 2)
         self.key = None                    # the session key, once the plant said hello
+        self.plant_nonce = 0               # ... and the plant's nonce of it
         self.sequence = self.valid_sent = self.garbage_sent = self.challenges = 0
         self.plant = None
         self.done = False
@@ -60,7 +61,7 @@ class Peer(threading.Thread):
     def frame(self, sequence, step, *args, **kwargs):
         """A BCU frame in the plant's session, with its configuration digest, under the session key."""
         return encode_bcu_frame(sequence, step, *args, session=self.session, config=self.config, nonce=NONCE,
-                                key=self.key, **kwargs)
+                                plant_nonce=self.plant_nonce, key=self.key, **kwargs)
 
     def send_valid(self, step):
         self.sock.sendto(self.frame(self.sequence, step, 1, 0.5, [HELD]), self.plant)
@@ -78,13 +79,16 @@ class Peer(threading.Thread):
             data, self.plant = self.sock.recvfrom(2048)
             frame = decode_plant_frame(data)
             step, self.session, self.config = frame["step"], frame["session"], frame["config"]
-            if frame["nonce"] == 0:   # hello: the challenge (both under the key of nonce 0)
+            if frame["nonce"] == 0:   # hello: the challenge echoing its nonce (both under the hello key)
                 hello_key = session_key(SECRET, self.session, 0)
-                assert authentic(data, hello_key)
-                self.sock.sendto(encode_challenge(self.session, self.config, step, NONCE, 1, hello_key), self.plant)
+                assert authentic(data, hello_key) and frame["plant_nonce"] != 0
+                self.sock.sendto(encode_challenge(self.session, self.config, step, NONCE, 1, hello_key,
+                                                  plant_nonce=frame["plant_nonce"]), self.plant)
                 self.challenges += 1
                 continue
-            self.key = session_key(SECRET, self.session, NONCE)
+            if frame["plant_nonce"] != self.plant_nonce:   # a new key: numbered from 0 (ICD)
+                self.plant_nonce, self.sequence = frame["plant_nonce"], 0
+                self.key = session_key(SECRET, self.session, NONCE, self.plant_nonce)
             assert frame["nonce"] == NONCE and authentic(data, self.key)
             if step % 10 == 0 and self.valid(step * DT):
                 self.send_valid(step)
@@ -240,7 +244,8 @@ def test_foreign_frames_change_nothing():
         step = round(t / DT)
         if 0.1 < t <= 0.5 and step % 7 == 0:
             intruder.sendto(encode_bcu_frame(0x80000000 + step, step, 1, 0.0, [9e5], session=peer.session,
-                                             config=peer.config, nonce=NONCE, key=bytes(16)), peer.plant)
+                                             config=peer.config, nonce=NONCE, plant_nonce=peer.plant_nonce,
+                                             key=bytes(16)), peer.plant)
             peer.garbage_sent += 1
 
     peer = Peer(valid=lambda t: True, hostile=hostile)

@@ -4,6 +4,7 @@ the rail cells the run says the sanders act on nothing."""
 
 from importlib import resources
 
+import numpy as np
 import pytest
 
 from railbrake import simulation
@@ -14,6 +15,8 @@ sanders:
   units:
     - {car: 1, axle: 1, rate_kg_min: 1.5, trigger: wsp}
   sand_reference_kg_m: 0.002
+  sand_entrained: 0.2
+  sand_retention: 0.5
   source: test values
 """
 
@@ -55,6 +58,8 @@ sanders:
   units:
     - {car: 1, axle: 1, rate_kg_min: RATE, trigger: wsp}
   sand_reference_kg_m: 0.002
+  sand_entrained: 0.2
+  sand_retention: 0.5
   source: test values
 """
 
@@ -100,3 +105,37 @@ def test_the_t1107_rail_as_laid_has_its_published_friction():
     assert peak_adhesion(condition, target["speed_kmh"] / 3.6, axle=0).coefficient == \
         pytest.approx(target["peak"], rel=target["rel_tolerance"])
     assert target["peak"] == 0.02
+
+
+def _t1107_run(retention: float):
+    """The T1107 Class 387 stop (validation case sanders-t1107-class387) with one sander on car 1
+    axle 3 laying the same sand on every metre (rate in proportion to speed, 0.5 g/m: below what
+    saturates the law), so that the axles behind it meet rail sanded alike."""
+    from pathlib import Path
+
+    import yaml
+
+    from railbrake.resolve import resolve
+    from railbrake.validation.models import _sanders
+    folder = Path(__file__).resolve().parents[3] / "validation" / "validation" / "sanders-t1107-class387"
+    calibration = dict(yaml.safe_load((folder / "calibration.yaml").read_text()), sand_retention=retention)
+    units = [{"car": 1, "axle": 3, "rate_kg_min": {"speed_kmh": [0, 180], "value": [0.0, 1.5]},
+              "trigger": "driver", "start_s": 0.0}]
+    return simulation.run(resolve(str(folder / "scenario.yaml"), sets={"train.sanders": _sanders(units, calibration)}))
+
+
+def _axle_peaks(result, above_kmh: float = 20.0) -> np.ndarray:
+    running = result.outputs["speed"] > above_kmh / 3.6
+    return np.array([np.max(np.abs(result.outputs[n][running])) for n in result.axle_channels("adhesion")])
+
+
+def test_behind_a_sander_the_axles_find_more_adhesion_along_the_train():
+    """Each axle that passes crushes part of the loose sand into the rail and leaves part for the
+    next: the adhesion the axles behind the sander (axle 3 on) find never falls along the train and
+    ends well above the sander's own axle's; with no sand left loose (retention 0) the sander's axle
+    takes it all and every axle behind finds the same."""
+    peaks = _axle_peaks(_t1107_run(0.4))[2:]
+    assert np.all(np.diff(peaks) >= -0.01 * peaks[:-1])   # the recording's 20 ms samples of the slip cycles
+    assert peaks[-1] > 1.15 * peaks[0]
+    flat = _axle_peaks(_t1107_run(0.0))[2:]
+    assert np.ptp(flat) < 0.02 * flat.mean()

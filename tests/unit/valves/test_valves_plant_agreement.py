@@ -9,7 +9,7 @@ import yaml
 
 from railbrake import scenario, simulation, valves
 from railbrake.resolve import resolve
-from railbrake.vehicle import preset_names
+from railbrake.vehicle import load_train, preset_names
 
 REDUCED = yaml.safe_load((valves.params.DATA / "reduced.yaml").read_text())["plant"]
 
@@ -17,7 +17,7 @@ REDUCED = yaml.safe_load((valves.params.DATA / "reduced.yaml").read_text())["pla
 @pytest.mark.parametrize("train", preset_names())
 def test_every_preset_train_carries_the_reduced_valves(train):
     sc = scenario.load("emergency-250-dry").with_({"initial_speed": "100 km/h"})   # within every preset's speed
-    plant = simulation.plant_params(sc, 2, train=simulation.load_train(train))
+    plant = simulation.plant_params(sc, 2, train=load_train(train))
     for car in plant.car[:2]:
         for key, value in REDUCED.items():
             assert getattr(car, key) == pytest.approx(value, rel=1e-6), (train, key)   # the fragment is printed to 7 digits

@@ -18,8 +18,9 @@ async function getJSON(path) {
 }
 
 async function postJSON(path, body) {
-  const r = await fetch(path, {method: "POST", headers: {"Content-Type": "application/json"},
-                               body: JSON.stringify(Object.assign({token: token}, body))});
+  const r = await fetch(path, {method: "POST", headers: {"Content-Type": "application/json",
+                                                        "Authorization": "Bearer " + token},
+                               body: JSON.stringify(body)});
   return r.json();
 }
 
