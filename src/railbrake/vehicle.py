@@ -846,7 +846,7 @@ def anchor_files(data: dict, folder: Path | None) -> dict:
     """The files a train file names (its brake steps' profiles, its valves' design files), relative
     to the train file's folder, made absolute in data (in place), so the train loads from any
     current folder; presets' names stay."""
-    from railbrake.sizing import profile_names
+    from railbrake.profiles import profile_names
     if folder is None or not isinstance(data, dict):
         return data
     for step in (data.get("brake_steps") or {}).values():

@@ -43,7 +43,7 @@ def _copy_condition(name: str, folder: Path) -> str:
 
 def _copy_train_files(train: dict, folder: Path) -> None:
     """The files the train names (brake step profiles, valve designs) copied into folder."""
-    from railbrake.sizing import profile_names
+    from railbrake.profiles import profile_names
     from railbrake.vehicle import valve_design_names
     for step in (train.get("brake_steps") or {}).values():
         step["profile"] = _copy_file(step["profile"], folder, profile_names(), "deceleration profile")
