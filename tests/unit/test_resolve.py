@@ -96,9 +96,9 @@ def test_overrides_stack_on_a_resolved_configuration():
 def test_python_sets_read_their_string_values_as_set_does():
     """sets={"k": "VALUE"} reads VALUE as `--set k=VALUE` does (a list, a number, a quantity)."""
     from railbrake.resolve import resolve as resolve_
-    by_cli = resolve_("emergency-250-dry", sets=["stop.max_time=150 s", "initial_speed=300 km/h",
+    by_cli = resolve_("emergency-250-dry", sets=["stop.max_time=150 s", "initial_speed=180 km/h",
                                                   "adhesion.zones=[{start: 400 m, end: 700 m, condition: leaves}]"])
-    by_api = resolve_("emergency-250-dry", sets={"stop.max_time": "150 s", "initial_speed": "300 km/h",
+    by_api = resolve_("emergency-250-dry", sets={"stop.max_time": "150 s", "initial_speed": "180 km/h",
                                                  "adhesion.zones": "[{start: 400 m, end: 700 m, condition: leaves}]"})
     assert by_api.canonical() == by_cli.canonical()
     assert by_api.scenario.spec.stop.max_time == 150.0 and len(by_api.scenario.spec.adhesion.zones) == 1
