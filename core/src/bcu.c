@@ -15,6 +15,8 @@ rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err)
     if ((s = rb_check_range(err, "bcu.service_decel", p->service_decel, 0.0, 3.0))) return s;
     if ((s = rb_check_range(err, "bcu.emergency_decel", p->emergency_decel, 0.0, 3.0))) return s;
     if ((s = rb_check_range(err, "bcu.service_jerk", p->service_jerk, 0.0, 20.0))) return s;
+    if ((s = rb_check_range(err, "bcu.ed_restore_rate", p->ed_restore_rate, 0.0, 1e3))) return s;
+    if ((s = rb_check_range(err, "bcu.ed_restore_delay", p->ed_restore_delay, 0.0, 60.0))) return s;
     for (int c = 0; c < p->n_cars; ++c) {
         if ((s = rb_check_positive(err, "bcu.car_mass", p->car_mass[c]))) return s;
         if ((s = rb_check_nonnegative(err, "bcu.pressure_gain", p->pressure_gain[c]))) return s;
@@ -45,7 +47,11 @@ rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_s
     rb_wsp_params defaults;
     rb_wsp_default_params(&defaults);
     rb_wsp_default_reset(&s->wsp_default, wsp ? wsp : &defaults);
-    for (int c = 0; c < RB_PLANT_MAX_CARS; ++c) s->command.pressure_demand[c] = p->atmosphere;
+    for (int c = 0; c < RB_PLANT_MAX_CARS; ++c) {
+        s->command.pressure_demand[c] = p->atmosphere;
+        s->ed_share[c] = 1.0;
+        s->wsp_quiet[c] = 1e9;   /* (no WSP activity before the run) */
+    }
     return RB_OK;
 }
 
@@ -153,8 +159,12 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) wsp_active |= s->wsp.active[c * RB_AXLES_PER_CAR + k];
         double gain = 0.0;
         double needed = car_force(p, c, emergency, service, speed, &gain);
+        s->wsp_quiet[c] = wsp_active ? 0.0 : s->wsp_quiet[c] + w->cycle;
+        double share = s->ed_share[c] + (p->ed_restore_rate > 0.0 ? p->ed_restore_rate * w->cycle : 1.0);
+        int quiet = s->wsp_quiet[c] >= p->ed_restore_delay;
+        s->ed_share[c] = wsp_active ? 0.0 : (!quiet ? s->ed_share[c] : (share < 1.0 ? share : 1.0));
         int ed_allowed = p->motor[c] && ed_step && !wsp_active;
-        s->command.ed_demand[c] = ed_allowed ? needed : 0.0;
+        s->command.ed_demand[c] = ed_allowed ? s->ed_share[c] * needed : 0.0;
         double ed = ed_allowed ? out->ed_force[c] : 0.0;
         s->command.pressure_demand[c] = car_pressure(p, c, gain, needed - ed);
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {

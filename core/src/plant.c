@@ -31,6 +31,10 @@ static rb_status check_car(const rb_plant_car *c, int i, rb_error *err)
                        c->vehicle.axles, RB_AXLES_PER_CAR);
     CHECK_CAR(rb_check_range, length, 1.0, 100.0);
     CHECK_CAR(rb_check_positive, ed_tau);
+    CHECK_CAR(rb_check_range, ed_slide_slip, 0.0, 1.0);
+    CHECK_CAR(rb_check_range, ed_slide_release, 0.0, c->ed_slide_slip);
+    CHECK_CAR(rb_check_range, ed_cut_rate, 0.0, 1e3);
+    CHECK_CAR(rb_check_range, ed_restore_rate, 0.0, 1e3);
     CHECK_CAR(rb_check_positive, supply_volume);
     CHECK_CAR(rb_check_positive, pilot_volume);
     CHECK_CAR(rb_check_positive, relay_volume);
@@ -327,6 +331,7 @@ rb_status rb_plant_init(const rb_plant_params *p, rb_plant_state *s, rb_error *e
         s->m_pilot[c] = p->atmosphere * car->pilot_volume / rt;
         s->m_relay[c] = p->atmosphere * car->relay_volume / rt;
         s->ep_demand_lag[c] = p->atmosphere;
+        s->ed_slide_factor[c] = 1.0;
         s->x[c] = -pos;
         s->v[c] = p->initial_speed;
         pos += car->length;

@@ -552,6 +552,30 @@ static double air_cylinders(const rb_plant_params *p, rb_plant_state *s, const w
 
 /* ------------------------------------------------------------------ mechanics */
 
+/* The traction control's slide control of the ED brake, per motor car with one (rb_plant_car.
+ * ed_slide_*): the deepest braking slip of the car's axles, (v - omega r) / v, against its
+ * thresholds; the fraction of the asked ED force it lets through falls at the cut rate while an
+ * axle slides and comes back at the restore rate once none does (as traction control units reduce
+ * and restore the motor torque of a sliding axle). The blending BCU sees the achieved ED force and
+ * gives the rest to the friction brake. */
+static void ed_slide_control(const rb_plant_params *p, rb_plant_state *s, double dt)
+{
+    const rb_plant_derived *d = &s->derived;
+    for (int c = 0; c < p->n_cars; ++c) {
+        const rb_plant_car *car = &p->car[c];
+        if (!(car->ed_slide_slip > 0.0) || !car->vehicle.motor) continue;
+        double v = s->v[c] > p->creep_speed_min ? s->v[c] : p->creep_speed_min, deepest = 0.0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
+            double slip = (s->v[c] - s->omega[a] * d->axle_radius[a]) / v;
+            deepest = slip > deepest ? slip : deepest;
+        }
+        double k = s->ed_slide_factor[c];
+        if (deepest > car->ed_slide_slip) k -= car->ed_cut_rate * dt;
+        else if (deepest < car->ed_slide_release) k += car->ed_restore_rate * dt;
+        s->ed_slide_factor[c] = k < 0.0 ? 0.0 : (k > 1.0 ? 1.0 : k);
+    }
+}
+
 static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
                            const rb_plant_faults *f, const double *cylinder, double dt)
 {
@@ -583,7 +607,9 @@ static void step_mechanics(const rb_plant_params *p, rb_plant_state *s, const rb
         for (int c = 0; c < n_cars; ++c) ed_lag_dt[c] = dt / (p->car[c].ed_tau + dt);
         ed_lag = ed_lag_dt;
     }
-    for (int c = 0; c < n_cars; ++c) s->ed_force[c] += (ed_target[c] - s->ed_force[c]) * ed_lag[c];
+    for (int c = 0; c < n_cars; ++c) s->ed_asked[c] += (ed_target[c] - s->ed_asked[c]) * ed_lag[c];
+    ed_slide_control(p, s, dt);
+    for (int c = 0; c < n_cars; ++c) s->ed_force[c] = s->ed_slide_factor[c] * s->ed_asked[c];
     for (int c = 0; c < n_cars; ++c) {   /* the cars' other forces and creep reference: vector loops */
         double v = s->v[c];
         double share = rb_running_resistance_law(&p->resistance, v) * d->mass_share[c];   /* loaded either way */

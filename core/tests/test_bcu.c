@@ -15,6 +15,49 @@ static rb_wsp_inputs inputs(double t, double train, double axle0)
     return in;
 }
 
+/* Blending under WSP: a motor car's ED demand is the car's whole demand; while its WSP acts it is
+ * withdrawn, stays so for ed_restore_delay after the WSP is at rest, then comes back by
+ * ed_restore_rate of the demand per second. */
+static int wsp_acting;
+static void acting_wsp(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out)
+{
+    (void)context; (void)in;
+    memset(out, 0, sizeof *out);
+    out->active[0] = (uint8_t)wsp_acting;
+}
+
+static void test_ed_blending_under_wsp(void)
+{
+    static rb_bcu_params b;
+    static rb_bcu_state s;
+    static rb_plant_outputs o;
+    memset(&b, 0, sizeof b);
+    b.n_cars = 1; b.cycle = 0.01; b.atmosphere = 1e5; b.emergency_decel = 1.0; b.ed_in_emergency = 1;
+    b.car_mass[0] = 50e3; b.pressure_gain[0] = 10.0; b.pressure_max[0] = 5e5; b.motor[0] = 1;
+    b.wsp_enabled = 1; b.wsp = acting_wsp;
+    b.ed_restore_rate = 0.5; b.ed_restore_delay = 1.0;
+    CHECK(rb_bcu_init(&b, NULL, &s, NULL) == RB_OK);
+    rb_brake_demand d = {1.0, 0.0};
+    double t = 0.0;
+    for (int a = 0; a < 4; ++a) o.wheel_speed_measured[a] = 50.0;
+    #define CYCLE() do { o.time = t; rb_bcu_update(&b, &s, &d, &o); t += b.cycle; } while (0)
+    CYCLE();
+    CHECK_CLOSE(s.command.ed_demand[0], 50e3, 1e-12, 0.0);
+    wsp_acting = 1;
+    CYCLE(); CYCLE();   /* the WSP's activity is seen at the next cycle */
+    CHECK(s.command.ed_demand[0] == 0.0);
+    wsp_acting = 0;
+    for (int i = 0; i < 99; ++i) CYCLE();   /* 0.99 s at rest: still withdrawn */
+    CHECK(s.command.ed_demand[0] == 0.0);
+    for (int i = 0; i < 11; ++i) CYCLE();
+    CHECK(s.command.ed_demand[0] > 0.0 && s.command.ed_demand[0] < 0.1 * 50e3);
+    for (int i = 0; i < 200; ++i) CYCLE();   /* 2 s at 0.5 per s */
+    CHECK_CLOSE(s.command.ed_demand[0], 50e3, 1e-12, 0.0);
+    #undef CYCLE
+    b.ed_restore_delay = -1.0;
+    CHECK(rb_bcu_check(&b, NULL) != RB_OK);
+}
+
 static void test_slide_cycle(void)
 {
     rb_wsp_params p;
@@ -136,6 +179,7 @@ static void test_service_jerk_ramp(void)
 
 int main(void)
 {
+    test_ed_blending_under_wsp();
     test_slide_cycle();
     test_safety_timer_on_continuous_venting();
     test_cylinder_vented_without_command_isolates_the_axle();

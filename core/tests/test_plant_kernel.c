@@ -326,9 +326,44 @@ static void test_ed_force(void)
     CHECK(held > 15e3);
 }
 
+/* The traction control's slide control of the ED brake: an axle of the motor car sliding deeper
+ * than ed_slide_slip cuts the fraction of the asked force let through by ed_cut_rate per second;
+ * with every axle rolling again it comes back by ed_restore_rate per second; the force achieved
+ * is that fraction of the asked (lagged) force. A trailer's ED stays untouched. */
+static void test_ed_slide_control(void)
+{
+    static rb_plant_params p;
+    static rb_plant_state s;
+    rb_plant_inputs in;
+    fill_plant(&p, 1, 50.0);
+    p.car[0].vehicle.motor = 1;
+    rb_ed_curve *e = &p.car[0].vehicle.ed;
+    memset(e, 0, sizeof *e);
+    e->terms = 1; e->c0[0] = 40e3; e->scale = 1.0;
+    p.car[0].ed_slide_slip = 0.01; p.car[0].ed_slide_release = 0.003;
+    p.car[0].ed_cut_rate = 50.0; p.car[0].ed_restore_rate = 0.5;
+    CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+    memset(&in, 0, sizeof in);
+    in.ed_demand[0] = 40e3;
+    for (int i = 0; i < 100; ++i) rb_plant_step(&p, &s, &in);
+    CHECK(s.ed_slide_factor[0] == 1.0 && s.ed_force[0] == s.ed_asked[0] && s.ed_force[0] > 10e3);
+    double r = p.car[0].vehicle.wheelset.wheel_radius;
+    s.omega[2] = 0.9 * s.v[0] / r;   /* 10 % slip on one axle */
+    rb_plant_step(&p, &s, &in);
+    CHECK_CLOSE(s.ed_slide_factor[0], 1.0 - 50.0 * 1e-3, 1e-12, 0.0);
+    CHECK_CLOSE(s.ed_force[0], s.ed_slide_factor[0] * s.ed_asked[0], 1e-12, 0.0);
+    for (int k = 0; k < RB_AXLES_PER_CAR; ++k) s.omega[k] = s.v[0] / r;   /* rolling */
+    double cut = s.ed_slide_factor[0];
+    rb_plant_step(&p, &s, &in);
+    CHECK_CLOSE(s.ed_slide_factor[0], cut + 0.5 * 1e-3, 1e-12, 0.0);
+    p.car[0].ed_slide_release = 0.02;   /* bad: the release above the slide threshold */
+    CHECK(rb_plant_check(&p, NULL) != RB_OK);
+}
+
 int main(void)
 {
     test_ed_force();
+    test_ed_slide_control();
     test_link_law();
     test_link_forms();
     test_kernels_agree_car_faults();

@@ -76,7 +76,8 @@ def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
         for k in sets:
             if not isinstance(k, str) or not k.strip():
                 raise TypeError(f"sets: key {k!r}: must be a dotted key such as 'initial_speed'")
-        items = [(k, _set_value(v) if isinstance(v, str) else v, f"set {k}") for k, v in sets.items()]
+        items = [(k, _set_value(v) if isinstance(v, str) else v, f"sets[{k!r}]")   # the caller's mapping, by its key
+                 for k, v in sets.items()]
     else:
         items = []
         for i, text in enumerate(sets):

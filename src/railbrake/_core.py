@@ -270,6 +270,7 @@ def _doubles(*names):
 class PlantCar(Structure):
     _fields_ = ([("vehicle", Car), ("length", c_double), ("axle_position", c_double * AXLES_PER_CAR),
                  ("contact", CreepContact), ("ed_tau", c_double)]
+                + _doubles("ed_slide_slip", "ed_slide_release", "ed_cut_rate", "ed_restore_rate")
                 + _doubles("supply_volume", "pilot_volume", "relay_volume", "cylinder_volume", "pipe_volume",
                            "charge_area", "ep_area", "ep_tau", "ep_band", "ep_supply_margin", "ep_bleed_area",
                            "relay_supply_area", "relay_exhaust_area", "relay_band", "relay_tau", "relay_sweep",
@@ -358,7 +359,8 @@ class BcuParams(Structure):
                 + [(n, SpeedTable * PLANT_MAX_CARS) for n in ("emergency_force", "service_force",
                                                              "pressure_per_newton")]
                 + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)]
-                + [("service_jerk", c_double)])
+                + [("service_jerk", c_double)]
+                + _doubles("ed_restore_rate", "ed_restore_delay"))
 
 
 class Scenario(Structure):

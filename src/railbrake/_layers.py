@@ -16,9 +16,9 @@ PACKAGE = "railbrake"
 
 # (layer, what it holds, module prefixes), lowest first. A prefix names a module and its submodules.
 LAYERS = (
-    ("foundations", "units, errors, argument checks, JSON, the layer table",
-     ("railbrake.units", "railbrake.errors", "railbrake._args", "railbrake.jsonio", "railbrake._changes",
-      "railbrake._layers", "railbrake._version")),
+    ("foundations", "units, errors, argument checks, JSON, whole-or-absent output files, the layer table",
+     ("railbrake.units", "railbrake.errors", "railbrake._args", "railbrake.jsonio", "railbrake.atomic",
+      "railbrake._changes", "railbrake._layers", "railbrake._version")),
     ("core binding", "ctypes mirror of the C core's structs and functions (every law is in core/)",
      ("railbrake._core",)),
     ("data and schemas", "data files read and validated: trains, scenarios, adhesion conditions, valves, "

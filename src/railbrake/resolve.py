@@ -27,7 +27,7 @@ from pydantic import BaseModel
 from railbrake import _core, config, vehicle
 from railbrake._changes import SetsLike, _assign, _keys_of, _parse_sets, _unwrap, apply_changes  # noqa: F401
 from railbrake._version import __version__
-from railbrake._args import name_or_path, whole
+from railbrake._args import name_or_path, show, whole
 from railbrake import scenario as scenarios
 from railbrake.errors import InputError
 
@@ -136,7 +136,7 @@ def _read_train(preset: str) -> _Source:
     path = Path(preset)
     if path.suffix in (".yaml", ".yml") and path.is_file():
         return _read(config.read_text(path), str(path), path.resolve().parent)
-    raise InputError(f"train = {preset!r}: not a preset ({', '.join(vehicle.preset_names())}) nor a YAML file")
+    raise InputError(f"train.preset = {show(preset)}: not a preset ({', '.join(vehicle.preset_names())}) nor a YAML file")
 
 
 def choices(key: str) -> tuple | None:
@@ -203,8 +203,10 @@ def _resolve(scenario, overrides: list) -> Resolved:
     source.data.pop(PROVENANCE_KEY, None)   # a run folder's config.yaml: what it was resolved from
     tree = copy.deepcopy(source.data)
     train_block = tree.setdefault("train", {})
+    locate = config.locator(source.origin, source.lines)
     if not isinstance(train_block, dict):
-        raise InputError(f"{source.origin}: train must be a mapping (preset, cars, load_case)")
+        raise InputError(f"{locate(('train',))}: train = {show(train_block)}: must be a mapping (preset, cars, "
+                         "load_case), e.g. train: {preset: crh380a-8}")
     inline = _inline_train(source)   # a run folder's config.yaml: the train file written out in it
     if inline is None:
         _check_train_keys(train_block, source)
@@ -213,12 +215,16 @@ def _resolve(scenario, overrides: list) -> Resolved:
         from railbrake.adhesion import preset_names as adhesion_presets
         names = adhesion_presets()
         if isinstance(adhesion.get("condition"), str):
-            adhesion["condition"] = _in_folder(adhesion["condition"], source.folder, names)
-        for zone in adhesion.get("zones") or []:
+            adhesion["condition"] = _in_folder(adhesion["condition"], source.folder, names,
+                                               f"{locate(('adhesion', 'condition'))}: adhesion.condition")
+        for i, zone in enumerate(adhesion.get("zones") or []):
             if isinstance(zone, dict) and isinstance(zone.get("condition"), str):
-                zone["condition"] = _in_folder(zone["condition"], source.folder, names)
+                zone["condition"] = _in_folder(zone["condition"], source.folder, names,
+                                               f"{locate(('adhesion', 'zones', i, 'condition'))}: "
+                                               f"adhesion.zones.{i}.condition")
     preset = train_block.get("preset", scenarios.Train.model_fields["preset"].default)
-    preset = _in_folder(str(preset), source.folder, vehicle.preset_names())
+    preset = _in_folder(str(preset), source.folder, vehicle.preset_names(),
+                        f"{locate(('train', 'preset'))}: train.preset")
     labels = {}
     for path, value, label in overrides:   # the train preset first: it says which file the train is
         if path == ("train", "preset"):

@@ -19,6 +19,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 from railbrake import _changes, config
 from railbrake._args import name_or_path, text as _text
 from railbrake.errors import InputError
+from railbrake.units import ms_to_kmh
 
 SCHEMA = "railbrake.scenario/1"
 
@@ -32,7 +33,8 @@ _UNITS = {
     "mm^2": ("area", 1e-6), "m^2": ("area", 1.0),
     "‰": ("gradient", 1e-3), "permille": ("gradient", 1e-3), "%": ("gradient", 1e-2),
 }
-_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$")
+# ASCII digits only: Python's float() and \d also take other scripts' digits (Arabic-Indic ٣ is 3)
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S+)\s*$", re.ASCII)
 
 
 def _quantity(dimension: str, bound: str | None = None):
@@ -373,7 +375,7 @@ class Scenario:
         from railbrake.adhesion import load_condition, run_outside_validity
         out = []
         for key, name in self.condition_keys():
-            why = run_outside_validity(load_condition(name), self.spec.initial_speed * 3.6)
+            why = run_outside_validity(load_condition(name), ms_to_kmh(self.spec.initial_speed))
             if why:
                 out.append(f"{'.'.join(str(k) for k in key)}: {why}")
         return out
@@ -395,7 +397,7 @@ class Scenario:
             return
         from railbrake.adhesion import load_condition, run_outside_validity
         for key, name in self.condition_keys():
-            why = run_outside_validity(load_condition(name), self.spec.initial_speed * 3.6)
+            why = run_outside_validity(load_condition(name), ms_to_kmh(self.spec.initial_speed))
             if why:
                 raise InputError(f"{self.where(*key)} = {name!r} with {self.where('initial_speed')} = "
                                  f"{self._as_written('initial_speed')}: {why}; give a condition valid there, "

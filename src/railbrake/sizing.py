@@ -111,6 +111,12 @@ def brake_step(train, kind: str = "emergency") -> tuple:
         raise InputError(f"train {train.name}: brake_steps.{kind}.profile: {exc}") from None
 
 
+def _same_profile(a: Profile, b: Profile) -> bool:
+    """The same profile however it was named (a preset, or a file the train's brake step names)."""
+    return (a.name == b.name and a.speed.shape == b.speed.shape and np.array_equal(a.speed, b.speed)
+            and np.array_equal(a.deceleration, b.deceleration))
+
+
 def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
     """(profile, ED blending, why): the profile asked for (default: the train's emergency step) and
     whether the ED brake blends: as given, else as the train's brake step of that profile says,
@@ -127,7 +133,7 @@ def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
         return profile, ed, "as asked"
     for kind in ("emergency", "service"):
         step = train.brake_step(kind)
-        if step.profile == profile.name:
+        if step.profile == profile.name or _same_profile(brake_step(train, kind)[0], profile):
             return profile, step.ed_blending, f"as the train's brake_steps.{kind}.ed_blending says"
     return profile, False, "the profile is none of the train's brake steps"
 
@@ -282,6 +288,9 @@ class StoppingResult:
     curve_speed: np.ndarray  # m/s
     curve_distance: np.ndarray  # m
     warnings: list = field(default_factory=list)
+    delay: Optional[float] = None     # s, ta used
+    build_up: Optional[float] = None  # s, tb used
+    simulated_response: bool = False  # ta, tb measured on the plant (simulation.response)
 
 
 def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max, gradients=()):
@@ -351,7 +360,10 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     limited to the supply) and, where the step blends it (ed), the ED brake act on the whole train
     with resistance, gradient and rotary inertia. Without a train:
     the profile's (or the constant `deceleration`'s) deceleration itself, no resistance.
-    Response: delay ta and build-up tb (default: the profile's); response_time sets te directly.
+    Response: delay ta and build-up tb; response_time sets te directly. Default with a train and
+    no profile: the train's own build-up, measured on a short run of the plant from v0 on dry rail
+    (railbrake.simulation.response.simulated, as `railbrake stopping-distance` does); else the
+    profile's.
     equivalent_response=True steps the brake on at te = ta + tb/2, False ramps it over tb.
     gradients: a piecewise gradient instead of `gradient`, (start m, rise/run) pairs along the
     track from the train's front at the brake's start (as a scenario's track.gradients), applied
@@ -365,6 +377,12 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
         prof, ed, _ = _profile_and_ed(trained, profile, ed)
     else:
         prof = load_profile("emergency" if profile is None else profile)
+    simulated = (trained is not None and deceleration is None and profile is None and response_time is None
+                 and delay is None and build_up is None)
+    if simulated:
+        from railbrake.simulation import response
+        measured = response.simulated(trained, v0)
+        delay, build_up = measured.delay, measured.build_up
     ta = prof.delay if delay is None else delay
     tb = prof.build_up if build_up is None else build_up
     if response_time is not None:
@@ -376,10 +394,10 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     if train is None:
         table = prof.table()
         result = _run(_core.rb_stop_profile, (ctypes.byref(table),), options, t_max, dt_out)
-        return StoppingResult(*result)
+        return StoppingResult(*result, delay=ta, build_up=tb)
     cmd, warnings = _pressure_command(trained, prof, v0, ed)
     result = _run(_core.rb_stop_train, (ctypes.byref(trained.c), ctypes.byref(cmd)), options, t_max, dt_out)
-    return StoppingResult(*result, warnings=warnings)
+    return StoppingResult(*result, warnings=warnings, delay=ta, build_up=tb, simulated_response=simulated)
 
 
 def _pairs(name: str, pairs) -> list:

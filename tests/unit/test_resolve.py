@@ -102,3 +102,23 @@ def test_python_sets_read_their_string_values_as_set_does():
                                                  "adhesion.zones": "[{start: 400 m, end: 700 m, condition: leaves}]"})
     assert by_api.canonical() == by_cli.canonical()
     assert by_api.scenario.spec.stop.max_time == 150.0 and len(by_api.scenario.spec.adhesion.zones) == 1
+
+
+SCENARIO_TEXT = (resources.files("railbrake") / "data" / "scenarios" / "emergency-250-dry.yaml").read_text()
+
+
+@pytest.mark.parametrize("train, words", [
+    ("train: crh380a-8", ["line 4", "train = 'crh380a-8'", "must be a mapping"]),   # a scalar: one error
+    ("train: {preset: " + "x" * 10_000 + "}", ["line 4", "train.preset", "too long"]),
+    ("train: {preset: " + "x" * 300 + ".yaml}", ["line 4", "train.preset", "too long"]),
+])
+def test_a_bad_train_gives_one_error_with_file_line_and_key(tmp_path, train, words):
+    lines = SCENARIO_TEXT.splitlines()
+    assert lines[3].startswith("train:")
+    path = tmp_path / "scenario.yaml"
+    path.write_text("\n".join(lines[:3] + [train] + lines[4:]) + "\n")
+    with pytest.raises(InputError) as caught:
+        resolve(str(path))
+    message = str(caught.value)
+    assert message.startswith(str(path)) and all(w in message for w in words), message
+    assert len(message) < 400 and "File name too long" not in message   # the 10 kB name is not echoed

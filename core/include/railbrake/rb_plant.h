@@ -80,6 +80,11 @@ typedef struct {
     double axle_position[RB_AXLES_PER_CAR]; /* m from the car's front end */
     rb_creep_contact contact; /* Hertz/Kalker data of one wheel */
     double ed_tau;            /* s, ED force response (first-order lag) */
+    /* the traction control's slide control of the ED brake (motor cars): while an axle of the car
+       slides deeper than ed_slide_slip (braking slip, > 0) it cuts the car's ED force at
+       ed_cut_rate (fraction per s), and once every axle is below ed_slide_release it restores it
+       at ed_restore_rate; ed_slide_slip = 0: none */
+    double ed_slide_slip, ed_slide_release, ed_cut_rate, ed_restore_rate;
     /* pneumatics */
     double supply_volume, pilot_volume, relay_volume, cylinder_volume, pipe_volume; /* m^3 */
     double charge_area;       /* m^2, check valve + choke from the MR pipe to the supply reservoir */
@@ -417,6 +422,9 @@ typedef struct {
                                                      wall's (plant_pilot.c; 1: isothermal) */
     double pilot_volume[RB_PLANT_MAX_CARS];       /* its volume over the volume at rest at the last
                                                      update (the membrane's sweep) */
+    /* ED brake: the force the traction control is asked for (after its response lag) and the
+       fraction of it its slide control lets through (1: no slide; ed_force = the product) */
+    double ed_asked[RB_PLANT_MAX_CARS], ed_slide_factor[RB_PLANT_MAX_CARS];
 } rb_plant_state;
 
 /* Checks every parameter; the message names the field, its value and the allowed range. */

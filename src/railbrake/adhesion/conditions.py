@@ -99,6 +99,8 @@ class EnergyConditioning:
     source: str = "user input [T]"
 
     def __post_init__(self):
+        real("leading_factor", self.leading_factor)
+        real("reference_energy", self.reference_energy)
         _core.call(_core.rb_conditioning_energy_check, ctypes.byref(self._c()))
 
     def _c(self) -> _core.ConditioningEnergy:
@@ -381,7 +383,7 @@ class Peak:
 
 
 def _contact(contact: HertzContact | None) -> HertzContact:
-    return default_contact() if contact is None else contact
+    return default_contact() if contact is None else instance("contact", contact, HertzContact)
 
 
 def peak_adhesion(condition: ConditionLike, speed: float, axle: int = 0,
@@ -418,6 +420,8 @@ def creep_curves(condition: ConditionLike, speeds, axle: int = 0,
     params = cond.params_at_axle(axle)
     if creep is not None:
         creep = reals("creep", creep)
+        if creep.size == 0:
+            raise InputError("creep: an empty array; give the creep values of the curves (or None for 0 to 0.4)")
         outside = [why for why in (creep_outside_validity(cond, float(x)) for x in (creep.min(), creep.max())) if why]
         if outside:
             warnings.warn(outside[0], AdhesionRangeWarning, stacklevel=2)

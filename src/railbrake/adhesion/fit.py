@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from railbrake import _args
 from railbrake.contact import HertzContact, PolachParams, default_contact, polach_coefficient
 from railbrake.errors import InputError
 
@@ -33,9 +34,18 @@ class PolachFit:
 
 
 def _check_data(creep, coefficient, speed):
-    creep = np.asarray(creep, dtype=float).ravel()
-    coefficient = np.asarray(coefficient, dtype=float).ravel()
-    speed = np.broadcast_to(np.asarray(speed, dtype=float), creep.shape).astype(float)
+    try:   # the lengths first: a shorter column is named as such, whatever it holds
+        sizes = np.size(creep), np.size(coefficient)
+    except (ValueError, TypeError):
+        sizes = None
+    if sizes and sizes[0] != sizes[1]:
+        raise InputError(f"coefficient: {sizes[1]} values for {sizes[0]} creep values")
+    creep = _args.reals("creep", creep).ravel()
+    coefficient = _args.reals("coefficient", coefficient).ravel()
+    speed = _args.reals("speed", speed)
+    if speed.ndim and speed.ravel().shape != creep.shape:
+        raise InputError(f"speed: {speed.size} values for {creep.size} creep values (or give one speed)")
+    speed = np.broadcast_to(speed.ravel() if speed.ndim else speed, creep.shape).astype(float)
     if coefficient.shape != creep.shape:
         raise InputError(f"coefficient: {coefficient.size} values for {creep.size} creep values")
     for name, values in (("creep", creep), ("coefficient", coefficient), ("speed", speed)):
@@ -54,6 +64,18 @@ def check_points(creep, coefficient, speed, where, speed_unit: tuple = ("m/s", 1
     (e.g. 'creep[3]' or 'data.csv, line 5: creep'); speed_unit: (unit, factor to m/s) of `speed`.
     Creep given in percent is refused with a hint."""
     from railbrake import config
+    creep, coefficient = _args.reals("creep", creep).ravel(), _args.reals("coefficient", coefficient).ravel()
+    speed = _args.reals("speed", speed)
+    if speed.ndim and speed.ravel().shape != creep.shape:
+        raise InputError(f"speed: {speed.size} values for {creep.size} creep values (or give one speed)")
+    speed = np.broadcast_to(speed.ravel() if speed.ndim else speed, creep.shape)
+    if coefficient.shape != creep.shape:
+        raise InputError(f"coefficient: {coefficient.size} values for {creep.size} creep values")
+    if not callable(where):
+        raise TypeError(f"where = {_args.show(where)}: must be a function (name, index) -> the value's label")
+    if not (isinstance(speed_unit, tuple) and len(speed_unit) == 2 and isinstance(speed_unit[0], str)):
+        raise TypeError(f"speed_unit = {_args.show(speed_unit)}: must be (unit, factor to m/s), e.g. ('km/h', 1 / 3.6)")
+    _args.real("speed_unit[1]", speed_unit[1], 0.0, low_open=True)
     for name, values, bound, per, unit in (("creep", creep, "adhesion.creep", 1.0, ""),
                                            ("coefficient", coefficient, "adhesion.coefficient", 1.0, ""),
                                            ("speed", speed, "train.table_speed", speed_unit[1], speed_unit[0])):
@@ -89,8 +111,8 @@ def identify_polach(creep, coefficient, speed, contact: HertzContact | None = No
     if not _has_peak(creep, coefficient, speed):
         raise InputError("no peak: at every speed the measured |F/Q| still rises at the largest "
                          "creep, so mu0, A, B and kS cannot be determined; measure beyond the peak")
-    contact = default_contact() if contact is None else contact
-    q = contact.normal_force if normal_force is None else float(normal_force)
+    contact = default_contact() if contact is None else _args.instance("contact", contact, HertzContact)
+    q = contact.normal_force if normal_force is None else _args.real("normal_force", normal_force, 0.0, low_open=True)
 
     def residual(x):
         return polach_coefficient(creep, speed, q, contact, PolachParams(*x)) - coefficient
@@ -103,7 +125,8 @@ def identify_polach(creep, coefficient, speed, contact: HertzContact | None = No
         _, vectors = np.linalg.eigh(jtj)
         weakest = vectors[:, 0]
         combo = " + ".join(f"{w:.2f}*{n}" for w, n in zip(weakest, PARAMETER_NAMES) if abs(w) > 0.1)
-        raise InputError(f"the data do not determine the parameters: the combination {combo} "
+        raise InputError(f"creep, coefficient, speed (normal_force {q:g} N): the data do not determine the "
+                         f"parameters: the combination {combo} "
                          "is free; add speeds or points beyond the peak")
     dof = max(creep.size - len(PARAMETER_NAMES), 1)
     covariance = np.linalg.inv(jtj) * (2.0 * best.cost / dof)

@@ -10,14 +10,18 @@ from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import yaml
 
 from railbrake import sizing, vehicle
-from railbrake._args import real
+from railbrake._args import flag, real, reals, show
 from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
+
+if TYPE_CHECKING:   # the simulation package is imported only when a stop is run (emergency_stop)
+    from railbrake.simulation.response import BuildUp
 
 CURVE_STEP_S = 0.05   # s between the stop's output samples the interval decelerations interpolate
 # an interval from v1 counts when the braking curve starts at most this fraction below v1 (the
@@ -41,7 +45,7 @@ def equivalent_deceleration(v0: float, distance: float, response_time: float) ->
     response_time = real("response_time", response_time, 0.0)
     braking = distance - v0 * response_time
     if not braking > 0.0:
-        raise InputError(f"distance = {distance:g} m: must exceed the response distance v0 te = "
+        raise InputError(f"distance = {distance:g} m (v0, response_time): must exceed the response distance v0 te = "
                          f"{v0 * response_time:g} m")
     return v0 * v0 / (2.0 * braking)
 
@@ -50,7 +54,10 @@ def braking_curve(time, speed, distance, response_time: float) -> tuple[np.ndarr
     """(speed m/s, distance m) of a stop from the end of its equivalent response time te on: the
     brake acts from there (EN 14531-1), so a mean deceleration over the first speed interval does
     not count the free run during te. The sample at te is interpolated."""
-    time, speed, distance = (np.asarray(x, float) for x in (time, speed, distance))
+    time, speed, distance = reals("time", time), reals("speed", speed), reals("distance", distance)
+    if time.ndim != 1 or time.size < 2 or speed.shape != time.shape or distance.shape != time.shape:
+        raise InputError(f"time, speed, distance: three arrays of one length >= 2 (here {time.shape}, "
+                         f"{speed.shape}, {distance.shape})")
     te = real("response_time", response_time, 0.0)
     after = time > te
     if not after.any():
@@ -65,7 +72,12 @@ def interval_decelerations(speed, distance, intervals_kmh) -> list[dict]:
     the two speeds interpolated linearly in speed. An interval above the curve's first speed is left
     out, one that holds it starts there: its from_kmh is that speed (a stop from 350 km/h has run
     down a little by the end of te)."""
-    speed, distance = np.asarray(speed, float), np.asarray(distance, float)
+    speed, distance = reals("speed", speed).ravel(), reals("distance", distance).ravel()
+    if not isinstance(intervals_kmh, (list, tuple)) or not all(
+            isinstance(i, (list, tuple)) and len(i) == 2 for i in intervals_kmh):
+        raise TypeError(f"intervals_kmh = {show(intervals_kmh)}: must be a list of [from, to] km/h pairs")
+    for i, pair in enumerate(intervals_kmh):
+        reals(f"intervals_kmh[{i}]", pair, 0.0)
     if speed.size < 2 or speed.size != distance.size:
         raise InputError(f"the stop's curve: {speed.size} speeds and {distance.size} distances, "
                          "at least two of each and as many")
@@ -75,7 +87,7 @@ def interval_decelerations(speed, distance, intervals_kmh) -> list[dict]:
     for v1_kmh, v2_kmh in intervals_kmh:
         v1, v2 = kmh_to_ms(float(v1_kmh)), kmh_to_ms(float(v2_kmh))
         if not v1 > v2 >= 0.0:
-            raise InputError(f"speed interval [{v1_kmh}, {v2_kmh}] km/h: the first speed must exceed the "
+            raise InputError(f"intervals_kmh: speed interval [{v1_kmh}, {v2_kmh}] km/h: the first speed must exceed the "
                              "second, both >= 0")
         if v2 >= first or v1 > first * (1 + INTERVAL_START_TOLERANCE):
             continue
@@ -113,17 +125,23 @@ class Stop:
     v0: float                 # m/s
     distance: float           # m
     time: float               # s
-    delay: float              # s, ta (simulated)
-    build_up: float           # s, tb (simulated)
+    measured: BuildUp         # ta, tb and te of the simulated emergency stop
     curve_time: np.ndarray    # s along the stop
     speed: np.ndarray         # m/s
     along: np.ndarray         # m
     warnings: list = field(default_factory=list)
 
     @property
+    def delay(self) -> float:
+        return self.measured.delay
+
+    @property
+    def build_up(self) -> float:
+        return self.measured.build_up
+
+    @property
     def response(self) -> float:
-        """te = ta + tb / 2 (s)."""
-        return self.delay + 0.5 * self.build_up
+        return self.measured.response
 
 
 def emergency_stop(train: vehicle.Train, v0: float, preset: str | None) -> Stop:
@@ -132,7 +150,7 @@ def emergency_stop(train: vehicle.Train, v0: float, preset: str | None) -> Stop:
     measured = response.simulated(train, v0, preset=preset)
     r = sizing.stopping_distance(v0, train=train, delay=measured.delay, build_up=measured.build_up,
                                  dt_out=CURVE_STEP_S)
-    return Stop(v0, r.distance, r.time, measured.delay, measured.build_up, r.curve_time, r.curve_speed,
+    return Stop(v0, r.distance, r.time, measured, r.curve_time, r.curve_speed,
                 r.curve_distance, list(r.warnings))
 
 
@@ -208,6 +226,10 @@ def _tsi(train: vehicle.Train, preset: str | None) -> list[dict]:
 def calculate(train, load_case: str | None = None, force_lambda: bool = False) -> BrakeCalculation:
     """The brake calculation of `train` (preset name, train file or vehicle.Train) in `load_case` (tare, normal,
     crush; default: the train file's)."""
+    if load_case is not None and load_case not in vehicle.LOAD_CASES:
+        raise InputError(f"load_case = {show(load_case)}: must be one of {', '.join(vehicle.LOAD_CASES)} or None "
+                         "(the train file's)")
+    force_lambda = flag("force_lambda", force_lambda)
     t = vehicle.load_train(train, load_case or True)
     preset = str(train) if isinstance(train, (str, Path)) else None   # the simulated stop's train
     _, ed = sizing.brake_step(t, "emergency")

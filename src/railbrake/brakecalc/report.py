@@ -8,6 +8,7 @@ import html
 import math
 from pathlib import Path
 
+from railbrake import _args
 from railbrake.brakecalc.calc import BrakeCalculation, settings
 
 STYLE = ("body{font-family:sans-serif;margin:1.5em;max-width:1100px}table{border-collapse:collapse;font-size:13px;"
@@ -24,8 +25,13 @@ def down(value: float, step: float = 1.0) -> float:
     return math.floor(value / step + 1e-12) * step
 
 
+def _calcs(calcs) -> list[BrakeCalculation]:
+    return _args.items("calcs", calcs, BrakeCalculation)
+
+
 def as_json(calcs: list[BrakeCalculation]) -> dict:
     """Every figure unrounded, SI or the unit in its key, with the sources of the published ones."""
+    calcs = _calcs(calcs)
     s = settings()
     return {"schema": "railbrake.brake-calculation-report/1",
             "sources": {k: s[k]["source"] for k in ("uic544", "en14531", "tsi")},
@@ -104,6 +110,7 @@ def _train_html(c: BrakeCalculation) -> str:
 
 
 def to_html(calcs: list[BrakeCalculation], title: str = "railbrake brake calculation") -> str:
+    calcs, title = _calcs(calcs), _args.text("title", title)
     s = settings()
     summary = _table(SUMMARY_HEADERS, [[html.escape(cell) for cell in row] for row in summary_rows(calcs)])
     sources = "".join(f"<p class='source'><b>{name}</b>: {html.escape(' '.join(s[key]['source'].split()))}</p>"
@@ -118,10 +125,10 @@ def to_html(calcs: list[BrakeCalculation], title: str = "railbrake brake calcula
 
 def write(calcs: list[BrakeCalculation], folder: Path) -> tuple[Path, Path]:
     """brake-calculation.json and brake-calculation.html in folder (made if missing)."""
-    from railbrake import jsonio
-    folder = Path(folder)
+    from railbrake import atomic, jsonio
+    calcs, folder = _calcs(calcs), _args.path("folder", folder)
     folder.mkdir(parents=True, exist_ok=True)
     json_path, html_path = folder / "brake-calculation.json", folder / "brake-calculation.html"
-    json_path.write_text(jsonio.dumps(as_json(calcs), indent=2) + "\n")
-    html_path.write_text(to_html(calcs))
+    atomic.write_text(json_path, jsonio.dumps(as_json(calcs), indent=2) + "\n")
+    atomic.write_text(html_path, to_html(calcs))
     return json_path, html_path

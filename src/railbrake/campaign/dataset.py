@@ -299,8 +299,29 @@ def read(out: Path) -> pa.Table:
 
 
 def read_manifest(out: Path) -> dict | None:
+    """DIR/study.json, None without one; InputError naming it when it is damaged."""
     path = Path(out) / MANIFEST
-    return json.loads(path.read_text()) if path.is_file() else None
+    if not path.is_file():
+        return None
+    try:
+        manifest = json.loads(path.read_bytes())
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: damaged ({exc}): not the study's record; restore it, or run the study "
+                         "into a new folder") from None
+    if not isinstance(manifest, dict):
+        raise InputError(f"{path}: damaged (a JSON {type(manifest).__name__}, not the study's record); restore "
+                         "it, or run the study into a new folder")
+    for key, kinds in _MANIFEST_TYPES.items():
+        if manifest.get(key) is not None and not isinstance(manifest[key], kinds):
+            raise InputError(f"{path}: damaged: {key} = {manifest[key]!r} is not a "
+                             f"{' or '.join(k.__name__ for k in kinds)}; restore it, or run the study into a new folder")
+    return manifest
+
+
+# the shape of study.json's entries (execute._manifest writes them)
+_MANIFEST_TYPES = {"schema": (str,), "study": (str,), "base": (str,), "factors": (dict,), "factor_order": (list,),
+                   "kinds": (dict,), "kpis": (list,), "kpi_kinds": (dict,), "runs": (int,), "design": (str,),
+                   "samples": (int,)}
 
 
 def write_manifest(out: Path, manifest: dict) -> None:

@@ -21,8 +21,9 @@ import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from railbrake import atomic
 from railbrake._args import whole
-from railbrake.campaign import dataset, identity
+from railbrake.campaign import dataset, identity, lock
 from railbrake.campaign.plan import Run, iter_plan
 from railbrake.campaign.study import Study
 from railbrake.errors import InputError
@@ -31,6 +32,7 @@ BATCHES_PER_WORKER = 8      # enough for the load to balance at the end of a stu
 IN_FLIGHT_PER_WORKER = 3    # batches handed out ahead per worker: none waits for the next one
 MAX_BATCH = 32              # runs; bounds what a kill loses
 CONNECT_TIMEOUT = 10.0      # s for a scheduler to answer
+START_ATTEMPTS = 3          # a local cluster whose worker was lost while starting is started again
 RETRIES = 2                 # a batch whose worker died is rerun by Dask; these are for other errors
 
 
@@ -101,10 +103,19 @@ def connect(scheduler: str | None, workers: int | None, timeout: float = CONNECT
         raise InputError(f"--workers {n}: must be at least 1")
     # one thread per worker process, numpy's BLAS included: the workers share the cores already
     single = {name: "1" for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")}
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=dashboard,
-                           worker_dashboard_address=None, silence_logs=logging.ERROR,
-                           env=single)
-    return Client(cluster), cluster
+    for attempt in range(1, START_ATTEMPTS + 1):
+        try:
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=dashboard,
+                                   worker_dashboard_address=None, silence_logs=logging.ERROR, env=single)
+            return Client(cluster), cluster
+        except Exception as exc:   # noqa: BLE001 - e.g. "Nanny failed to start worker process"
+            # a worker process lost while it starts: LocalCluster has closed what it had started
+            if attempt == START_ATTEMPTS:
+                raise InputError(f"--workers {n}: the local Dask cluster failed to start {START_ATTEMPTS} times "
+                                 f"({exc.__class__.__name__}: {exc})") from None
+            warnings.warn(f"a Dask worker was lost while the local cluster started ({exc.__class__.__name__}: "
+                          f"{exc}); starting it again ({attempt + 1} of {START_ATTEMPTS})", RuntimeWarning,
+                          stacklevel=2)
 
 
 def batch_size_for(pending: int, workers: int, size: int | None = None) -> int:
@@ -199,9 +210,17 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
               on_connect=None) -> Summary:
     """Run what the dataset in `out` lacks. progress(done, total, failed) after each batch;
     dashboard: the local cluster's dashboard address (connect); on_connect(client) once connected
-    (e.g. to show client.dashboard_link)."""
+    (e.g. to show client.dashboard_link). One client at a time on out (campaign.lock): a second
+    is refused naming the first's host and PID."""
     _check_counts(workers=workers, batch_size=batch_size)
     out = Path(out)
+    with lock.holding(out):
+        return _run_held(study, out, workers, scheduler, batch_size, timeseries, progress, connect_timeout,
+                         dashboard, on_connect)
+
+
+def _run_held(study, out, workers, scheduler, batch_size, timeseries, progress, connect_timeout, dashboard,
+              on_connect) -> Summary:
     # the study's keys are the one list held whole (identical configurations run once); the runs
     # are planned again one at a time as they are handed out
     keys = list(dict.fromkeys(r.key for r in iter_plan(study)))
@@ -220,7 +239,7 @@ def run_study(study: Study, out: Path, workers: int | None = None, scheduler: st
         dataset.clean(out)
         manifest = _manifest(study, out, None, summary.runs)
         dataset.write_manifest(out, manifest)
-        (out / "study.yaml").write_text(study.text)
+        atomic.write_text(out / "study.yaml", study.text)
         summary.workers = len(client.scheduler_info()["workers"])
         if progress:
             progress(0, n_pending, 0)

@@ -20,7 +20,8 @@ def _zone(parts: dict, where: str) -> dict:
         raise InputError(f"{where}: an adhesion zone needs {', '.join('zone.' + m for m in missing)}")
     start, length = quantity(parts["start"]), quantity(parts["length"])
     if not start or not length or start[2] != "length" or length[2] != "length":
-        raise InputError(f"{where}: zone.start and zone.length are lengths with units, e.g. '1500 m'")
+        raise InputError(f"{where}: zone.start = {parts['start']!r}, zone.length = {parts['length']!r}: both must "
+                         "be lengths with units, e.g. '1500 m'")
     end = start[0] + length[0]
     scale = quantity(f"1 {start[1]}")[0]
     return {"start": parts["start"], "end": f"{end / scale:.12g} {start[1]}", "condition": parts["condition"]}

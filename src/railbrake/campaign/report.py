@@ -13,10 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from railbrake import config
+from railbrake import atomic, config
 from railbrake.campaign import dataset
 from railbrake.campaign.assess import assess, rank, worst
 from railbrake.campaign.study import StudyFile
+from railbrake.errors import InputError
 
 PLOTTED = ("delta_s_pct", "kwet", "adhesion_utilisation", "air_drawn_kg", "air_consumed_kg",
            "stopping_distance_m", "min_supply_bar", "max_slip")
@@ -290,14 +291,18 @@ def sections(c: Campaign) -> tuple[list[tuple[str, list, list]], dict]:
         tables.append(_points_table(c))
     tuning = c.folder / "tuning" / "summary.json"
     if tuning.is_file():
-        t = json.loads(tuning.read_text())
-        rows = [["default", _fmt(t["default"]["worst_delta_s_pct"]), _fmt(t["default"]["locks"]), ""],
-                ["tuned", _fmt(t["tuned"]["worst_delta_s_pct"]), _fmt(t["tuned"]["locks"]),
-                 ", ".join(f"{k} = {v:.4g}" for k, v in t["tuned"]["params"].items())]]
-        cases = t.get("cases", "all")
-        cases = "all cases" if cases == "all" else "cases " + ", ".join(cases)
-        tables.append((f"WSP tuning ({t['evaluations']} evaluations, {t.get('objective', '')}, {cases})", ["WSP", "worst dS (%)", "locks", "parameters"],
-                       rows))
+        try:
+            t = json.loads(tuning.read_text())
+            rows = [["default", _fmt(t["default"]["worst_delta_s_pct"]), _fmt(t["default"]["locks"]), ""],
+                    ["tuned", _fmt(t["tuned"]["worst_delta_s_pct"]), _fmt(t["tuned"]["locks"]),
+                     ", ".join(f"{k} = {v:.4g}" for k, v in t["tuned"]["params"].items())]]
+            cases = t.get("cases", "all")
+            cases = "all cases" if cases == "all" else "cases " + ", ".join(cases)
+            tables.append((f"WSP tuning ({t['evaluations']} evaluations, {t.get('objective', '')}, {cases})", ["WSP", "worst dS (%)", "locks", "parameters"],
+                           rows))
+        except (ValueError, KeyError, TypeError, AttributeError) as exc:
+            raise InputError(f"{tuning}: damaged ({exc.__class__.__name__}: {exc}): not a tuning summary; "
+                             "tune again or remove it") from None
         summary["tuning"] = t
     indices = sobol(c, [k for k in c.kpis if k in PLOTTED or k == "stopping_distance_m"])
     if indices:
@@ -360,11 +365,11 @@ def render(c: Campaign, output: Path) -> dict:
         body.append(f"<h2>{html.escape(name)}</h2><img alt='{html.escape(name)}' src='data:image/png;base64,{image}'>")
     output = Path(output)
     output.parent.mkdir(parents=True, exist_ok=True)
-    output.write_text(f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+    atomic.write_text(output, f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
                       f"<style>{STYLE}</style></head><body>{''.join(body)}</body></html>")
     md = [f"# {title}", "", f"**{verdict}**", "",
           f"Study `{c.study.name}` on `{c.study.base}`: {c.study.design.kind} design. Plots: {output.name}.", ""]
     for name, headers, table_rows in tables:
         md += [f"## {name}", "", _md_table(headers, table_rows) if table_rows else "none", ""]
-    output.with_suffix(".md").write_text("\n".join(md))
+    atomic.write_text(output.with_suffix(".md"), "\n".join(md))
     return summary

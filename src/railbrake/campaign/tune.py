@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railbrake import atomic
 from railbrake.campaign import execute
 from railbrake.campaign.assess import assess, worst
 from railbrake.campaign.factors import Factor
@@ -310,9 +311,9 @@ def write_outputs(summary: dict, complete, params, objective, air_limit, out: Pa
     import yaml
     fragment = {"wsp": {p.key.split(".", 1)[1]: p.factor.file_value(summary["tuned"]["params"][p.key.split(".", 1)[1]])
                         for p in params}}
-    (out / "wsp-fragment.yaml").write_text(
+    atomic.write_text(out / "wsp-fragment.yaml",
         "# WSP parameters from 'railbrake wsp tune' (paste into a scenario)\n" + yaml.safe_dump(fragment, sort_keys=False))
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    atomic.write_text(out / "summary.json", json.dumps(summary, indent=2))
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ds = [t.user_attrs["worst_delta_s_pct"] for t in complete]
     ok = [t.user_attrs["locks"] == 0 for t in complete]
@@ -327,7 +328,7 @@ def write_outputs(summary: dict, complete, params, objective, air_limit, out: Pa
     ax.set_ylabel("worst dS (%)")
     ax.legend()
     ax.grid(alpha=0.3)
-    fig.savefig(out / "convergence.png", dpi=100, bbox_inches="tight")
+    atomic.save_figure(fig, out / "convergence.png", dpi=100, bbox_inches="tight")
     plt.close(fig)
     if objective == "pareto":
         fig, ax = plt.subplots(figsize=(5, 3.5))
@@ -337,5 +338,5 @@ def write_outputs(summary: dict, complete, params, objective, air_limit, out: Pa
         ax.set_xlabel("air drawn (kg)")
         ax.set_ylabel("worst dS (%)")
         ax.legend()
-        fig.savefig(out / "front.png", dpi=100, bbox_inches="tight")
+        atomic.save_figure(fig, out / "front.png", dpi=100, bbox_inches="tight")
         plt.close(fig)

@@ -10,6 +10,7 @@ import typer
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+from railbrake import atomic
 from railbrake.cli._common import prepare_folder, print_json, reports_errors
 
 app = typer.Typer(help="ETCS braking model of a train: A_brake_emergency, T_brake, Kdry_rst, Kwet_rst.",
@@ -50,12 +51,13 @@ def braking_model(
         m = model.braking_model(spec, folder, workers,
                                 progress=lambda n, total: bar.update(task, completed=n, total=total))
     data = export.to_json(m)
-    (folder / "braking-model.json").write_text(jsonio.dumps(data, indent=1))
+    atomic.write_text(folder / "braking-model.json", jsonio.dumps(data, indent=1))
     train_data = service.service_data(data)
-    (folder / "service-brake.json").write_text(jsonio.dumps(train_data, indent=1))
-    (folder / "osrd-etcs-brake-params.json").write_text(
-        jsonio.dumps(osrd.document(data, train_data, osrd_level, osrd_layout), indent=1))
-    (folder / "etcs-train-data.json").write_text(jsonio.dumps(osrd.train_data(data, train_data, osrd_level), indent=1))
+    atomic.write_text(folder / "service-brake.json", jsonio.dumps(train_data, indent=1))
+    atomic.write_text(folder / "osrd-etcs-brake-params.json",
+                      jsonio.dumps(osrd.document(data, train_data, osrd_level, osrd_layout), indent=1))
+    atomic.write_text(folder / "etcs-train-data.json",
+                      jsonio.dumps(osrd.train_data(data, train_data, osrd_level), indent=1))
     report.write(m, folder / "report.html")
     if json:
         print_json(data)
@@ -102,7 +104,7 @@ def curves(
         train_data = service.service_data(data)
     result = etcs_curves.compute(data, train_data, nv.load_track(track), nv.load_national(national))
     folder = prepare_folder(out or Path("out") / "etcs-curves" / Path(str(data["train"])).stem, "--out")
-    (folder / "curves.json").write_text(jsonio.dumps(result, indent=1))
+    atomic.write_text(folder / "curves.json", jsonio.dumps(result, indent=1))
     curves_report.write(result, folder / "curves.html", folder / "curves.png")
     if json:
         print_json(result)

@@ -14,8 +14,6 @@ from railbrake import vehicle
 from railbrake.cli._common import prepare_folder, print_json, reports_errors
 from railbrake.errors import InputError
 
-LOAD_CASES = ("tare", "normal", "crush")
-
 app = typer.Typer(help="Reports computed from a train file.", no_args_is_help=True)
 
 
@@ -35,8 +33,8 @@ def brake(
     """Braked weight and brake percentage (UIC 544-1), EN 14531-1 mean decelerations and the
     emergency stopping distances against the TSI table, with pass/fail and margin."""
     from railbrake import brakecalc
-    if load_case is not None and load_case not in LOAD_CASES:
-        raise InputError(f"--load-case = {load_case!r}: must be one of {', '.join(LOAD_CASES)}")
+    if load_case is not None and load_case not in vehicle.LOAD_CASES:
+        raise InputError(f"--load-case = {load_case!r}: must be one of {', '.join(vehicle.LOAD_CASES)}")
     folder = prepare_folder(out)
     calcs = [brakecalc.calculate(t, load_case, force_lambda) for t in (trains or vehicle.preset_names())]
     if folder is not None:

@@ -25,7 +25,14 @@ DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 def warnings_for(result) -> list[str]:
     """What a brake engineer must not miss in a run (railbrake.results.kpis.warnings)."""
     from railbrake.results import kpis as info
-    return info.warnings(result.kpis)
+    return info.warnings(result.kpis, healthy_reference(result))
+
+
+def healthy_reference(result) -> float | None:
+    """The healthy brake's cylinder_shortfall_s a run's is judged on, when the run had one
+    (simulation.response.healthy_shortfall: a short run, made only then)."""
+    from railbrake.simulation import response
+    return response.healthy_shortfall(result) if (result.kpis.get("cylinder_shortfall_s") or 0.0) > 0.0 else None
 
 
 def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Path], quiet: bool,
@@ -53,20 +60,22 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         result = simulation.run(resolved, wsp=wsp, progress=progress, kernel=kernel)
     finally:
         bar.stop()
+    healthy_reference(result)   # in result.meta, for the report's warnings
     if out is not None:
         from railbrake.results.outputs import write_outputs
         prepare_folder(out)
-        from railbrake.results.config_file import write_config
         from railbrake.results.events import run_events
-        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, mdf_events=run_events(sc))
-        write_config(resolved, out / "config.yaml")
+        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, mdf_events=run_events(sc),
+                      resolved=resolved)
     return result
 
 
 def measured_build_up(result, resolved):
     """EN 14531 ta, tb, te of the run's brake as measured on it (railbrake.simulation.response) and
     whether the WSP vented within the window, when the run starts braking at t = 0 and lasts the
-    measurement's window; else None."""
+    measurement's window (an InputError saying why when its brake force does not reach the first
+    step's demand, on a slippery rail say); else None."""
+    from railbrake.errors import InputError
     from railbrake.simulation import response
     first = resolved.scenario.spec.demand[0]
     braking = first.time == 0.0 and (first.emergency or first.service > 0.0)
@@ -75,11 +84,16 @@ def measured_build_up(result, resolved):
         return None
     inside = result.time <= window
     wsp = any(result.outputs[n][inside].any() for n in result.outputs if n.startswith("vent_c"))
-    return response.measure(result, resolved.train), wsp
+    try:
+        return response.measure(result, resolved.train), wsp
+    except InputError as exc:
+        return exc
 
 
 def print_build_up(measured) -> None:
-    if measured is not None:
+    if isinstance(measured, Exception):
+        typer.echo(f"build-up (EN 14531-1) not measured on this run: {measured}")
+    elif measured is not None:
         b, wsp = measured
         lines = [f"build-up (EN 14531-1, measured on this run): ta {b.delay:.2f} s, tb {b.build_up:.2f} s, "
                  f"te {b.response:.2f} s;",

@@ -122,21 +122,18 @@ def register(app: typer.Typer) -> None:
             if kmh_to_ms(v0_kmh) > t.max_speed * (1 + 1e-9):
                 raise InputError(f"--v0-kmh = {v0_kmh:g}: above the maximum speed of train {t.name}, "
                                  f"{ms_to_kmh(t.max_speed):g} km/h")
-            delay = build_up = None
-            simulated_response = not profile_response and response_time_s is None and profile is None
-            if simulated_response:
-                from railbrake.simulation import response
-                measured = response.simulated(t, kmh_to_ms(v0_kmh), preset=train)
-                delay, build_up = measured.delay, measured.build_up
-            result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=t, profile=profile,
-                                              response_time=response_time_s, delay=delay, build_up=build_up,
-                                              gradient=gradient_permille * 1e-3,
+            if profile_response and profile is None:   # the emergency step's profile with its ta, tb
+                profile_asked = t.brake_step("emergency").profile
+            else:
+                profile_asked = profile
+            result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=t, profile=profile_asked,
+                                              response_time=response_time_s, gradient=gradient_permille * 1e-3,
                                               gradients=_gradient_pieces(gradients))
             name = profile or t.brake_step("emergency").profile
             title = f"{train} ({t.load_case} load), {name}"
-            if simulated_response:
-                title += (f", simulated build-up ta {delay:.2f} s, tb {build_up:.2f} s, "
-                          f"te {delay + 0.5 * build_up:.2f} s")
+            if result.simulated_response:
+                title += (f", simulated build-up ta {result.delay:.2f} s, tb {result.build_up:.2f} s, "
+                          f"te {result.delay + 0.5 * result.build_up:.2f} s")
         if plot:
             from railbrake.plots.sizing import plot_stopping
             plot_stopping(result, f"{title} from {v0_kmh:g} km/h", prepare_plot(plot))

@@ -7,6 +7,7 @@ from typing import Optional
 
 import typer
 
+from railbrake import atomic
 from railbrake.cli._common import prepare_output, reports_errors
 
 app = typer.Typer(help="Train files: a commented template to start from.", no_args_is_help=True)
@@ -34,7 +35,7 @@ def new(
     prepare_output(output, "--output", (".yaml", ".yml"))
     if output.exists() and not force:
         raise InputError(f"--output {output}: exists; choose another name or add --force")
-    output.write_text(text)
+    atomic.write_text(output, text)
     typer.echo(f"train file: {output} (use it as train: {{preset: {output}}} in a scenario)")
 
 

@@ -9,6 +9,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from railbrake import atomic
 from railbrake.cli._common import prepare_output, print_json, reports_errors
 from railbrake.validation import load_cases, run_cases
 from railbrake.validation import report as vreport
@@ -37,9 +38,9 @@ def register(app: typer.Typer) -> None:
         results = run_cases(found, fast_only=fast,
                             progress=(lambda cid, i, n: console.print(f"[{i + 1}/{n}] {cid}", end="\r")) if show else None)
         if report:
-            prepare_output(report).write_text(vreport.to_html(results))
+            atomic.write_text(prepare_output(report), vreport.to_html(results))
         if markdown:
-            prepare_output(markdown).write_text(vreport.to_markdown(results))
+            atomic.write_text(prepare_output(markdown), vreport.to_markdown(results))
         if json:
             print_json(vreport.as_json(results))
         else:

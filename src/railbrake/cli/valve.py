@@ -7,7 +7,7 @@ from typing import Optional
 
 import typer
 
-from railbrake import valves
+from railbrake import atomic, valves
 from railbrake.cli._common import prepare_output, prepare_plot, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import BAR
@@ -88,7 +88,7 @@ def _reduce(p: dict, plot, json: bool, write) -> None:
     result = R.reduce(p)
     fit = result["fit"]
     if write:
-        prepare_output(write).write_text(R.reduced_yaml(result))
+        atomic.write_text(prepare_output(write), R.reduced_yaml(result))
     if plot:
         from railbrake.plots.valves import plot_reduction
         plot_reduction(fit, prepare_plot(plot))

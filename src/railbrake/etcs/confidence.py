@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from railbrake.errors import InputError
+from railbrake._args import real, whole
 
 # M_NVEBCL -> probability that the emergency brake achieves at least A_brake_emergency x Kdry_rst
 EBCL = (0.5, 0.9, 0.99, 0.999, 0.9999, 0.99999, 0.999999, 0.9999999, 0.99999999, 0.999999999)
@@ -22,15 +22,12 @@ K_MAX = 31 / CODES_PER_UNIT   # 1.55: the largest coded value
 
 def ebcl(index: int) -> float:
     """The confidence level of M_NVEBCL = index (0-9)."""
-    if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < len(EBCL):
-        raise InputError(f"M_NVEBCL = {index!r}: must be a whole number in [0, {len(EBCL) - 1}]")
-    return EBCL[index]
+    return EBCL[whole("index (M_NVEBCL)", index, 0, len(EBCL) - 1)]
 
 
 def coded(k: float) -> float:
     """k rounded down onto the 0.05 grid of the train data (0 to 1.55; above 1.55, the largest
     code: a train that brakes that much better than its nominal curve is coded as 1.55)."""
-    if not (isinstance(k, (int, float)) and math.isfinite(k) and 0.0 <= k):
-        raise InputError(f"correction factor = {k!r}: must be a finite number >= 0")
-    steps = math.floor(k * CODES_PER_UNIT + 1e-9)   # 0.95 * 20 may fall a rounding below 19
+    k = real("k (correction factor)", k, 0.0)
+    steps = math.floor(min(k, 2.0) * CODES_PER_UNIT + 1e-9)   # 0.95 * 20 may fall a rounding below 19
     return min(steps, 31) / CODES_PER_UNIT

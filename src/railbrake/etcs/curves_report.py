@@ -5,6 +5,8 @@ from __future__ import annotations
 import html
 import io
 
+from railbrake import atomic
+
 STYLES = {"EBD": ("#b00", "-"), "EBI": ("#e33", "--"), "SBD": ("#06c", "-"), "SBI1": ("#39f", "--"),
           "SBI2": ("#f80", "--"), "W": ("#fb0", ":"), "P": ("#2a2", "-"), "I": ("#888", ":"), "GUI": ("#a5c", "-.")}
 
@@ -36,7 +38,7 @@ def write(result: dict, html_path, png_path=None) -> None:
     buffer = io.StringIO()
     fig.savefig(buffer, format="svg")
     if png_path is not None:
-        fig.savefig(png_path, dpi=120)
+        atomic.save_figure(fig, png_path, dpi=120)
     plt.close(fig)
     svg = buffer.getvalue()
     nv = "".join(f"<tr><td>{html.escape(str(k))}</td><td>{html.escape(str(v))}</td></tr>"
@@ -44,7 +46,7 @@ def write(result: dict, html_path, png_path=None) -> None:
     ts = "".join(f"<tr><td>{k}</td><td>{v:.3f}</td></tr>" for k, v in result["times_s"].items())
     top = "".join(f"<tr><td>{n}</td><td>{c[0][0]:.0f}</td><td>{c[0][1]:.0f}</td></tr>"
                   for n, c in result["curves"].items())
-    html_path.write_text(f"""<!doctype html><html><head><meta charset="utf-8"><title>ETCS braking curves: {html.escape(result['train'])}</title>
+    atomic.write_text(html_path, f"""<!doctype html><html><head><meta charset="utf-8"><title>ETCS braking curves: {html.escape(result['train'])}</title>
 <style>body{{font-family:sans-serif;max-width:70em}}td,th{{padding:2px 8px;text-align:right}}</style></head><body>
 <h1>ETCS braking curves: {html.escape(result['train'])} on {html.escape(result['track'])}</h1>
 <p>EoA {result['eoa_m']:.0f} m, SvL {result['svl_m']:.0f} m, target speed 0; UNISIG SUBSET-026 3.13.</p>

@@ -13,12 +13,13 @@ parameters are per car).
 
 from __future__ import annotations
 
+import functools
 import math
 from importlib import resources
 from pathlib import Path
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from railbrake import _core, config
 from railbrake._args import name_or_path
@@ -117,6 +118,21 @@ class ReliabilityFile(_File):
     failures: list[Failure] = Field(max_length=64)
     common_cause: list[CommonCause] = Field(default_factory=list, max_length=16)
 
+    @field_validator("common_cause")
+    @classmethod
+    def _groups_once(cls, groups):
+        """A group given twice would fail its units twice as often: refused, by name and by what it fails."""
+        seen: dict = {}
+        for i, group in enumerate(groups):
+            cars = "all" if group.cars == "all" else tuple(sorted(set(group.cars)))
+            for key, what in ((("name", group.name), f"name {group.name!r}"),
+                              (("fails", group.kind, cars), f"{group.kind} on cars {group.cars}")):
+                if key in seen:
+                    raise ValueError(f"common_cause[{i}] ({what}) is given twice (also common_cause[{seen[key]}]): "
+                                     "a common cause is counted once")
+                seen[key] = i
+        return groups
+
     @model_validator(mode="after")
     def _once(self):
         seen = set()
@@ -168,8 +184,29 @@ class ScatterFile(_File):
     load: Distribution | None = None                  # the car's mass against the mass the BCU weighs
     valve_response: Distribution | None = None        # EP and relay valve response times
 
+    @field_validator(*QUANTITIES)
+    @classmethod
+    def _in_range(cls, d, info):
+        """Every value the factor can take inside its quantity's range (data/etcs/factor-ranges.yaml)."""
+        if d is None:
+            return d
+        low, high = scatter_ranges()[info.field_name]["range"]
+        span = d.bounds if d.bounds is not None else [d.mean - UNBOUNDED_SIGMAS * d.sd, d.mean + UNBOUNDED_SIGMAS * d.sd]
+        what = "bounds" if d.bounds is not None else f"mean +- {UNBOUNDED_SIGMAS:g} sd"
+        if span[0] < low or span[1] > high:
+            raise ValueError(f"{what} = [{span[0]:g}, {span[1]:g}]: a factor on the nominal {info.field_name} must "
+                             f"lie in [{low:g}, {high:g}] ({scatter_ranges()[info.field_name]['source'].strip()})")
+        return d
+
     def quantities(self) -> dict[str, Distribution]:
         return {q: getattr(self, q) for q in QUANTITIES if getattr(self, q) is not None}
+
+
+@functools.lru_cache(maxsize=1)
+def scatter_ranges() -> dict:
+    """quantity -> {range: [low, high] factor, source} (data/etcs/factor-ranges.yaml)."""
+    import yaml
+    return yaml.safe_load((_data_dir() / "factor-ranges.yaml").read_text())
 
 
 def _data_dir():

@@ -22,6 +22,7 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.stats import norm
 
+from railbrake._args import items, real
 from railbrake.errors import InputError
 
 
@@ -61,6 +62,7 @@ def _phi(z: float) -> float:
 
 
 def mixture_cdf(states: list[State], x: float) -> float:
+    states, x = items("states", states, State), real("x", x, allow_inf=True)
     return sum(s.probability * s.cdf(x) for s in states)
 
 
@@ -68,8 +70,8 @@ def quantile(states: list[State], level: float) -> float:
     """The ratio x with P(ratio < x) = level (0 < level < 1) over the states' mixture. The states
     need not be every state of the train: those left out (their total probability well below the
     smallest level asked for) count as ratio 0, the safe side."""
-    if not 0.0 < level < 1.0:
-        raise InputError(f"level = {level!r}: must lie in (0, 1)")
+    states = items("states", states, State)
+    level = real("level", level, 0.0, 1.0, low_open=True, high_open=True)
     covered = sum(s.probability for s in states)
     if covered > 1.0 + 1e-9:
         raise InputError(f"the states' probabilities add up to {covered:.12g}: at most 1")
@@ -90,4 +92,5 @@ def quantile(states: list[State], level: float) -> float:
 
 def k_dry(states: list[State], confidence: float) -> float:
     """Kdry_rst at a confidence level: the ratio reached or exceeded with that probability."""
-    return quantile(states, 1.0 - confidence)
+    return quantile(items("states", states, State), 1.0 - real("confidence", confidence, 0.0, 1.0, low_open=True,
+                                                                  high_open=True))

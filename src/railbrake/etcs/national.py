@@ -4,15 +4,12 @@ an error naming the file, line, key, value and what is allowed."""
 
 from __future__ import annotations
 
-from importlib import resources
-from pathlib import Path
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railbrake import config
-from railbrake._args import name_or_path
-from railbrake.errors import InputError
+from railbrake.etcs.inputs import _path  # the one lookup of the data/etcs files
 
 
 class _Strict(BaseModel):
@@ -80,23 +77,6 @@ class Track(_Strict):
         if starts[0] != 0.0 or any(a >= b for a, b in zip(starts, starts[1:])):
             raise ValueError(f"gradients: from_m = {starts}: must start at 0 and rise strictly")
         return self
-
-
-def _data_dir():
-    return resources.files("railbrake") / "data" / "etcs"
-
-
-def preset_names(kind: str) -> list[str]:
-    return sorted(p.name[len(kind) + 1:-5] for p in _data_dir().iterdir() if p.name.startswith(kind + "-"))
-
-
-def _path(kind: str, name) -> Path:
-    name = name_or_path(kind, name)
-    if isinstance(name, str) and name in preset_names(kind):
-        return Path(str(_data_dir() / f"{kind}-{name}.yaml"))
-    if Path(name).suffix in (".yaml", ".yml") or Path(name).exists():
-        return Path(name)
-    raise InputError(f"{kind} = {name!r}: not a file nor a preset ({', '.join(preset_names(kind))})")
 
 
 def load_national(name="default") -> National:

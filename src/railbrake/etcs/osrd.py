@@ -92,14 +92,15 @@ def document(model: dict, service: dict, level: int = DEFAULT_LEVEL, layout: str
     return {"railbrake": about, "supported_signaling_systems": [{"type": "ETCS_LEVEL2", "brake_params": params}]}
 
 
-def params_of(doc: dict) -> dict:
-    """The EtcsBrakeParams of an export file, in either layout."""
-    if "etcs_brake_params" in doc:
+def params_of(doc: dict, where: str = "the OSRD file") -> dict:
+    """The EtcsBrakeParams of an export file, in either layout; where: the file, for the error."""
+    if isinstance(doc, dict) and isinstance(doc.get("etcs_brake_params"), dict):
         return doc["etcs_brake_params"]
-    for entry in doc.get("supported_signaling_systems", []):
-        if isinstance(entry, dict) and entry.get("type") == "ETCS_LEVEL2":
-            return entry.get("brake_params")
-    raise InputError("no ETCS_LEVEL2 brake_params and no etcs_brake_params in the file")
+    for entry in doc.get("supported_signaling_systems", []) if isinstance(doc, dict) else []:
+        if isinstance(entry, dict) and entry.get("type") == "ETCS_LEVEL2" and isinstance(entry.get("brake_params"), dict):
+            return entry["brake_params"]
+    raise InputError(f"{where}: no etcs_brake_params object (legacy layout) and no supported_signaling_systems "
+                     "entry of type ETCS_LEVEL2 with a brake_params object (current layout)")
 
 
 def check(params: dict, max_speed: float | None = None, documented: bool = True) -> list[str]:

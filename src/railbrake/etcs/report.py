@@ -8,6 +8,7 @@ import io
 import numpy as np
 from scipy.stats import norm
 
+from railbrake import atomic
 from railbrake.etcs import confidence, mixture
 from railbrake.etcs.model import BrakingModel, braking_distance
 
@@ -57,7 +58,7 @@ def write(m: BrakingModel, path) -> None:
                    for v, a, step in zip(m.speed_steps_kmh, m.a_brake_emergency, m.kdry_coded()))
     deciding = "".join(f"<tr><td>{i}</td>" + "".join(f"<td>{html.escape(d[i])}</td>" for d in m.deciding) + "</tr>"
                        for i in levels)
-    path.write_text(f"""<!doctype html><html><head><meta charset="utf-8"><title>ETCS braking model: {html.escape(m.train)}</title>
+    atomic.write_text(path, f"""<!doctype html><html><head><meta charset="utf-8"><title>ETCS braking model: {html.escape(m.train)}</title>
 <style>body{{font-family:sans-serif;max-width:70em}}td,th{{padding:2px 8px;text-align:right}}</style></head><body>
 <h1>ETCS braking model: {html.escape(m.train)}</h1>
 <p>T_brake_emergency {m.t_brake_emergency:.2f} s; Kwet_rst {m.kwet_coded():.2f} ({m.kwet:.4f}, the worse EN 15595

@@ -11,12 +11,11 @@ import functools
 import hashlib
 import json
 import multiprocessing
-import os
 import warnings
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from railbrake import simulation, sizing
+from railbrake import atomic, simulation, sizing
 from railbrake.errors import InputError
 from railbrake.etcs import failures, inputs, scatter
 from railbrake.resolve import resolve
@@ -122,9 +121,7 @@ def run_batch(spec: Spec, jobs: list) -> list[dict]:
 
 
 def _write_json(path: Path, data) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(data))
-    os.replace(tmp, path)   # all or nothing: a kill leaves no half-written batch
+    atomic.write_text(path, json.dumps(data))   # all or nothing: a kill leaves no half-written batch
 
 
 def _open_folder(out: Path, spec: Spec) -> Path:

@@ -41,19 +41,8 @@ def settings() -> dict:
     return yaml.safe_load((resources.files("railbrake") / "data" / "etcs" / "service.yaml").read_text())
 
 
-def scenario(train: str, v0: float, condition: str, demand: float, max_time: float = 3600.0):
-    """A service stop of `train` (preset or file) from v0 (m/s) at `demand` (0-1 of full service)."""
-    from railbrake.scenario import SCHEMA, from_data
-    data = {"schema": SCHEMA, "name": f"service-{v0 / KMH:.0f}-{condition}",
-            "title": f"Service brake {demand:g} from {v0 / KMH:.0f} km/h, {train}",
-            "train": {"preset": str(train)}, "initial_speed": f"{v0!r} m/s",
-            "demand": [{"time": "0 s", "service": float(demand)}], "adhesion": {"condition": condition},
-            "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
-    return from_data(data, f"service stop of {train}", {})
-
-
 def _stop(train: str, cars: int, v0: float, condition: str, demand: float, marks: tuple) -> dict:
-    sc = scenario(train, v0, condition, demand)
+    sc = response.service_scenario(train, v0, condition, demand)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", sizing.SupplyWarning)
         four = simulation.structs(resolve(sc, cars))
@@ -70,10 +59,11 @@ def _stop(train: str, cars: int, v0: float, condition: str, demand: float, marks
 
 def build_up(train_obj, train: str, v0: float, condition: str) -> float:
     """T_brake_service: te = ta + tb/2 of the full service brake's total force (EN 14531-1)."""
-    sc = scenario(train, v0, condition, 1.0, response.settings()["window_s"] + 0.1)
+    sc = response.service_scenario(train, v0, condition, 1.0, response.settings()["window_s"] + 0.1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", sizing.SupplyWarning)
-        return response.measure(simulation.run(sc, cars=len(train_obj.cars), train=train_obj), train_obj).response
+        run = simulation.run(sc, cars=len(train_obj.cars), train=train_obj)   # a train given: no resolved scenario
+        return response.measure(run, train_obj, step=("service", 1.0)).response   # to read the step from
 
 
 def service_data(model: dict) -> dict:

@@ -9,12 +9,11 @@ brake at all in the quantiles (railbrake.etcs.mixture.quantile), the safe side.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from scipy.stats import binom
 
-from railbrake.errors import InputError
+from railbrake._args import real, whole
 
 
 @dataclass(frozen=True)
@@ -25,10 +24,9 @@ class LostUnits:
 
 def equal_units(n: int, p: float, floor: float = 1e-12) -> list[LostUnits]:
     """The states of n equal units, each lost with probability p, down to a rest below `floor`."""
-    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 1024:
-        raise InputError(f"units = {n!r}: must be a whole number in [1, 1024]")
-    if not (isinstance(p, (int, float)) and math.isfinite(p) and 0.0 <= p <= 1.0):
-        raise InputError(f"probability per demand = {p!r}: must lie in [0, 1]")
+    n = whole("n (units)", n, 1, 1024)
+    p = real("p (probability per demand)", p, 0.0, 1.0)
+    floor = real("floor", floor, 0.0, 1.0, low_open=True)
     states = []
     for k in range(n + 1):
         states.append(LostUnits(k, float(binom.pmf(k, n, p))))

@@ -20,7 +20,7 @@ import zipfile
 from pathlib import Path
 
 from railbrake._version import __version__
-from railbrake import scenario as scenarios
+from railbrake import _args, atomic, scenario as scenarios
 from railbrake.resolve import resolve
 from railbrake import simulation, vehicle
 from railbrake.simulation.parameters import _scenario_struct
@@ -139,7 +139,7 @@ def _zip(folder: Path, output: Path, stamp) -> None:
     mode 644 (755 for binaries), no extra fields."""
     output.parent.mkdir(parents=True, exist_ok=True)
     date = max(stamp.timetuple()[:6], (1980, 1, 1, 0, 0, 0))
-    with zipfile.ZipFile(output, "w", zipfile.ZIP_DEFLATED) as zf:
+    with atomic.replacing(output) as temporary, zipfile.ZipFile(temporary, "w", zipfile.ZIP_DEFLATED) as zf:
         for path in sorted(folder.rglob("*")):
             if path.is_file():
                 name = path.relative_to(folder).as_posix()
@@ -206,9 +206,12 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
     time; "portable"; None: RAILBRAKE_KERNEL, else auto); either way the sources stay portable C99.
     platforms: the binaries built (railbrake.fmu.binaries.PLATFORMS; none with binary=False);
     identifier: the modelIdentifier (default: model_identifier)."""
-    version = str(fmi_version)
+    version = str(fmi_version) if isinstance(fmi_version, (str, int)) and not isinstance(fmi_version, bool) else ""
     if version not in FMI_VERSIONS:
-        raise InputError(f"FMI version {fmi_version!r}: must be 2 or 3")
+        raise InputError(f"fmi_version: FMI version {_args.show(fmi_version)}: must be 2 or 3")
+    output = _args.path("output", output)
+    binary = _args.flag("binary", binary)
+    platforms = _args.items("platforms", platforms, str, low=0)
     resolved = resolve(resolve_scenario(scenario), cars, sets)
     identifier = model_identifier(resolved, kernel) if identifier is None else check_identifier(identifier)
     sc, n_cars = resolved.scenario, resolved.cars

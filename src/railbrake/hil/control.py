@@ -18,7 +18,6 @@ import hmac
 import json
 import secrets
 import socketserver
-import sys
 import threading
 
 from railbrake.errors import InputError
@@ -147,26 +146,12 @@ class ControlServer:
                 except OSError:
                     pass
 
-        class Server(socketserver.ThreadingTCPServer):
+        class Server(guard.Guarded, socketserver.ThreadingTCPServer):
             daemon_threads = True
             allow_reuse_address = True
-
-            def process_request(self, request, client_address):
-                if guard_.admit(request, client_address[0]):
-                    guard.no_delay(request)
-                    return super().process_request(request, client_address)
-                try:   # every connection of this peer carried the token: the newcomer waits
-                    request.settimeout(1.0)
-                    request.sendall(json.dumps({"ok": False, "error": "control: all connections busy with "
-                                                                      "authenticated clients: retry"}).encode() + b"\n")
-                except OSError:
-                    pass
-                self.shutdown_request(request)
-
-            def handle_error(self, request, client_address):
-                exc = sys.exc_info()[1]
-                if not isinstance(exc, OSError):
-                    guard_.unexpected_error("control", exc)
+            guard, name = guard_, "control"
+            busy = json.dumps({"ok": False, "error": "control: all connections busy with authenticated clients: "
+                                                     "retry"}).encode() + b"\n"
 
         try:
             self._server = Server((host, port), Handler)

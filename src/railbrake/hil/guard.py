@@ -86,6 +86,32 @@ def no_delay(sock: socket.socket) -> None:
         pass
 
 
+class Guarded:
+    """The part a socketserver server (this class first among its bases) shares with the other HIL
+    server: each connection admitted by self.guard, a refused one answered with self.busy and closed,
+    an error a handler did not expect counted under self.name."""
+
+    guard: Guard
+    name: str
+    busy: bytes
+
+    def process_request(self, request, client_address):
+        if self.guard.admit(request, client_address[0]):
+            no_delay(request)
+            return super().process_request(request, client_address)
+        try:   # every connection of this peer carried the token: the newcomer waits
+            request.settimeout(1.0)
+            request.sendall(self.busy)
+        except OSError:
+            pass
+        self.shutdown_request(request)
+
+    def handle_error(self, request, client_address):
+        exc = sys.exc_info()[1]
+        if not isinstance(exc, OSError):
+            self.guard.unexpected_error(self.name, exc)
+
+
 def json_depth(text: bytes | str, limit: int = MAX_DEPTH) -> int:
     """The deepest nesting of objects and arrays in JSON text (strings skipped), without parsing it,
     found up to limit + 1 (the scan stops there): checked before json.loads, whose recursion a deep

@@ -120,13 +120,10 @@ def write_mdf(result, path: Path, scenario=None) -> Path:
     from railbrake.results import files, record
     sc = scenario if scenario is not None else scenarios.load(result.scenario)
     path = Path(path)
-    partial = path.with_name(path.name + ".partial.mf4")
     changes = getattr(result, "fault_changes", [])
-    written = files.write_mdf(record.from_hil(result, sc), partial,
+    return files.write_mdf(record.from_hil(result, sc), path,
                               {"counters": result.counters, "timing": result.timing,
                                "interrupted": getattr(result, "interrupted", False),
                                "bcu_loss": getattr(result, "loss", None),
                                "fault_changes": [c.as_dict() for c in changes]},
-                              events=recording_events(result, sc))
-    os.replace(written, path)
-    return path
+                              events=recording_events(result, sc))   # whole, over the streaming one

@@ -26,6 +26,7 @@ from urllib.parse import urlsplit
 import numpy as np
 
 from railbrake import _core
+from railbrake._args import instance, show, text as text_arg, whole
 from railbrake.errors import InputError
 from railbrake.hil.faults import FaultSwitch
 from railbrake.hil.keys import key_bytes
@@ -54,6 +55,9 @@ GIL_SWITCH_INTERVAL = 1e-4
 def parse_udp_url(text: str, option: str, allow_any_port: bool = False) -> tuple[str, int]:
     """'udp://HOST:PORT' -> (numeric IPv4 address, port). Port 1..65535 (0 too, for "any free
     port", when allow_any_port). Errors name the option and what is wrong."""
+    option = text_arg("option", option)
+    if not isinstance(text, str):
+        raise TypeError(f"{option} (text) = {show(text)}: must be a string udp://HOST:PORT")
     parts = urlsplit(text)
     host, _, port_text = parts.netloc.rpartition(":")
     if parts.scheme != "udp" or not host or parts.path not in ("", "/") or parts.query or parts.fragment:
@@ -74,11 +78,15 @@ def parse_udp_url(text: str, option: str, allow_any_port: bool = False) -> tuple
 
 def config_digest(scenario: Scenario, n_cars: int) -> int:
     """The configuration digest plant and BCU compare (rb_hil_config_digest: train, cars, axles, step)."""
+    instance("scenario", scenario, Scenario)
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     train = load_train(scenario.spec.train.preset).name
     return int(_core.rb_hil_config_digest(train.encode(), n_cars, n_cars * _core.AXLES_PER_CAR, DT))
 
 
 def describe_config(scenario: Scenario, n_cars: int) -> str:
+    instance("scenario", scenario, Scenario)
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     train = load_train(scenario.spec.train.preset).name
     return (f"0x{config_digest(scenario, n_cars):08x} (train {train}, {n_cars} cars, "
             f"{n_cars * _core.AXLES_PER_CAR} axles, step 1 ms)")
@@ -231,6 +239,7 @@ class HilResult:
 
 
 def channels(n_cars: int) -> list[tuple[str, str]]:
+    n_cars = whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     return _core.channel_list(_core.rb_hil_channel_count, _core.rb_hil_channel_info, n_cars)
 
 

@@ -14,8 +14,14 @@ if "ipykernel" not in sys.modules:
 
 import matplotlib.pyplot as plt  # noqa: E402
 
+from railbrake.errors import InputError  # noqa: E402
+
+
+MAX_PANELS = 20   # rows or columns of one figure: a software limit on what is drawn
 
 def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
+    from railbrake._args import whole
+    nrows, ncols = whole("nrows", nrows, 1, MAX_PANELS), whole("ncols", ncols, 1, MAX_PANELS)
     kwargs.setdefault("figsize", (8, 4.5 * nrows))
     kwargs.setdefault("constrained_layout", True)
     return plt.subplots(nrows, ncols, **kwargs)
@@ -25,6 +31,10 @@ def save(fig, path):
     """The figure written to path and closed (returns path); path None: the open figure itself."""
     if path is None:
         return fig
-    fig.savefig(path, dpi=120)
+    from railbrake import _args, atomic
+    path = _args.path("path", path)
+    if not path.parent.is_dir():
+        raise InputError(f"path = {_args.show(str(path))}: no folder {path.parent} to write it into")
+    atomic.save_figure(fig, path, dpi=120)   # whole or absent
     plt.close(fig)
     return path

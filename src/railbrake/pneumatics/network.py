@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railbrake import _core
+from railbrake._args import real
 from railbrake.errors import InputError
 from railbrake.pneumatics.orifice import AMBIENT_PRESSURE, CRITICAL_RATIO_NOZZLE, orifice_c
 
@@ -73,7 +74,7 @@ class Network:
     """A pneumatic circuit built by name; see the module docstring and docs/pneumatics.md."""
 
     def __init__(self, ambient_pressure: float = AMBIENT_PRESSURE):
-        self.ambient_pressure = float(ambient_pressure)
+        self.ambient_pressure = real("ambient_pressure", ambient_pressure, 0.0, low_open=True)
         self._nodes: list[tuple[str, _core.NetNode]] = []
         self._links: list[tuple[str, _core.NetLink]] = []
         self._bodies: list[tuple[str, _core.NetBody]] = []

@@ -4,6 +4,7 @@ content in their own metadata, so each file stands alone; load() reads any of th
 
 from __future__ import annotations
 
+import hashlib
 import json
 from pathlib import Path
 
@@ -11,7 +12,7 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from railbrake import jsonio
+from railbrake import atomic, jsonio
 from railbrake.errors import InputError
 from railbrake.results import channel_info
 from railbrake.results.record import RunRecord
@@ -46,7 +47,8 @@ def arrow_table(record: RunRecord) -> pa.Table:
 
 
 def write_parquet(record: RunRecord, path: Path) -> Path:
-    pq.write_table(arrow_table(record), path)
+    with atomic.replacing(path) as temporary:
+        pq.write_table(arrow_table(record), temporary)
     return Path(path)
 
 
@@ -63,14 +65,14 @@ def write_csv(record: RunRecord, path: Path) -> Path:
     reads the time series as it is."""
     names = list(record.outputs)
     columns = np.column_stack([np.asarray(record.outputs[n], dtype=np.float64) for n in names])
-    with open(path, "w", newline="") as f:
-        f.write(",".join(names) + "\n")
-        for row in columns.tolist():
-            f.write(",".join(map(repr, row)) + "\n")
-    with open(units_path(path), "w", newline="") as f:
+    with atomic.replacing(units_path(path)) as temporary, open(temporary, "w", newline="") as f:
         f.write("channel,unit\n")
         for name in names:
             f.write(f"{name},{record.units.get(name, '')}\n")
+    with atomic.replacing(path) as temporary, open(temporary, "w", newline="") as f:
+        f.write(",".join(names) + "\n")
+        for row in columns.tolist():
+            f.write(",".join(map(repr, row)) + "\n")
     return Path(path)
 
 
@@ -135,21 +137,87 @@ def write_mdf(record: RunRecord, path: Path, extra: dict | None = None, events=(
                            cause=v4_constants.EVENT_CAUSE_TOOL, sync_base=int(round(time_s * 1e6)), sync_factor=1e-6)
         event.name, event.comment = name, comment
         mdf.events.append(event)
-    saved = mdf.save(path, overwrite=True, add_history_block=False)   # asammdf may change the suffix
-    mdf.close()
-    return Path(saved)
+    path = Path(path).with_suffix(".mf4")   # asammdf saves MDF4 under .mf4
+    with atomic.replacing(path) as temporary:
+        mdf.save(temporary, overwrite=True, add_history_block=False)
+        mdf.close()
+    return path
 
 
 _WRITERS = {"parquet": write_parquet, "csv": write_csv, "mf4": write_mdf}
 
 
-def write_run(record: RunRecord, folder: Path, formats=("parquet",)) -> list[Path]:
-    """The time series in each format, kpis.json and run.json into folder."""
-    folder.mkdir(parents=True, exist_ok=True)
+def write_run(record: RunRecord, folder: Path, formats=("parquet",), complete: bool = True) -> list[Path]:
+    """The time series in each format, kpis.json and run.json into folder (each whole or absent);
+    complete: then the manifest (write_manifest), which a caller writing more files writes last."""
+    folder = begin_folder(folder) if complete else folder
     paths = [_WRITERS[f](record, folder / FORMATS[f]) for f in formats]
-    (folder / "kpis.json").write_text(dumps(record.kpis) + "\n")
-    (folder / "run.json").write_text(dumps({"meta": record.meta, "units": record.units}) + "\n")
-    return paths + [folder / "kpis.json", folder / "run.json"]
+    paths += [units_path(folder / FORMATS["csv"])] if "csv" in formats else []
+    atomic.write_text(folder / "kpis.json", dumps(record.kpis) + "\n")
+    atomic.write_text(folder / "run.json", dumps({"meta": record.meta, "units": record.units}) + "\n")
+    paths += [folder / "kpis.json", folder / "run.json"]
+    return paths + [write_manifest(folder, record, paths)] if complete else paths
+
+
+# ------------------------------------------------------------------ completeness
+
+# Written last into a run folder: the sample count and each file's size and SHA-256. A folder
+# without it (a run killed while writing) or whose files disagree with it is refused by load().
+MANIFEST = "manifest.json"
+
+
+def begin_folder(folder: Path) -> Path:
+    """A run folder about to be (re)written: created, its manifest removed first (until the new one
+    is written the folder reads as incomplete), a killed writer's temporaries swept."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / MANIFEST).unlink(missing_ok=True)
+    atomic.sweep(folder)
+    return folder
+
+
+def _digest(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def write_manifest(folder: Path, record: RunRecord, paths) -> Path:
+    """The manifest of a complete run folder: `samples` and, per file written (paths), its bytes and
+    sha256. Written last, whole or absent."""
+    folder = Path(folder)
+    entries = {}
+    for path in paths:
+        path = Path(path)
+        if path.parent.resolve() == folder.resolve() and path.name != MANIFEST and path.is_file():
+            entries[path.name] = {"bytes": path.stat().st_size, "sha256": _digest(path)}
+    manifest = {"samples": len(record.time), "files": dict(sorted(entries.items()))}
+    return atomic.write_text(folder / MANIFEST, json.dumps(manifest, indent=1) + "\n")
+
+
+def check_complete(folder: Path) -> dict:
+    """The manifest of a complete run folder; InputError naming what is missing or damaged otherwise."""
+    folder = Path(folder)
+    manifest_path = folder / MANIFEST
+    if not manifest_path.is_file():
+        raise InputError(f"{folder}: incomplete run folder: {MANIFEST} is missing (it is written last; the "
+                         "run that wrote this folder was interrupted, or it predates manifests: write it again)")
+    try:
+        manifest = json.loads(manifest_path.read_text())
+        files, samples = manifest["files"], int(manifest["samples"])
+    except (ValueError, KeyError, TypeError) as exc:
+        raise InputError(f"{manifest_path}: damaged manifest ({exc})") from None
+    missing = [name for name in files if not (folder / name).is_file()]
+    if missing:
+        raise InputError(f"{folder}: incomplete run folder: missing {', '.join(missing)} (listed in {MANIFEST})")
+    for name, entry in files.items():
+        size = (folder / name).stat().st_size
+        if size != entry.get("bytes") or _digest(folder / name) != entry.get("sha256"):
+            raise InputError(f"{folder / name}: {size} bytes whose SHA-256 differs from {MANIFEST}'s "
+                             f"({entry.get('bytes')} bytes): changed or partly written after the run")
+    return {"samples": samples, "files": files}
 
 
 # ------------------------------------------------------------------ reading
@@ -229,7 +297,7 @@ def _data_file(path: Path) -> Path:
     for fmt in _READ_ORDER:
         candidates = [path / FORMATS[fmt]] + sorted(path.glob(f"*.{fmt}"))
         for c in candidates:
-            if c.is_file():
+            if c.is_file() and not atomic.is_temporary(c):
                 return c
     raise InputError(f"{path}: no timeseries.parquet, .mf4 or .csv in this folder")
 
@@ -238,13 +306,19 @@ def load(path: Path | str, prefer: str | None = None) -> RunRecord:
     """A saved run: a folder written by `run --out` / `hil --out`, or one Parquet, MDF4 or CSV file
     (an FMU result from FMPy as CSV too). prefer: the format to read in a folder with several."""
     path = Path(path)
+    folder = path if path.is_dir() else path.parent
+    manifest = check_complete(folder) if path.is_dir() or (folder / MANIFEST).is_file() else None
     data = path / FORMATS[prefer] if prefer and path.is_dir() else _data_file(path)
+    if manifest is not None and data.name not in manifest["files"]:
+        raise InputError(f"{data}: not among the files of {folder / MANIFEST} (written by another run?)")
     fmt = data.suffix.lstrip(".").lower()
     if fmt not in _READERS:
         raise InputError(f"{data}: unknown format {data.suffix!r} (parquet, mf4 or csv)")
     outputs, units, meta, kpis = _READERS[fmt](data)
     if "time" not in outputs or "speed" not in outputs:
         raise InputError(f"{data}: no 'time' and 'speed' channels: not a railbrake run")
+    if manifest is not None and len(outputs["time"]) != manifest["samples"]:
+        raise InputError(f"{data}: {len(outputs['time'])} samples, {manifest['samples']} in {folder / MANIFEST}")
     folder = data.parent
     if (folder / "run.json").is_file():
         saved = json.loads((folder / "run.json").read_text())

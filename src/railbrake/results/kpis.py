@@ -42,7 +42,9 @@ KPI_INFO = {
 }
 
 AIR_BALANCE_LIMIT = 1e-6   # a larger relative error means the air model lost mass (model check)
-SHORTFALL_WARNING_S = 2.0  # s: a cylinder short of its demand for longer did not get the air [T]
+SHORTFALL_WARNING_S = 2.0  # s: without a healthy reference, a cylinder short of its demand for longer [T]
+SHORTFALL_FACTOR = 1.25    # a cylinder short of its demand a quarter longer than the healthy brake's
+                           # own build-up keeps it (simulation.response.healthy_shortfall) did not get the air [T]
 
 
 def unit(key: str) -> str:
@@ -64,8 +66,15 @@ def text(value) -> str:
     return str(value)
 
 
-def warnings(kpis: dict) -> list[str]:
-    """Plain-words warnings about a run's KPIs."""
+def shortfall_limit(healthy_shortfall_s: float | None) -> float:
+    """s: the cylinder_shortfall_s above which a run warns: SHORTFALL_FACTOR times a healthy brake's
+    of the same train (simulation.response.healthy_shortfall), else SHORTFALL_WARNING_S."""
+    return SHORTFALL_WARNING_S if healthy_shortfall_s is None else SHORTFALL_FACTOR * healthy_shortfall_s
+
+
+def warnings(kpis: dict, healthy_shortfall_s: float | None = None) -> list[str]:
+    """Plain-words warnings about a run's KPIs; healthy_shortfall_s: the cylinder_shortfall_s of a
+    healthy brake of the run's train (its own build-up), the cylinders' shortfall is judged on."""
     out = []
     if kpis.get("stopped") is False:
         out.append("the train did not stop within the scenario's max_time: distance and time are to the end of the run")
@@ -77,9 +86,10 @@ def warnings(kpis: dict) -> list[str]:
     if (kpis.get("safety_timer_trips") or 0) > 0:
         n = kpis["safety_timer_trips"]
         out.append(f"the WSP safety timer tripped {n} time{'s' if n != 1 else ''} (continuous venting cut off)")
-    if (kpis.get("cylinder_shortfall_s") or 0.0) > SHORTFALL_WARNING_S:
+    if (kpis.get("cylinder_shortfall_s") or 0.0) > shortfall_limit(healthy_shortfall_s):
+        healthy = "" if healthy_shortfall_s is None else f", a healthy brake of the train {healthy_shortfall_s:.1f} s"
         out.append(f"a brake cylinder stayed more than 0.2 bar below its demand for {kpis['cylinder_shortfall_s']:.1f} s "
-                   f"(WSP valves at rest): the air did not reach it in time")
+                   f"(WSP valves at rest{healthy}): the air did not reach it in time")
     margin = kpis.get("min_supply_margin_bar")
     if margin is not None and margin < 0.0:
         out.append(f"a supply reservoir fell {-margin:.2f} bar below its car's cylinder demand (lowest supply "

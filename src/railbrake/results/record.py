@@ -152,14 +152,30 @@ def configuration(sc, cars: int, wsp: bool) -> dict:
             "wsp_parameters": _struct_dict(wsp_params(sc))}
 
 
+def _check_record_args(result, fields: tuple, kind: str, sc, command_line) -> None:
+    """result has what a record reads (its class is a layer above this one: not imported here)."""
+    from railbrake import _args
+    from railbrake.scenario import Scenario
+    missing = [f for f in fields if not hasattr(result, f)]
+    if missing:
+        raise TypeError(f"result = {_args.show(result)}: must be {kind} (no {', '.join(missing)})")
+    _args.instance("sc", sc, Scenario)
+    if command_line is not None:
+        _args.items("command_line", command_line, str, low=0)
+
+
 def from_simulation(result, sc, command_line: list[str] | None = None) -> RunRecord:
     """A MIL result (railbrake.simulation.Result) of Scenario sc."""
     from railbrake.results.provenance import provenance
+    _check_record_args(result, ("time", "outputs", "units", "kpis", "cars", "wsp"), "a run's Result", sc, command_line)
     meta = _scenario_meta(sc) | {"kind": "MIL", "cars": result.cars, "wsp": result.wsp,
                                  "atmosphere_pa": result.atmosphere,
                                  "configuration": getattr(result, "configuration", None)
                                  or configuration(sc, result.cars, result.wsp),
                                  "provenance": provenance(command_line)}
+    from railbrake.simulation.response import HEALTHY_SHORTFALL
+    if HEALTHY_SHORTFALL in result.meta:   # the reference the run's warnings were judged on
+        meta[HEALTHY_SHORTFALL] = result.meta[HEALTHY_SHORTFALL]
     return RunRecord(np.asarray(result.time), dict(result.outputs), dict(result.units), dict(result.kpis), meta)
 
 
@@ -167,6 +183,8 @@ def from_hil(result, sc, command_line: list[str] | None = None) -> RunRecord:
     """A HIL result (railbrake.hil.HilResult) of Scenario sc: the BCU is external, WSP state unknown
     to the plant (taken as the scenario's)."""
     from railbrake.results.provenance import provenance
+    _check_record_args(result, ("time", "outputs", "units", "kpis", "cars", "counters", "timing"),
+                       "a HIL run's HilResult", sc, command_line)
     wsp = bool(sc.spec.wsp.enabled)
     meta = _scenario_meta(sc) | {"kind": "HIL", "cars": result.cars, "wsp": wsp,
                                  "atmosphere_pa": result.atmosphere,
@@ -174,4 +192,8 @@ def from_hil(result, sc, command_line: list[str] | None = None) -> RunRecord:
                                  "hil": {"counters": result.counters, "timing": result.timing,
                                          "fault_changes": [c.as_dict() for c in getattr(result, "fault_changes", [])]},
                                  "provenance": provenance(command_line)}
+    from railbrake.simulation.response import HEALTHY_SHORTFALL
+    judged = getattr(result, "meta", None) or {}   # a HilResult has no meta: no healthy reference
+    if HEALTHY_SHORTFALL in judged:   # the reference the run's warnings were judged on
+        meta[HEALTHY_SHORTFALL] = judged[HEALTHY_SHORTFALL]
     return RunRecord(np.asarray(result.time), dict(result.outputs), dict(result.units), dict(result.kpis), meta)

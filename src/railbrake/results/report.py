@@ -9,6 +9,7 @@ import json
 from html import escape
 from pathlib import Path
 
+from railbrake import atomic
 from railbrake.results import kpis as kpi_info
 from railbrake.results.files import dumps
 from railbrake.results.record import RunRecord
@@ -51,7 +52,7 @@ def _image(path: Path) -> str:
 def write_report(record: RunRecord, plots: list[Path], path: Path) -> Path:
     m = record.meta
     prov = m.get("provenance", {})
-    warnings = kpi_info.warnings(record.kpis)
+    warnings = kpi_info.warnings(record.kpis, m.get("healthy_cylinder_shortfall_s"))
     faults = ", ".join(f"{f['type']} car {f['car']}{'' if f.get('axle') is None else ' axle ' + str(f['axle'])} "
                        f"from {f['start']:g} s" for f in m.get("faults", [])) or "none"
     zones = ", ".join(f"{z['start']:g}-{z['end']:g} m {z['condition']}" for z in m.get("zones", [])) or "none"
@@ -75,5 +76,4 @@ def write_report(record: RunRecord, plots: list[Path], path: Path) -> Path:
         "<h2>Resolved configuration</h2>",
         f'<pre id="configuration">{escape(dumps(m.get("configuration", {})))}</pre>',
         "</body></html>"]
-    Path(path).write_text("\n".join(html) + "\n", encoding="utf-8")
-    return Path(path)
+    return atomic.write_text(path, "\n".join(html) + "\n")

@@ -90,12 +90,15 @@ def plot(result, kind: str = "braking_curve", path: Path | str | None = None, ax
     """One standard figure: path None returns the matplotlib Figure, else writes it (format from the
     suffix) and returns the path. axle: wsp_cycle's axle (default the worst); axles: slip's
     coloured axles besides the worst ('c3a2,c1a1'); window: 'T0:T1' in s for wsp_cycle."""
+    from railbrake import _args
     from railbrake.plots import simulation as plots
     from railbrake.results import episodes
     if kind not in PLOT_KINDS:
-        raise InputError(f"plot kind = {kind!r}: must be one of {', '.join(PLOT_KINDS)}")
+        raise InputError(f"plot kind = {_args.show(kind)}: must be one of {', '.join(PLOT_KINDS)}")
     record = record_of(result)
-    path = None if path is None else Path(path)
+    path = None if path is None else _args.path("path", path)
+    if path is not None and not path.parent.is_dir():
+        raise InputError(f"path = {_args.show(str(path))}: no folder {path.parent} to write it into")
     if kind == "wsp_cycle":
         chosen = parse_axles(axle, record, "axle") or [episodes.plotted_axles(record, None)[0]]
         return plots.plot_wsp_cycle(record, chosen[0], path, parse_window(window, record, "window"))
@@ -109,20 +112,25 @@ def plot(result, kind: str = "braking_curve", path: Path | str | None = None, ax
 
 def save(result, folder: Path | str, overwrite: bool = False) -> Path:
     """timeseries.parquet, kpis.json and run.json into folder (and config.yaml, the resolved
-    configuration, when the result knows it); load_result reads it back bit for bit. A folder
-    that exists with anything in it is refused unless overwrite=True (its files are then replaced)."""
-    from railbrake.errors import InputError
+    configuration, when the result knows it), then manifest.json; load_result reads it back bit
+    for bit, and refuses a folder whose writing was cut short. A folder that exists with anything
+    in it is refused unless overwrite=True (its files are then replaced)."""
     from railbrake.results import files
     from railbrake.results.config_file import write_config
-    folder = Path(folder)
-    if not isinstance(overwrite, bool):
-        raise TypeError(f"overwrite = {overwrite!r}: must be True or False")
-    if folder.exists() and (not folder.is_dir() or any(folder.iterdir())) and not overwrite:
+    from railbrake import _args
+    folder = _args.path("folder", folder)
+    overwrite = _args.flag("overwrite", overwrite)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"folder = {_args.show(str(folder))}: is a file; give a folder")
+    if folder.exists() and any(folder.iterdir()) and not overwrite:
         raise InputError(f"{folder}: exists and is not empty: save(folder, overwrite=True) replaces its run "
                          "files, or choose a new folder")
-    files.write_run(record_of(result), folder, ["parquet"])
+    folder = files.begin_folder(folder)
+    record = record_of(result)
+    paths = files.write_run(record, folder, ["parquet"], complete=False)
     if result.resolved is not None:
-        write_config(result.resolved, folder / "config.yaml")
+        paths += write_config(result.resolved, folder / "config.yaml")   # and the files it names
+    files.write_manifest(folder, record, paths)   # last: a folder without it is an interrupted save
     return folder
 
 
@@ -130,7 +138,7 @@ def compare(*runs) -> dict:
     """Runs side by side as `railbrake compare` gives them (its --json): each a Result or a saved
     run (folder or time-series file); KPIs with their differences from the first run, the largest
     channel differences per unit."""
-    from railbrake.errors import InputError
+    from railbrake import _args
     from railbrake.results import files
     from railbrake.results.compare import compare_runs
     if len(runs) < 2:
@@ -138,20 +146,27 @@ def compare(*runs) -> dict:
     records, names = [], []
     for i, run in enumerate(runs):
         if isinstance(run, (str, Path)):
-            records.append(files.load(run))
+            path = _args.path(f"runs[{i}]", run)
+            if not path.exists():
+                raise InputError(f"runs[{i}] = {_args.show(str(path))}: no such run folder or file")
+            records.append(files.load(path))
             names.append(str(run))
         elif hasattr(run, "outputs") and hasattr(run, "kpis"):
             records.append(record_of(run))
             names.append(getattr(run, "scenario", f"run {i + 1}"))
         else:
-            raise TypeError(f"compare: run {i + 1} = {run!r}: a Result or a saved run's folder")
+            raise TypeError(f"runs[{i}] = {_args.show(run)}: must be a Result or a saved run's folder")
     return compare_runs(records, names)
 
 
 def load_result(folder: Path | str):
     """The Result saved in a run folder (Result.save, `railbrake run --out`, `hil --out`) or one of its
     time-series files."""
+    from railbrake import _args
     from railbrake.results import files
+    folder = _args.path("folder", folder)
+    if not folder.exists():
+        raise InputError(f"folder = {_args.show(str(folder))}: no such run folder or file")
     record = files.load(folder)
     meta = {k: v for k, v in record.meta.items() if k != "source"}
     return Result(meta.get("scenario", Path(folder).name), record.cars, record.wsp, record.time, record.outputs,

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railbrake import atomic
 from railbrake.units import BAR
 
 from railbrake.sequence.schema import Sequence
@@ -113,9 +114,9 @@ def write(sequence: Sequence, results: list, mode: str, junit: Path | None,
           html_path: Path | None) -> list[Path]:
     written = []
     if junit is not None:
-        Path(junit).write_text(junit_xml(sequence, results, mode))
+        atomic.write_text(junit, junit_xml(sequence, results, mode))
         written.append(Path(junit))
     if html_path is not None:
-        Path(html_path).write_text(html_report(sequence, results, mode))
+        atomic.write_text(html_path, html_report(sequence, results, mode))
         written.append(Path(html_path))
     return written

@@ -13,6 +13,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import config, scenario
+from railbrake import _args
 from railbrake._args import name_or_path
 from railbrake.errors import InputError
 
@@ -130,18 +131,19 @@ def presets() -> list[str]:
 
 def load(name: str | Path) -> Sequence:
     """A shipped preset by name, or a sequence file; checked in full (InputError: file, line, key)."""
-    text = name_or_path("sequence", name)
+    text = name_or_path("name (sequence)", name)
     if text in presets():
         origin = f"sequence preset {text}"
         source = (resources.files("railbrake") / "data" / "sequences" / f"{text}.yaml").read_text()
     elif Path(text).is_file():
         origin, source = text, config.read_text(text)
     else:
-        raise InputError(f"sequence = {text!r}: not a preset ({', '.join(presets())}) nor a file")
+        raise InputError(f"name (sequence) = {_args.show(text)}: not a preset ({', '.join(presets())}) nor a file")
     return parse(source, origin)
 
 
 def parse(text: str, origin: str) -> Sequence:
+    _args.text("text", text), _args.text("origin", origin)
     data, lines = config._checked_mapping(text, origin)
     locate = config.locator(origin, lines)
     spec = config.validate_data(data, SequenceFile, locate)
@@ -163,7 +165,12 @@ def quantity(text, dimension: str | None, where: str) -> float:
         if isinstance(text, (int, float)) and not isinstance(text, bool):
             return float(text)
         raise InputError(f"{where} = {text!r}: expected a plain number (the signal has no unit)")
+    _args.text("where", where)
+    if dimension is not None:
+        _args.choice("dimension", dimension, sorted({d for d, _ in UNITS.values()}))
     allowed = [u for u, (d, _) in UNITS.items() if d == dimension]
+    if isinstance(text, str) and any(ch.isdigit() and not ch.isascii() for ch in text):
+        raise InputError(f"{where} = {text!r}: digits must be ASCII 0-9 (not another script's digits)")
     match = _QUANTITY.match(text) if isinstance(text, str) else None
     if not match or match.group(2) not in allowed:
         raise InputError(f"{where} = {text!r}: expected '<number> <unit>', unit one of {', '.join(allowed)}")
@@ -171,6 +178,7 @@ def quantity(text, dimension: str | None, where: str) -> float:
 
 
 def duration(text, where: str, low: float = 0.0, high: float = 3600.0) -> float:
+    low, high = _args.real("low", low), _args.real("high", high)
     value = quantity(text, "time", where)
     if not low <= value <= high:
         raise InputError(f"{where} = {text!r}: must lie in [{low:g}, {high:g}] s")
@@ -179,6 +187,7 @@ def duration(text, where: str, low: float = 0.0, high: float = 3600.0) -> float:
 
 def matching(pattern: str, channels: dict, where: str) -> list[str]:
     """The recorded channels a signal names (a name, or a pattern with * and ?)."""
+    _args.text("pattern", pattern), _args.mapping("channels", channels), _args.text("where", where)
     names = [n for n in channels if n != "time" and fnmatch.fnmatchcase(n, pattern)]
     if not names:
         raise InputError(f"{where} = {pattern!r}: no recorded channel matches (e.g. speed, slip_*, "

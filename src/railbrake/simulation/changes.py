@@ -9,6 +9,7 @@ import ctypes
 import math
 from dataclasses import dataclass, field
 
+from railbrake._args import show
 from railbrake import _core
 from railbrake.errors import InputError
 
@@ -32,6 +33,8 @@ def check(changes, max_time: float, n_faults: int, per_bogie: bool = False) -> l
     """The changes in time order; a time outside [0, max_time], an unknown WSP field or fault, or a
     non-finite value is refused, naming it; so are a fraction for an integer field and the
     conditioning mode with valves per bogie (per_bogie: the run's)."""
+    if not isinstance(changes, (list, tuple)):
+        raise TypeError(f"changes = {show(changes)}: must be a list of railbrake.simulation.Change")
     out = []
     for i, c in enumerate(changes):
         if not isinstance(c, Change):

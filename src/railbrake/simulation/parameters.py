@@ -22,6 +22,7 @@ from railbrake.contact import wheel_rail_contact
 from railbrake._args import instance, real, whole
 from railbrake.errors import InputError
 from railbrake.scenario import Scenario
+from railbrake.simulation import traction
 from railbrake.units import KMH
 from railbrake.vehicle import load_train, with_cars
 
@@ -56,6 +57,7 @@ def _car(train, index: int) -> _core.PlantCar:
     car.contact = wheel_rail_contact(wheel_radius=w.wheel_radius, axle_load=w.axle_load).creep_contact()
     ed = train.spec.ed_brake
     car.ed_tau = ed.response_s if ed is not None else 1.0   # no ED brake: the lag is never used
+    traction.set_car(car, entry.motor and ed is not None)
     cyl, discs = t.cylinder, t.discs
     pipe = train.spec.air_supply.pipe
     car.supply_volume = t.supply_reservoir.volume_l * L
@@ -173,7 +175,9 @@ def kernel_code(kernel: str | None = None) -> int:
 
 def scenario_train(scenario: Scenario, n_cars: int | None = None):
     """The scenario's train with its load case, lengthened to n_cars (default: the scenario's)."""
-    spec = scenario.spec
+    spec = instance("scenario", scenario, Scenario).spec
+    if n_cars is not None:
+        whole("n_cars", n_cars, 1, _core.PLANT_MAX_CARS)
     train = load_train(spec.train.preset, spec.train.load_case or True)
     return with_cars(train, scenario.cars(n_cars) if n_cars is None else n_cars)
 
@@ -321,6 +325,7 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=No
     b.service_jerk = train.brake_step("service").jerk_limit_m_s3 or 0.0   # 0: no limit
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
+    traction.set_bcu(b)
     return b
 
 
@@ -362,7 +367,7 @@ def structs(resolved, wsp: bool = True, dt: float = DT, substeps: int | None = N
 def demanded_steps(scenario: Scenario) -> dict:
     """The brake steps a scenario demands: {"emergency": 1.0, "service": largest fraction}."""
     steps = {}
-    for step in scenario.spec.demand:
+    for step in instance("scenario", scenario, Scenario).spec.demand:
         if step.emergency:
             steps["emergency"] = 1.0
         elif step.service > 0.0:
@@ -380,8 +385,9 @@ def outside_validity_kpi(scenario: Scenario, max_slip: float | None = None) -> d
     """{"adhesion_outside_validity": what} for a run forced outside a condition's validity, else {}.
     With the run's max_slip, a condition whose file gives a creep range the run left refuses the
     run's result unless forced (the creep is known only once run)."""
-    outside = scenario.outside_validity()
+    outside = instance("scenario", scenario, Scenario).outside_validity()
     if max_slip is not None:
+        max_slip = real("max_slip", max_slip, 0.0)
         creep = scenario.creep_outside_validity(max_slip)
         if creep and not scenario.spec.adhesion.allow_outside_validity:
             raise InputError(f"scenario {scenario.name}: {creep[0]}: the run's largest creep (KPI max_slip) left the "

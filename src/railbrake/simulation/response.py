@@ -22,6 +22,7 @@ from railbrake._args import choice, flag, instance, name_or_path, real
 from railbrake.errors import InputError
 from railbrake.results.scripting import Result
 from railbrake.scenario import Scenario
+from railbrake.units import ms_to_kmh
 from railbrake.vehicle import LOAD_CASES, load_train
 
 
@@ -37,7 +38,7 @@ class BuildUp:
     build_up: float   # s, tb
     filling: float    # s, mean cylinder pressure to the filling fraction of its final value
     jerk: float       # m/s^3, the largest mean rise of the brake's deceleration over jerk_interval_s
-    force: float      # N, the brake force at the end of the window (the 100 % of ta and tb)
+    force: float      # N, the force the first step demands (the 100 % of ta and tb)
 
     @property
     def response(self) -> float:
@@ -61,50 +62,90 @@ def brake_force(result, train) -> np.ndarray:
     return total
 
 
-def _crossing(t: np.ndarray, y: np.ndarray, level: float) -> float:
+def _crossing(t: np.ndarray, y: np.ndarray, level: float, what: str = "the brake force") -> float:
     """First time y reaches level, interpolated linearly between samples."""
     i = int(np.argmax(y >= level))
     if y[i] < level:
-        raise InputError(f"the brake force never reaches {level:.4g} N within the window")
+        raise InputError(f"{what} never reaches {level:.4g} within the window")
     if i == 0:
         return float(t[0])
     return float(t[i - 1] + (level - y[i - 1]) * (t[i] - t[i - 1]) / (y[i] - y[i - 1]))
 
 
-def measure(result, train, demand_time: float = 0.0) -> BuildUp:
+def demanded_force(train, speed: float, step: str = "emergency", fraction: float = 1.0,
+                   cars: int | None = None) -> float:
+    """N: the total brake force (of a train of `cars` cars, default: as it is) (ED plus friction, at the rails) that the train's brake step
+    demands at `speed` (m/s), as its BCU is given it (railbrake.sizing.car_demands, load-weighed);
+    the level a healthy brake builds up to. step: "emergency" or "service" (times fraction)."""
+    from railbrake import sizing
+    from railbrake.vehicle import with_cars
+    if cars is not None:
+        train = with_cars(train, cars)   # as the run's BCU is given it: its resistance is the run's train's
+    profile, _ = sizing.brake_step(train, step)
+    return float(fraction * sum(np.interp(speed, d.speed, d.force) for d in sizing.car_demands(train, profile)))
+
+
+def _first_step(result, demand_time: float) -> tuple[str, float]:
+    """("emergency" | "service", fraction) of the run's demand at demand_time (its scenario's
+    demand list; a run without one is taken as an emergency stop)."""
+    resolved = getattr(result, "resolved", None)
+    if resolved is None:
+        return "emergency", 1.0
+    step = None
+    for d in resolved.scenario.spec.demand:
+        if d.time <= demand_time + 1e-9:
+            step = d
+    if step is None or step.emergency or not step.service > 0.0:
+        return "emergency", 1.0
+    return "service", float(step.service)
+
+
+def measure(result, train, demand_time: float = 0.0, step: tuple[str, float] | None = None) -> BuildUp:
     """The build-up of the brake in `result` (a run of `train` whose demand steps at demand_time
-    s) over the window of data/response/en14531.yaml."""
+    s) toward the demand of that first step: ta and tb are the times the total brake force takes
+    to reach the fractions of data/response/en14531.yaml of the force that step demands at the
+    speed at demand_time (demanded_force), not of the force at some later time (a speed-stepped
+    demand changes within seconds). step: ("emergency" | "service", fraction), default: the
+    run's scenario's demand at demand_time."""
     demand_time = real("demand_time", demand_time, 0.0)
     s = settings()
     t = result.time - demand_time
     inside = (t >= 0.0) & (t <= s["window_s"] + 1e-9)
-    if not inside.any() or t[inside][-1] < s["window_s"] - 0.05:
-        raise InputError(f"scenario {result.scenario}: the run must record {s['window_s']:g} s after the demand "
+    if not inside.any():
+        raise InputError(f"scenario {result.scenario}: no sample within {s['window_s']:g} s of the demand "
                          "to measure the build-up (data/response/en14531.yaml, window_s)")
+    kind, fraction = _first_step(result, demand_time) if step is None else step
+    speed = float(result.outputs["speed"][inside][0])
+    target = demanded_force(train, speed, kind, fraction, result.cars)
+    if not target > 0.0:
+        raise InputError(f"scenario {result.scenario}: the {kind} step demands no brake force at "
+                         f"{speed * 3.6:.0f} km/h")
     t, force = t[inside], brake_force(result, train)[inside]
-    final = float(force[-1])
-    if not final > 0.0:
-        raise InputError(f"scenario {result.scenario}: no brake force within {s['window_s']:g} s of the demand")
-    ta = _crossing(t, force, s["delay_fraction"] * final)
-    tb = _crossing(t, force, s["build_up_fraction"] * final) - ta
+    what = f"scenario {result.scenario}: the brake force (of the {kind} step's {target:.4g} N)"
+    ta = _crossing(t, force, s["delay_fraction"] * target, what)
+    tb = _crossing(t, force, s["build_up_fraction"] * target, what) - ta
     cylinders = [n for n in result.outputs if n.startswith("cylinder_c")]
     gauge = np.mean([result.outputs[n] for n in cylinders], axis=0)[inside] - result.atmosphere
-    filling = _crossing(t, gauge, s["filling_fraction"] * float(gauge[-1]))
+    full = _crossing(t, force, target, what) if force.max() >= target else t[-1]   # the step's level reached
+    filling = _crossing(t, gauge, s["filling_fraction"] * float(np.interp(full, t, gauge)), "the cylinder pressure")
     mass = sum(car.mass + car.equivalent_rotating_mass for car in train.cars[:result.cars])
-    lag = max(1, int(round(s["jerk_interval_s"] / float(np.median(np.diff(t))))))
+    lag = max(1, int(round(s["jerk_interval_s"] / float(np.median(np.diff(t)))))) if t.size > 1 else 1
     jerk = float(np.max(force[lag:] - force[:-lag]) / (mass * s["jerk_interval_s"])) if force.size > lag else 0.0
-    return BuildUp(ta, tb, filling, jerk, final)
+    return BuildUp(ta, tb, filling, jerk, target)
 
 
 def simulated(train, initial_speed: float, condition: str = "dry-medium", preset: str | None = None) -> BuildUp:
     """The build-up of `train`'s emergency brake (a vehicle.Train, its load case as it is) in an
     emergency stop from initial_speed (m/s) on `condition`, measured over the window; preset: the
-    preset name or file the train was read from (default: its name), for the run's scenario."""
+    preset name or file the train was read from (default: its preset's name, else the file it was
+    read from), for the run's scenario."""
     from railbrake.simulation.runs import run
-    from railbrake.vehicle import Train
+    from railbrake.vehicle import Train, preset_names
     instance("train", train, Train)
+    if preset is None:
+        preset = train.spec.name if train.spec.name in preset_names() else train.origin
     initial_speed = real("initial_speed", initial_speed, 0.0, low_open=True)
-    scenario = emergency_scenario(preset or train.spec.name, initial_speed, condition, settings()["window_s"] + 0.1,
+    scenario = emergency_scenario(preset, initial_speed, condition, settings()["window_s"] + 0.1,
                                   train.load_case)
     return measure(run(scenario, cars=len(train.cars), train=train), train)
 
@@ -119,21 +160,36 @@ def emergency_scenario(train: str, initial_speed: float, condition: str = "dry-m
                        allow_outside_validity: bool = False) -> Scenario:
     """An emergency stop of `train` (preset or file) from initial_speed (m/s) on `condition`;
     allow_outside_validity: run the condition outside its validity (flagged) instead of refusing."""
+    return _stop_scenario(train, initial_speed, condition, {"emergency": True}, "emergency", "Emergency brake",
+                          max_time, load, allow_outside_validity)
+
+
+def service_scenario(train: str, initial_speed: float, condition: str, demand: float,
+                     max_time: float = 3600.0) -> Scenario:
+    """A service stop of `train` (preset or file) from initial_speed (m/s) on `condition` at
+    `demand` (0-1 of full service)."""
+    demand = real("demand", demand, 0.0, 1.0, low_open=True)
+    return _stop_scenario(train, initial_speed, condition, {"service": demand}, "service",
+                          f"Service brake {demand:g}", max_time, None, False)
+
+
+def _stop_scenario(train, initial_speed, condition, demand: dict, kind: str, title: str, max_time,
+                   load, allow_outside_validity) -> Scenario:
     from railbrake.scenario import SCHEMA, from_data
     train, condition = name_or_path("train", train), name_or_path("condition", condition)
     initial_speed, max_time = real("initial_speed", initial_speed, 0.0), real("max_time", max_time, 0.0)
     if load is not None:
         choice("load", load, LOAD_CASES)
-    data = {"schema": SCHEMA, "name": f"emergency-{initial_speed * 3.6:.0f}-{condition}",
-            "title": f"Emergency brake from {initial_speed * 3.6:.0f} km/h, {train}",
+    data = {"schema": SCHEMA, "name": f"{kind}-{ms_to_kmh(initial_speed):.0f}-{condition}",
+            "title": f"{title} from {ms_to_kmh(initial_speed):.0f} km/h, {train}",
             "train": {"preset": str(train)}, "initial_speed": f"{initial_speed!r} m/s",
-            "demand": [{"time": "0 s", "emergency": True}],
+            "demand": [{"time": "0 s", **demand}],
             "adhesion": {"condition": condition, "allow_outside_validity": flag("allow_outside_validity",
                                                                                 allow_outside_validity)},
             "stop": {"speed": "0.05 m/s", "max_time": f"{max_time} s"}}
     if load is not None:
         data["train"]["load_case"] = load
-    return from_data(data, f"emergency stop of {train}", {})
+    return from_data(data, f"{kind} stop of {train}", {})
 
 
 def response_times(result: Result, train=None) -> tuple[float, float]:
@@ -144,6 +200,8 @@ def response_times(result: Result, train=None) -> tuple[float, float]:
         if result.resolved is None:
             raise InputError("response_times: give the train of a run made with a train of its own")
         train = result.resolved.train
+    from railbrake.vehicle import Train
+    instance("train", train, Train)
     b = measure(result, train)
     return b.delay, b.build_up
 
@@ -154,3 +212,30 @@ def simulated_response(train: str, initial_speed: float, load: str | None = None
     train = name_or_path("train", train)
     b = simulated(load_train(train, load or True), initial_speed, preset=str(train))
     return b.delay, b.build_up
+
+
+HEALTHY_SHORTFALL = "healthy_cylinder_shortfall_s"   # Result.meta key of healthy_shortfall
+
+
+def healthy_shortfall(result) -> float | None:
+    """s: how long a cylinder of a healthy brake of the run's train stays more than 0.2 bar below
+    its demand in its own emergency build-up (the KPI cylinder_shortfall_s of an emergency stop of
+    the same train, cars and load from the run's initial speed, on dry rail, without faults): what
+    the run's cylinder_shortfall_s is compared with (railbrake.results.kpis.warnings). None for a
+    run without its configuration (a loaded result) or from standstill. Kept in result.meta."""
+    import warnings
+    from railbrake.simulation.runs import run
+    from railbrake.vehicle import with_cars
+    if HEALTHY_SHORTFALL in result.meta:
+        return result.meta[HEALTHY_SHORTFALL]
+    resolved = getattr(result, "resolved", None)
+    if resolved is None or not resolved.scenario.spec.initial_speed > 0.0:
+        return None
+    train = with_cars(resolved.train, result.cars)
+    with warnings.catch_warnings():   # the run's own warnings were given; this is its reference
+        warnings.simplefilter("ignore")
+        scenario = emergency_scenario(resolved.scenario.spec.train.preset, resolved.scenario.spec.initial_speed,
+                                      max_time=2.0 * settings()["window_s"], load=train.load_case)
+        value = run(scenario, cars=result.cars, train=train, record=False).kpis["cylinder_shortfall_s"]
+    result.meta[HEALTHY_SHORTFALL] = value
+    return value

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from railbrake import config
+from railbrake import _args, config
 from railbrake.errors import InputError
 
 KINDS = ("verification", "code-to-code", "validation")
@@ -80,12 +80,12 @@ def _repo_validation_dir() -> Path | None:
     return None
 
 
-def case_root(cases: Path | str | None = None) -> Path:
+def case_root(cases: Path | str | None = None, argument: str = "cases") -> Path:
     """The folder holding <kind>/<id>/case.yaml; a clear error when none can be found."""
     if cases is not None:
-        root = Path(cases)
+        root = _args.path(argument, cases)
         if not root.is_dir():
-            raise InputError(f"--cases = {str(root)!r}: not a folder")
+            raise InputError(f"{argument} (--cases) = {_args.show(str(root))}: not a folder")
         return root
     if os.environ.get(ENV_VAR):
         return case_root(os.environ[ENV_VAR])
@@ -214,9 +214,11 @@ def parse_case(folder: Path) -> Case:
 def load_cases(root: Path | str | None = None, case_id: str | None = None,
                kind: str | None = None) -> list:
     """Every case folder under root (Case or BrokenCase), filtered by id or kind."""
-    if kind is not None and kind not in KINDS:
-        raise InputError(f"--kind = {kind!r}: must be one of {', '.join(KINDS)}")
-    base = case_root(root)
+    if kind is not None:
+        _args.choice("kind", kind, KINDS)
+    if case_id is not None:
+        _args.text("case_id", case_id)
+    base = case_root(root, "root")
     folders = sorted(p.parent for p in base.glob("*/*/case.yaml"))
     folders += sorted(p for p in base.glob("*/*") if p.is_dir() and not (p / "case.yaml").exists()
                       and any(p.iterdir()))
@@ -231,5 +233,5 @@ def load_cases(root: Path | str | None = None, case_id: str | None = None,
         if kind is None or case.kind == kind:
             out.append(case)
     if case_id is not None and not out:
-        raise InputError(f"--case = {case_id!r}: no such case under {base}")
+        raise InputError(f"case_id (--case) = {_args.show(case_id)}: no such case under {base}")
     return out

@@ -386,8 +386,13 @@ def etcs_curve_distance(inputs, x, case):
     inputs.national (a preset or a file beside the case; default: the shipped defaults). The curve is exact in V^2 between its points."""
     import json
     from railbrake.etcs import curves, national, osrd
-    doc = json.loads((case.folder / _need(inputs, "rolling_stock")).read_text())
-    model, service = osrd.from_osrd(osrd.params_of(doc), float(doc["max_speed"]), doc.get("name", "osrd"))
+    path = case.folder / _need(inputs, "rolling_stock")
+    doc = json.loads(path.read_text())
+    params = osrd.params_of(doc, str(path))
+    if isinstance(doc.get("max_speed"), bool) or not isinstance(doc.get("max_speed"), (int, float)):
+        raise InputError(f"{path}: max_speed = {doc.get('max_speed')!r}: the rolling stock's maximum speed, m/s "
+                         "(a number, as OSRD's rolling stock has it)")
+    model, service = osrd.from_osrd(params, float(doc["max_speed"]), doc.get("name", str(path)))
     track = str(_need(inputs, "track"))
     track = national.load_track(case.folder / track if track.endswith(".yaml") else track)
     values = str(inputs.get("national", "default"))

@@ -14,6 +14,7 @@ from typing import Callable
 
 import numpy as np
 
+from railbrake import _args
 from railbrake.errors import InputError
 from railbrake.validation import models
 from railbrake.validation.cases import BrokenCase, Case
@@ -114,6 +115,8 @@ def evaluate(case: Case) -> CaseResult:
 
 
 def run_cases(cases, fast_only: bool = False, progress: Callable[[str, int, int], None] | None = None) -> list:
+    cases = _args.items("cases", cases, (Case, BrokenCase), low=0)
+    fast_only, progress = _args.flag("fast_only", fast_only), _args.function("progress", progress)
     selected = [c for c in cases if c.fast or not fast_only]
     results = []
     for i, case in enumerate(selected):

@@ -28,10 +28,11 @@ def distance(case, configuration: int, sand_reference: float, retention: float |
     calibration["sand_reference_kg_m"] = sand_reference
     if retention is not None:
         calibration["sand_retention"] = retention
-    path = Path(tempfile.mkdtemp()) / "calibration.yaml"
-    path.write_text(yaml.safe_dump(calibration))
-    inputs["calibration"] = str(path)   # absolute, so case.folder / it is itself
-    return float(sander_stopping_distance(inputs, [configuration], case).values[0])
+    with tempfile.TemporaryDirectory() as folder:   # one a call: the calibration's root finding makes many
+        path = Path(folder) / "calibration.yaml"
+        path.write_text(yaml.safe_dump(calibration))
+        inputs["calibration"] = str(path)   # absolute, so case.folder / it is itself
+        return float(sander_stopping_distance(inputs, [configuration], case).values[0])
 
 
 def published(case, configuration: int) -> float:

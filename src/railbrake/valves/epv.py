@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railbrake import _core, config
+from railbrake import _args, _core, config
 from railbrake.errors import InputError
 from railbrake.pneumatics import Network
 from railbrake.units import BAR
@@ -18,23 +18,57 @@ from railbrake.valves.params import DATA, load
 MM = 1e-3
 T_AMBIENT = 293.15   # K, initial and wall temperature of the chambers
 
+MAX_TIME_S = 3600.0      # longest simulated valve response (s): a software limit on the work asked
+MAX_POINTS = 1_000_000   # output samples at most (memory grows with them)
+
 
 def load_epv(override=None) -> dict:
     return load("epv", override)
 
 
-def _params(params) -> dict:
+def _params(params, argument: str = "params") -> dict:
     """A complete parameter set as given, else the defaults with `params` as overrides."""
     full = isinstance(params, dict) and {"solenoid_table", "armature", "piston", "current_max_a"} <= params.keys()
-    return params if full else load_epv(params)
+    return params if full else load("epv", params, argument)
+
+
+def _force_table(force_table):
+    """None, or (airgap m, current A, force N [airgap, current]) as read_force_table returns it."""
+    if force_table is None:
+        return None
+    if not (isinstance(force_table, (tuple, list)) and len(force_table) == 3):
+        raise TypeError(f"force_table = {_args.show(force_table)}: must be (airgap, current, force) as "
+                        "read_force_table returns it")
+    gap, current = _args.reals("force_table[0] (airgap)", force_table[0]), \
+        _args.reals("force_table[1] (current)", force_table[1])
+    force = _args.reals("force_table[2] (force)", force_table[2])
+    if gap.ndim != 1 or current.ndim != 1 or force.shape != (gap.size, current.size):
+        raise InputError(f"force_table: force must be an array [airgap, current] of {gap.size} x {current.size}")
+    return gap, current, force
+
+
+def _schedule(name: str, points) -> list:
+    """[(time s, value)] pairs."""
+    if not isinstance(points, (list, tuple)):
+        raise TypeError(f"{name} = {_args.show(points)}: must be a list of (time s, value) pairs")
+    for i, point in enumerate(points):
+        if not (isinstance(point, (list, tuple)) and len(point) == 2):
+            raise TypeError(f"{name}[{i}] = {_args.show(point)}: must be a (time s, value) pair")
+        _args.real(f"{name}[{i}] time", point[0])
+        _args.real(f"{name}[{i}] value", point[1])
+    return list(points)
 
 
 def read_force_table(path, rated_current: float | None = None):
     """Solenoid force table CSV: header 'airgap_mm,<currents A>...', rows 'airgap_mm,<forces N>...';
     '#' lines are comments. Returns (airgap m, current A, force N [airgap, current]). Refused: axes
     not strictly increasing, a force falling with current, a table not reaching rated_current (A)."""
-    path = Path(path)
-    text = config.read_text(path) if path.exists() else (DATA / str(path)).read_text()
+    path = _args.path("path", path)
+    if rated_current is not None:
+        rated_current = _args.real("rated_current", rated_current, 0.0)
+    if not path.is_file() and not (DATA / path).is_file():
+        raise InputError(f"path = {_args.show(str(path))}: no such force table file")
+    text = config.read_text(path) if path.is_file() else (DATA / path).read_text()
     lines = [line for line in text.splitlines() if line.strip() and not line.startswith("#")]
     rows = list(csv.reader(lines))
     try:
@@ -64,7 +98,7 @@ def read_force_table(path, rated_current: float | None = None):
                          "(monotone non-decreasing in current)")
     if rated_current is not None and not current[-1] >= rated_current:
         raise InputError(f"{path}: currents up to {current[-1]:g} A: the table must cover the rated current "
-                         f"current_max_a = {rated_current:g} A (range [0, >= {rated_current:g}] A)")
+                         f"current_max_a = {rated_current:g} A (rated_current; range [0, >= {rated_current:g}] A)")
     return gap * MM, current, force
 
 
@@ -80,6 +114,13 @@ def epv_network(p: dict, current_schedule, force_table=None, thermal_time: float
     """The EPV as a network: supply -> pilot orifice -> pilot chamber -> flapper-nozzle -> atmosphere;
     relay piston between pilot and control chambers opening the inlet (x > 0) or exhaust (x < 0).
     thermal_time (s): wall heat exchange of the chambers (default: adiabatic)."""
+    p = _params(p, "p")
+    current_schedule = _schedule("current_schedule", current_schedule)
+    if not 1 <= len(current_schedule) <= 16:
+        raise InputError(f"current_schedule: {len(current_schedule)} points: needs 1 to 16")
+    force_table = _force_table(force_table)
+    if thermal_time is not None:
+        _args.real("thermal_time", thermal_time, 0.0, low_open=True)
     a, k = p["armature"], p["piston"]
     pa, cd = p["ambient_pa"], p["discharge_coefficient"]
     gap, current, force = (force_table if force_table is not None
@@ -160,8 +201,9 @@ def epv_characteristic(params=None, ramp_time: float = 100.0, n_points: int = 20
     difference at equal current, reported only when quasi-static: the same ramp twice as slow
     changes it by less than QUASI_STATIC_BAR or 10 % (else it is the valve's lag, lag_bar)."""
     p = _params(params)
-    if not ramp_time > 0:
-        raise InputError(f"ramp_time = {ramp_time}: must be > 0 (s)")
+    ramp_time = _args.real("ramp_time", ramp_time, 0.0, MAX_TIME_S, low_open=True)
+    n_points = _args.whole("n_points", n_points, 2, MAX_POINTS)
+    force_table = _force_table(force_table)
     c_up, p_up, c_down, p_down, hyst = _ramp(p, ramp_time, n_points, force_table)
     slow = _ramp(p, 2.0 * ramp_time, n_points, force_table)[4]
     lag = hyst - slow
@@ -179,8 +221,12 @@ def epv_step(params=None, current: float = 0.5, t_end: float = 1.0, t_step: floa
     """Response to a current step start_current -> current at t_step (the valve at rest at
     start_current before it; chambers adiabatic unless thermal_time, s); returns the network result."""
     p = _params(params)
+    t_end = _args.real("t_end", t_end, 0.0, MAX_TIME_S, low_open=True)
+    t_step = _args.real("t_step", t_step, 0.0, t_end)
+    n_points = _args.whole("n_points", n_points, 2, MAX_POINTS)
+    force_table = _force_table(force_table)
     for name, value in (("current", current), ("start_current", start_current)):
-        if not 0 <= value <= p["current_max_a"]:
+        if not 0 <= _args.real(name, value) <= p["current_max_a"]:
             raise InputError(f"{name} = {value:g} A: must lie in [0, {p['current_max_a']:g}] A "
                              "(current_max_a, the rated current)")
     settle = SETTLE_S if start_current > 0 else 0.0
@@ -200,7 +246,10 @@ def epv_step(params=None, current: float = 0.5, t_end: float = 1.0, t_step: floa
 def step_metrics(time, gauge_bar, t_step: float = 0.05, band: float = 0.02) -> dict:
     """Final value, 10-90 % rise time, overshoot (bar and % of the change) and settling time (from the
     step to entering for good the band +-`band` x change, at least +-0.01 bar, around the final)."""
-    time, p = np.asarray(time), np.asarray(gauge_bar)
+    time, p = _args.reals("time", time), _args.reals("gauge_bar", gauge_bar)
+    if time.ndim != 1 or time.size < 2 or p.shape != time.shape:
+        raise InputError(f"time, gauge_bar: two arrays of the same length >= 2 (here {time.shape}, {p.shape})")
+    t_step, band = _args.real("t_step", t_step), _args.real("band", band, 0.0)
     final, start = float(p[-1]), float(np.interp(t_step, time, p))
     change = final - start
     sign = 1.0 if change >= 0 else -1.0
@@ -216,7 +265,12 @@ def step_metrics(time, gauge_bar, t_step: float = 0.05, band: float = 0.02) -> d
 def oscillates(time, pressure, settle_fraction: float = 0.5, amplitude: float = 0.01 * BAR) -> bool:
     """True when, over the last (1 - settle_fraction) of the record, the pressure keeps swinging
     around its mean by more than `amplitude` (Pa) with at least 3 mean crossings each way."""
-    tail = np.asarray(pressure)[int(len(time) * settle_fraction):]
+    time, pressure = _args.reals("time", time), _args.reals("pressure", pressure)
+    if time.ndim != 1 or time.size < 2 or pressure.shape != time.shape:
+        raise InputError(f"time, pressure: two arrays of the same length >= 2 (here {time.shape}, {pressure.shape})")
+    settle_fraction = _args.real("settle_fraction", settle_fraction, 0.0, 1.0, high_open=True)
+    amplitude = _args.real("amplitude", amplitude, 0.0)
+    tail = pressure[int(len(time) * settle_fraction):]
     swing = tail - tail.mean()
     crossings = np.count_nonzero(np.diff(np.sign(swing)) != 0)
     return bool(np.ptp(tail) > 2 * amplitude and crossings >= 6)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import yaml
 
-from railbrake import config
+from railbrake import _args, config
 from railbrake.errors import InputError
 
 BAR = 1e5   # Pa per bar
@@ -125,19 +125,23 @@ def _check_number(value, rule, where: str, name: str) -> None:
         raise InputError(f"{where}: {name} = {value!r}: {allowed}")
 
 
-def load(default_name: str, override=None) -> dict:
-    """The default parameters `default_name`.yaml, updated by a dict or a YAML file path."""
+def load(default_name: str, override=None, argument: str = "override") -> dict:
+    """The default parameters `default_name`.yaml, updated by a dict or a YAML file path (the
+    caller's argument: named in errors)."""
     params = yaml.safe_load((DATA / f"{default_name}.yaml").read_text())
     if override is None:
         return params
-    origin, lines = "parameters", {}
+    origin, lines = argument, {}
     if isinstance(override, (str, Path)):
+        if not _args.path(argument, override).is_file():
+            raise InputError(f"{argument} = {_args.show(str(override))}: no such {default_name} valve file")
         origin = str(override)
         text = config.read_text(override)
         override = config.load_mapping(text, origin) if text.strip() else {}
         lines = config.line_index(text) if text.strip() else {}
     if not isinstance(override, dict):
-        raise InputError(f"{origin}: a {default_name} valve file must be a mapping of parameters")
+        raise InputError(f"{argument} = {_args.show(origin if origin != argument else override)}: must be a mapping of {default_name} valve "
+                         f"parameters or a YAML file of them")
     locate = config.locator(origin, lines)
     merged = _merge(params, override, locate)
     _check_ranges(override, locate)

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from railbrake import _args
 from railbrake.pneumatics import Network
 from railbrake.units import BAR
 from railbrake.valves.params import load
@@ -53,5 +54,11 @@ def relay_network(p: dict, t_step: float = 0.05, hold=None, vent=None) -> Networ
 
 def relay_step(params=None, t_end: float = 1.5, t_step: float = 0.05, hold=None, vent=None,
                n_points: int = 1001):
-    p = params if isinstance(params, dict) and "control_step_bar" in params else load_relay(params)
-    return relay_network(p, t_step, hold, vent).simulate(t_end, n_points=n_points)
+    from railbrake.valves.epv import MAX_POINTS, MAX_TIME_S, _schedule
+    p = params if isinstance(params, dict) and "control_step_bar" in params else load("relay", params, "params")
+    t_end = _args.real("t_end", t_end, 0.0, MAX_TIME_S, low_open=True)
+    t_step = _args.real("t_step", t_step, 0.0, t_end)
+    hold = None if hold is None else _schedule("hold", hold)
+    vent = None if vent is None else _schedule("vent", vent)
+    return relay_network(p, t_step, hold, vent).simulate(t_end, n_points=_args.whole("n_points", n_points, 2,
+                                                                                        MAX_POINTS))

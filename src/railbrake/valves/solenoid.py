@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railbrake import _core
+from railbrake import _core, atomic
 from railbrake.errors import InputError
 from railbrake.valves.params import load
 
@@ -107,9 +107,7 @@ def write_table(p: dict, path, design: str = "railbrake/data/valves/solenoid.yam
              "# Rows: airgap in mm (strictly increasing); columns: current in A.",
              "airgap_mm," + ",".join(f"{c:g}" for c in current)]
     lines += [f"{g / MM:g}," + ",".join(f"{f:.5f}" for f in row) for g, row in zip(gap, force)]
-    path = Path(path)
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    return atomic.write_text(path, "\n".join(lines) + "\n")
 
 
 def resistance(p: dict, temperature_c: float) -> float:

@@ -71,6 +71,8 @@ def test_a_run_folder_and_its_copy_rerun_from_another_folder(project, tmp_path, 
     assert (folder / "my-emergency.yaml").is_file()   # the file its config names, copied in
     config = (folder / "config.yaml").read_text(encoding="utf-8")
     assert "profile: my-emergency.yaml" in config and str(project) not in config.split("provenance:")[0]
+    listed = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))["files"]
+    assert {"my-emergency.yaml", "my-train.yaml", "config.yaml"} <= set(listed)   # the rerun needs each
     shutil.rmtree(project)   # nothing points back to the files it was made from
     copy = tmp_path / "colleague" / "run-copy"
     shutil.copytree(folder, copy)
@@ -80,3 +82,4 @@ def test_a_run_folder_and_its_copy_rerun_from_another_folder(project, tmp_path, 
     for config_file in (folder / "config.yaml", copy / "config.yaml"):
         again = json.loads(invoke("run", config_file, "--json").stdout)
         assert again == first   # the KPIs, bit for bit
+        assert railbrake.load_result(config_file.parent).kpis["stopping_distance_m"] == first["stopping_distance_m"]

@@ -64,3 +64,28 @@ def test_stopping_distance_train():
     out = runner.invoke(app, ["stopping-distance", "--train", "crh380a-8", "--v0-kmh", "250", "--json"])
     assert out.exit_code == 0, out.output
     assert 1500 < json.loads(out.stdout)["stopping_distance_m"] < 2430  # TSI 250 km/h [T]
+
+
+def test_size_counts_the_ed_brake_of_a_brake_step_whose_profile_is_a_file(tmp_path):
+    # issue 38: velaro-8 blends its ED brake in emergency; with its emergency profile named as a
+    # file (the same data) `size` blends it as with the preset name (3.98 against 1.29 bar before)
+    from importlib import resources
+    from railbrake.units import KMH
+    data = resources.files("railbrake") / "data"
+    profile = tmp_path / "my-emergency.yaml"
+    profile.write_text((data / "profiles" / "emergency.yaml").read_text())
+    train = tmp_path / "velaro-file.yaml"
+    train.write_text((data / "trains" / "velaro-8.yaml").read_text().replace(
+        "    profile: emergency\n    ed_blending: true", f"    profile: {profile}\n    ed_blending: true", 1))
+    cases = []
+    for name in ("velaro-8", str(train)):
+        out = runner.invoke(app, ["size", "--train", name, "--json"])
+        assert out.exit_code == 0, out.output
+        cases.append(json.loads(out.stdout))
+    assert str(profile) in train.read_text() and all(c["ed_blending"] for c in cases)
+    at_50 = [c["speed_kmh"].index(50.0) for c in cases]
+    motor = [c["target_pressure_bar"]["motor"][i] for c, i in zip(cases, at_50)]
+    assert motor[1] == pytest.approx(motor[0], rel=1e-12)
+    from railbrake import sizing
+    alone = sizing.target_pressure("velaro-8", speeds=[50 * KMH], ed=False)
+    assert motor[0] < alone.gauge_bar(alone.p_motor)[0] - 1.0   # the ED brake takes bars off the motor cars

@@ -198,3 +198,12 @@ def test_a_bad_national_value_is_refused_with_its_file_and_key(tmp_path):
     with pytest.raises(Exception, match=r"M_NVEBCL") as info:
         national.load_national(path)
     assert str(path) in str(info.value)
+
+
+@pytest.mark.parametrize("doc", [{}, {"etcs_brake_params": None},
+                                 {"supported_signaling_systems": [{"type": "ETCS_LEVEL2"}]},
+                                 {"supported_signaling_systems": [{"type": "BAL", "brake_params": {}}]}])
+def test_an_osrd_file_without_brake_params_is_refused_with_its_name(doc):
+    from railbrake.errors import InputError
+    with pytest.raises(InputError, match=r"stock\.json: no etcs_brake_params .* ETCS_LEVEL2 with a brake_params"):
+        osrd.params_of(doc, "stock.json")

@@ -24,6 +24,14 @@ failures:
     source: x
 """
 
+COMMON_CAUSE = """common_cause:
+  - name: front unit
+    kind: ep_valve_failed
+    cars: [1, 2]
+    per_demand: 1.0e-8
+    source: x
+"""
+
 SCATTER = """schema: railbrake.scatter/1
 name: t
 source: test
@@ -75,6 +83,38 @@ def test_bad_reliability_files_are_refused_with_file_line_and_key(tmp_path, old,
     message = str(exc.value)
     assert str(path) in message and key in message
     assert re.search(rf"line {line}\b", message), message
+
+
+@pytest.mark.parametrize("second", [
+    "  - name: front unit\n    kind: car_isolated\n    cars: [3]\n    per_demand: 1.0e-8\n    source: x\n",
+    "  - name: other words\n    kind: ep_valve_failed\n    cars: [2, 1]\n    per_demand: 1.0e-8\n    source: x\n",
+])
+def test_a_common_cause_group_given_twice_is_refused(tmp_path, second):
+    """Given twice, a group would fail its units twice as often: refused, naming the key and line."""
+    path = _write(tmp_path, RELIABILITY + COMMON_CAUSE + second)
+    with pytest.raises(InputError) as exc:
+        inputs.load_reliability(path)
+    message = str(exc.value)
+    assert str(path) in message and "common_cause[1]" in message and "given twice" in message
+    assert re.search(r"line 14\b", message), message   # the common_cause key
+    inputs.load_reliability(_write(tmp_path, RELIABILITY + COMMON_CAUSE, "once.yaml"))   # once: fine
+
+
+@pytest.mark.parametrize("quantity, text", [
+    ("wheel_diameter", "  distribution: uniform\n  bounds: [0.0014, 1.0]\n  per: car\n  source: x\n"),
+    ("pressure_control", "  distribution: truncated_normal\n  mean: 1.0\n  sd: 0.05\n  bounds: [0.01, 1.15]\n"
+                     "  per: car\n  source: x\n"),
+    ("load", "  distribution: normal\n  mean: 9.0\n  sd: 0.01\n  per: car\n  source: x\n"),
+])
+def test_a_scatter_factor_outside_its_quantitys_range_is_refused(tmp_path, quantity, text):
+    """A wheel at 0.14 % of its nominal diameter is a typing slip, not a tolerance: each factor has a
+    sourced range (data/etcs/factor-ranges.yaml)."""
+    path = _write(tmp_path, SCATTER + f"{quantity}:\n" + text)
+    with pytest.raises(InputError) as exc:
+        inputs.load_scatter(path)
+    message = str(exc.value)
+    assert str(path) in message and f"{quantity}:" in message and "must lie in" in message
+    assert re.search(r"line 11\b", message), message
 
 
 @pytest.mark.parametrize("old, new, key", [

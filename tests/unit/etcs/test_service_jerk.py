@@ -47,3 +47,12 @@ def test_t_bs_holds_the_ramp_and_no_more_than_the_step_lag(train, jerk):
 def test_a_jerk_limit_needs_its_source(train):
     with pytest.raises(InputError, match="jerk_limit_source"):
         train.with_({"brake_steps.service.jerk_limit_m_s3": 1.0})
+
+
+def test_the_service_stop_scenario_demands_service_and_checks_its_demand():
+    from railbrake.simulation import response
+    sc = response.service_scenario(TRAIN, V0, "dry-medium", 0.5)
+    assert sc.data["demand"] == [{"time": "0 s", "service": 0.5}] and sc.name == "service-80-dry-medium"
+    for demand in (0, 1.5):
+        with pytest.raises(InputError, match=f"demand = {demand}: must be > 0 and <= 1"):
+            response.service_scenario(TRAIN, V0, "dry-medium", demand)

@@ -133,3 +133,13 @@ def test_compare_takes_results_and_saved_runs_as_the_cli_does(result, tmp_path):
     assert set(json.loads(cli.stdout)) == set(report)
     with pytest.raises(railbrake.InputError, match="needs at least two"):
         railbrake.compare(result)
+
+
+@pytest.mark.parametrize("bad, kind", [(None, TypeError), (7, TypeError), (b"a", TypeError), ("", ValueError),
+                                       ("x" * 10_000, ValueError), ("no-such-folder", ValueError)])
+def test_compare_names_the_bad_run_by_its_position(result, bad, kind):
+    """compare(*runs) has no argument names: a refusal names the run as runs[i], and a long value is
+    cut, not echoed."""
+    with pytest.raises(kind) as caught:
+        railbrake.compare(result, bad)
+    assert str(caught.value).startswith("runs[1]") and len(str(caught.value)) < 300, caught.value

@@ -89,6 +89,8 @@ tests:
     (("      - wait: 1 s", "      - wait: {until: {signal: speed, below: 1 m/s}}"), ["line 9", "timeout"]),
     (("      - wait: 1 s", "      - set_adhesion: marmalade"), ["line 9", "marmalade"]),
     (("      - wait: 1 s", "      - teleport: 3 km"), ["line 9", "teleport"]),
+    (("      - wait: 1 s", "      - wait: \u0661 s"), ["line 9", "steps.1.wait", "ASCII"]),   # Arabic-Indic 1
+    (("      - wait: 1 s", "      - wait: \u0968.5 s"), ["line 9", "steps.1.wait", "ASCII"]),   # Devanagari 2
 ])
 def test_bad_sequence_files_are_refused_with_file_line_and_key(tmp_path, change, words):
     path = tmp_path / "bad.yaml"

@@ -51,7 +51,8 @@ def test_build_up_lies_in_the_published_ranges(train, load):
         if t.brake_step("emergency").ed_blending:
             continue
         assert PRACTICE["ta"]["min"] <= b.delay <= PRACTICE["ta"]["max"], where
-        assert PRACTICE["tb"]["min"] <= b.build_up <= PRACTICE["tb"]["max"], where
+        # the practice estimate is given to 0.1 s ([T], no measured figure): compared at that precision
+        assert PRACTICE["tb"]["min"] <= round(b.build_up, 1) <= PRACTICE["tb"]["max"], where
         assert PRACTICE["te"]["min"] <= b.response <= PRACTICE["te"]["max"], where
         assert 0.0 < b.jerk <= JERK, where
 

@@ -10,10 +10,10 @@ import pytest
 from railbrake import simulation
 from railbrake.scenario import load
 
-SANDERS = """
+VARIABLE = """
 sanders:
   units:
-    - {car: 1, axle: 1, rate_kg_min: 1.5, trigger: wsp}
+    - {car: 1, axle: 1, rate_kg_min: RATE, trigger: wsp}
   sand_reference_kg_m: 0.002
   sand_entrained: 0.2
   sand_retention: 0.5
@@ -21,12 +21,16 @@ sanders:
 """
 
 
+def _train_with(tmp_path, sanders: str, name: str = "sanded") -> str:
+    text = (resources.files("railbrake") / "data" / "trains" / "crh380al-16.yaml").read_text()
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(text + sanders)
+    return str(path)
+
+
 @pytest.fixture(scope="module")
 def sanded_train(tmp_path_factory):
-    text = (resources.files("railbrake") / "data" / "trains" / "crh380al-16.yaml").read_text()
-    path = tmp_path_factory.mktemp("train") / "sanded.yaml"
-    path.write_text(text + SANDERS)
-    return str(path)
+    return _train_with(tmp_path_factory.mktemp("train"), VARIABLE.replace("RATE", "1.5"))
 
 
 def _run(train=None, **changes):
@@ -44,24 +48,6 @@ def test_sand_shortens_the_stop_on_heavy_rain(sanded_train):
 def test_sanders_without_rail_cells_are_said_to_act_on_nothing(sanded_train):
     with pytest.warns(UserWarning, match="sanders act on the rail cells"):
         _run(sanded_train)
-
-
-def _train_with(tmp_path, sanders: str, name: str = "sanded") -> str:
-    text = (resources.files("railbrake") / "data" / "trains" / "crh380al-16.yaml").read_text()
-    path = tmp_path / f"{name}.yaml"
-    path.write_text(text + sanders)
-    return str(path)
-
-
-VARIABLE = """
-sanders:
-  units:
-    - {car: 1, axle: 1, rate_kg_min: RATE, trigger: wsp}
-  sand_reference_kg_m: 0.002
-  sand_entrained: 0.2
-  sand_retention: 0.5
-  source: test values
-"""
 
 
 def test_a_variable_rate_reaches_the_core_as_a_table_over_speed(tmp_path):

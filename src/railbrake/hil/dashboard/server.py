@@ -6,7 +6,6 @@ from __future__ import annotations
 import hmac
 import ipaddress
 import json
-import sys
 import threading
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
@@ -95,30 +94,16 @@ def _loopback(host: str, port) -> bool:
         return False
 
 
-class _Server(ThreadingHTTPServer):
+class _Server(guard.Guarded, ThreadingHTTPServer):
     daemon_threads = True
+    name = "dashboard"
+    _BODY = b'{"ok": false, "error": "dashboard: all connections busy with authenticated clients: retry"}'
+    busy = (b"HTTP/1.0 503 Service Unavailable\r\nContent-Type: application/json\r\nContent-Length: "
+            + str(len(_BODY)).encode() + b"\r\nConnection: close\r\n\r\n" + _BODY)
 
     def __init__(self, guard_: guard.Guard, address, handler):
         self.guard = guard_
         super().__init__(address, handler)
-
-    def process_request(self, request, client_address):
-        if self.guard.admit(request, client_address[0]):
-            guard.no_delay(request)
-            return super().process_request(request, client_address)
-        try:   # every connection of this peer carried the token: the newcomer waits
-            request.settimeout(1.0)
-            body = b'{"ok": false, "error": "dashboard: all connections busy with authenticated clients: retry"}'
-            request.sendall(b"HTTP/1.0 503 Service Unavailable\r\nContent-Type: application/json\r\n"
-                            b"Content-Length: " + str(len(body)).encode() + b"\r\nConnection: close\r\n\r\n" + body)
-        except OSError:
-            pass
-        self.shutdown_request(request)
-
-    def handle_error(self, request, client_address):
-        exc = sys.exc_info()[1]
-        if not isinstance(exc, OSError):
-            self.guard.unexpected_error("dashboard", exc)
 
 
 def _content_length(headers) -> tuple[int, int, str]:
