@@ -9,8 +9,8 @@ JOBS ?= 2
 OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
-.PHONY: demo test install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
-        fuzz-frames fuzz-python wine wheel wheel-test browser system-packages
+.PHONY: demo test test-long install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz \
+        fuzz-fmi fuzz-frames fuzz-python wine wheel wheel-test browser system-packages
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -80,7 +80,12 @@ wine browser: system-packages
 # One worker more than cores: the paced 8-car HIL stop (tests/unit/hil/test_loopback.py, 170 s on the
 # wall clock, a few per cent of a core) would otherwise leave its worker's core idle that long.
 pytest: install system-packages
-	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile --durations=15
+	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile -m "not long" --durations=15
+
+# The statistical must-holds that take tens of minutes of CPU (ETCS: the method against a brute
+# force on the plant, five seeds giving the same coded Kdry): not part of `make test`.
+test-long: install
+	$(PY) -m pytest -q -n $(JOBS) --dist load -m long --durations=15
 
 # The Python tests again, with the C core built under AddressSanitizer and UBSan.
 # Python itself is not instrumented, so leak detection is left to the C tests. The FMU tests are
@@ -92,7 +97,7 @@ pytest-sanitize: install ctest-sanitize
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
 	RAILBRAKE_CORE_LIBRARY=$(CURDIR)/$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
-	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow" -p no:cacheprovider --durations=15 \
+	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow and not long" -p no:cacheprovider --durations=15 \
 	    --ignore=tests/unit/fmu --ignore=tests/unit/docs --ignore=tests/unit/sequence
 
 # Every verification and validation case (docs/validation-cases.md): the HTML report into out/,

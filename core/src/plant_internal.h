@@ -213,6 +213,11 @@ typedef struct {
                                                                         car valves' vector loops */
     int compressor_off;
     int sensor_faults;                      /* any sensor lost or noisy */
+    /* the emergency path, per car (0: sound) */
+    double emergency_failed[RB_PLANT_MAX_CARS], loop_lost[RB_PLANT_MAX_CARS];
+    double relay_limit[RB_PLANT_MAX_CARS];  /* Pa absolute the relay's output is held at most at; 0: none */
+    double limiter[RB_PLANT_MAX_CARS];      /* Pa absolute the emergency control pressure is limited to; 0: none */
+    int emergency_faults;                   /* any of them */
 } rb_plant_faults;
 
 void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f);

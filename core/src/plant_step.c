@@ -12,7 +12,8 @@
 #define RB_NONE_16 RB_NONE_4, RB_NONE_4, RB_NONE_4, RB_NONE_4
 typedef char rb_no_faults_fills_every_axle[RB_PLANT_MAX_AXLES == 64 ? 1 : -1];
 static const rb_plant_faults no_faults = {{RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16},
-                                          {RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16}, {0.0}, {0.0}, {0}, {0.0}, {0.0}, 0, 0};
+                                          {RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16}, {0.0}, {0.0}, {0}, {0.0}, {0.0}, 0, 0,
+                                          {0.0}, {0.0}, {0.0}, {0.0}, 0};
 
 static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
 {
@@ -33,6 +34,9 @@ static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_
             case RB_FAULT_SENSOR_LOST: f->noise_sd[a] = -1.0; f->sensor_faults = 1; break;
             case RB_FAULT_SENSOR_NOISY: if (f->noise_sd[a] >= 0.0) f->noise_sd[a] = q->value; f->sensor_faults = 1; break;
             case RB_FAULT_CYLINDER_LEAK: f->leak[a] += q->value; break;
+            /* the isolating cock cuts the cylinder off from its relay and vents it: the hold
+               valve's and vent valve's paths, held shut and open */
+            case RB_FAULT_AXLE_ISOLATED: f->hold[a] = 1; f->vent[a] = 1; break;
             default: break;
             }
         }
@@ -40,7 +44,37 @@ static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_
         if (q->kind == RB_FAULT_ED_LOST) f->ed_lost[q->car] = 1;
         if (q->kind == RB_FAULT_CAR_ISOLATED) f->isolated[q->car] = 1.0;
         if (q->kind == RB_FAULT_COMPRESSOR_OFF) f->compressor_off = 1;
+        if (q->kind == RB_FAULT_EMERGENCY_VALVE) f->emergency_failed[q->car] = 1.0;
+        if (q->kind == RB_FAULT_EMERGENCY_LOOP) f->loop_lost[q->car] = 1.0;
+        if (q->kind == RB_FAULT_RELAY_VALVE) f->relay_limit[q->car] = p->atmosphere + q->value;
+        if (q->kind == RB_FAULT_LIMITER) f->limiter[q->car] = p->atmosphere + q->value;
+        f->emergency_faults |= q->kind >= RB_FAULT_EMERGENCY_VALVE && q->kind <= RB_FAULT_LIMITER;
     }
+}
+
+/* The emergency path's faults on the circuit's state of this step (rb_emergency_plant_update): a
+ * car that does not see the loop keeps its EP valve (not cut off, no choke); a failed emergency
+ * valve leaves the EP valve cut off and its choke shut; a failed limiter regulates the choke's
+ * source to its own pressure (the BCU's demand still above it or below it, as the sound valve). */
+static void apply_emergency_faults(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inputs *in,
+                                   const rb_plant_faults *f)
+{
+    for (int c = 0; c < p->n_cars; ++c) {
+        if (f->loop_lost[c] > 0.0) s->emergency_open[c] = 0.0;
+        if (f->loop_lost[c] > 0.0 || f->emergency_failed[c] > 0.0) s->emergency_g[c] = 0.0;
+        if (f->limiter[c] > 0.0) {
+            double target = in->pressure_demand[c] < f->limiter[c] ? in->pressure_demand[c] : f->limiter[c];
+            s->emergency_target[c] = target > p->atmosphere ? target : p->atmosphere;
+        }
+    }
+}
+
+/* The control pressure a car's relay valve follows: its pilot chamber's, or at most the pressure a
+ * failed relay holds its output at. */
+static inline double relay_control(const rb_plant_faults *f, int c, double pilot)
+{
+    double limit = f->relay_limit[c];
+    return limit > 0.0 && limit < pilot ? limit : pilot;
 }
 
 /* (exported functions are not inlined into the step under -fPIC: the step calls the static one) */
@@ -287,7 +321,7 @@ static double air_car_valves_scalar(const rb_plant_params *p, rb_plant_state *s,
     for (int c = 0; c < p->n_cars; ++c) p_pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
     for (int c = 0; c < p->n_cars; ++c) {
         double p_relay = s->m_relay[c] * d->k_relay[c];
-        double e = (((f->isolated[c] > 0.0) ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
+        double e = (((f->isolated[c] > 0.0) ? patm : relay_control(f, c, p_pilot[c])) - p_relay) * d->inv_relay_band[c];
         double u = relay_stroke(s, c, e);
         relay_vented[c] = 0.0;
         if (u > 0.0 && !(f->isolated[c] > 0.0)) {
@@ -391,7 +425,7 @@ static double air_car_valves(const rb_plant_params *p, rb_plant_state *s, const 
     for (int c = 0; c < n; ++c) {   /* relay valves: supply where dir > 0, exhaust where dir < 0 */
         double p_relay = s->m_relay[c] * d->k_relay[c], p_supply = s->m_supply[c] * d->k_supply[c];
         double isolated = f->isolated[c];
-        double e = ((isolated > 0.0 ? patm : p_pilot[c]) - p_relay) * d->inv_relay_band[c];
+        double e = ((isolated > 0.0 ? patm : relay_control(f, c, p_pilot[c])) - p_relay) * d->inv_relay_band[c];
         double u = relay_stroke(s, c, e);
         double ik_in = d->ik_relay_supply[c], ik_out = d->ik_relay_exhaust[c];
         double g_in = d->g_relay_supply[c] * clamp01(u);
@@ -694,6 +728,7 @@ static void step(const rb_plant_params *p, rb_plant_state *s, const rb_plant_inp
         f = &gathered;
     }
     rb_emergency_plant_update(p, s, in);
+    if (f->emergency_faults) apply_emergency_faults(p, s, in, f);
     for (int k = 0; k < p->substeps; ++k) {
         /* air, in phases */
         wsp_valve_parts wsp;

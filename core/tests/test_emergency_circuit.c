@@ -2,7 +2,8 @@
  * then the choke fills the relay's control chamber from the load-weighing valve's regulated output
  * (the demand or the limit, whichever is lower) at the choked orifice rate of ISO 6358
  * (rb_orifice_mass_flow_fast, the library's law) and it settles there; the EP valve is cut off meanwhile, and a failed EP valve does not
- * stop the emergency brake; air is conserved; bad parameters are refused by name. */
+ * stop the emergency brake; the emergency path's faults (emergency valve, loop, limiter, relay valve) act
+ * through their component; air is conserved; bad parameters are refused by name. */
 #include "plant_fixture.h"
 #include "rb_test.h"
 
@@ -106,6 +107,47 @@ static void a_failed_ep_valve_does_not_stop_the_emergency_brake(void)
     }
 }
 
+static double relay(const rb_plant_params *p, const rb_plant_state *s)
+{
+    rb_plant_outputs out;
+    rb_plant_get_outputs(p, s, &out);
+    return out.relay[0];
+}
+
+/* The emergency path's faults, each on its own, loop open, demand 3 bar, limit 4.5 bar: a failed
+ * emergency valve leaves the chamber at the atmosphere (the EP valve is cut off all the same); a
+ * car that does not see the loop brakes through its EP valve (its demand reaches the chamber); a
+ * failed limiter at 1.5 bar holds the chamber there; a relay failed with no output keeps its
+ * volume at the atmosphere while the chamber fills; one stuck at 1.2 bar holds it there. */
+static void emergency_path_faults_act_through_their_component(void)
+{
+    struct { int kind; double value, pilot, relay; const char *name; } cases[] = {
+        {RB_FAULT_EMERGENCY_VALVE, 0.0, 0.0, 0.0, "emergency valve failed"},
+        {RB_FAULT_EMERGENCY_LOOP, 0.0, 3.0, 3.0, "loop not seen"},
+        {RB_FAULT_LIMITER, 1.5 * BAR, 1.5, 1.5, "limiter failed at 1.5 bar"},
+        {RB_FAULT_RELAY_VALVE, 0.0, 3.0, 0.0, "relay valve, no output"},
+        {RB_FAULT_RELAY_VALVE, 1.2 * BAR, 3.0, 1.2, "relay valve stuck at 1.2 bar"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        rb_plant_params p;
+        rb_plant_state s;
+        rb_plant_inputs in;
+        start(&p, &s, &in, 1.2e-3, 0.0, 4.5 * BAR, 3.0 * BAR);
+        p.n_faults = 2;
+        p.fault[1] = (rb_fault){cases[k].kind, 0, -1, 0.0, cases[k].value};
+        CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+        double m0 = rb_plant_air_mass(&p, &s);
+        for (int i = 0; i < 10000; ++i) rb_plant_step(&p, &s, &in);
+        double got_pilot = (pilot(&p, &s) - p.atmosphere) / BAR, got_relay = (relay(&p, &s) - p.atmosphere) / BAR;
+        double balance = rb_plant_air_mass(&p, &s) + s.m_vented - m0;
+        printf("%s: control chamber %.3f bar, relay %.3f bar (expected %.1f, %.1f); air balance %.2e kg\n",
+               cases[k].name, got_pilot, got_relay, cases[k].pilot, cases[k].relay, balance);
+        CHECK(fabs(got_pilot - cases[k].pilot) < 0.1);
+        CHECK(fabs(got_relay - cases[k].relay) < 0.1);
+        CHECK(fabs(balance) < 1e-9 * m0 + 1e-12);
+    }
+}
+
 static void bad_parameters_are_refused_by_name(void)
 {
     rb_plant_params p;
@@ -128,6 +170,7 @@ int main(void)
     settles_at_demand_or_limit(4.5 * BAR, 3.0 * BAR);
     settles_at_demand_or_limit(2.5 * BAR, 3.0 * BAR);
     a_failed_ep_valve_does_not_stop_the_emergency_brake();
+    emergency_path_faults_act_through_their_component();
     bad_parameters_are_refused_by_name();
     return rb_test_summary("emergency_circuit");
 }

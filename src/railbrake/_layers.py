@@ -28,7 +28,7 @@ LAYERS = (
     ("resolution", "one resolved, validated configuration; sizing of the brake steps on a train",
      ("railbrake.resolve", "railbrake.sizing")),
     ("C structs", "the C core's structs of a resolved configuration, its KPIs back as a dict",
-     ("railbrake.simulation.parameters",)),
+     ("railbrake.simulation.parameters", "railbrake.simulation.traction")),
     ("results, plots and reports", "the Result type, its KPIs, records, files and readers; figures of results",
      ("railbrake.results", "railbrake.plots")),
     ("runs", "whole runs in the core (real-time and detailed models) into a Result",

@@ -542,12 +542,12 @@ def from_data(data: dict, origin: str, lines: dict, overrides: dict | None = Non
         except InputError as exc:   # an error inside the adhesion file names that file and line
             detail = str(exc).removeprefix(f"condition = {name!r}: ")
             raise InputError(f"{scenario.where(*key)} = {name!r}: {detail}") from None
-    scenario.check_validity()
     try:
         train = load_train(spec.train.preset)
     except InputError as exc:
         raise InputError(f"{scenario.where('train', 'preset')}: {exc}") from None
-    scenario.check_speed(train)
+    scenario.check_speed(train)       # a speed the train never runs at first, then the rail's validity there
+    scenario.check_validity()
     scenario.check_faults_on(train)
     scenario.check_cars(spec.train.cars if spec.train.cars is not None else len(train.cars))
     return scenario

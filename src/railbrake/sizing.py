@@ -360,10 +360,9 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     limited to the supply) and, where the step blends it (ed), the ED brake act on the whole train
     with resistance, gradient and rotary inertia. Without a train:
     the profile's (or the constant `deceleration`'s) deceleration itself, no resistance.
-    Response: delay ta and build-up tb; response_time sets te directly. Default with a train and
-    no profile: the train's own build-up, measured on a short run of the plant from v0 on dry rail
-    (railbrake.simulation.response.simulated, as `railbrake stopping-distance` does); else the
-    profile's.
+    Response: delay ta and build-up tb (default: the profile's); response_time sets te directly.
+    railbrake.simulation.stopping_distance gives a train its own build-up, measured on the plant,
+    as `railbrake stopping-distance` does.
     equivalent_response=True steps the brake on at te = ta + tb/2, False ramps it over tb.
     gradients: a piecewise gradient instead of `gradient`, (start m, rise/run) pairs along the
     track from the train's front at the brake's start (as a scenario's track.gradients), applied
@@ -377,12 +376,6 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
         prof, ed, _ = _profile_and_ed(trained, profile, ed)
     else:
         prof = load_profile("emergency" if profile is None else profile)
-    simulated = (trained is not None and deceleration is None and profile is None and response_time is None
-                 and delay is None and build_up is None)
-    if simulated:
-        from railbrake.simulation import response
-        measured = response.simulated(trained, v0)
-        delay, build_up = measured.delay, measured.build_up
     ta = prof.delay if delay is None else delay
     tb = prof.build_up if build_up is None else build_up
     if response_time is not None:
@@ -397,7 +390,7 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
         return StoppingResult(*result, delay=ta, build_up=tb)
     cmd, warnings = _pressure_command(trained, prof, v0, ed)
     result = _run(_core.rb_stop_train, (ctypes.byref(trained.c), ctypes.byref(cmd)), options, t_max, dt_out)
-    return StoppingResult(*result, warnings=warnings, delay=ta, build_up=tb, simulated_response=simulated)
+    return StoppingResult(*result, warnings=warnings, delay=ta, build_up=tb)
 
 
 def _pairs(name: str, pairs) -> list:

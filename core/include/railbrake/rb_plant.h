@@ -152,6 +152,14 @@ typedef enum {
     RB_FAULT_ED_LOST,
     RB_FAULT_CAR_ISOLATED,    /* isolating cock: relay output cut off, cylinders vented */
     RB_FAULT_COMPRESSOR_OFF,
+    /* the emergency path (emergency_circuit.c), per car: */
+    RB_FAULT_EMERGENCY_VALVE, /* emergency valve does not open: EP cut off by the loop, choke shut */
+    RB_FAULT_EMERGENCY_LOOP,  /* the car does not see the loop open: its EP valve goes on as demanded */
+    RB_FAULT_RELAY_VALVE,     /* relay output held at most at value (Pa gauge; 0: no output) */
+    RB_FAULT_LIMITER,         /* load-weighing valve / pressure limiter failed: limits the emergency
+                                 control pressure to value (Pa gauge) instead of emergency_limit */
+    RB_FAULT_AXLE_ISOLATED,   /* the axle's brake isolated (its bogie's cock): cylinder cut off
+                                 from the relay and vented */
     RB_FAULT_KINDS
 } rb_fault_kind;
 

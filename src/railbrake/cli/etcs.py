@@ -29,20 +29,28 @@ def braking_model(
     samples: Optional[int] = typer.Option(None, min=2, max=100_000,
                                           help="Scatter runs of each likely failure state (default: data/etcs/method.yaml)."),
     rare_samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs of each rare state."),
-    seed: int = typer.Option(1, min=0, help="Seed of the Latin-hypercube design."),
+    run_budget: Optional[int] = typer.Option(None, min=0, max=10_000_000,
+                                             help="Runs the analysis may add until every Kdry_rst bound is at most "
+                                             "kdry_bound (default: data/etcs/method.yaml)."),
+    seed: int = typer.Option(1, min=0, help="Seed of the Latin-hypercube blocks and the bootstrap."),
     out: Optional[Path] = typer.Option(None, help="Folder for the runs (a rerun resumes), the JSON, the "
                                        "OSRD export and the report (default: out/etcs/<train>)."),
     workers: int = typer.Option(2, min=1, max=64, help="Worker processes."),
     osrd_level: int = typer.Option(9, min=0, max=9, help="M_NVEBCL of the k_dry exported to OSRD (OSRD's national "
                                    "default: 9)."),
     osrd_layout: str = typer.Option("current", help="OSRD rolling-stock layout: current (signalling systems) or legacy."),
+    force_conditions: bool = typer.Option(False, "--force-conditions",
+                                          help="Run an adhesion condition outside its validity (recorded in the "
+                                          "model's warnings) instead of refusing it."),
     json: bool = typer.Option(False, "--json", help="Print the braking model as JSON."),
 ):
     """Compute the braking model from whole-train runs over failure states and tolerances."""
     from railbrake import jsonio
     from railbrake.etcs import export, model, osrd, report, service
-    settings = {k: v for k, v in (("samples", samples), ("rare_samples", rare_samples)) if v is not None}
-    spec = model.spec(train, reliability, None if scatter == "none" else scatter, cars, speed, seed, **settings)
+    settings = {k: v for k, v in (("samples", samples), ("rare_samples", rare_samples), ("run_budget", run_budget))
+                if v is not None}
+    spec = model.spec(train, reliability, None if scatter == "none" else scatter, cars, speed, seed,
+                      force_conditions, **settings)
     folder = prepare_folder(out or Path("out") / "etcs" / Path(train).stem, "--out")
     bar = Progress(TextColumn(f"[bold]etcs {train}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                    console=Console(stderr=True), disable=json)

@@ -126,9 +126,10 @@ def register(app: typer.Typer) -> None:
                 profile_asked = t.brake_step("emergency").profile
             else:
                 profile_asked = profile
-            result = sizing.stopping_distance(kmh_to_ms(v0_kmh), train=t, profile=profile_asked,
-                                              response_time=response_time_s, gradient=gradient_permille * 1e-3,
-                                              gradients=_gradient_pieces(gradients))
+            from railbrake.simulation import stopping_distance as measured_stop   # the plant: at call time
+            result = measured_stop(kmh_to_ms(v0_kmh), train=t, profile=profile_asked,
+                                   response_time=response_time_s, gradient=gradient_permille * 1e-3,
+                                   gradients=_gradient_pieces(gradients))
             name = profile or t.brake_step("emergency").profile
             title = f"{train} ({t.load_case} load), {name}"
             if result.simulated_response:

@@ -9,26 +9,13 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import binom
 
-from railbrake import _core, simulation
+from railbrake import simulation
 from railbrake.errors import InputError
 from railbrake.etcs import failures, model, runs, scatter
 from railbrake.etcs.inputs import QUANTITIES
 
 CHUNK = 64          # runs per C call
 MAX_STOPS = 1_000_000
-
-
-def _draw_faults(ctx: runs.Context, rng: np.random.Generator) -> list:
-    index = {name: i for i, name in enumerate(_core.FAULT_KINDS)}
-    out = []
-    for c in ctx.classes:
-        hit = rng.random(len(c.units)) < c.probability
-        out += [_core.Fault(index[c.kind], u.car, u.axle + a, 0.0, c.value)
-                for u, h in zip(c.units, hit) if h for a in range(c.span)]
-    for (kind, units), g in zip(ctx.common, ctx.reliability.common_cause):
-        if rng.random() < g.per_demand:
-            out += [_core.Fault(index[kind], u.car, u.axle, 0.0, 0.0) for u in units]
-    return out
 
 
 def _draw_factors(ctx: runs.Context, rng: np.random.Generator) -> np.ndarray:
@@ -54,7 +41,8 @@ def ratios(spec: runs.Spec, n: int, seed: int) -> np.ndarray:
         prepared = []
         for _ in range(min(CHUNK, n - start)):
             plant, bcu = scatter.apply(ctx.structs[0], ctx.structs[1], _draw_factors(ctx, rng))
-            failures.set_faults(plant, _draw_faults(ctx, rng))
+            faults = failures.draw(ctx.reliability, ctx.train, ctx.common, rng)
+            failures.set_faults(plant, failures.plant_faults(faults))
             prepared.append((plant, bcu, ctx.structs[2], ctx.structs[3]))
         for row in simulation.run_structs(prepared):
             out.append(model.step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(row), t_be) / nominal)

@@ -35,6 +35,7 @@ class _Stops:
         base = simulation.emergency_scenario(spec.train, 1.0, spec.dry_condition)
         self.train = simulation.scenario_train(base, spec.cars)
         self.v0 = spec.initial_speed_kmh * KMH if spec.initial_speed_kmh else self.train.max_speed
+        self.marks = tuple(v * KMH for v in sorted(spec.speed_steps_kmh, reverse=True) if 0 < v * KMH < self.v0)
 
     def stop(self, v0: float, condition: str) -> tuple:
         # the EN 15595 test level at the test speeds, forced as in runs.Context.stop
@@ -67,7 +68,7 @@ def study(data: dict, service: dict, track: Track, national: National, controlle
     spec = spec_of(data)
     rows = []
     for controller in controllers:
-        kwet, pairs = model.kwet(_Stops(spec, {"wsp.controller": controller}), data["T_brake_emergency_s"])
+        kwet, _, _ = model.kwet(_Stops(spec, {"wsp.controller": controller}), data["T_brake_emergency_s"])
         variant = copy.deepcopy(data)
         variant["Kwet_rst"]["coded"] = confidence.coded(kwet)
         for label, avadh in ADHESION.items():

@@ -30,19 +30,27 @@ SCATTER_SCHEMA = "railbrake.scatter/1"
 
 # the unit a fault kind of the plant hits: a car's (EP valve, isolating cock, ED brake), an axle's
 # (WSP valves, speed sensor, cylinder) or the train's (the air supply); "bogie" hits both axles
-CAR_KINDS = ("ep_valve_failed", "car_isolated", "ed_lost")
+# (the emergency path's: emergency valve, the loop's command to the car, relay valve, load-weighing
+# valve / pressure limiter, rb_plant.h rb_fault_kind), an axle's (WSP valves, speed sensor,
+# cylinder, its isolating cock), or the train's (the air supply); "bogie" hits both axles
+CAR_KINDS = ("ep_valve_failed", "car_isolated", "ed_lost", "emergency_valve_failed", "emergency_loop_lost",
+             "relay_valve_failed", "pressure_limiter_failed")
 AXLE_KINDS = ("hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed", "sensor_lost",
-              "sensor_noisy", "cylinder_leak")
+              "sensor_noisy", "cylinder_leak", "axle_isolated")
 TRAIN_KINDS = ("compressor_off",)
 UNITS = {**{k: ("car",) for k in CAR_KINDS}, **{k: ("axle", "bogie") for k in AXLE_KINDS},
          **{k: ("train",) for k in TRAIN_KINDS}}
 assert set(UNITS) == set(_core.FAULT_KINDS), "every fault kind of the plant has its units"
-VALUE_KEYS = {"cylinder_leak": "leak_area_mm2", "sensor_noisy": "noise_kmh"}
+# the value a kind needs: a leak's area, a sensor's noise, the pressure (bar gauge) a failed relay
+# holds its output at most at (0: no output) or a failed limiter limits the emergency pressure to
+VALUE_KEYS = {"cylinder_leak": "leak_area_mm2", "sensor_noisy": "noise_kmh", "relay_valve_failed": "pressure_bar",
+              "pressure_limiter_failed": "pressure_bar"}
 
 # A normal factor without bounds must keep zero this many standard deviations below its mean
 # (P < 1e-23): a factor on friction, pressure or mass cannot be negative.
 UNBOUNDED_SIGMAS = 10.0
-QUANTITIES = ("pad_friction", "pressure_control", "rigging_efficiency", "wheel_diameter", "load", "valve_response")
+QUANTITIES = ("pad_friction", "pressure_control", "rigging_efficiency", "wheel_diameter", "load", "valve_response",
+              "emergency_choke", "limiter_setting")
 
 
 class _Strict(BaseModel):
@@ -57,6 +65,7 @@ class Failure(_Strict):
     test_interval_h: float | None = Field(None, gt=0.0, le=1e6)   # the test that finds a latent failure
     leak_area_mm2: float | None = Field(None, gt=0.0, le=1e3)
     noise_kmh: float | None = Field(None, gt=0.0, le=100.0)
+    pressure_bar: float | None = Field(None, ge=0.0, le=20.0)   # gauge
     source: str
 
     @model_validator(mode="after")
@@ -67,10 +76,14 @@ class Failure(_Strict):
             raise ValueError(f"unit = {self.unit!r}: a {self.kind} fault hits a {' or '.join(UNITS[self.kind])}")
         if self.latent_rate_per_h > 0.0 and self.test_interval_h is None:
             raise ValueError("latent_rate_per_h needs test_interval_h (the test that finds the latent failure)")
-        for kind, key in VALUE_KEYS.items():
+        needed = VALUE_KEYS.get(self.kind)
+        for key in dict.fromkeys(VALUE_KEYS.values()):
             given = getattr(self, key) is not None
-            if given != (self.kind == kind):
-                raise ValueError(f"{key}: {'needed by' if not given else 'only for'} a {kind} fault")
+            if given and key != needed:
+                users = " or ".join(k for k, v in VALUE_KEYS.items() if v == key)
+                raise ValueError(f"{key}: only for a {users} fault, not {self.kind}")
+            if key == needed and not given:
+                raise ValueError(f"{key}: needed by a {self.kind} fault")
         return self
 
     def probability(self) -> float:
@@ -86,6 +99,8 @@ class Failure(_Strict):
     def value_si(self) -> float:
         if self.leak_area_mm2 is not None:
             return self.leak_area_mm2 * 1e-6
+        if self.pressure_bar is not None:
+            return self.pressure_bar * 1e5
         return (self.noise_kmh or 0.0) / 3.6
 
 
@@ -136,10 +151,24 @@ class ReliabilityFile(_File):
     @model_validator(mode="after")
     def _once(self):
         seen = set()
-        for f in self.failures:
-            if (f.kind, f.unit) in seen:
-                raise ValueError(f"failures: {f.kind} on the {f.unit} given twice")
-            seen.add((f.kind, f.unit))
+        for f in self.failures:   # one kind on one unit may come with different values (a relay
+            key = (f.kind, f.unit, f.value_si())   # with no output, one stuck at a partial pressure)
+            if key in seen:
+                raise ValueError(f"failures: {f.kind} on the {f.unit}" + (f" with value {f.value_si():g} (SI)"
+                                 if f.value_si() else "") + " given twice")
+            seen.add(key)
+        # a group given twice (by name, or the same kind on the same cars) would count one
+        # cause twice: refused, not summed
+        names, groups = set(), set()
+        for g in self.common_cause:
+            cars = "all" if g.cars == "all" else tuple(sorted(set(g.cars)))
+            if g.name in names or (g.kind, cars) in groups:
+                raise ValueError(f"common_cause: the group {g.name!r} ({g.kind} on cars {g.cars}) is given twice: "
+                                 "give each common cause once")
+            if g.cars != "all" and len(set(g.cars)) != len(g.cars):
+                raise ValueError(f"common_cause {g.name!r}: cars = {g.cars}: a car named twice")
+            names.add(g.name)
+            groups.add((g.kind, cars))
         return self
 
 
@@ -183,6 +212,8 @@ class ScatterFile(_File):
     wheel_diameter: Distribution | None = None
     load: Distribution | None = None                  # the car's mass against the mass the BCU weighs
     valve_response: Distribution | None = None        # EP and relay valve response times
+    emergency_choke: Distribution | None = None       # the emergency valve's choke area (its filling rate)
+    limiter_setting: Distribution | None = None       # the load-weighing valve's limit (gauge pressure)
 
     @field_validator(*QUANTITIES)
     @classmethod

@@ -11,8 +11,11 @@
 - Kdry_rst(V, EBCL): per speed step the deceleration ratio of each run (failure state and scatter
   draw, the same stop) to the nominal one, mixed over the failure states
   (railbrake.etcs.mixture), read at 1 - EBCL.
-- Kwet_rst: the EN 15595 test pairs, dry and reduced adhesion at 120 km/h and at the maximum speed,
-  100 / (100 + increase of the deceleration distance in %), the worse pair deciding.
+- Kwet_rst: the EN 15595 test pairs, dry and reduced adhesion (the test's soap-solution condition,
+  data/adhesion/en15595-low.yaml) at 120 km/h and at the maximum speed, 100 / (100 + increase of
+  the deceleration distance in %), the worse pair deciding; per speed step, the worse of the pairs
+  whose stop runs through the whole step. A condition used outside its validity is refused unless
+  forced, and a forced use recorded in the warnings.
 """
 
 from __future__ import annotations
@@ -26,9 +29,10 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from railbrake import _core, config, simulation
+from railbrake.adhesion import load_condition
 from railbrake.simulation import response
 from railbrake.errors import InputError
-from railbrake.etcs import confidence, mixture, runs
+from railbrake.etcs import bound, confidence, effects, mixture, runs
 from railbrake.units import KMH
 
 
@@ -45,6 +49,15 @@ class Method(BaseModel):
     rare_samples: int = Field(ge=2, le=100_000)
     likely_state: float = Field(ge=0.0, le=1.0)
     state_floor: float = Field(gt=0.0, lt=1e-9)
+    no_effect_ratio: float = Field(gt=0.0, lt=0.05)
+    kdry_bound: float = Field(gt=0.0, le=0.05)
+    run_budget: int = Field(ge=0, le=10_000_000)
+    bootstrap_replicates: int = Field(ge=20, le=10_000)
+
+
+# the window the bootstrap reads a quantile in (+- this about the estimate): replicates beyond it
+# are taken at its edge, which the bound then shows as this large
+BOUND_WINDOW = 0.1
 
 
 def method() -> Method:
@@ -52,7 +65,8 @@ def method() -> Method:
 
 
 def spec(train: str, reliability: str = "hs-emu", scatter: str | None = "hs-emu", cars: int | None = None,
-         initial_speed_kmh: float | None = None, seed: int = 1, **settings) -> runs.Spec:
+         initial_speed_kmh: float | None = None, seed: int = 1, force_conditions: bool = False,
+         **settings) -> runs.Spec:
     """An analysis of `train` with the method file's settings, any of them replaced by `settings`."""
     m = method().model_dump()
     m.update(settings)
@@ -60,7 +74,9 @@ def spec(train: str, reliability: str = "hs-emu", scatter: str | None = "hs-emu"
                      cars=cars, speed_steps_kmh=tuple(m["speed_steps_kmh"]), dry_condition=m["dry_condition"],
                      reduced_condition=m["reduced_condition"], kwet_test_speed_kmh=m["kwet_test_speed_kmh"],
                      initial_speed_kmh=initial_speed_kmh, samples=m["samples"], rare_samples=m["rare_samples"],
-                     likely_state=m["likely_state"], state_floor=m["state_floor"], seed=seed)
+                     likely_state=m["likely_state"], state_floor=m["state_floor"], seed=seed,
+                     kdry_bound=m["kdry_bound"], run_budget=m["run_budget"], replicates=m["bootstrap_replicates"],
+                     force_conditions=bool(force_conditions))
 
 
 def step_decelerations(v0: float, marks: tuple, stop_speed: float, row: dict, t_be: float) -> np.ndarray:
@@ -96,12 +112,27 @@ class BrakingModel:
     deciding: list               # [step][M_NVEBCL]: the state most likely at the quantile
     runs: int = 0
     ratios: list = field(default_factory=list, repr=False)   # per state, per step: the sorted sample
+    effects: list = field(default_factory=list)   # each failure alone: railbrake.etcs.effects.screen
+    warnings: list = field(default_factory=list)
+    unenumerated_probability: float = 0.0         # states below the floor, counted as no brake
+    kdry_bounds: list = field(default_factory=list)   # [step][M_NVEBCL]: (lower, upper) distance, 95 %
+    kwet_steps: list = field(default_factory=list)    # Kwet_rst per speed step, before rounding
+    initial_speed_kmh: float = 0.0
 
     def kdry_coded(self) -> list:
-        return [[confidence.coded(k) for k in step] for step in self.kdry]
+        """Each Kdry_rst on the coding grid from the conservative side of its bound."""
+        if not self.kdry_bounds:
+            return [[confidence.coded(k) for k in step] for step in self.kdry]
+        return [[confidence.coded(max(0.0, k - low)) for k, (low, _) in zip(step, b)]
+                for step, b in zip(self.kdry, self.kdry_bounds)]
 
     def kwet_coded(self) -> float:
         return confidence.coded(self.kwet)
+
+    def kwet_steps_coded(self) -> list:
+        """Kwet_rst per speed step on the coding grid (rounded down); the worst pair's where the
+        analysis has none per step."""
+        return [confidence.coded(k) for k in (self.kwet_steps or [self.kwet] * len(self.kdry))]
 
 
 def nominal_build_up(ctx: runs.Context) -> float:
@@ -112,9 +143,39 @@ def nominal_build_up(ctx: runs.Context) -> float:
     return response.simulated(ctx.train, ctx.v0, ctx.spec.dry_condition, preset=ctx.spec.train).response
 
 
-def kwet(ctx: runs.Context, t_be: float) -> tuple[float, list]:
-    """Kwet_rst from the EN 15595 test pairs (the worse deciding) and the pairs' figures."""
-    speeds = sorted({ctx.spec.kwet_test_speed_kmh * KMH, ctx.v0})
+def check_condition(spec: runs.Spec, condition: str, speed_kmh: float, use: str, warnings_: list) -> None:
+    """Refuse an adhesion condition used outside its validity (its data file's), unless the
+    analysis forces it: then the use is recorded in the model's warnings."""
+    valid = load_condition(condition).validity
+    if valid is None or valid.contains(speed_kmh):
+        return
+    what = (f"adhesion condition {condition!r} for {use} from {speed_kmh:.0f} km/h: outside "
+            f"{valid.speed_min_kmh:.0f}-{valid.speed_max_kmh:.0f} km/h where it holds ({valid.conditions})")
+    if not spec.force_conditions:
+        raise InputError(what + "; choose a condition valid there, or force it (force_conditions, "
+                         "--force-conditions) to have the use recorded in the model's warnings")
+    warnings_.append("forced: " + what)
+
+
+def check_conditions(ctx: runs.Context) -> list[str]:
+    """Every adhesion condition of the analysis at every speed it runs from (check_condition),
+    before any run: the warnings of those forced."""
+    out: list[str] = []
+    check_condition(ctx.spec, ctx.spec.dry_condition, ctx.v0 / KMH, "Kdry_rst and A_brake_emergency", out)
+    for v in _kwet_speeds(ctx):
+        for condition in (ctx.spec.dry_condition, ctx.spec.reduced_condition):
+            check_condition(ctx.spec, condition, v / KMH, "the Kwet_rst test pair", out)
+    return out
+
+
+def _kwet_speeds(ctx: runs.Context) -> list[float]:
+    return sorted({ctx.spec.kwet_test_speed_kmh * KMH, ctx.v0})
+
+
+def kwet(ctx: runs.Context, t_be: float) -> tuple[float, list, list]:
+    """Kwet_rst from the EN 15595 test pairs (the worse deciding), the pairs' figures, and Kwet per
+    speed step (lowest first): the worst of the pairs whose stop runs through the whole step."""
+    speeds = _kwet_speeds(ctx)
     prepared = [ctx.stop(v, c) for v in speeds for c in (ctx.spec.dry_condition, ctx.spec.reduced_condition)]
     rows = simulation.run_structs(prepared)
     pairs = []
@@ -131,7 +192,9 @@ def kwet(ctx: runs.Context, t_be: float) -> tuple[float, list]:
         pairs.append({"speed_kmh": v / KMH, "dry_deceleration_distance_m": d_dry,
                       "reduced_deceleration_distance_m": d_wet, "increase_percent": increase,
                       "kwet": 100.0 / (100.0 + max(increase, 0.0))})
-    return min(p["kwet"] for p in pairs), pairs
+    tops = [*sorted(ctx.marks), ctx.v0]
+    per_step = [min(p["kwet"] for p in pairs if p["speed_kmh"] * KMH >= top - 1e-9) for top in tops]
+    return min(p["kwet"] for p in pairs), pairs, per_step
 
 
 def _deciding(states: list, x: float) -> int:
@@ -139,29 +202,85 @@ def _deciding(states: list, x: float) -> int:
     return int(np.argmax([s.probability * s.cdf(x) for s in states]))
 
 
+def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int) -> tuple[list, list, list, list]:
+    """(kdry, bounds, deciding, carrying) per step and level from the states' samples."""
+    rng = np.random.default_rng([seed, 36])
+    kdry, bounds, deciding, carrying = [], [], [], []
+    for j in range(len(ctx.marks) + 1):
+        states = [mixture.State.of(st.probability, r[:, j], st.label) for st, r in zip(ctx.states, ratios)]
+        values = [mixture.k_dry(states, c) for c in confidence.EBCL]
+        step_bounds, step_carrying = [], []
+        for c, v in zip(confidence.EBCL, values):
+            low, high, carry = bound.bound(states, 1.0 - c, v, missing, rng, ctx.spec.replicates, BOUND_WINDOW)
+            step_bounds.append((low, high))
+            step_carrying.append(carry)
+        kdry.append([min(v, confidence.K_MAX) if v > 0 else 0.0 for v in values])
+        bounds.append(step_bounds)
+        deciding.append([ctx.states[_deciding(states, v)].label if v > 0 else "states left out (no brake)"
+                         for v in values])
+        carrying.append(step_carrying)
+    return kdry, bounds, deciding, carrying
+
+
+def _more_runs(ctx: runs.Context, counts: list, bounds: list, carrying: list, budget: int) -> list:
+    """The next runs: for every (step, level) whose bound is above the target, the samples of the
+    states that carry it doubled (a block at least), the states whose runs are fewest relative to
+    their share first, within the budget; [] if none is needed or the budget is spent."""
+    target, block = ctx.spec.kdry_bound, ctx.spec.rare_samples
+    wanted: dict[int, int] = {}
+    for step_bounds, step_carrying in zip(bounds, carrying):
+        for (low, high), carry in zip(step_bounds, step_carrying):
+            if max(low, high) > target:
+                for s in carry:
+                    wanted[s] = max(wanted.get(s, 0), max(block, counts[s]))
+    jobs = []
+    for s in sorted(wanted, key=lambda s: -ctx.states[s].probability / counts[s]):
+        extra = min(wanted[s], budget - len(jobs))
+        if extra <= 0:
+            break
+        jobs += [(s, counts[s] + i) for i in range(extra)]
+    return jobs
+
+
 def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) -> BrakingModel:
     ctx = runs.context(spec)
+    warnings_ = check_conditions(ctx)   # before any run
     t_be = nominal_build_up(ctx)
     stop_speed = ctx.structs[3].stop_speed
     nominal = nominal_decelerations(ctx, t_be, stop_speed)
+    effects_, screened = screen(ctx, t_be, nominal)
+    warnings_ += screened
+    missing = max(0.0, 1.0 - sum(st.probability for st in ctx.states))
     rows = runs.run_all(spec, ctx.jobs(), out, workers, progress)
-    n_steps = len(ctx.marks) + 1
-    per_state = [[] for _ in ctx.states]
-    for (s, _), row in sorted(rows.items()):
-        per_state[s].append(step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be) / nominal)
-    ratios = [np.asarray(r) for r in per_state]
-    kdry, deciding = [], []
-    for j in range(n_steps):
-        states = [mixture.State.of(st.probability, r[:, j], st.label) for st, r in zip(ctx.states, ratios)]
-        values = [mixture.k_dry(states, c) for c in confidence.EBCL]
-        kdry.append([min(v, confidence.K_MAX) if v > 0 else 0.0 for v in values])
-        deciding.append([ctx.states[_deciding(states, v)].label for v in values])
-    k_wet, pairs = kwet(ctx, t_be)
+    while True:
+        per_state = [[] for _ in ctx.states]
+        for (s, _), row in sorted(rows.items()):
+            per_state[s].append(step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be) / nominal)
+        ratios = [np.asarray(r) for r in per_state]
+        kdry, bounds, deciding, carrying = _estimate(ctx, ratios, missing, spec.seed)
+        more = _more_runs(ctx, [len(r) for r in ratios], bounds, carrying, spec.run_budget - len(rows))
+        if not more:
+            break
+        rows.update(runs.run_all(spec, more, out, workers, progress))
+    worst = max(max(lh) for step in bounds for lh in step)
+    if worst > spec.kdry_bound:
+        warnings_.append(f"Kdry_rst: the sampling bound reaches {worst:.4f} (above {spec.kdry_bound:g}) after the "
+                         f"run budget of {spec.run_budget} runs; the coded values take the conservative side")
+    k_wet, pairs, kwet_steps = kwet(ctx, t_be)
     steps = [0.0, *sorted(v / KMH for v in ctx.marks)]
     summary = [{"label": st.label, "probability": st.probability, "runs": len(r),
                 "mean_ratio": [float(x) for x in r.mean(axis=0)]} for st, r in zip(ctx.states, ratios)]
+    n_steps = len(ctx.marks) + 1
     return BrakingModel(spec.train, spec, steps, [float(a) for a in nominal], t_be, kdry, k_wet, pairs,
-                        summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios])
+                        summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios],
+                        effects_, warnings_, missing, bounds, kwet_steps, ctx.v0 / KMH)
+
+
+def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, list]:
+    """Each failure and scatter factor run on its own (railbrake.etcs.effects.screen)."""
+    stop_speed = ctx.structs[3].stop_speed
+    return effects.screen(ctx, lambda kpis: step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(kpis), t_be)
+                          / nominal, method().no_effect_ratio)
 
 
 def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float) -> np.ndarray:
@@ -179,9 +298,10 @@ def braking_distance(model: BrakingModel, level: int, avadh: float) -> float:
     avadh (1 - Kwet)) per speed step (coded values)."""
     v0 = model.spec.initial_speed_kmh * KMH if model.spec.initial_speed_kmh else runs.context(model.spec).v0
     edges = [v * KMH for v in model.speed_steps_kmh] + [v0]
-    kw = model.kwet_coded()
+    kwets = model.kwet_steps_coded()
     distance = v0 * model.t_brake_emergency
     for j, a in enumerate(model.a_brake_emergency):
+        kw = kwets[j]
         safe = a * model.kdry_coded()[j][level] * (kw + avadh * (1.0 - kw))
         if safe <= 0.0:
             return math.inf

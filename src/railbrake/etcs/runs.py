@@ -15,6 +15,8 @@ import warnings
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+import numpy as np
+
 from railbrake import atomic, simulation, sizing
 from railbrake.errors import InputError
 from railbrake.etcs import failures, inputs, scatter
@@ -41,10 +43,14 @@ class Spec:
     kwet_test_speed_kmh: float
     initial_speed_kmh: float | None   # None: the train's maximum speed
     samples: int
-    rare_samples: int
+    rare_samples: int           # also the size of a block of scatter draws (scatter.block_draws)
     likely_state: float
     state_floor: float
     seed: int
+    kdry_bound: float = 0.005   # runs are added until every level's bound is at most this
+    run_budget: int = 100_000   # or the analysis has run this many
+    replicates: int = 200       # bootstrap replicates (railbrake.etcs.bound)
+    force_conditions: bool = False   # run an adhesion condition outside its validity (recorded as a warning)
 
     def key(self) -> str:
         return hashlib.sha256(json.dumps(asdict(self), sort_keys=True).encode()).hexdigest()[:16]
@@ -71,8 +77,7 @@ class Context:
         self.structs[3].max_time = min(self.structs[3].max_time, MAX_TIME_FACTOR * nominal["stopping_time_s"])
         scatter.check_against(self.scatter, self.structs[0], f"scatter file {spec.scatter}")
         self.classes, self.common, self.states = failures.enumerate_states(self.reliability, train, spec.state_floor)
-        n = len(train.cars)
-        self.draws = scatter.draws(self.scatter, n, max(spec.samples, spec.rare_samples), spec.seed)
+        self._blocks: dict = {}
 
     def stop(self, v0: float, condition: str) -> tuple:
         """The C structs of an emergency stop from v0 (m/s) on `condition`, with the speed marks."""
@@ -94,12 +99,24 @@ class Context:
         return self.spec.samples if state.probability >= self.spec.likely_state else self.spec.rare_samples
 
     def jobs(self) -> list[tuple[int, int]]:
+        """The first runs of every state: (state, sample) pairs."""
         return [(s, i) for s, state in enumerate(self.states) for i in range(self.samples_of(state))]
+
+    def draw(self, state: int, sample: int) -> np.ndarray:
+        """The scatter factors of a state's sample: from its own blocks of draws."""
+        size = self.spec.rare_samples
+        key = (state, sample // size)
+        if key not in self._blocks:
+            if len(self._blocks) > 4096:
+                self._blocks.clear()
+            self._blocks[key] = scatter.block_draws(self.scatter, len(self.train.cars), size, self.spec.seed,
+                                                    state, sample // size)
+        return self._blocks[key][sample % size]
 
     def prepared(self, state: int, sample: int) -> tuple:
         plant, bcu, wsp, scen = self.structs
-        plant, bcu = scatter.apply(plant, bcu, self.draws[sample])
-        failures.set_faults(plant, failures.plant_faults(self.states[state], self.classes, self.common))
+        plant, bcu = scatter.apply(plant, bcu, self.draw(state, sample))
+        failures.set_faults(plant, failures.plant_faults(self.states[state]))
         return plant, bcu, wsp, scen
 
 
@@ -111,7 +128,8 @@ def context(spec: Spec) -> Context:
 def _row(kpis) -> dict:
     if isinstance(kpis, Exception):
         return {"error": str(kpis)}
-    return {"stopping_distance_m": kpis["stopping_distance_m"], "marks_m": kpis["speed_marks"]["distance_m"]}
+    marks = kpis["speed_marks"]["distance_m"] if "speed_marks" in kpis else []   # none: one speed step
+    return {"stopping_distance_m": kpis["stopping_distance_m"], "marks_m": marks}
 
 
 def run_batch(spec: Spec, jobs: list) -> list[dict]:

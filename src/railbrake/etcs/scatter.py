@@ -1,9 +1,11 @@
 """Drawing the scatter file's tolerances and applying a draw to a run's C structs.
 
-The draws are a Latin hypercube over every factor (one per quantity, or one per quantity and car):
+The draws are Latin hypercubes over every factor (one per quantity, or one per quantity and car):
 each factor's range is covered in equal-probability strata, so a state's mean and spread converge
-faster than with independent draws (McKay, Beckman & Conover 1979), and the same design, seeded,
-is used in every failure state, so the states differ by their failures only.
+faster than with independent draws (McKay, Beckman & Conover 1979). Each failure state draws its
+own, in blocks (block_draws: a block is one hypercube, seeded by the analysis' seed, the state and
+the block's number), so that the states' samples are independent of one another (the bootstrap of
+railbrake.etcs.bound needs it) and each is balanced whatever number of blocks it gets.
 """
 
 from __future__ import annotations
@@ -47,6 +49,13 @@ def draws(scatter: ScatterFile | None, n_cars: int, n: int, seed: int) -> np.nda
     return out
 
 
+def block_draws(scatter: ScatterFile | None, n_cars: int, size: int, seed: int, state: int, block: int) -> np.ndarray:
+    """Block `block` of failure state `state`'s draws: a Latin hypercube of `size` draws of its own
+    (array (size, len(QUANTITIES), n_cars), as draws)."""
+    sub = int(np.random.SeedSequence([seed, state, block]).generate_state(1, dtype=np.uint64)[0] >> 1)
+    return draws(scatter, n_cars, size, sub)
+
+
 def check_against(scatter: ScatterFile | None, plant, origin: str) -> None:
     """Refuse, before any run, a rigging-efficiency scatter that takes a car's efficiency above 1."""
     d = scatter.rigging_efficiency if scatter is not None else None
@@ -66,7 +75,8 @@ def _scale_table(table, factor: float) -> None:
 
 def apply(plant, bcu, factors: np.ndarray) -> tuple:
     """Copies of the plant and BCU structs with one draw (len(QUANTITIES) x n_cars factors): pad
-    friction, caliper efficiency, wheel radius, mass and valve response in the plant, which the BCU
+    friction, caliper efficiency, wheel radius, mass, valve response, the emergency valve's choke
+    and the load-weighing valve's limit (gauge) in the plant, which the BCU
     does not know (it brakes for the nominal train: load = the mass it weighs); the pressure its
     control gives per newton demanded in the BCU."""
     plant, bcu = type(plant).from_buffer_copy(plant), type(bcu).from_buffer_copy(bcu)
@@ -81,6 +91,8 @@ def apply(plant, bcu, factors: np.ndarray) -> tuple:
         v.wheelset.axle_load *= f["load"][c]
         car.ep_tau *= f["valve_response"][c]
         car.relay_tau *= f["valve_response"][c]
+        car.emergency_area *= f["emergency_choke"][c]
+        car.emergency_limit = plant.atmosphere + (car.emergency_limit - plant.atmosphere) * f["limiter_setting"][c]
         _scale_table(bcu.pressure_per_newton[c], f["pressure_control"][c])
     return plant, bcu
 

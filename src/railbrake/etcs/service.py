@@ -62,8 +62,8 @@ def build_up(train_obj, train: str, v0: float, condition: str) -> float:
     sc = response.service_scenario(train, v0, condition, 1.0, response.settings()["window_s"] + 0.1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", sizing.SupplyWarning)
-        run = simulation.run(sc, cars=len(train_obj.cars), train=train_obj)   # a train given: no resolved scenario
-        return response.measure(run, train_obj, step=("service", 1.0)).response   # to read the step from
+        result = simulation.run(sc, cars=len(train_obj.cars), train=train_obj)
+        return response.measure(result, train_obj, step=("service", 1.0)).response   # toward full service
 
 
 def service_data(model: dict) -> dict:

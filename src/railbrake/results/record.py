@@ -16,6 +16,9 @@ from railbrake.errors import InputError
 from railbrake.units import cars_text
 
 _AXLE = re.compile(r"^c(\d+)a(\d+)$")
+# Result.meta key: how long a healthy brake of the run's train stays short of its demand in its own
+# build-up (simulation.response.healthy_shortfall), the reference of the air-shortfall warning
+HEALTHY_SHORTFALL = "healthy_cylinder_shortfall_s"
 
 
 @dataclass
@@ -173,7 +176,6 @@ def from_simulation(result, sc, command_line: list[str] | None = None) -> RunRec
                                  "configuration": getattr(result, "configuration", None)
                                  or configuration(sc, result.cars, result.wsp),
                                  "provenance": provenance(command_line)}
-    from railbrake.simulation.response import HEALTHY_SHORTFALL
     if HEALTHY_SHORTFALL in result.meta:   # the reference the run's warnings were judged on
         meta[HEALTHY_SHORTFALL] = result.meta[HEALTHY_SHORTFALL]
     return RunRecord(np.asarray(result.time), dict(result.outputs), dict(result.units), dict(result.kpis), meta)
@@ -192,7 +194,6 @@ def from_hil(result, sc, command_line: list[str] | None = None) -> RunRecord:
                                  "hil": {"counters": result.counters, "timing": result.timing,
                                          "fault_changes": [c.as_dict() for c in getattr(result, "fault_changes", [])]},
                                  "provenance": provenance(command_line)}
-    from railbrake.simulation.response import HEALTHY_SHORTFALL
     judged = getattr(result, "meta", None) or {}   # a HilResult has no meta: no healthy reference
     if HEALTHY_SHORTFALL in judged:   # the reference the run's warnings were judged on
         meta[HEALTHY_SHORTFALL] = judged[HEALTHY_SHORTFALL]

@@ -16,10 +16,11 @@ from railbrake.simulation.parameters import (DT, KERNEL_ENV, MAX_SUBSTEP, WSP_CO
                                              axle_name, bcu_params, channels, demanded_steps, kernel_code,
                                              kpi_dict, outside_validity_kpi, plant_params, scenario_train, structs,
                                              substeps_for, wall_time, wsp_params)
+from railbrake.simulation.stopping import stopping_distance
 from railbrake.simulation.timing import bench, bench_plant
 
 __all__ = ["CHUNK", "Change", "DT", "KERNEL_ENV", "MAX_SUBSTEP", "QUIET_CHUNK", "RESPONSE_WINDOW", "Result",
            "WSP_CONTROLLERS", "ZERO_CELSIUS", "axle_name", "bcu_params", "bench", "bench_plant",
            "channels", "demanded_steps", "emergency_scenario", "kernel_code", "kpi_dict", "outside_validity_kpi", "plant_params",
-           "response_times", "run", "run_batch", "run_structs", "scenario_train", "simulated_response", "structs",
+           "response_times", "run", "run_batch", "run_structs", "scenario_train", "simulated_response", "stopping_distance", "structs",
            "substeps_for", "wall_time", "wsp_params"]

@@ -20,6 +20,7 @@ import yaml
 from railbrake import _core
 from railbrake._args import choice, flag, instance, name_or_path, real
 from railbrake.errors import InputError
+from railbrake.results.record import HEALTHY_SHORTFALL   # Result.meta key of healthy_shortfall
 from railbrake.results.scripting import Result
 from railbrake.scenario import Scenario
 from railbrake.units import ms_to_kmh
@@ -214,7 +215,6 @@ def simulated_response(train: str, initial_speed: float, load: str | None = None
     return b.delay, b.build_up
 
 
-HEALTHY_SHORTFALL = "healthy_cylinder_shortfall_s"   # Result.meta key of healthy_shortfall
 
 
 def healthy_shortfall(result) -> float | None:

@@ -20,7 +20,8 @@ from railbrake.units import kmh_to_ms
 
 conditions_module = sys.modules["railbrake.adhesion.conditions"]  # the module, not the function
 
-PRESETS = ["dry-high", "dry-medium", "dry-contaminated", "wet", "hs-wet", "heavy-rain", "oil-film", "leaves"]
+PRESETS = ["dry-high", "dry-medium", "dry-contaminated", "wet", "hs-wet", "heavy-rain", "oil-film", "leaves",
+           "en15595-low"]
 
 
 def car_mean_peak(condition, car, v_kmh):

@@ -9,7 +9,7 @@ import pytest
 
 from typer.testing import CliRunner
 
-from railbrake import sizing, vehicle
+from railbrake import simulation, sizing, vehicle
 from railbrake.cli import app
 
 
@@ -39,13 +39,13 @@ def test_stopping_distance_takes_the_simulated_build_up_by_default():
 
 
 def test_stopping_distance_cli_and_api_take_the_same_defaults():
-    # issue 38: the command and railbrake.sizing.stopping_distance both measure the train's own
+    # issue 38: the command and railbrake.simulation.stopping_distance both measure the train's own
     # build-up by default (they gave 3740 and 3759 m for crh380a-8 from 300 km/h before)
     for train, load in (("crh380a-8", "normal"), ("velaro-8", "crush")):
         cli = CliRunner().invoke(app, ["stopping-distance", "--train", train, "--v0-kmh", "300", "--load", load,
                                        "--json"])
         assert cli.exit_code == 0, cli.output
-        api = sizing.stopping_distance(300 / 3.6, train=vehicle.load_train(train, load))
+        api = simulation.stopping_distance(300 / 3.6, train=vehicle.load_train(train, load))
         assert json.loads(cli.output)["stopping_distance_m"] == pytest.approx(api.distance, rel=1e-12)
-        api_by_name = sizing.stopping_distance(300 / 3.6, train=train) if load == "normal" else api
+        api_by_name = simulation.stopping_distance(300 / 3.6, train=train) if load == "normal" else api
         assert api_by_name.distance == api.distance

@@ -22,7 +22,7 @@ failures: []
 def rows(tmp_path_factory):
     rel = tmp_path_factory.mktemp("buys") / "rel.yaml"
     rel.write_text(RELIABILITY)
-    data = json.loads(jsonio.dumps(export.to_json(model.braking_model(model.spec("crh380a-8", rel, None, 1, 80.0)))))
+    data = json.loads(jsonio.dumps(export.to_json(model.braking_model(model.spec("crh380a-8", rel, None, 1, 80.0, force_conditions=True)))))
     return buys.study(data, service.service_data(data), national.load_track("flat-10km"), national.load_national())
 
 

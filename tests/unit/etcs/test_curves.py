@@ -37,7 +37,7 @@ def data(reliability):
     """Per preset train: its braking model's JSON and its service data."""
     out = {}
     for train in TRAINS:
-        m = export.to_json(model.braking_model(model.spec(train, reliability, None, 1, SPEED)))
+        m = export.to_json(model.braking_model(model.spec(train, reliability, None, 1, SPEED, force_conditions=True)))
         m = json.loads(jsonio.dumps(m))   # as the CLI writes and reads it
         out[train] = (m, service.service_data(m))
     return out

@@ -55,7 +55,9 @@ def test_the_shipped_files_load():
     assert inputs.preset_names("reliability") == ["hs-emu"] and inputs.preset_names("scatter") == ["hs-emu"]
     rel = inputs.load_reliability("hs-emu")
     assert all(0.0 < f.probability() < 1e-3 for f in rel.failures)
-    assert set(inputs.load_scatter("hs-emu").quantities()) == set(inputs.QUANTITIES)
+    # every tolerance but those that cannot move the emergency stop (railbrake.etcs.effects)
+    assert set(inputs.load_scatter("hs-emu").quantities()) == set(inputs.QUANTITIES) - {"valve_response",
+                                                                                        "limiter_setting"}
 
 
 def test_latent_failures_count_their_mean_unavailability(tmp_path):

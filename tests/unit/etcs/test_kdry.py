@@ -51,10 +51,17 @@ def test_states_left_out_count_as_no_brake():
 
 def test_the_coding_rounds_down_onto_the_grid():
     assert etcs.coded(0.95) == 0.95 and etcs.coded(0.9499) == 0.9 and etcs.coded(1.0) == 1.0
-    assert etcs.coded(0.0) == 0.0 and etcs.coded(2.0) == etcs.K_MAX == pytest.approx(1.55)
+    assert etcs.coded(0.0) == 0.0 and etcs.coded(2.0) == etcs.K_MAX == 1.0
     for bad in (-0.1, math.nan, math.inf, "1"):
         with pytest.raises((InputError, TypeError), match="correction factor"):   # TypeError: not a number
             etcs.coded(bad)
+
+
+def test_confidence_levels_are_written_exactly():
+    from railbrake.etcs.confidence import ebcl_text
+    assert [ebcl_text(i) for i in range(10)] == ["50 %", "90 %", "99 %", "99.9 %", "99.99 %", "99.999 %",
+                                                "99.9999 %", "99.99999 %", "99.999999 %", "99.9999999 %"]
+    assert all(float(ebcl_text(i)[:-2]) / 100 == pytest.approx(etcs.EBCL[i], abs=1e-15) for i in range(10))
 
 
 def test_confidence_levels_are_subset_026s():

@@ -26,19 +26,22 @@ CAR_3_LOST = NO_FAILURES + """common_cause:
 
 @pytest.fixture(scope="module")
 def shipped():
-    return model.braking_model(model.spec(TRAIN, initial_speed_kmh=SPEED, samples=8, rare_samples=2))
+    # states down to 1e-9 and no runs added for the bounds: a short analysis (the levels above
+    # 1e-9 then read the states left out as no brake, the safe side)
+    return model.braking_model(model.spec(TRAIN, initial_speed_kmh=SPEED, samples=8, rare_samples=2,
+                                          state_floor=1e-9, run_budget=0))
 
 
 @pytest.mark.slow   # hundreds of whole-train runs: 2-3 min each under the sanitizers
 def test_kdry_is_coded_on_the_grid_and_does_not_rise_with_the_level(shipped):
     assert len(shipped.kdry) == len(shipped.a_brake_emergency) == len(shipped.speed_steps_kmh)
     assert shipped.speed_steps_kmh == [0.0, 50.0, 100.0, 150.0]
-    for raw, coded in zip(shipped.kdry, shipped.kdry_coded()):
+    for raw, coded, bounds in zip(shipped.kdry, shipped.kdry_coded(), shipped.kdry_bounds):
         assert all(0.0 <= k <= confidence.K_MAX for k in raw)
         assert all(a >= b for a, b in zip(raw, raw[1:]))
         assert all(a >= b for a, b in zip(coded, coded[1:]))
-        for k, c in zip(raw, coded):   # rounded down onto the 0.05 grid
-            assert c <= k + 1e-12 and k - c < confidence.K_STEP
+        for k, c, (low, _) in zip(raw, coded, bounds):   # the bound's lower end rounded down onto the grid
+            assert c <= k - low + 1e-12 and (k - low) - c < confidence.K_STEP
             assert abs(c / confidence.K_STEP - round(c / confidence.K_STEP)) < 1e-9
     assert all(a > 0.0 for a in shipped.a_brake_emergency) and shipped.t_brake_emergency > 0.0
 
@@ -84,7 +87,7 @@ def test_a_resumed_analysis_gives_the_same_result(tmp_path):
     """Batches already in the folder are read back, the others run: equal results."""
     path = tmp_path / "none.yaml"
     path.write_text(NO_FAILURES)
-    spec = model.spec(TRAIN, reliability=path, initial_speed_kmh=SPEED, samples=runs.BATCH + 4)
+    spec = model.spec(TRAIN, reliability=path, initial_speed_kmh=SPEED, samples=runs.BATCH + 4, run_budget=0)
     out = tmp_path / "analysis"
     first = model.braking_model(spec, out=out)
     batches = sorted((out / "batches").iterdir())
@@ -92,6 +95,6 @@ def test_a_resumed_analysis_gives_the_same_result(tmp_path):
     batches[-1].unlink()   # as if killed before the last batch was written
     again = model.braking_model(spec, out=out)
     assert again.kdry == first.kdry and again.runs == first.runs == runs.BATCH + 4
-    other = model.spec(TRAIN, reliability=path, initial_speed_kmh=SPEED, samples=8, seed=2)
+    other = model.spec(TRAIN, reliability=path, initial_speed_kmh=SPEED, samples=8, seed=2, run_budget=0)
     with pytest.raises(model.InputError, match="another analysis"):
         runs.run_all(other, [(0, 0)], out)

@@ -62,7 +62,7 @@ def test_run_and_stopping_distance_agree_within_3_percent_at_every_speed(train):
         speeds = _sweep_speeds(t, 20.0)
         runs = simulation.run_batch([simulation.emergency_scenario(train, v * KMH, load=load) for v in speeds])
         for v, kpis in zip(speeds, runs):
-            calc = sizing.stopping_distance(v * KMH, train=t)
+            calc = simulation.stopping_distance(v * KMH, train=t)
             assert calc.simulated_response and kpis["stopped"] and kpis["wheel_lock_events"] == 0
             assert calc.distance == pytest.approx(kpis["stopping_distance_m"], rel=0.03), (train, load, v)
 
@@ -73,7 +73,7 @@ def test_stopping_distance_never_falls_as_the_initial_speed_rises(train):
     # every 5 km/h, so that the speeds cross the steps and ramps of the emergency profiles
     for load in ("normal", "crush"):
         t = vehicle.load_train(train, load)
-        distances = [sizing.stopping_distance(v * KMH, train=t).distance for v in _sweep_speeds(t, 5.0)]
+        distances = [simulation.stopping_distance(v * KMH, train=t).distance for v in _sweep_speeds(t, 5.0)]
         assert np.all(np.diff(distances) >= 0.0), (train, load, distances)
 
 
