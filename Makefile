@@ -9,8 +9,8 @@ JOBS ?= 2
 OUT ?= out
 SOURCES := pyproject.toml CMakeLists.txt $(shell find core src -type f -not -name '*.pyc' 2>/dev/null)
 
-.PHONY: demo test test-long install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz fuzz-fmi \
-        fuzz-frames fuzz-python wine wheel browser
+.PHONY: demo test test-long install docs docs-fast ctest ctest-sanitize pytest pytest-sanitize bench validate clean fuzz \
+        fuzz-fmi fuzz-frames fuzz-python wine wheel wheel-test browser system-packages
 
 $(VENV)/.installed: $(SOURCES)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -54,25 +54,32 @@ ctest-sanitize:
 # fixtures (a detailed run, a compiled FMU) are made once.
 PYTEST_PARALLEL := -n $(JOBS) --dist loadfile
 
-# Wine runs the FMU's win64 binary in tests/unit/fmu/test_fmu_platforms.py: Debian's wine64 is
-# installed when no wine is there and we are root (about 20 s with apt-get update); otherwise that
-# test skips and says why.
-wine:
-	@if command -v wine64 >/dev/null 2>&1 || command -v wine >/dev/null 2>&1 || [ -x /usr/lib/wine/wine64 ]; then :; \
+# System packages two tests need (Debian names), installed by an explicit, announced step of `make test`:
+# wine64 runs the FMU's win64 binary (tests/unit/fmu/test_fmu_platforms.py), chromium loads the HIL
+# dashboard (tests/unit/hil/test_dashboard_browser.py). Only as root with apt-get, the dpkg output going
+# to $(BUILD)/system-packages.log; SYSTEM_PACKAGES=0 skips the step; without them those tests skip and
+# say why.
+SYSTEM_PACKAGES ?= 1
+APT_LOG = $(BUILD)/system-packages.log
+
+system-packages:
+	@if [ "$(SYSTEM_PACKAGES)" = 0 ]; then echo "system packages: skipped (SYSTEM_PACKAGES=0)"; exit 0; fi; \
+	missing=""; \
+	command -v wine64 >/dev/null 2>&1 || command -v wine >/dev/null 2>&1 || [ -x /usr/lib/wine/wine64 ] || missing="wine64"; \
+	command -v chromium >/dev/null 2>&1 || missing="$$missing chromium"; \
+	if [ -z "$$missing" ]; then echo "system packages: wine64 and chromium present"; \
 	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
-	  apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
-	    wine64 >/dev/null && echo "installed wine64 (Debian) for the win64 FMU test"; \
-	else echo "wine not found and not root: the win64 FMU test will skip"; fi
+	  echo "system packages: installing$$missing with apt-get (log: $(APT_LOG); SYSTEM_PACKAGES=0 skips)"; \
+	  mkdir -p $(BUILD) && apt-get update -q >$(APT_LOG) 2>&1 && \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends $$missing >>$(APT_LOG) 2>&1 || \
+	    echo "system packages: apt-get failed (see $(APT_LOG)): the tests that need$$missing will skip"; \
+	else echo "system packages:$$missing missing and not root: the tests that need them will skip"; fi
+
+wine browser: system-packages
 
 # One worker more than cores: the paced 8-car HIL stop (tests/unit/hil/test_loopback.py, 170 s on the
 # wall clock, a few per cent of a core) would otherwise leave its worker's core idle that long.
-# Debian's chromium for the dashboard's browser test (tests/unit/hil/test_dashboard_browser.py; skipped
-# with the reason when it is missing and cannot be installed here, e.g. without root)
-browser:
-	command -v chromium >/dev/null || { [ "$$(id -u)" = 0 ] && apt-get update -qq && apt-get install -y -qq chromium; } || \
-	    echo "note: chromium not installed (needs root): the dashboard's browser test will be skipped"
-
-pytest: install wine browser
+pytest: install system-packages
 	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile -m "not long" --durations=15
 
 # The statistical must-holds that take tens of minutes of CPU (ETCS: the method against a brute
@@ -137,13 +144,25 @@ fuzz-python: install
 	$(FUZZ_RECORD) "make fuzz-python FUZZ_CONFIG_VARIANTS=$(FUZZ_CONFIG_VARIANTS) FUZZ_API_CALLS=$(FUZZ_API_CALLS)" -- \
 	  $(PY) -m pytest -q -s -p no:cacheprovider tests/unit/fuzz
 
-# The wheel and sdist into dist/: py3-none-<platform> (the core is loaded with ctypes), then checked and
-# retagged manylinux by auditwheel (the core needs only libc and libm); LICENSE is in both.
+# The wheel and sdist into dist/: one py3-none wheel for every CPython >= 3.10 (the core is a plain C
+# library loaded with ctypes), its core compiled by zig's clang against glibc 2.17 (the `fmu` extra's
+# toolchain, which builds the FMU binaries too), then checked and tagged manylinux2014 (manylinux_2_17)
+# by auditwheel, so pip takes it on RHEL 7/8-class systems; LICENSE is in both.
+# tests/unit/wheel/test_wheel.py (make wheel-test) installs and runs it in a fresh venv per CPython found.
+ARCH := $(shell uname -m)
+ZIG_CC := $(abspath $(BUILD))/zig-cc-glibc2.17
+
 wheel: install
-	$(PY) -m pip install -q '.[dist]' build
-	rm -rf dist && $(PY) -m build --sdist --wheel --outdir dist/raw .
-	PATH=$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --only-plat --wheel-dir dist dist/raw/*.whl
+	$(PY) -m pip install -q '.[dist,fmu]' build
+	mkdir -p $(BUILD) && printf '#!/bin/sh\nexec "%s" -m ziglang cc -target $(ARCH)-linux-gnu.2.17 "$$@"\n' \
+	    "$(abspath $(PY))" > $(ZIG_CC) && chmod +x $(ZIG_CC)
+	rm -rf dist $(BUILD)/wheel-glibc2.17 && CC=$(ZIG_CC) $(PY) -m build --sdist --wheel \
+	    -C build-dir=$(abspath $(BUILD))/wheel-glibc2.17 --outdir dist/raw .
+	PATH=$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --plat manylinux2014_$(ARCH) --wheel-dir dist dist/raw/*.whl
 	mv dist/raw/*.tar.gz dist/ && rm -rf dist/raw && ls dist
+
+wheel-test: wheel
+	RAILBRAKE_WHEEL=$$(ls dist/*.whl) $(PY) -m pytest -q -p no:cacheprovider tests/unit/wheel
 
 bench: install
 	$(PY) bench/run_all.py

@@ -5,17 +5,17 @@ Physical laws live in the C core (``core/``); this package reaches them through
 (:mod:`railbrake.units`).
 
 For scripts: :func:`run` a scenario into a :class:`Result` (``to_dataframe()``, ``plot()``,
-``save()``), :func:`load_result` a saved run; :func:`railbrake.resolve.resolve` a configuration with overrides.
+``save()``), :func:`load_result` a saved run, :func:`compare` runs side by side; :func:`railbrake.resolve.resolve` a configuration with overrides.
 """
 
 from railbrake._version import __version__
 from railbrake.errors import InputError
 
-__all__ = ["InputError", "Result", "__version__", "load_result", "run"]
+__all__ = ["InputError", "Result", "__version__", "compare", "load_result", "run"]
 
 # Imported when first used, so `import railbrake` (and the CLI's start) does not load the C core.
 _LAZY = {"run": "railbrake.simulation", "Result": "railbrake.simulation",
-         "load_result": "railbrake.results.scripting"}
+         "load_result": "railbrake.results.scripting", "compare": "railbrake.results.scripting"}
 
 
 def __getattr__(name: str):

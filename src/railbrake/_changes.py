@@ -59,15 +59,25 @@ class ReadOnlyModel:
 # ------------------------------------------------------------------ --set on a file's data
 # (apply_changes: Train.with_, Study.with_; railbrake.resolve for a scenario and its train)
 
+def _set_value(raw: str):
+    """A value written as in a file (YAML: '300 km/h', 45, [a, b], {k: v}), as --set reads it."""
+    try:
+        return yaml.safe_load(raw) if raw.strip() else ""
+    except yaml.YAMLError:
+        return raw
+
+
 def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
-    """(key path, value, label) per override; a mapping's values are taken as they are."""
+    """(key path, value, label) per override; a mapping's string values are read as --set reads
+    its values (so sets={"k": "[1, 2]"} is the list, as --set k=[1,2]), its other values as they are."""
     if isinstance(sets, (str, bytes)) or not isinstance(sets, (Mapping, Sequence, tuple, list)):
         raise TypeError(f"sets = {sets!r}: must be a list of 'KEY=VALUE' strings or a mapping of keys to values")
     if isinstance(sets, Mapping):
         for k in sets:
             if not isinstance(k, str) or not k.strip():
                 raise TypeError(f"sets: key {k!r}: must be a dotted key such as 'initial_speed'")
-        items = [(k, v, f"sets[{k!r}]") for k, v in sets.items()]   # the caller's mapping, by its key
+        items = [(k, _set_value(v) if isinstance(v, str) else v, f"sets[{k!r}]")   # the caller's mapping, by its key
+                 for k, v in sets.items()]
     else:
         items = []
         for i, text in enumerate(sets):
@@ -76,11 +86,7 @@ def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
             key, sep, raw = text.partition("=")
             if not sep or not key.strip():
                 raise InputError(f"--set {text!r}: expected KEY=VALUE, e.g. --set initial_speed='300 km/h'")
-            try:
-                value = yaml.safe_load(raw) if raw.strip() else ""
-            except yaml.YAMLError:
-                value = raw
-            items.append((key.strip(), value, f"--set {key.strip()}"))
+            items.append((key.strip(), _set_value(raw), f"--set {key.strip()}"))
     return [(tuple(int(p) if p.isdigit() else p for p in key.split(".")), value, label)
             for key, value, label in items]
 

@@ -24,6 +24,7 @@ from typing import TypeVar
 import yaml
 from pydantic import BaseModel, ValidationError
 
+from railbrake._args import name_or_path, show
 from railbrake.errors import InputError
 
 Model = TypeVar("Model", bound=BaseModel)
@@ -65,6 +66,21 @@ def read_bytes(path: str | Path, limit: int = MAX_BYTES) -> bytes:
     if len(data) > limit:
         raise InputError(f"{path}: over {limit} bytes: a configuration file must be under {limit} bytes")
     return data
+
+
+def in_folder(name: str, folder: Path | None, presets, where: str = "") -> str:
+    """A file name relative to the folder of the file that names it, made absolute: a file names
+    other files from where it lies, whatever the current folder (presets, absolute paths, names
+    that are no file there, and names in a preset (folder None) stay as they are). where (the
+    file, line and key that gave it) names a name no file system takes (too long)."""
+    try:
+        name_or_path("name", name)
+    except InputError as exc:
+        raise InputError(f"{where or 'name'}: {str(exc).split(': ', 1)[-1]} (given: {show(name)})") from None
+    if folder is None or name in presets or Path(name).is_absolute():
+        return name
+    candidate = Path(folder) / name
+    return str(candidate) if candidate.exists() else name
 
 
 def read_text(path: str | Path) -> str:

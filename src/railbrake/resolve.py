@@ -127,18 +127,7 @@ def _read_scenario(name) -> _Source:
     raise InputError(f"scenario = {name!r}: not a preset ({', '.join(scenarios.preset_names())}) nor a file")
 
 
-def _in_folder(name: str, folder: Path | None, presets: list[str], where: str = "") -> str:
-    """A file name relative to the scenario's folder made absolute (presets and absolute paths stay);
-    where (the file, line and key that gave it) names a name no file system takes (too long)."""
-    try:
-        name_or_path("name", name)
-    except InputError as exc:
-        raise InputError(f"{where or 'name'}: {str(exc).split(': ', 1)[-1]} (given: {show(name)})") from None
-    if folder is None or name in presets or Path(name).is_absolute():
-        return name
-    candidate = folder / name
-    return str(candidate) if candidate.exists() else name
-
+_in_folder = config.in_folder   # a file name relative to the scenario's folder made absolute
 
 def _read_train(preset: str) -> _Source:
     if preset in vehicle.preset_names():
@@ -241,6 +230,7 @@ def _resolve(scenario, overrides: list) -> Resolved:
         if path == ("train", "preset"):
             preset, labels[path] = str(value), label
     train_source = inline if inline is not None and ("train", "preset") not in labels else _read_train(preset)
+    vehicle.anchor_files(train_source.data, train_source.folder)   # its profiles, valve designs: beside it
     train_block.clear()
     train_block.update({"preset": preset, "cars": source.data["train"].get("cars")
                         if isinstance(source.data.get("train"), dict) else None})

@@ -682,8 +682,7 @@ def _check_references(model: _TrainFile, locate) -> None:
         except InputError as exc:
             raise InputError(f"{locate(('brake_steps', step, 'profile'))}: brake_steps.{step}.profile = {name!r}: "
                              f"{str(exc).removeprefix(f'profile = {name!r}: ')}") from None
-    designs = sorted(p.name[:-5] for p in (resources.files("railbrake") / "data" / "valves").iterdir()
-                     if p.name.endswith(".yaml"))
+    designs = valve_design_names()
     for type_name, t in model.car_types.items():
         for valve in ("ep_valve", "relay_valve"):
             design = getattr(t, valve).design
@@ -838,12 +837,38 @@ def train_file_text(name_or_path: Union[str, Path]) -> tuple[str, str]:
     raise InputError(f"train = {name!r}: not a preset ({', '.join(preset_names())}) nor a YAML file")
 
 
+def valve_design_names() -> list[str]:
+    return sorted(p.name[:-5] for p in (resources.files("railbrake") / "data" / "valves").iterdir()
+                  if p.name.endswith(".yaml"))
+
+
+def anchor_files(data: dict, folder: Path | None) -> dict:
+    """The files a train file names (its brake steps' profiles, its valves' design files), relative
+    to the train file's folder, made absolute in data (in place), so the train loads from any
+    current folder; presets' names stay."""
+    from railbrake.profiles import profile_names
+    if folder is None or not isinstance(data, dict):
+        return data
+    for step in (data.get("brake_steps") or {}).values():
+        if isinstance(step, dict) and isinstance(step.get("profile"), str):
+            step["profile"] = config.in_folder(step["profile"], folder, profile_names())
+    for car_type in (data.get("car_types") or {}).values():
+        for valve in ("ep_valve", "relay_valve"):
+            block = car_type.get(valve) if isinstance(car_type, dict) else None
+            if isinstance(block, dict) and isinstance(block.get("design"), str):
+                block["design"] = config.in_folder(block["design"], folder, valve_design_names())
+    return data
+
+
 def load_train(name_or_path: Union[str, Path, Train], loaded: Union[bool, str] = True) -> Train:
-    """A preset name (see preset_names()) or a YAML file; loaded: load case ("tare", "normal",
-    "crush"), True for the file's own, False for tare."""
+    """A preset name (see preset_names()) or a YAML file (the files it names: relative to its folder);
+    loaded: load case ("tare", "normal", "crush"), True for the file's own, False for tare."""
     if isinstance(name_or_path, Train):
         return name_or_path
-    return parse_train(*train_file_text(name_or_path), loaded)
+    text, origin = train_file_text(name_or_path)
+    data, lines = read_train_data(text, origin)
+    folder = Path(origin).resolve().parent if Path(origin).is_file() else None
+    return parse_train_data(anchor_files(data, folder), origin, lines, loaded)
 
 
 # ------------------------------------------------------------------ single laws, for users and tests

@@ -93,6 +93,17 @@ def test_overrides_stack_on_a_resolved_configuration():
     assert resolve(first) is first
 
 
+def test_python_sets_read_their_string_values_as_set_does():
+    """sets={"k": "VALUE"} reads VALUE as `--set k=VALUE` does (a list, a number, a quantity)."""
+    from railbrake.resolve import resolve as resolve_
+    by_cli = resolve_("emergency-250-dry", sets=["stop.max_time=150 s", "initial_speed=180 km/h",
+                                                  "adhesion.zones=[{start: 400 m, end: 700 m, condition: leaves}]"])
+    by_api = resolve_("emergency-250-dry", sets={"stop.max_time": "150 s", "initial_speed": "180 km/h",
+                                                 "adhesion.zones": "[{start: 400 m, end: 700 m, condition: leaves}]"})
+    assert by_api.canonical() == by_cli.canonical()
+    assert by_api.scenario.spec.stop.max_time == 150.0 and len(by_api.scenario.spec.adhesion.zones) == 1
+
+
 SCENARIO_TEXT = (resources.files("railbrake") / "data" / "scenarios" / "emergency-250-dry.yaml").read_text()
 
 

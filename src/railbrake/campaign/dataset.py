@@ -6,9 +6,16 @@ metadata), one per KPI (float64: booleans and counts as numbers, None as null), 
 study killed at any moment leaves only whole batches: the dataset is always consistent and a
 rerun skips the keys it holds. DIR/study.json records the schema and the study's identity.
 
-The dataset vouches for itself: DIR/runs/parts.jsonl lists every part written, one line each
+DIR/runs holds the parts only (and, while one is written, its hidden temporary file), so the folder
+reads as one table in any Parquet reader: pyarrow.dataset.dataset(DIR/runs), pandas.read_parquet,
+polars.scan_parquet, duckdb's read_parquet('DIR/runs/*.parquet'). Every column names its unit in
+its field metadata ("unit": SI or "1" for counts, flags and ratios, "" for text), and the schema
+metadata "railbrake.units" maps every column to it.
+
+The dataset vouches for itself: DIR/parts.jsonl lists every part written, one line each
 with its SHA-256 and its run keys, appended (and flushed to disk) before the part is renamed into
-place; DIR/runs/keys.json holds the run keys of the study as last planned. Resume and report verify
+place; DIR/keys.json holds the run keys of the study as last planned (a dataset written before
+they moved out of DIR/runs has them moved on its first read). Resume and report verify
 every part against that list before trusting it: a part altered or damaged after it was written
 (checksum), copied or brought from another dataset (not listed, or its keys not its own), or
 listed but missing is refused by name, and the report counts only the study's keys. A study killed
@@ -51,14 +58,30 @@ def kpi_kinds(kpis: dict) -> dict:
             for k, v in kpis.items()}
 
 
+_SUFFIX_UNITS = (("_kmh", "km/h"), ("_pct", "%"), ("_bar", "bar"), ("_kg", "kg"), ("_kj", "kJ"), ("_mj", "MJ"),
+                 ("_c", "°C"), ("_s", "s"), ("_m", "m"))
+
+
+def column_unit(name: str, kind: pa.DataType) -> str:
+    """A column's unit: a KPI's (results.kpis), else its name's suffix (_s, _m, _kg, ...); "1" for a
+    number without one (a count, a flag, a ratio), "" for text."""
+    from railbrake.results import kpis
+    if kind == pa.string():
+        return ""
+    unit = kpis.unit(name) or next((u for suffix, u in _SUFFIX_UNITS if name.endswith(suffix)), "")
+    return unit or "1"
+
+
 def schema(factors: list[Factor], kpis: list[str], study: dict, kinds: dict | None = None) -> pa.Schema:
     kinds = kinds or {}
     fields = [pa.field(n, t) for n, t in _FIXED]
     fields += [pa.field(f.name, _FACTOR_TYPES[f.kind], metadata={"unit": f.unit}) for f in factors]
     fields += [pa.field(k, pa.string() if kinds.get(k) == "string" else pa.float64()) for k in kpis]
     fields += [pa.field(n, t) for n, t in _TAIL]
+    fields = [f if f.metadata else f.with_metadata({"unit": column_unit(f.name, f.type)}) for f in fields]
     meta = {"railbrake.factors": json.dumps({f.name: f.unit for f in factors}),
-            "railbrake.kpis": json.dumps(kpis), "railbrake.study": json.dumps(study)}
+            "railbrake.kpis": json.dumps(kpis), "railbrake.study": json.dumps(study),
+            "railbrake.units": json.dumps({f.name: f.metadata[b"unit"].decode() for f in fields})}
     return pa.schema(fields, metadata=meta)
 
 
@@ -108,8 +131,17 @@ def write_batch(out: Path, rows: list[dict], sch: pa.Schema) -> Path:
 
 # ------------------------------------------------------------------ the parts' manifest
 
-PARTS = "parts.jsonl"    # in DIR/runs: one line per part, {"part", "sha256", "keys"}
-KEYS = "keys.json"       # in DIR/runs: {"keys": the study's run keys}
+PARTS = "parts.jsonl"    # in DIR: one line per part, {"part", "sha256", "keys"}
+KEYS = "keys.json"       # in DIR: {"keys": the study's run keys}
+
+
+def _moved_out(out: Path, name: str) -> Path:
+    """DIR/name; a dataset written when it lay in DIR/runs has it moved up first (DIR/runs holds
+    the parts alone, for every Parquet reader)."""
+    path, old = Path(out) / name, Path(out) / RUNS / name
+    if old.is_file() and not path.exists():
+        os.replace(old, path)
+    return path
 
 
 def _sha256(path: Path) -> str:
@@ -122,20 +154,20 @@ def _sha256(path: Path) -> str:
 
 def _append_part(out: Path, name: str, sha: str, keys: list[str]) -> None:
     line = json.dumps({"part": name, "sha256": sha, "keys": keys}, separators=(",", ":")) + "\n"
-    with (out / RUNS / PARTS).open("a") as handle:
+    with _moved_out(out, PARTS).open("a") as handle:
         handle.write(line)
         handle.flush()
         os.fsync(handle.fileno())
 
 
 def _where(out: Path, name: str) -> str:
-    return str(Path(out) / RUNS / name)
+    return str(Path(out) / name) if name in (PARTS, KEYS) else str(Path(out) / RUNS / name)
 
 
 def _listed(out: Path, repair: bool) -> dict[str, dict]:
     """part name -> its line of parts.jsonl; a torn last line (a study killed while appending it:
     its part was never renamed into place) is dropped when repairing, refused otherwise."""
-    path = out / RUNS / PARTS
+    path = _moved_out(out, PARTS)
     if not path.is_file():
         return {}
     raw = path.read_bytes()
@@ -178,7 +210,7 @@ def verify(out: Path, repair: bool = False) -> dict[str, dict]:
     out = Path(out)
     listed = _listed(out, repair)
     present = {p.name for p in _parts(out)}
-    if present and not (out / RUNS / PARTS).is_file():
+    if present and not _moved_out(out, PARTS).is_file():
         raise InputError(f"{_where(out, PARTS)}: missing, so the parts cannot be verified (a dataset of a railbrake "
                          "before dataset manifests, or the file removed): run the study into a new folder")
     for name in sorted(present - set(listed)):
@@ -199,15 +231,16 @@ def verify(out: Path, repair: bool = False) -> dict[str, dict]:
 
 def record_study_keys(out: Path, keys: list[str]) -> None:
     """The study's run keys (as planned now), for the report to count only them."""
-    folder = Path(out) / RUNS
+    folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
+    (folder / RUNS / KEYS).unlink(missing_ok=True)   # of a dataset written when it lay there
     temporary = folder / f".{KEYS}.tmp"
     temporary.write_text(json.dumps({"keys": sorted(keys)}))
     os.replace(temporary, folder / KEYS)
 
 
 def study_keys(out: Path) -> set[str] | None:
-    path = Path(out) / RUNS / KEYS
+    path = _moved_out(out, KEYS)
     if not path.is_file():
         return None
     try:

@@ -87,6 +87,35 @@ def start_values(fragment: Path, params: list[Parameter]) -> dict:
     return values
 
 
+def controller_only(study: Study, names: list[str], controller: str | None, only: list[str]) -> list[str]:
+    """The runs of one WSP controller: the one asked for (--controller), the one an --only names,
+    or else the first of the core's controllers that reads every tuned parameter (a controller that
+    does not read one refuses it). Returns --only with that controller's runs kept, for a study whose
+    `wsp.controller` is a factor."""
+    from railbrake.scenario import CONTROLLER_KEYS
+    specific = {k for read in CONTROLLER_KEYS.values() for k in read}   # the others: every controller reads them
+    keys = [k for k in (n.split(".", 1)[1] if n.startswith("wsp.") else n for n in names) if k in specific]
+    pinned = [item.partition("=")[2] for item in only if item.partition("=")[0] == "wsp.controller"]
+    if controller is not None and controller not in CONTROLLER_KEYS:
+        raise InputError(f"--controller {controller}: one of {', '.join(CONTROLLER_KEYS)}")
+    if controller is not None and pinned and pinned != [controller]:
+        raise InputError(f"--controller {controller} and --only wsp.controller={'/'.join(pinned)} disagree")
+    chosen = controller or (pinned[0] if len(pinned) == 1 else None)
+    if chosen is None and not pinned:
+        chosen = next((c for c, read in CONTROLLER_KEYS.items() if set(keys) <= set(read)), None)
+        if chosen is None:
+            raise InputError(f"--params {','.join(names)}: no WSP controller reads them all ("
+                             + "; ".join(f"{c}: {', '.join(read)}" for c, read in CONTROLLER_KEYS.items()) + ")")
+    for name in [chosen] if chosen else pinned:
+        unread = [k for k in keys if k not in CONTROLLER_KEYS.get(name, keys)]
+        if unread:
+            raise InputError(f"--params: the {name} controller does not read {', '.join(unread)} "
+                             f"(it reads {', '.join(CONTROLLER_KEYS[name])})")
+    if chosen and not pinned and "wsp.controller" in {f.name for f in study.factors}:
+        return [*only, f"wsp.controller={chosen}"]
+    return list(only)
+
+
 def _with_sets(study: Study, sets: dict) -> Study:
     return dataclasses.replace(study, fixed=dict(study.fixed, **sets))._freeze()
 
@@ -183,14 +212,20 @@ def _storage(out: Path):
 
 
 def tune(study: Study, names: list[str], objective: str, budget: int, out: Path, workers=None,
-         scheduler=None, only=(), air_limit: float | None = None, progress=None, start=()) -> dict:
-    """start: WSP fragments tried right after the default WSP (each once, also on a resume)."""
+         scheduler=None, only=(), air_limit: float | None = None, progress=None, start=(),
+         controller=None) -> dict:
+    """start: WSP fragments tried right after the default WSP (each once, also on a resume);
+    controller: the WSP controller tuned (default: the one that reads the parameters), see
+    controller_only."""
     import optuna
     if objective not in OBJECTIVES:
         raise InputError(f"--objective {objective}: one of {', '.join(OBJECTIVES)}")
     whole("budget", budget, 1)
     execute._check_counts(workers=workers)
     params = parameters(study, names)
+    only = controller_only(study, [p.key for p in params], controller, list(only))
+    if controller and "wsp.controller" not in {f.name for f in study.factors}:
+        study = _with_sets(study, {"wsp.controller": controller})
     keep = select(study, list(only))
     defaults = default_values(params)
     seed = int(np.random.SeedSequence(study.spec.seed).generate_state(1)[0])

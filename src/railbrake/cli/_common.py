@@ -27,6 +27,20 @@ SET_HELP = ("Override a key of the resolved configuration: KEY=VALUE, the value 
             "--set initial_speed='300 km/h' (repeatable; `railbrake config show` lists the keys).")
 
 
+def complete_scenario(incomplete: str) -> list[str]:
+    """Shell completion of a scenario argument: the scenario presets, then the YAML files of the
+    current folder, that start with what is typed."""
+    from railbrake import scenario
+    found = [n for n in scenario.preset_names() if n.startswith(incomplete)]
+    return found + sorted(str(p) for p in Path(".").glob(f"{incomplete}*") if p.suffix in (".yaml", ".yml"))
+
+
+def complete_scenario_or_train(incomplete: str) -> list[str]:
+    """As complete_scenario, with the train presets (export-fmu takes a train too)."""
+    from railbrake import vehicle
+    return sorted(set(complete_scenario(incomplete) + [n for n in vehicle.preset_names() if n.startswith(incomplete)]))
+
+
 def parse_float_list(text: str, option: str) -> list[float]:
     """'20,60,300' -> [20.0, 60.0, 300.0]; an error names the option and the bad item."""
     values = []

@@ -19,9 +19,20 @@ app = typer.Typer(help="Campaigns: studies of many configurations on a laptop or
                   no_args_is_help=True)
 
 
+def _answers(link: str, timeout: float = 2.0) -> bool:
+    """The page at link answers (HTTP 200): a dashboard without its page (no bokeh) answers 404."""
+    import urllib.request
+    try:
+        with urllib.request.urlopen(link, timeout=timeout) as page:
+            return page.status == 200
+    except (OSError, ValueError):
+        return False
+
+
 def _show_dashboard(client) -> None:
+    """The Dask dashboard's link, only when it is served and its page answers."""
     link = client.dashboard_link if client.scheduler_info().get("services", {}).get("dashboard") else None
-    if link:
+    if link and _answers(link):
         typer.echo(f"Dask dashboard: {link}", err=True)
 
 

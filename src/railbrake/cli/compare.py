@@ -10,6 +10,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from railbrake.cli import _common
 from railbrake.cli._common import SET_HELP, prepare_folder, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.units import cars_text
@@ -52,7 +53,7 @@ def register(app: typer.Typer) -> None:
     @app.command("compare-rt")
     @reports_errors
     def compare_rt(
-        scenario: str = typer.Argument(..., help="Preset name or scenario YAML file."),
+        scenario: str = typer.Argument(..., autocompletion=_common.complete_scenario, help="Preset name or scenario YAML file."),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         plot: Optional[Path] = typer.Option(None, help="Folder for the comparison plots."),
         json: bool = typer.Option(False, "--json", help="Print the comparison as JSON."),

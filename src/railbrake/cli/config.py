@@ -7,6 +7,7 @@ from typing import Optional
 import typer
 import yaml
 
+from railbrake.cli import _common
 from railbrake.cli._common import print_json, reports_errors
 from railbrake.cli.simulation import DEFAULT_SCENARIO, SET_HELP
 from railbrake.resolve import resolve
@@ -17,7 +18,7 @@ app = typer.Typer(help="The resolved configuration: every key a run uses, with i
 @app.command("show")
 @reports_errors
 def show(
-    scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
+    scenario: str = typer.Argument(DEFAULT_SCENARIO, autocompletion=_common.complete_scenario, help="Preset name or scenario YAML file."),
     cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
     sets: list[str] = typer.Option([], "--set", help=SET_HELP),
     json: bool = typer.Option(False, "--json", help="Print as JSON."),

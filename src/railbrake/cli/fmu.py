@@ -7,6 +7,7 @@ from typing import Optional
 
 import typer
 
+from railbrake.cli import _common
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, reports_errors
 from railbrake.fmu.binaries import DEFAULT_PLATFORMS, PLATFORMS, parse_platforms
 from railbrake.fmu.export import BASE_SCENARIO, export_fmu
@@ -16,7 +17,7 @@ def register(app: typer.Typer) -> None:
     @app.command("export-fmu")
     @reports_errors
     def export(
-        scenario: str = typer.Argument(BASE_SCENARIO, help="Scenario (preset or YAML file) or train preset "
+        scenario: str = typer.Argument(BASE_SCENARIO, autocompletion=_common.complete_scenario_or_train, help="Scenario (preset or YAML file) or train preset "
                                        f"(then {BASE_SCENARIO} with that train)."),
         fmi: str = typer.Option("2", "--fmi", help="FMI version: 2 or 3."),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
@@ -34,3 +35,7 @@ def register(app: typer.Typer) -> None:
         path = export_fmu(scenario, prepare_output(output, "--output", (".fmu",)), fmi, cars, sets=sets,
                           kernel=kernel, platforms=parse_platforms(platforms), identifier=identifier)
         typer.echo(f"{path}: FMI {fmi}.0 co-simulation, {platforms}, {path.stat().st_size / 1024:.0f} kB")
+        from railbrake.fmu.binaries import host_toolchain_note
+        note = host_toolchain_note(path)
+        if note:
+            typer.echo(f"note: {note}", err=True)

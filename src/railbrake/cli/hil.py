@@ -16,6 +16,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import hil as hil_runner
+from railbrake.cli import _common
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_output, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.hil.keys import read_key, write_key
@@ -252,7 +253,7 @@ def _prepare_and_run(interrupts, scenario, bcu, key, cars, duration, record, rec
         write_outputs(records.from_hil(result, sc), out, formats, axles, window,
                       mdf_extra={"counters": result.counters, "timing": result.timing,
                                  "fault_changes": [c.as_dict() for c in result.fault_changes]},
-                      mdf_events=recording_events(result))
+                      mdf_events=recording_events(result, sc))
     _summary(result, json, written, out, bcu)
     return result
 
@@ -261,7 +262,7 @@ def register(app: typer.Typer) -> None:
     @app.command("hil")
     @reports_errors
     def hil(
-        scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
+        scenario: str = typer.Argument(DEFAULT_SCENARIO, autocompletion=_common.complete_scenario, help="Preset name or scenario YAML file."),
         bcu: str = typer.Option(..., "--bcu", help="The BCU's address, udp://HOST:PORT."),
         key: Path = typer.Option(..., "--key", help=KEY_HELP),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
@@ -317,7 +318,7 @@ def register(app: typer.Typer) -> None:
     @app.command("bcu")
     @reports_errors
     def bcu(
-        scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file (demand profile, "
+        scenario: str = typer.Argument(DEFAULT_SCENARIO, autocompletion=_common.complete_scenario, help="Preset name or scenario YAML file (demand profile, "
                                        "train)."),
         listen: str = typer.Option(..., "--listen", help="Address to listen on, udp://HOST:PORT (port 0: any, "
                                    "printed)."),

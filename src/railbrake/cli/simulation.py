@@ -12,6 +12,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from railbrake import simulation
+from railbrake.cli import _common
 from railbrake.cli._common import KERNEL_HELP, SET_HELP, prepare_folder, print_json, reports_errors
 from railbrake.resolve import resolve
 from railbrake.simulation.timing import DEFAULT_SCENARIO as BENCH_SCENARIO, SECONDS as BENCH_SECONDS
@@ -63,7 +64,9 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
     if out is not None:
         from railbrake.results.outputs import write_outputs
         prepare_folder(out)
-        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, resolved=resolved)
+        from railbrake.results.events import run_events
+        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, mdf_events=run_events(sc),
+                      resolved=resolved)
     return result
 
 
@@ -121,7 +124,7 @@ def register(app: typer.Typer) -> None:
     @app.command("run")
     @reports_errors
     def run(
-        scenario: str = typer.Argument(DEFAULT_SCENARIO, help="Preset name or scenario YAML file."),
+        scenario: str = typer.Argument(DEFAULT_SCENARIO, autocompletion=_common.complete_scenario, help="Preset name or scenario YAML file."),
         cars: Optional[int] = typer.Option(None, help="Number of cars (default: the scenario's train)."),
         no_wsp: bool = typer.Option(False, "--no-wsp", help="Run without wheel-slide protection."),
         out: Optional[Path] = typer.Option(None, help="Folder for the time series, kpis.json, plots and "
@@ -152,7 +155,7 @@ def register(app: typer.Typer) -> None:
     @app.command("bench")
     @reports_errors
     def bench(
-        scenario: str = typer.Argument(BENCH_SCENARIO, help="Preset name or scenario file."),
+        scenario: str = typer.Argument(BENCH_SCENARIO, autocompletion=_common.complete_scenario, help="Preset name or scenario file."),
         cars: int = typer.Option(16, help="Number of cars."),
         kernel: Optional[str] = typer.Option(None, help=KERNEL_HELP),
         runs: Optional[int] = typer.Option(None, help="Timed runs (default: as many as fit in --seconds, "

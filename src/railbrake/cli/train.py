@@ -20,11 +20,15 @@ def new(
     name: Optional[str] = typer.Option(None, help="The new train's name (default: my-PRESET)."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here (.yaml; default: stdout)."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),
+    cars: Optional[int] = typer.Option(None, help="Number of cars (the preset's formation repeated and cut)."),
+    formation: Optional[str] = typer.Option(None, help="Car types in order, comma-separated, e.g. "
+                                            "trailer,motor,motor,trailer (the preset's car_types)."),
+    max_speed: Optional[float] = typer.Option(None, "--max-speed", help="Top speed, km/h."),
 ):
     """Write a train file from a preset, with what each value may be as comments."""
     from railbrake.errors import InputError
     from railbrake.train_template import template
-    text = template(preset, name)
+    text = template(preset, name, cars, formation, max_speed)
     if output is None:
         typer.echo(text, nl=False)
         return

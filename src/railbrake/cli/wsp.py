@@ -23,6 +23,9 @@ def tune(
     objective: str = typer.Option("worst-delta-s", help="worst-delta-s (TPE) or pareto (NSGA-II: dS vs air)."),
     budget: int = typer.Option(24, min=1, help="Evaluations in all (a rerun continues up to this many)."),
     only: List[str] = typer.Option([], "--only", help="Keep the cases at FACTOR=VALUE (repeatable)."),
+    controller: Optional[str] = typer.Option(None, help="The WSP controller tuned: its runs of a study that "
+                                             "runs several (default: the first of threshold, slip_setpoint, "
+                                             "decel_slip_speed that reads every --params)."),
     out: Optional[Path] = typer.Option(None, help="Folder for trials, fragment and plots "
                                        "(default: out/campaigns/<study>/tuning)."),
     workers: Optional[int] = typer.Option(None, min=1, help="Local worker processes (default: one per core)."),
@@ -45,7 +48,8 @@ def tune(
     with bar:
         summary = tuning.tune(spec, [p.strip() for p in params.split(",") if p.strip()], objective, budget,
                               folder, workers=workers, scheduler=scheduler, only=only, air_limit=air, start=start,
-                              progress=lambda n, total: bar.update(task, completed=n, total=total))
+                              progress=lambda n, total: bar.update(task, completed=n, total=total),
+                              controller=controller)
     if json:
         data = {k: summary[k] for k in ("default", "tuned", "evaluations")}
         if front and "front" in summary:

@@ -53,9 +53,10 @@ PLATFORMS = {p.name: p for p in (
 DEFAULT_PLATFORMS = ("linux64",)
 
 # C99 with the core's warnings; no FP contraction (the same values as the core's own build); only the
-# FMI API visible.
+# FMI API visible; reproducible: no debug information (it would hold the build's temporary paths),
+# the build folder mapped away from any path left, no build id from the linker.
 _FLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fvisibility=hidden", "-shared", "-Wall", "-Wextra",
-          "-Werror=vla")
+          "-Werror=vla", "-g0")
 
 
 def parse_platforms(text: str) -> tuple[str, ...]:
@@ -92,7 +93,8 @@ def compile_binary(unzipped: Path, version: str, sources: list[str], identifier:
     linux = platform.extension == ".so"
     with tempfile.TemporaryDirectory() as build:   # the linker's by-products (import library, .pdb) stay there
         built = Path(build) / target.name
-        command = [*compiler, *_FLAGS, *(["-fPIC", "-Wl,--no-undefined"] if linux else []),
+        command = [*compiler, *_FLAGS, f"-ffile-prefix-map={unzipped}=.", f"-ffile-prefix-map={build}=.",
+                   *(["-fPIC", "-Wl,--no-undefined", "-Wl,--build-id=none", "-Wl,--strip-debug"] if linux else []),
                    f"-I{unzipped / 'sources'}", "-isystem", str(FMI_HEADERS), *extra_flags,
                    *[str(unzipped / "sources" / s) for s in sources], "-o", str(built), *(["-lm"] if linux else [])]
         done = subprocess.run(command, capture_output=True, text=True, cwd=build)
@@ -138,6 +140,25 @@ def check_binary(binary: Path, version: str, glibc: tuple[int, int] | None = GLI
             problems.append(f"needs GLIBC_{'.'.join(map(str, newest))}, newer than the baseline "
                             f"GLIBC_{'.'.join(map(str, glibc))}")
     return problems
+
+
+def host_toolchain_note(fmu: Path) -> str | None:
+    """What an FMU's linux64 binary needs when the system C compiler built it (no zig, the `fmu`
+    extra): the newest GLIBC_x.y symbol version it uses (the host's glibc or newer), against the
+    glibc 2.17 of a zig build. None when zig built it or there is no linux64 binary."""
+    import zipfile
+    if have_zig():
+        return None
+    with zipfile.ZipFile(fmu) as zf, tempfile.TemporaryDirectory() as tmp:
+        names = [n for n in zf.namelist() if n.startswith("binaries/linux64/") and n.endswith(".so")]
+        if not names:
+            return None
+        binary = Path(zf.extract(names[0], tmp))
+        newest = max(glibc_versions(binary), default=()) if shutil.which("objdump") else ()
+    needs = f"glibc {'.'.join(map(str, newest))} or newer" if newest else "this machine's glibc or newer"
+    return (f"the linux64 binary was built with the system C compiler ({os.environ.get('CC', 'cc')}): it needs "
+            f"{needs}; with the zig toolchain (pip install 'railbrake[fmu]') it needs glibc "
+            f"{'.'.join(map(str, GLIBC_BASELINE))}")
 
 
 def _objdump(option: str, binary: Path) -> str:

@@ -4,6 +4,8 @@ written from the variable table (railbrake.fmu.variables)."""
 from __future__ import annotations
 
 import datetime
+import os
+from pathlib import Path
 import math
 from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
@@ -112,9 +114,24 @@ def _co_simulation(fmu: Header) -> dict:
     return dict(modelIdentifier=fmu.identifier, canHandleVariableCommunicationStepSize="true")
 
 
-def model_description(fmu: Header, variables: list[Variable]) -> str:
-    """modelDescription.xml in the FMI `fmu.version` ("2" or "3") flavour."""
-    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+def generation_time(sources: Path | None = None) -> datetime.datetime:
+    """When an FMU counts as generated, reproducibly (two exports of one configuration give the
+    same bytes): $SOURCE_DATE_EPOCH (the reproducible-builds convention) if set, else the newest of
+    the C sources it is built from (sources: their folder), else now."""
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    if epoch is not None and epoch.strip().isdigit():
+        return datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc)
+    if sources is not None and Path(sources).is_dir():
+        newest = max((p.stat().st_mtime for p in Path(sources).rglob("*") if p.is_file()), default=None)
+        if newest is not None:
+            return datetime.datetime.fromtimestamp(int(newest), datetime.timezone.utc)
+    return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+
+
+def model_description(fmu: Header, variables: list[Variable], generated: datetime.datetime | None = None) -> str:
+    """modelDescription.xml in the FMI `fmu.version` ("2" or "3") flavour; generated: its
+    generationDateAndTime (default: generation_time())."""
+    stamp = (generated or generation_time()).strftime("%Y-%m-%dT%H:%M:%SZ")
     head = dict(modelName=fmu.identifier, description=f"railbrake real-time plant: {fmu.title}", author=AUTHOR,
                 version=__version__, copyright=f"Copyright {AUTHOR}", license=LICENSE,
                 generationTool=f"railbrake {__version__}", generationDateAndTime=stamp,

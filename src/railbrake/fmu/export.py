@@ -26,7 +26,7 @@ from railbrake import simulation, vehicle
 from railbrake.simulation.parameters import _scenario_struct
 from railbrake.errors import InputError
 from railbrake.fmu.binaries import DEFAULT_PLATFORMS, compile_binary
-from railbrake.fmu.description import Header, build_description, model_description
+from railbrake.fmu.description import Header, build_description, generation_time, model_description
 from railbrake.fmu.documentation import index_html
 from railbrake.fmu.variables import Variable, table
 
@@ -134,21 +134,41 @@ def license_file() -> Path:
     raise InputError("the LICENSE file is not installed with railbrake; reinstall the package")
 
 
-def _zip(folder: Path, output: Path) -> None:
+def _zip(folder: Path, output: Path, stamp) -> None:
+    """The FMU's zip, reproducibly: entries in name order, each dated `stamp` (the generation time),
+    mode 644 (755 for binaries), no extra fields."""
     output.parent.mkdir(parents=True, exist_ok=True)
+    date = max(stamp.timetuple()[:6], (1980, 1, 1, 0, 0, 0))
     with atomic.replacing(output) as temporary, zipfile.ZipFile(temporary, "w", zipfile.ZIP_DEFLATED) as zf:
         for path in sorted(folder.rglob("*")):
             if path.is_file():
-                zf.write(path, path.relative_to(folder).as_posix())
+                name = path.relative_to(folder).as_posix()
+                info = zipfile.ZipInfo(name, date_time=date)
+                info.compress_type = zipfile.ZIP_DEFLATED
+                info.external_attr = (0o755 if name.startswith("binaries/") else 0o644) << 16
+                zf.writestr(info, path.read_bytes())
 
 
 BASE_SCENARIO = "emergency-300-heavy-rain"
 
 
+def _train_file(name) -> bool:
+    """A YAML file of a train (schema railbrake.train/N), not a scenario."""
+    path = Path(str(name))
+    if path.suffix not in (".yaml", ".yml") or not path.is_file():
+        return False
+    from railbrake import config
+    return str(config.load_mapping(config.read_text(path), str(path)).get("schema", "")).startswith("railbrake.train/")
+
+
 def resolve_scenario(name):
-    """A scenario (preset, file, Scenario or Resolved), or a train preset: then BASE_SCENARIO with that train."""
-    if isinstance(name, str) and name in vehicle.preset_names() and name not in scenarios.preset_names():
-        return resolve(BASE_SCENARIO, sets={"train.preset": name, "name": f"{BASE_SCENARIO} with train {name}"})
+    """A scenario (preset, file, Scenario or Resolved), or a train (preset or file): then BASE_SCENARIO
+    with that train."""
+    if isinstance(name, (str, Path)) and ((str(name) in vehicle.preset_names() and str(name) not in
+                                           scenarios.preset_names()) or _train_file(name)):
+        train = str(name) if str(name) in vehicle.preset_names() else str(Path(name).resolve())
+        return resolve(BASE_SCENARIO, sets={"train.preset": train,
+                                            "name": f"{BASE_SCENARIO} with train {Path(str(name)).stem}"})
     try:
         return resolve(name)
     except InputError as exc:
@@ -211,12 +231,13 @@ def export_fmu(scenario="emergency-300-heavy-rain", output: str | Path = "plant.
         (folder / "sources" / "fmu_scenario.c").write_text(body.replace("@TOKEN@", token))
         if version == "3":
             (folder / "sources" / "buildDescription.xml").write_text(build_description(fmu))
-        (folder / "modelDescription.xml").write_text(model_description(fmu, variables))
+        generated = generation_time(c_sources_dir())
+        (folder / "modelDescription.xml").write_text(model_description(fmu, variables, generated))
         (folder / "documentation" / "licenses").mkdir(parents=True)
         (folder / "documentation" / "index.html").write_text(index_html(fmu, variables))
         shutil.copy2(license_file(), folder / "documentation" / "licenses" / "LICENSE.txt")
         for platform in platforms if binary else ():
             compile_binary(folder, version, sources, identifier, platform)
         output = Path(output)
-        _zip(folder, output)
+        _zip(folder, output, generated)
     return output

@@ -96,10 +96,12 @@ class StreamingRecording:
             self._fd = None
 
 
-def recording_events(result) -> list[tuple[float, str, str]]:
-    """(time s, name, comment) of what changed during the run, in time order: each fault injected or
-    cleared (fault_on, fault_off), the safe state entered and left (from the loop's event log), each
-    change of the applied brake demand (at the recorded sample that first shows it)."""
+def recording_events(result, scenario=None) -> list[tuple[float, str, str]]:
+    """(time s, name, comment) of what changed during the run, in time order: each fault the
+    scenario schedules (fault_on at its start) and each injected or cleared live (fault_on,
+    fault_off), the safe state entered and left (from the loop's event log), each change of the
+    applied brake demand (at the recorded sample that first shows it)."""
+    from railbrake.results.events import scheduled_faults
     demand = np.asarray(result.outputs.get("brake_demand", []))
     changed = np.flatnonzero(np.diff(demand)) + 1
     events = [(float(result.time[i]), "demand", f"brake demand {demand[i - 1]:g} -> {demand[i]:g} (2: the safe "
@@ -107,6 +109,7 @@ def recording_events(result) -> list[tuple[float, str, str]]:
     events += [(c.time_s, f"fault_{'on' if c.action == 'inject' else 'off'}", f"{c.text} ({c.origin})")
               for c in getattr(result, "fault_changes", [])]
     events += [(t, kind, text) for t, kind, text in result.events if kind in ("safe_on", "safe_off")]
+    events += scheduled_faults(scenario) if scenario is not None else []
     return sorted(events, key=lambda e: e[0])
 
 
@@ -123,4 +126,4 @@ def write_mdf(result, path: Path, scenario=None) -> Path:
                                "interrupted": getattr(result, "interrupted", False),
                                "bcu_loss": getattr(result, "loss", None),
                                "fault_changes": [c.as_dict() for c in changes]},
-                              events=recording_events(result))   # whole, over the streaming one
+                              events=recording_events(result, sc))   # whole, over the streaming one

@@ -43,6 +43,14 @@ STATES = {
 }
 
 
+# channels of numbers in named ranges: [lower, upper) -> text (MDF4 value-range-to-text; for floats
+# the upper limit is excluded); the raw value stays in the file (asammdf's get(name, raw=True))
+RANGES = {
+    "brake_demand": [(0.0, 1e-9, "release"), (1e-9, 1.0 + 1e-6, "service (raw value: the fraction of full service)"),
+                     (1.0 + 1e-6, 1e3, "emergency")],
+}
+
+
 def base_name(channel: str) -> str:
     return re.sub(r"_c\d+(a\d+)?$", "", channel)
 
@@ -54,7 +62,14 @@ def comment(channel: str) -> str:
 
 
 def conversion(channel: str) -> dict | None:
-    """asammdf's value-to-text conversion of an integer channel, None for the others."""
+    """asammdf's value-to-text conversion of an integer channel, a value-range-to-text one of a
+    channel in RANGES, None for the others."""
+    ranges = RANGES.get(base_name(channel))
+    if ranges is not None:
+        out = {"default_addr": "outside the named ranges"}
+        for i, (low, high, text) in enumerate(ranges):
+            out[f"lower_{i}"], out[f"upper_{i}"], out[f"text_{i}"] = low, high, text
+        return out
     states = STATES.get(base_name(channel))
     if states is None:
         return None

@@ -90,7 +90,9 @@ def _mdf_signal(name: str, values, time, unit: str):
     from asammdf import Signal
     conversion = channel_info.conversion(name)
     samples = np.asarray(values, dtype=np.float64)
-    if conversion is not None and np.all(np.isin(samples, [float(v) for k, v in conversion.items() if k.startswith("val_")])):
+    if conversion is not None and "lower_0" in conversion:   # ranges among numbers: the samples as they are
+        pass
+    elif conversion is not None and np.all(np.isin(samples, [float(v) for k, v in conversion.items() if k.startswith("val_")])):
         samples = samples.astype(np.uint8)
     else:
         conversion = None

@@ -30,6 +30,6 @@ def write_outputs(record: RunRecord, out: Path, formats=("parquet",), axles: str
     paths.append(write_report(record, plots, out / "report.html"))
     if resolved is not None:
         from railbrake.results.config_file import write_config
-        paths.append(write_config(resolved, out / "config.yaml"))
+        paths += write_config(resolved, out / "config.yaml")   # and the files it names, copied beside it
     paths.append(files.write_manifest(out, record, paths))
     return paths

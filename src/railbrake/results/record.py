@@ -194,6 +194,7 @@ def from_hil(result, sc, command_line: list[str] | None = None) -> RunRecord:
                                  "hil": {"counters": result.counters, "timing": result.timing,
                                          "fault_changes": [c.as_dict() for c in getattr(result, "fault_changes", [])]},
                                  "provenance": provenance(command_line)}
-    if HEALTHY_SHORTFALL in result.meta:   # the reference the run's warnings were judged on
-        meta[HEALTHY_SHORTFALL] = result.meta[HEALTHY_SHORTFALL]
+    judged = getattr(result, "meta", None) or {}   # a HilResult has no meta: no healthy reference
+    if HEALTHY_SHORTFALL in judged:   # the reference the run's warnings were judged on
+        meta[HEALTHY_SHORTFALL] = judged[HEALTHY_SHORTFALL]
     return RunRecord(np.asarray(result.time), dict(result.outputs), dict(result.units), dict(result.kpis), meta)

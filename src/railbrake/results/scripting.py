@@ -45,9 +45,10 @@ class Result:
         """A standard figure (PLOT_KINDS): the Figure, or written to path."""
         return plot(self, kind, path, **options)
 
-    def save(self, folder):
-        """The run folder: timeseries.parquet, kpis.json, run.json (+ config.yaml); load_result reads it."""
-        return save(self, folder)
+    def save(self, folder, overwrite: bool = False):
+        """The run folder: timeseries.parquet, kpis.json, run.json (+ config.yaml); load_result reads it.
+        An existing folder with files in it is refused unless overwrite=True."""
+        return save(self, folder, overwrite)
 
     def axle_channels(self, quantity: str) -> list[str]:
         return [n for n in self.outputs if n.startswith(quantity + "_c") and "a" in n.split("_c")[-1]]
@@ -109,23 +110,53 @@ def plot(result, kind: str = "braking_curve", path: Path | str | None = None, ax
             "reservoirs": plots.plot_reservoirs}[kind](record, path)
 
 
-def save(result, folder: Path | str) -> Path:
+def save(result, folder: Path | str, overwrite: bool = False) -> Path:
     """timeseries.parquet, kpis.json and run.json into folder (and config.yaml, the resolved
     configuration, when the result knows it), then manifest.json; load_result reads it back bit
-    for bit, and refuses a folder whose writing was cut short."""
+    for bit, and refuses a folder whose writing was cut short. A folder that exists with anything
+    in it is refused unless overwrite=True (its files are then replaced)."""
     from railbrake.results import files
     from railbrake.results.config_file import write_config
     from railbrake import _args
     folder = _args.path("folder", folder)
+    overwrite = _args.flag("overwrite", overwrite)
     if folder.exists() and not folder.is_dir():
         raise InputError(f"folder = {_args.show(str(folder))}: is a file; give a folder")
+    if folder.exists() and any(folder.iterdir()) and not overwrite:
+        raise InputError(f"{folder}: exists and is not empty: save(folder, overwrite=True) replaces its run "
+                         "files, or choose a new folder")
     folder = files.begin_folder(folder)
     record = record_of(result)
     paths = files.write_run(record, folder, ["parquet"], complete=False)
     if result.resolved is not None:
-        paths.append(write_config(result.resolved, folder / "config.yaml"))
+        paths += write_config(result.resolved, folder / "config.yaml")   # and the files it names
     files.write_manifest(folder, record, paths)   # last: a folder without it is an interrupted save
     return folder
+
+
+def compare(*runs) -> dict:
+    """Runs side by side as `railbrake compare` gives them (its --json): each a Result or a saved
+    run (folder or time-series file); KPIs with their differences from the first run, the largest
+    channel differences per unit."""
+    from railbrake import _args
+    from railbrake.results import files
+    from railbrake.results.compare import compare_runs
+    if len(runs) < 2:
+        raise InputError(f"compare: {len(runs)} run given: needs at least two")
+    records, names = [], []
+    for i, run in enumerate(runs):
+        if isinstance(run, (str, Path)):
+            path = _args.path(f"runs[{i}]", run)
+            if not path.exists():
+                raise InputError(f"runs[{i}] = {_args.show(str(path))}: no such run folder or file")
+            records.append(files.load(path))
+            names.append(str(run))
+        elif hasattr(run, "outputs") and hasattr(run, "kpis"):
+            records.append(record_of(run))
+            names.append(getattr(run, "scenario", f"run {i + 1}"))
+        else:
+            raise TypeError(f"runs[{i}] = {_args.show(run)}: must be a Result or a saved run's folder")
+    return compare_runs(records, names)
 
 
 def load_result(folder: Path | str):

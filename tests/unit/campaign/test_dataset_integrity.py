@@ -124,7 +124,7 @@ def test_a_study_killed_between_a_parts_line_and_its_rename_is_completed_on_resu
 
 def test_a_torn_last_line_is_dropped_on_resume_and_refused_by_the_report(tmp_path):
     _dataset(tmp_path)
-    manifest = tmp_path / "runs" / dataset.PARTS
+    manifest = tmp_path / dataset.PARTS
     whole = manifest.read_bytes()
     manifest.write_bytes(whole + b'{"part": "part-1234')   # killed while appending
     with pytest.raises(InputError, match=rf"{manifest}, line 3: damaged"):

@@ -42,3 +42,28 @@ def test_scenario_runs_on_the_template(tmp_path):
     assert runner.invoke(app, ["train", "new", "--from", "crh380a-8", "-o", str(path)]).exit_code == 0
     resolved = resolve.resolve("emergency-250-dry", sets={"train.preset": str(path)})
     assert resolved.train.name == "my-crh380a-8"
+
+
+def test_a_new_formation_and_top_speed_give_a_consistent_train(tmp_path):
+    """--cars / --formation / --max-speed: the formation asked for, its mass the sum of its cars'
+    (the preset's car types), the title saying what it is, compressors only on cars it has."""
+    path = tmp_path / "four.yaml"
+    out = runner.invoke(app, ["train", "new", "--from", "crh380a-8", "--name", "four", "--cars", "4",
+                              "--max-speed", "300", "-o", str(path)])
+    assert out.exit_code == 0, out.output
+    four, preset = vehicle.load_train(path), vehicle.load_train("crh380a-8")
+    assert [c.type_name for c in four.cars] == [c.type_name for c in preset.cars][:4]
+    assert four.mass == pytest.approx(sum(c.tare + c.load for c in preset.cars[:4]))
+    assert four.max_speed == pytest.approx(300 / 3.6)
+    assert "title: four, 4 cars (3M1T)" in path.read_text()
+    assert [c.car for c in four.spec.air_supply.compressors] == [1]          # the preset's car 8 is gone
+    long = runner.invoke(app, ["train", "new", "--from", "crh380a-8", "--cars", "16"])
+    assert long.exit_code == 0, long.output
+    assert "- {car: 16, delivery_kg_s: 0.016}" in long.stdout and "- {car: 9, delivery_kg_s: 0.016}" in long.stdout
+    shaped = runner.invoke(app, ["train", "new", "--from", "crh380al-16", "--formation", "trailer,motor,trailer"])
+    assert shaped.exit_code == 0 and "formation: [trailer, motor, trailer]" in shaped.stdout, shaped.output
+    for args, message in ((["--formation", "trailer,tender"], "unknown: tender"),
+                          (["--cars", "3", "--formation", "motor,motor"], "disagree"),
+                          (["--max-speed", "900"], "max_speed_kmh")):
+        bad = runner.invoke(app, ["train", "new", "--from", "crh380a-8", *args])
+        assert bad.exit_code == 2 and message in bad.output, (args, bad.output)

@@ -40,6 +40,8 @@ NOT_HERE = {
     "railbrake.hil.run_kpis": "reads the C plant state of a HIL run",
     "railbrake.hil.loss_dict": "reads the C HIL result struct",
     "railbrake.hil.request_real_time": "changes this process's scheduling and memory locking",
+    "railbrake.compare": "takes its runs positionally (*runs), no argument name to vary "
+                         "(tests/unit/results/test_result_api.py: its refusals name runs[i])",
 }
 SCENARIO = "emergency-250-dry"
 # classes that are results, not inputs: built by railbrake, their fields typed, never checked
@@ -149,6 +151,7 @@ def bases(tmp_path_factory):
         simulation.run: dict(scenario=SCENARIO, cars=1),
         simulation.scenario_train: dict(scenario=sc, n_cars=1),
         simulation.simulated_response: dict(train="crh380a-8", initial_speed=50.0),
+        simulation.stopping_distance: dict(v0=50.0, train="crh380a-8", response_time=2.0),
         simulation.substeps_for: dict(dt=0.001),
         simulation.wall_time: {},
         simulation.outside_validity_kpi: dict(scenario=sc, max_slip=0.05),

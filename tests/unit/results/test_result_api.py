@@ -103,3 +103,43 @@ def test_a_run_folder_reproduces_its_kpis_from_another_folder_without_its_train_
     assert str(tmp_path) not in report.split("<h2>Provenance")[0]    # the command line as typed follows
     shown = CliRunner().invoke(app, ["config", "show", str(elsewhere / "config.yaml"), "--json"])
     assert json.loads(shown.stdout)["digest"] == yaml.safe_load(config)["provenance"]["digest"]
+
+
+def test_save_refuses_a_folder_with_files_unless_told(result, tmp_path):
+    from railbrake.errors import InputError
+    folder = tmp_path / "run"
+    result.save(folder)
+    before = (folder / "kpis.json").read_bytes()
+    with pytest.raises(InputError, match="exists and is not empty: save\\(folder, overwrite=True\\)"):
+        result.save(folder)
+    assert (folder / "kpis.json").read_bytes() == before
+    result.save(folder, overwrite=True)
+    assert railbrake.load_result(folder).kpis == result.kpis
+    (tmp_path / "empty").mkdir()
+    result.save(tmp_path / "empty")       # an empty folder is no run to lose
+
+
+def test_compare_takes_results_and_saved_runs_as_the_cli_does(result, tmp_path):
+    """railbrake.compare(a, b) is `railbrake compare A B --json`: the same report from a Result and
+    its saved folder, no difference between a run and itself."""
+    import json
+    from typer.testing import CliRunner
+    from railbrake.cli import app
+    result.save(tmp_path / "a")
+    report = railbrake.compare(result, tmp_path / "a")
+    assert all(d in (None, 0, 0.0, "same") for k in report["kpis"].values() for d in k["differences"])
+    cli = CliRunner().invoke(app, ["compare", str(tmp_path / "a"), str(tmp_path / "a"), "--json"])
+    assert cli.exit_code == 0, cli.output
+    assert set(json.loads(cli.stdout)) == set(report)
+    with pytest.raises(railbrake.InputError, match="needs at least two"):
+        railbrake.compare(result)
+
+
+@pytest.mark.parametrize("bad, kind", [(None, TypeError), (7, TypeError), (b"a", TypeError), ("", ValueError),
+                                       ("x" * 10_000, ValueError), ("no-such-folder", ValueError)])
+def test_compare_names_the_bad_run_by_its_position(result, bad, kind):
+    """compare(*runs) has no argument names: a refusal names the run as runs[i], and a long value is
+    cut, not echoed."""
+    with pytest.raises(kind) as caught:
+        railbrake.compare(result, bad)
+    assert str(caught.value).startswith("runs[1]") and len(str(caught.value)) < 300, caught.value
