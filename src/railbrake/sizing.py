@@ -117,7 +117,7 @@ def _same_profile(a: Profile, b: Profile) -> bool:
             and np.array_equal(a.deceleration, b.deceleration))
 
 
-def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
+def _profile_and_ed(train: Train, deceleration, ed, argument: str = "deceleration") -> tuple:
     """(profile, ED blending, why): the profile asked for (default: the train's emergency step) and
     whether the ED brake blends: as given, else as the train's brake step of that profile says,
     else not (pneumatic only: the ED brake is not counted on where no brake step says so)."""
@@ -128,7 +128,7 @@ def _profile_and_ed(train: Train, deceleration, ed) -> tuple:
         if ed is not None:
             return profile, ed, "as asked"
         return profile, step_ed, "as the train's brake_steps.emergency.ed_blending says"
-    profile = load_profile(deceleration, "deceleration")
+    profile = load_profile(deceleration, argument)
     if ed is not None:
         return profile, ed, "as asked"
     for kind in ("emergency", "service"):
@@ -368,12 +368,14 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
     track from the train's front at the brake's start (as a scenario's track.gradients), applied
     at the middle of the train (so each start moves back by half the train's length).
     """
-    v0 = real("v0", v0)
+    v0 = real("v0", v0, 0.0)
+    if response_time is not None:
+        response_time = real("response_time", response_time, 0.0, real("t_max", t_max, 0.0, low_open=True))
     trained = None if train is None else load_train(train)
     if deceleration is not None:
         prof, ed = load_profile(real("deceleration", deceleration), "deceleration"), bool(ed)
     elif trained is not None:
-        prof, ed, _ = _profile_and_ed(trained, profile, ed)
+        prof, ed, _ = _profile_and_ed(trained, profile, ed, "profile")
     else:
         prof = load_profile("emergency" if profile is None else profile)
     ta = prof.delay if delay is None else delay
