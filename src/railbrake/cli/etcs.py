@@ -85,6 +85,12 @@ def curves(
     speed: Optional[float] = typer.Option(None, min=1.0, max=600.0, help="A train's initial speed, km/h (model "
                                           "computed here; default: its maximum)."),
     samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs per likely state (model computed here)."),
+    rare_samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs per rare state (model "
+                                               "computed here)."),
+    run_budget: Optional[int] = typer.Option(None, min=0, max=10_000_000, help="Runs the analysis may add for its "
+                                             "Kdry_rst bounds (model computed here; default: data/etcs/method.yaml)."),
+    force_conditions: bool = typer.Option(False, "--force-conditions", help="Run an adhesion condition outside its "
+                                          "validity, recorded in the model's warnings (model computed here)."),
     workers: int = typer.Option(2, min=1, max=64, help="Worker processes (model computed here)."),
     out: Optional[Path] = typer.Option(None, help="Folder for curves.json, curves.png and curves.html "
                                        "(default: out/etcs-curves/<train>)."),
@@ -106,8 +112,9 @@ def curves(
         svc_path = path.with_name("service-brake.json")
         train_data = json_module.loads(svc_path.read_text()) if svc_path.is_file() else service.service_data(data)
     else:
-        settings = {"samples": samples} if samples is not None else {}
-        spec = model.spec(train, cars=cars, initial_speed_kmh=speed, **settings)
+        settings = {k: v for k, v in (("samples", samples), ("rare_samples", rare_samples), ("run_budget", run_budget))
+                    if v is not None}
+        spec = model.spec(train, cars=cars, initial_speed_kmh=speed, force_conditions=force_conditions, **settings)
         data = json_module.loads(jsonio.dumps(export.to_json(model.braking_model(spec, workers=workers))))
         train_data = service.service_data(data)
     result = etcs_curves.compute(data, train_data, nv.load_track(track), nv.load_national(national))

@@ -52,5 +52,7 @@ def register(app: typer.Typer) -> None:
         chosen, span = parse_axles(axles, record), parse_window(window, record)
         names = parse_channels(channels, record)
         folder = out or (run if run.is_dir() else run.parent)
-        for path in plot_all(record, folder, chosen, span, names, fmt):
+        written = plot_all(record, folder, chosen, span, names, fmt)
+        files.refresh_manifest(folder, written)   # a run folder's redrawn figures: still a complete folder
+        for path in written:
             typer.echo(f"plot: {path}")

@@ -197,6 +197,21 @@ def write_manifest(folder: Path, record: RunRecord, paths) -> Path:
     return atomic.write_text(folder / MANIFEST, json.dumps(manifest, indent=1) + "\n")
 
 
+def refresh_manifest(folder: Path, paths) -> None:
+    """A complete run folder's manifest after files of it were written anew (its figures redrawn by
+    `railbrake plot`): their entries take the new bytes and digests; nothing else changes. A folder
+    without a manifest, or files elsewhere, are left as they are."""
+    folder = Path(folder)
+    if not (folder / MANIFEST).is_file():
+        return
+    manifest = json.loads((folder / MANIFEST).read_text())
+    for path in map(Path, paths):
+        if path.parent.resolve() == folder.resolve() and path.name != MANIFEST and path.is_file():
+            manifest["files"][path.name] = {"bytes": path.stat().st_size, "sha256": _digest(path)}
+    manifest["files"] = dict(sorted(manifest["files"].items()))
+    atomic.write_text(folder / MANIFEST, json.dumps(manifest, indent=1) + "\n")
+
+
 def check_complete(folder: Path) -> dict:
     """The manifest of a complete run folder; InputError naming what is missing or damaged otherwise."""
     folder = Path(folder)

@@ -134,7 +134,7 @@ def load(default_name: str, override=None, argument: str = "override") -> dict:
     origin, lines = argument, {}
     if isinstance(override, (str, Path)):
         if not _args.path(argument, override).is_file():
-            raise InputError(f"{argument} = {_args.show(str(override))}: no such {default_name} valve file")
+            raise InputError(f"{override}: no such file ({argument}: the {default_name} valve's parameters)")
         origin = str(override)
         text = config.read_text(override)
         override = config.load_mapping(text, origin) if text.strip() else {}

@@ -52,10 +52,17 @@ SHORTEN = [
     (r"(railbrake validate\b[^\n#&]*?)(\s*(#|$))", r"\1 --fast\2", "validate: the quick cases (--fast)"),
     (r"(railbrake hil(?=\s)[^\n#&]*?)(\s*(#|$))", r"\1 --duration 2\2", "hil: 2 s of the paced stop"),
     (r"--budget \d+", "--budget 2", "wsp tune: the default WSP and one trial"),
-    (r"(railbrake etcs braking-model\b[^\n#&]*?)(\s*(#|$))", r"\1 --cars 4 --speed 80 --samples 2 --rare-samples 2\2",
-     "etcs: 4 cars (the shipped common causes span 4) from 80 km/h, 2 scatter runs per failure state"),
-    (r"(railbrake etcs curves (?!out/)[^\n#&]*?)(\s*(#|$))", r"\1 --cars 4 --samples 2\2",
-     "etcs curves of a train (its braking model made on the fly): 4 cars, 2 scatter runs per failure state"),
+    (r"(railbrake etcs braking-model\b[^\n#&]*?)(\s*(#|$))",
+     r"\1 --cars 4 --speed 80 --samples 2 --rare-samples 2 --run-budget 0 --force-conditions\2",
+     "etcs: 4 cars (the shipped common causes span 4) from 80 km/h, 2 scatter runs per failure state, no runs "
+     "added for the bounds; the EN 15595 test condition forced below its 120 km/h (recorded in the warnings)"),
+    (r"(railbrake etcs curves [^\n#&]*?)(\s*(#|$))", r"\1 --national short-nv.yaml\2",
+     "etcs curves at M_NVEBCL 8 (the last --national given counts): the shortened 4-car models have no "
+     "Kdry_rst at level 9 (see short_nv)"),
+    (r"(railbrake etcs curves (?!out/)[^\n#&]*?)(\s*(#|$))",
+     r"\1 --cars 4 --samples 2 --rare-samples 2 --run-budget 0\2",
+     "etcs curves of a train (its braking model made on the fly): 4 cars, 2 scatter runs per failure state, "
+     "no runs added for the bounds"),
     (r"\bwsp-en15595\b", "short-en15595.yaml", "the EN 15595 study: a copy with fewer levels (short_study)"),
 ]
 
@@ -97,6 +104,13 @@ def shortened(text: str, port: int) -> str:
     return text
 
 
+def short_nv(path: Path) -> None:
+    """The national default values at M_NVEBCL 8: the shortened 4-car models' Kdry_rst at level 9 is 0
+    (the shipped common-cause group of 4 cars is the whole shortened train), which has no curve."""
+    text = (DATA / "etcs" / "national-default.yaml").read_text(encoding="utf-8")
+    path.write_text(re.sub(r"(?m)^M_NVEBCL: 9\b", "M_NVEBCL: 8", text), encoding="utf-8")
+
+
 def short_study(folder: Path) -> None:
     """wsp-en15595 with one controller, speed, brake and load and two adhesion cases, 2 cars."""
     study = yaml.safe_load((DATA / "studies" / "wsp-en15595.yaml").read_text(encoding="utf-8"))
@@ -126,6 +140,7 @@ def clone(tmp_path_factory) -> Path:
     shutil.copytree(REPO / "examples", folder / "examples")
     for name, source in FIXTURES.items():
         shutil.copy(source, folder / name)
+    short_nv(folder / "short-nv.yaml")
     short_study(folder)
     return folder
 

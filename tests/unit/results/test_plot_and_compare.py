@@ -8,6 +8,7 @@ import shutil
 import pytest
 from typer.testing import CliRunner
 
+import railbrake
 from railbrake import scenario, simulation
 from railbrake.cli import app
 from railbrake.results import from_simulation
@@ -45,6 +46,17 @@ def test_plot_options_axles_window_channels_and_format(saved_run, tmp_path):
     names = {p.name for p in tmp_path.iterdir()}
     assert {"wsp_cycle_c1a1.svg", "wsp_cycle_c2a4.svg", "wsp_cycle_c3a2.svg", "channels.svg"} <= names
     assert "1.0" in (tmp_path / "wsp_cycle_c1a1.svg").read_text()   # the window's first tick
+
+
+def test_figures_redrawn_into_the_run_folder_leave_it_complete(saved_run, tmp_path):
+    """`railbrake plot RUN` writes into the run's folder: the manifest follows the redrawn figures,
+    so the folder still loads (and `compare` still reads it), as the README's commands do."""
+    out, _ = saved_run
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    _invoke("plot", copy, "--axles", "c1a1", "--window", "1:4")
+    assert (copy / "wsp_cycle_c1a1.png").is_file()
+    assert railbrake.load_result(copy).kpis == railbrake.load_result(out).kpis
 
 
 def test_plot_rejects_unknown_axles_channels_and_windows(saved_run):
