@@ -17,10 +17,9 @@ NAME_MAX, PATH_MAX = 255, 4096   # bytes of one path component and of a whole pa
 
 
 def show(value) -> str:
-    """value's repr, cut to 300 characters (a 10 kB argument is named, not echoed; a file's whole
-    path still is)."""
+    """value's repr, cut to 60 characters (a 10 kB argument is named, not echoed)."""
     text = repr(value)
-    return text if len(text) <= 300 else f"{text[:250]}... ({len(text)} characters)"
+    return text if len(text) <= 60 else f"{text[:50]}... ({len(text)} characters)"
 
 
 def _bound_text(low, high, low_open, high_open) -> str:

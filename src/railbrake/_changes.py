@@ -67,22 +67,23 @@ def _set_value(raw: str):
         return raw
 
 
-def _parse_sets(sets: SetsLike) -> list[tuple[tuple, object, str]]:
+def _parse_sets(sets: SetsLike, argument: str = "sets") -> list[tuple[tuple, object, str]]:
     """(key path, value, label) per override; a mapping's string values are read as --set reads
-    its values (so sets={"k": "[1, 2]"} is the list, as --set k=[1,2]), its other values as they are."""
+    its values (so sets={"k": "[1, 2]"} is the list, as --set k=[1,2]), its other values as they are.
+    argument: the caller's name for them, in errors."""
     if isinstance(sets, (str, bytes)) or not isinstance(sets, (Mapping, Sequence, tuple, list)):
-        raise TypeError(f"sets = {sets!r}: must be a list of 'KEY=VALUE' strings or a mapping of keys to values")
+        raise TypeError(f"{argument} = {sets!r}: must be a list of 'KEY=VALUE' strings or a mapping of keys to values")
     if isinstance(sets, Mapping):
         for k in sets:
             if not isinstance(k, str) or not k.strip():
-                raise TypeError(f"sets: key {k!r}: must be a dotted key such as 'initial_speed'")
-        items = [(k, _set_value(v) if isinstance(v, str) else v, f"sets[{k!r}]")   # the caller's mapping, by its key
+                raise TypeError(f"{argument}: key {k!r}: must be a dotted key such as 'initial_speed'")
+        items = [(k, _set_value(v) if isinstance(v, str) else v, f"{argument}[{k!r}]")   # the caller's mapping, by its key
                  for k, v in sets.items()]
     else:
         items = []
         for i, text in enumerate(sets):
             if not isinstance(text, str):
-                raise TypeError(f"sets[{i}] = {text!r}: must be a 'KEY=VALUE' string")
+                raise TypeError(f"{argument}[{i}] = {text!r}: must be a 'KEY=VALUE' string")
             key, sep, raw = text.partition("=")
             if not sep or not key.strip():
                 raise InputError(f"--set {text!r}: expected KEY=VALUE, e.g. --set initial_speed='300 km/h'")
@@ -117,12 +118,13 @@ def _assign(tree: dict, path: tuple, value, label: str, known: set,
     node[path[-1]] = value
 
 
-def apply_changes(tree: dict, changes: Mapping, model: type[BaseModel], open_sections: tuple = ()) -> dict:
+def apply_changes(tree: dict, changes: Mapping, model: type[BaseModel], open_sections: tuple = (),
+                  argument: str = "changes") -> dict:
     """Each dotted key of `changes` set in `tree` (file data of `model`), as --set does: a key the
     schema does not know is refused, except under `open_sections` (free mappings, e.g. a study's
     factors), where the schema's own validation judges. Returns key path -> label for errors."""
     labels = {}
-    for path, value, label in _parse_sets(changes):
+    for path, value, label in _parse_sets(changes, argument):
         known: set = set()
         _keys_of(model, tree, "", known)
         dotted = ".".join(str(p) for p in path)
