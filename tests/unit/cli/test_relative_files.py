@@ -59,6 +59,7 @@ def test_the_train_s_profile_is_found_beside_it_from_another_folder(project):
     assert Path("plant.fmu").stat().st_size > 10_000
 
 
+@pytest.mark.slow   # a whole ETCS analysis: 23 s plain, 210 s under the sanitizers, which add nothing to a path test
 def test_etcs_braking_model_takes_the_train_file_from_another_folder(project):
     invoke("etcs", "braking-model", project / "trains" / "my-train.yaml", "--cars", 4, "--speed", 80,
            "--samples", 2, "--rare-samples", 2, "--out", "etcs", "--workers", 1,
