@@ -99,7 +99,8 @@ void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
         run->total_mass += plant->car[c].vehicle.mass;
     }
     for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a) {
-        run->axle_max_disc_temperature[a] = plant->ambient_temperature;
+        run->axle_max_disc_temperature[a] = run->axle_max_disc_surface_temperature[a] = plant->ambient_temperature;
+        run->axle_pad_distance[a] = run->axle_pad_friction_distance[a] = 0.0;
         run->adhesion_axle[a] = !rb_run_car_isolated(plant, a / RB_AXLES_PER_CAR);
         run->peak_log_creep[a] = NAN;
         run->peak_zone[a] = -1;
@@ -243,8 +244,11 @@ static inline void accumulate_effort(const rb_plant_params *p, rb_run_state *r)
     r->valve_switchings += switches;
     for (int c = 0; c < p->n_cars; ++c)
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            double w = s->omega[a] * s->derived.axle_radius[a] - s->v[c];
+            double wheel = s->omega[a] * s->derived.axle_radius[a], w = wheel - s->v[c];
             r->axle_sliding_energy[a] += s->force[a] * w * p->dt;
+            double ds = s->brake_torque[a] > 0.0 ? wheel * p->dt : 0.0;   /* the pads slide while they press */
+            r->axle_pad_distance[a] += ds;
+            r->axle_pad_friction_distance[a] += s->pad_friction[a] * ds;
         }
 }
 
@@ -281,6 +285,9 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
     for (int c = 0; c < p->n_cars; ++c) r->car_min_supply[c] = smaller(o->supply[c], r->car_min_supply[c]);
     for (int a = 0; a < n_axles; ++a)
         r->axle_max_disc_temperature[a] = larger(o->disc_temperature[a], r->axle_max_disc_temperature[a]);
+    for (int a = 0; a < n_axles; ++a)
+        r->axle_max_disc_surface_temperature[a] = larger(o->disc_surface_temperature[a],
+                                                         r->axle_max_disc_surface_temperature[a]);
     if (!r->braking) return;   /* before braking every shortfall, slip and lock is 0 */
     pass_marks(sc, r);
     for (int c = 0; c < p->n_cars; ++c) {
@@ -428,6 +435,14 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
         k->sliding_energy += r->axle_sliding_energy[a];
         k->max_sliding_energy = larger(r->axle_sliding_energy[a], k->max_sliding_energy);
     }
+    double pad_distance = 0.0, pad_friction_distance = 0.0;
+    k->max_disc_surface_temperature = plant->ambient_temperature;
+    for (int a = 0; a < n_axles; ++a) {
+        pad_distance += r->axle_pad_distance[a];
+        pad_friction_distance += r->axle_pad_friction_distance[a];
+        k->max_disc_surface_temperature = larger(r->axle_max_disc_surface_temperature[a], k->max_disc_surface_temperature);
+    }
+    k->mean_pad_friction = pad_distance > 0.0 ? pad_friction_distance / pad_distance : 0.0;
     for (int i = 0; i < RB_MAX_SPEED_MARKS; ++i) {
         int passed = i < r->marks_passed;
         k->mark_time_s[i] = passed ? r->mark_time[i] - r->brake_time : -1.0;

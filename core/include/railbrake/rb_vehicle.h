@@ -47,12 +47,29 @@ rb_status rb_speed_table_check(const rb_speed_table *t, const char *name, double
 
 /* ------------------------------------------------------------------ foundation brake */
 
-/* Pad friction coefficient lambda(v): a table over speed. */
+/* Pad friction coefficient: the instantaneous friction of a pad sliding at speed v on a disc whose
+ * friction surface is at temperature T_s,
+ *     lambda(v, T_s) = table(v) / (1 + fade_rate * max(T_s - fade_onset, 0)),
+ * the table the cold pad's friction over sliding speed, the divisor its heat fading: Cu-based
+ * sintered pads keep their friction below a surface temperature and lose it above (friction film
+ * softening; the stop-averaged friction of dynamometer stops falls from some 300 km/h on, where
+ * the friction surface passes that temperature). fade_rate = 0: no fading, the table alone. */
 typedef struct rb_pad_friction {
     rb_speed_table table;
+    double fade_onset;   /* K, friction surface temperature where fading begins, >= 0 */
+    double fade_rate;    /* 1/K, >= 0 */
 } rb_pad_friction;
 
+/* The cold pad's friction table(v): the friction at a surface below fade_onset. */
 double rb_pad_friction_at(const rb_pad_friction *f, double speed);
+/* 1 / (1 + fade_rate max(T_s - fade_onset, 0)): the fading factor at surface temperature T_s (K). */
+static inline double rb_pad_fade_factor(double fade_onset, double fade_rate, double surface_temperature)
+{
+    double hot = surface_temperature - fade_onset;
+    return 1.0 / (1.0 + fade_rate * (hot > 0.0 ? hot : 0.0));
+}
+/* lambda(v, T_s): the instantaneous friction at sliding speed v (m/s) and surface temperature T_s (K). */
+double rb_pad_friction_eval(const rb_pad_friction *f, double speed, double surface_temperature);
 rb_status rb_pad_friction_check(const rb_pad_friction *f, rb_error *err);
 
 /* Default for sintered pads [T]: 0.35 at and above 100 km/h, rising as a parabola to
