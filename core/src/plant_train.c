@@ -133,30 +133,26 @@ static void discs(const rb_plant_params *p, rb_plant_state *s, double dt)
                 cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
             }
     /* each car's constants in a vector loop over the cars, then each car's axles (one vector of
-       four in AVX2) with them. Two nodes, the surface layer (capacity Cs, temperature Ts: it takes
-       the power P and gives h (Ts - T_amb) to the air) and the bulk (Cb, Tb), linked by the
-       conductance G, both implicit (backward Euler: stable at any step, and the step's heat
-       balance Cs dTs + Cb dTb = dt (P - h (Ts' - T_amb)) exact): the bulk's equation gives
-       Tb' = (1 - g) Tb + g Ts' with g = dt G / (Cb + dt G), and the surface's then
-       Ts' = (Cs Ts + dt (P + h T_amb) + Cb g Tb) / (Cs + dt h + Cb g). Without a surface layer
-       (Cb = G = 0, g = 0) this is the lumped disc's update, bit for bit. */
+       four in AVX2) with them: the two-node disc of rb_vehicle.h (rb_disc_step), surface layer and
+       bulk; without a surface layer (Cb = G = 0) the lumped disc's update, bit for bit */
     double to_ambient[RB_PLANT_MAX_CARS], inv_retained[RB_PLANT_MAX_CARS], to_bulk[RB_PLANT_MAX_CARS];
     for (int c = 0; c < n_cars; ++c) {
-        double link = dt * d->disc_conductance[c];
-        to_bulk[c] = link > 0.0 ? link / (d->disc_bulk_capacity[c] + link) : 0.0;
+        to_bulk[c] = rb_disc_to_bulk(d->disc_bulk_capacity[c], d->disc_conductance[c], dt);
         to_ambient[c] = cooling[c] * p->ambient_temperature;
-        inv_retained[c] = 1.0 / (d->disc_capacity[c] + dt * cooling[c] + d->disc_bulk_capacity[c] * to_bulk[c]);
+        inv_retained[c] = rb_disc_inverse(d->disc_capacity[c], d->disc_bulk_capacity[c], cooling[c], to_bulk[c], dt);
     }
     for (int c = 0; c < n_cars; ++c) {
         const double capacity = d->disc_capacity[c], amb = to_ambient[c], inv = inv_retained[c];
         const double g = to_bulk[c], bulk_g = d->disc_bulk_capacity[c] * g;
+        if (!(capacity > 0.0)) {   /* no heat capacity: no temperature, the energy only */
+            for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a)
+                s->brake_energy[a] += s->brake_torque[a] * s->omega[a] * dt;
+            continue;
+        }
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
             s->brake_energy[a] += power * dt;
-            /* without a heat capacity no temperature */
-            double heated = (capacity * s->disc_temperature[a] + dt * (power + amb) + bulk_g * s->disc_bulk_temperature[a]) * inv;
-            s->disc_temperature[a] = capacity > 0.0 ? heated : s->disc_temperature[a];
-            s->disc_bulk_temperature[a] += g * (s->disc_temperature[a] - s->disc_bulk_temperature[a]);
+            rb_disc_step(capacity, bulk_g, g, inv, dt, power, amb, &s->disc_temperature[a], &s->disc_bulk_temperature[a]);
         }
     }
 }

@@ -141,7 +141,7 @@ class SpeedTable(Structure):
 
 
 class PadFriction(Structure):
-    _fields_ = [("table", SpeedTable)]
+    _fields_ = [("table", SpeedTable), ("fade_onset", c_double), ("fade_rate", c_double)]
 
 
 class Caliper(Structure):
@@ -211,6 +211,7 @@ rb_speed_table_at = _declare("rb_speed_table_at", c_double, POINTER(SpeedTable),
 rb_speed_table_check = _declare("rb_speed_table_check", c_int, POINTER(SpeedTable), ctypes.c_char_p,
                                 c_double, c_double, _err_p)
 rb_pad_friction_at = _declare("rb_pad_friction_at", c_double, POINTER(PadFriction), c_double)
+rb_pad_friction_eval = _declare("rb_pad_friction_eval", c_double, POINTER(PadFriction), c_double, c_double)
 rb_pad_friction_sintered = _declare("rb_pad_friction_sintered", c_int, c_double, POINTER(PadFriction),
                                     _err_p)
 rb_caliper_check = _declare("rb_caliper_check", c_int, POINTER(Caliper), _err_p)
@@ -278,7 +279,8 @@ class PlantCar(Structure):
                            "hold_area", "vent_area", "valve_delay",
                            "pipe_area", "disc_heat_capacity")
                 + [("disc_cooling", SpeedTable)]
-                + _doubles("emergency_delay", "emergency_area", "emergency_limit"))
+                + _doubles("emergency_delay", "emergency_area", "emergency_limit")
+                + _doubles("disc_surface_capacity", "disc_surface_conductance"))
 
 
 class PlantCondition(Structure):
@@ -378,7 +380,8 @@ KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max
              "min_main_reservoir", "min_supply", "air_drawn_kg", "air_vented_kg", "cylinder_shortfall_s",
              "worst_axle", "brake_energy", "max_disc_temperature", "min_supply_margin")
 # after the speed marks in rb_kpis
-KPI_TAIL_NAMES = ("valve_switchings", "max_sliding_energy", "sliding_energy")
+KPI_TAIL_NAMES = ("valve_switchings", "max_sliding_energy", "sliding_energy", "mean_pad_friction",
+                  "max_disc_surface_temperature")
 SHORTFALL_PA = 0.2e5  # RB_SHORTFALL_PA
 
 

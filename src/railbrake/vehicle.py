@@ -195,6 +195,14 @@ class _Coupler(_Strict):
     source: str
 
 
+class _SurfaceLayer(_Strict):
+    """The disc's friction surface as its own thermal node (rb_plant_car.disc_surface_*): its share of
+    the disc's heat capacity and its conductance to the rest of the disc, per disc."""
+    share: float = _num("train.disc_surface_share")
+    conductance_W_per_K: float = _num("train.disc_surface_conductance")
+    source: str
+
+
 class _Discs(_Strict):
     per_axle: int = Field(ge=1, le=8)
     mounting: Literal["axle", "wheel"]
@@ -202,6 +210,7 @@ class _Discs(_Strict):
     mass_kg: float = _num("train.disc_mass")                   # one disc (the part that stores heat)
     specific_heat_J_per_kgK: float = _num("train.disc_specific_heat")
     cooling_W_per_K: _CoolingTable                             # per disc, over speed
+    surface_layer: Optional[_SurfaceLayer] = None              # none: one lumped disc
 
 
 class _Cylinder(_Strict):
@@ -216,9 +225,18 @@ class _Caliper(_Strict):
     efficiency: float = _num("train.caliper_efficiency")
 
 
+class _PadFade(_Strict):
+    """Heat fading (rb_pad_friction): the friction divided by 1 + rate_per_K (T_s - onset_c) above
+    the onset, T_s the disc's friction surface temperature."""
+    onset_c: float = _num("train.pad_fade_onset", offset=ZERO_CELSIUS)
+    rate_per_K: float = _num("train.pad_fade_rate")
+    source: str
+
+
 class _PadFriction(_Strict):
     sintered_low_speed: Optional[float] = _num("train.pad_sintered_low_speed", default=None)
     table: Optional[_PadTable] = None
+    fade: Optional[_PadFade] = None    # none: the table alone, at any temperature
 
     @model_validator(mode="after")
     def _one_form(self):
@@ -550,6 +568,8 @@ def _pad_friction(pad: _PadFriction) -> _core.PadFriction:
         out.table = _core.speed_table(np.asarray(pad.table.speed_kmh) * KMH, pad.table.value)
     else:
         _core.call(_core.rb_pad_friction_sintered, pad.sintered_low_speed, ctypes.byref(out))
+    if pad.fade is not None:
+        out.fade_onset, out.fade_rate = pad.fade.onset_c + ZERO_CELSIUS, pad.fade.rate_per_K
     return out
 
 

@@ -122,6 +122,69 @@ static inline double rb_speed_table_at_from(const rb_speed_table *t, double spee
     return t->value[lo] + w * (t->value[hi] - t->value[lo]);
 }
 
+/* ------------------------------------------------------------------ disc temperature */
+
+/* A brake disc as two thermal nodes: its friction surface layer (capacity Cs, temperature Ts: it
+ * takes the braking power P and gives h (Ts - T_amb) to the air) and its bulk (Cb, Tb), linked by
+ * the conductance G; both implicit (backward Euler: stable at any step, and each step's heat
+ * balance Cs dTs + Cb dTb = dt (P - h (Ts' - T_amb)) exact). The bulk's equation gives
+ * Tb' = (1 - g) Tb + g Ts' with g = dt G / (Cb + dt G); the surface's then
+ * Ts' = (Cs Ts + dt (P + h T_amb) + Cb g Tb) / (Cs + dt h + Cb g). A lumped disc is Cb = G = 0
+ * (g = 0). The plant (plant_train.c) and rb_dyno_stop step their discs with these. */
+static inline double rb_disc_to_bulk(double bulk_capacity, double conductance, double dt)
+{
+    double link = dt * conductance;
+    return link > 0.0 ? link / (bulk_capacity + link) : 0.0;
+}
+/* 1 / (Cs + dt h + Cb g): the surface update's divisor */
+static inline double rb_disc_inverse(double surface_capacity, double bulk_capacity, double cooling, double to_bulk,
+                                     double dt)
+{
+    return 1.0 / (surface_capacity + dt * cooling + bulk_capacity * to_bulk);
+}
+/* The step: *surface and *bulk (K) advanced by dt (s) with the power P (W) and h T_amb (W);
+   bulk_g = Cb g. */
+static inline void rb_disc_step(double surface_capacity, double bulk_g, double to_bulk, double inverse, double dt,
+                                double power, double to_ambient, double *surface, double *bulk)
+{
+    double heated = (surface_capacity * *surface + dt * (power + to_ambient) + bulk_g * *bulk) * inverse;
+    *surface = heated;
+    *bulk += to_bulk * (heated - *bulk);
+}
+
+/* A dynamometer stop (UIC 541-3, EN 15328 bench tests): one disc with its 2 pads pressed by a
+ * constant normal force brakes the translational mass it carries from initial_speed to a stop;
+ * its pads' friction follows rb_pad_friction at the vehicle's speed and the disc's surface
+ * temperature, the disc heats as above. The stop's mean friction is UIC 541-3's: the friction
+ * averaged over the sliding distance, (1/s) int mu ds. */
+typedef struct rb_dyno_stop {
+    double initial_speed;        /* m/s, the vehicle's, > 0 */
+    double mass;                 /* kg braked by the disc, > 0 */
+    double pad_force;            /* N, normal force of each of the 2 pads, > 0 */
+    double friction_radius;      /* m, > 0 */
+    double wheel_radius;         /* m, > 0 */
+    double heat_capacity;        /* J/K, the disc's, > 0 */
+    double surface_capacity;     /* J/K, its surface layer, in [0, heat_capacity) (0: lumped) */
+    double surface_conductance;  /* W/K, surface to bulk, > 0 with a surface layer */
+    rb_speed_table cooling;      /* W/K over the vehicle's speed (n = 0: none) */
+    double ambient_temperature;  /* K, the disc's at the start */
+    double dt;                   /* s, in (0, 0.1] */
+} rb_dyno_stop;
+
+typedef struct rb_dyno_result {
+    double mean_friction;            /* (1/s) int mu ds */
+    double max_surface_temperature;  /* K */
+    double max_mean_temperature;     /* K, (Cs Ts + Cb Tb) / (Cs + Cb) */
+    double heat;                     /* J into the disc: the mass's kinetic energy */
+    double stored;                   /* J in the disc at the stop above the ambient */
+    double cooled;                   /* J given to the air (stored + cooled = heat) */
+    double distance;                 /* m, the vehicle's */
+    double time;                     /* s */
+} rb_dyno_result;
+
+rb_status rb_dyno_stop_run(const rb_pad_friction *pad, const rb_dyno_stop *stop, rb_dyno_result *out,
+                           rb_error *err);
+
 /* discs * 2 pads * R_mean * lambda(v) * F_pad, N m. */
 double rb_axle_brake_torque(const rb_axle_brake *b, double cylinder_pressure, double speed);
 rb_status rb_axle_brake_check(const rb_axle_brake *b, rb_error *err);
