@@ -211,7 +211,20 @@ rb_speed_table_at = _declare("rb_speed_table_at", c_double, POINTER(SpeedTable),
 rb_speed_table_check = _declare("rb_speed_table_check", c_int, POINTER(SpeedTable), ctypes.c_char_p,
                                 c_double, c_double, _err_p)
 rb_pad_friction_at = _declare("rb_pad_friction_at", c_double, POINTER(PadFriction), c_double)
+class DynoStop(Structure):
+    _fields_ = ([(n, c_double) for n in ("initial_speed", "mass", "pad_force", "friction_radius", "wheel_radius",
+                                         "heat_capacity", "surface_capacity", "surface_conductance")]
+                + [("cooling", SpeedTable), ("ambient_temperature", c_double), ("dt", c_double)])
+
+
+class DynoResult(Structure):
+    _fields_ = [(n, c_double) for n in ("mean_friction", "max_surface_temperature", "max_mean_temperature", "heat",
+                                        "stored", "cooled", "distance", "time")]
+
+
 rb_pad_friction_eval = _declare("rb_pad_friction_eval", c_double, POINTER(PadFriction), c_double, c_double)
+rb_dyno_stop_run = _declare("rb_dyno_stop_run", c_int, POINTER(PadFriction), POINTER(DynoStop), POINTER(DynoResult),
+                            _err_p)
 rb_pad_friction_sintered = _declare("rb_pad_friction_sintered", c_int, c_double, POINTER(PadFriction),
                                     _err_p)
 rb_caliper_check = _declare("rb_caliper_check", c_int, POINTER(Caliper), _err_p)

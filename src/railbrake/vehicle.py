@@ -964,6 +964,63 @@ def pad_friction_of(car: Car, speed):
     return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), _speeds(speed))
 
 
+def pad_friction_at_temperature(car: Car, speed, surface_temperature: float):
+    """The instantaneous friction of a car's pads at speed (m/s) on a friction surface at
+    surface_temperature (K): the table faded by the heat (rb_pad_friction_eval)."""
+    pad = ctypes.byref(instance("car", car, Car).c.brake.pad)
+    t = real("surface_temperature", surface_temperature, 0.0, 5000.0)
+    return _vectorised(lambda v: _core.rb_pad_friction_eval(pad, v, t), _speeds(speed))
+
+
+@dataclass(frozen=True)
+class DynoStop:
+    """A dynamometer stop of one of a car's discs (rb_dyno_stop_run; SI, temperatures in K)."""
+    mean_friction: float            # UIC 541-3's mean: (1/s) int mu ds
+    max_surface_temperature: float
+    max_mean_temperature: float
+    heat: float                     # J into the disc
+    stored: float                   # J in the disc at the stop
+    cooled: float                   # J to the air
+    distance: float                 # m
+    time: float                     # s
+    pad_force: float                # N per pad
+
+
+def dynamometer_stop(car: Car, initial_speed: float, deceleration: float, ambient_temperature: float,
+                     dt: float = 1e-3, pad: _core.PadFriction | None = None) -> DynoStop:
+    """One of a car's discs on a dynamometer: the mass it brakes (the car's over its discs) from
+    initial_speed (m/s) to a stop at a constant pad force, the force that gives `deceleration`
+    (m/s^2) with the cold pad's friction at the initial speed; the pads fade with the disc's surface
+    temperature as in the plant (the car's discs and pads as in its train file, cooling included).
+    ambient_temperature (K): the disc's at the start and its cooling's reference; pad: other pads
+    than the car's (a fit's trial, railbrake.pad_fade)."""
+    instance("car", car, Car)
+    if pad is not None:
+        instance("pad", pad, _core.PadFriction)
+    v0 = real("initial_speed", initial_speed, 0.0, 200.0, low_open=True)
+    a = real("deceleration", deceleration, 0.0, 10.0, low_open=True)
+    discs, brake = car.equipment.discs, car.c.brake
+    pad = brake.pad if pad is None else pad
+    n_discs = car.axles * discs.per_axle
+    mass = car.c.mass / n_discs
+    mu0 = _core.rb_pad_friction_at(ctypes.byref(pad), v0)
+    d = _core.DynoStop()
+    d.initial_speed, d.mass = v0, mass
+    d.pad_force = mass * a * car.wheel_radius / (2.0 * mu0 * brake.mean_radius)
+    d.friction_radius, d.wheel_radius = brake.mean_radius, car.wheel_radius
+    d.heat_capacity = discs.mass_kg * discs.specific_heat_J_per_kgK
+    if discs.surface_layer is not None:
+        d.surface_capacity = discs.surface_layer.share * d.heat_capacity
+        d.surface_conductance = discs.surface_layer.conductance_W_per_K
+    d.cooling = _core.speed_table(np.asarray(discs.cooling_W_per_K.speed_kmh) * KMH, discs.cooling_W_per_K.value)
+    d.ambient_temperature = real("ambient_temperature", ambient_temperature, 200.0, 350.0)
+    d.dt = real("dt", dt, 0.0, 0.1, low_open=True)
+    r = _core.DynoResult()
+    _core.call(_core.rb_dyno_stop_run, ctypes.byref(pad), ctypes.byref(d), ctypes.byref(r))
+    return DynoStop(r.mean_friction, r.max_surface_temperature, r.max_mean_temperature, r.heat, r.stored, r.cooled,
+                    r.distance, r.time, d.pad_force)
+
+
 def _speeds(speed):
     """speed (m/s): a number or an array of numbers, finite and >= 0, as the caller gave it."""
     if isinstance(speed, numbers.Real) and not isinstance(speed, bool):
