@@ -255,6 +255,14 @@ rb_size_car_demand = _declare("rb_size_car_demand", c_int, POINTER(TrainC), c_in
 rb_stop_train = _declare("rb_stop_train", c_int, POINTER(TrainC), POINTER(BrakeCommand),
                          POINTER(StopOptions), c_double_p, c_double_p, c_double_p, c_size_t, _size_p,
                          c_double_p, c_double_p, _err_p)
+class TrainDiscs(Structure):
+    _fields_ = [(n, c_double * MAX_CARS) for n in ("heat_capacity", "surface_capacity", "surface_conductance")] + [
+        ("cooling", SpeedTable * MAX_CARS), ("ambient_temperature", c_double)]
+
+
+rb_stop_train_heated = _declare("rb_stop_train_heated", c_int, POINTER(TrainC), POINTER(BrakeCommand),
+                                POINTER(TrainDiscs), POINTER(StopOptions), c_double_p, c_double_p, c_double_p,
+                                c_size_t, _size_p, c_double_p, c_double_p, c_double_p, _err_p)
 rb_stop_profile = _declare("rb_stop_profile", c_int, POINTER(SpeedTable), POINTER(StopOptions),
                            c_double_p, c_double_p, c_double_p, c_size_t, _size_p, c_double_p,
                            c_double_p, _err_p)

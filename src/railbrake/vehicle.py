@@ -973,6 +973,40 @@ def pad_friction_at_temperature(car: Car, speed, surface_temperature: float):
 
 
 @dataclass(frozen=True)
+class AxleDiscs:
+    """The discs of one of a car's axles as the plant and the stopping distance heat them (SI)."""
+    heat_capacity: float        # J/K
+    surface_capacity: float     # J/K, the friction surface layer's (0: one lumped node)
+    surface_conductance: float  # W/K, surface to bulk
+    cooling_speed: np.ndarray   # m/s
+    cooling: np.ndarray         # W/K over cooling_speed
+
+
+def axle_discs(car: Car) -> AxleDiscs:
+    """A car's discs per axle from its train file: discs x one disc's heat capacity, its surface
+    layer's share and conductance, its cooling."""
+    discs = instance("car", car, Car).equipment.discs
+    capacity = discs.per_axle * discs.mass_kg * discs.specific_heat_J_per_kgK
+    layer = discs.surface_layer
+    return AxleDiscs(capacity, 0.0 if layer is None else layer.share * capacity,
+                     0.0 if layer is None else discs.per_axle * layer.conductance_W_per_K,
+                     np.asarray(discs.cooling_W_per_K.speed_kmh, dtype=float) * KMH,
+                     discs.per_axle * np.asarray(discs.cooling_W_per_K.value, dtype=float))
+
+
+def train_discs(train: Train) -> _core.TrainDiscs:
+    """Every car's axle discs (axle_discs) for the stopping distance, at the train's air temperature."""
+    out = _core.TrainDiscs()
+    for k, car in enumerate(instance("train", train, Train).cars):
+        d = axle_discs(car)
+        out.heat_capacity[k], out.surface_capacity[k], out.surface_conductance[k] = (
+            d.heat_capacity, d.surface_capacity, d.surface_conductance)
+        out.cooling[k] = _core.speed_table(d.cooling_speed, d.cooling)
+    out.ambient_temperature = train.spec.pneumatics.air_temperature_c + ZERO_CELSIUS
+    return out
+
+
+@dataclass(frozen=True)
 class DynoStop:
     """A dynamometer stop of one of a car's discs (rb_dyno_stop_run; SI, temperatures in K)."""
     mean_friction: float            # UIC 541-3's mean: (1/s) int mu ds

@@ -302,6 +302,9 @@ typedef struct rb_brake_state {
     int ed_mode;          /* rb_ed_mode */
     double ed_demand;     /* m/s^2, demanded deceleration for RB_ED_BLENDED */
     double effort;        /* 0..1, build-up: scales ED force and gauge cylinder pressure */
+    /* per car: fade_rate x (friction surface temperature - fade_onset) where positive, the pads'
+       heat fading (rb_pad_friction: the friction over 1 + this); 0: cold pads */
+    double fade[RB_MAX_CARS];
 } rb_brake_state;
 
 /* Train as one rigid body: deceleration (m/s^2, positive slowing) from the brake forces at the
@@ -386,6 +389,26 @@ typedef struct rb_brake_command {
 rb_status rb_stop_train(const rb_train *t, const rb_brake_command *cmd, const rb_stop_options *o,
                         double *time, double *speed, double *distance, size_t capacity,
                         size_t *n_out, double *distance_out, double *time_out, rb_error *err);
+
+/* The discs of each car for rb_stop_train_heated, per axle (as rb_plant_car's): heat capacity
+ * (0: the car's pads stay cold), its surface layer and conductance (0: one lumped node), cooling
+ * over speed (n = 0: none); all start at ambient_temperature (K). */
+typedef struct rb_train_discs {
+    double heat_capacity[RB_MAX_CARS];       /* J/K per axle */
+    double surface_capacity[RB_MAX_CARS];    /* J/K per axle, in [0, heat_capacity) */
+    double surface_conductance[RB_MAX_CARS]; /* W/K per axle */
+    rb_speed_table cooling[RB_MAX_CARS];     /* W/K per axle over speed */
+    double ambient_temperature;              /* K */
+} rb_train_discs;
+
+/* rb_stop_train with the pads fading as the plant's (rb_pad_friction): each car's discs heated by
+ * its pneumatic brake's power (two nodes, rb_disc_step, advanced after each step with the step's
+ * mean power, the friction of the next step faded at the surface's temperature). discs = NULL:
+ * rb_stop_train. max_surface_temperature (K, may be NULL): the hottest surface of the stop. */
+rb_status rb_stop_train_heated(const rb_train *t, const rb_brake_command *cmd, const rb_train_discs *discs,
+                               const rb_stop_options *o, double *time, double *speed, double *distance,
+                               size_t capacity, size_t *n_out, double *distance_out, double *time_out,
+                               double *max_surface_temperature, rb_error *err);
 
 /* Kinematic: the deceleration over speed is given (effort * decel(v)); no resistance, no train. */
 rb_status rb_stop_profile(const rb_speed_table *decel, const rb_stop_options *o, double *time,
