@@ -45,7 +45,8 @@ function text(ctx, boxes, s, x, y, align) {
 
 function value(v) {   // at most 4 significant digits, short enough for the left margin
   const a = Math.abs(v);
-  return a !== 0 && (a < 1e-3 || a >= 1e5) ? v.toExponential(2) : String(Number(v.toPrecision(4)));
+  const s = a !== 0 && (a < 1e-3 || a >= 1e5) ? v.toExponential(2) : String(Number(v.toPrecision(4)));
+  return s.replace(/^-/, "\u2212");   // the minus sign of the time axis
 }
 
 function plot(canvas, series, quantity) {   // quantity: the value axis's name and unit
