@@ -421,7 +421,7 @@ static rb_status start_cycle(const rb_plant_params *p, const rb_detailed_params 
     cycle_outputs(p, d, s, t0);
     if (series && t0 >= s->next_record - 1e-9) {
         if (s->rows >= max_rows) return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
-        rb_run_record_row(p, &s->out, bcu, sc, series + s->rows++ * (size_t)nch);
+        rb_run_record_row(p, &s->out, bcu, &s->bcu, sc, series + s->rows++ * (size_t)nch);
         s->next_record += sc->record_interval;
     }
     rb_brake_demand dem = rb_scenario_demand(sc, t0);
@@ -484,7 +484,7 @@ rb_status rb_detailed_advance(const rb_plant_params *p, const rb_detailed_params
             substep_outputs(p, s, i, t);
             if (s->rows >= max_rows)
                 return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
-            rb_run_record_row(p, &s->out, bcu, sc, series + s->rows++ * (size_t)nch);
+            rb_run_record_row(p, &s->out, bcu, &s->bcu, sc, series + s->rows++ * (size_t)nch);
             if (!last) s->next_record += sc->record_interval;
         }
         if (last) {

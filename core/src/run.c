@@ -15,7 +15,7 @@
 size_t rb_run_state_size(void) { return sizeof(rb_run_state); }
 size_t rb_kpis_size(void) { return sizeof(rb_kpis); }
 
-enum { GLOBAL_CHANNELS = 10, CAR_CHANNELS = 4, AXLE_CHANNELS = 8 };
+enum { GLOBAL_CHANNELS = 10, CAR_CHANNELS = 4, AXLE_CHANNELS = 9 };
 static const rb_channel_name global_names[GLOBAL_CHANNELS] = {
     {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
     {"demand_deceleration", "m/s^2"}, {"main_reservoir", "Pa"}, {"pipe_end", "Pa"},
@@ -24,7 +24,8 @@ static const rb_channel_name car_names[CAR_CHANNELS] = {
     {"supply", "Pa"}, {"pilot", "Pa"}, {"relay", "Pa"}, {"ed_force", "N"}};
 static const rb_channel_name axle_names[AXLE_CHANNELS] = {
     {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"},
-    {"adhesion", "1"}, {"disc_temperature", "K"}, {"brake_energy", "J"}};
+    {"adhesion", "1"}, {"disc_temperature", "K"}, {"brake_energy", "J"},
+    {"wsp_mode", "1"}};
 
 static const rb_channel_layout layout = {global_names, car_names, axle_names,
                                          GLOBAL_CHANNELS, CAR_CHANNELS, AXLE_CHANNELS};
@@ -111,7 +112,7 @@ void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
 }
 
 void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, const rb_bcu_params *bcu,
-                       const rb_scenario *sc, double *row)
+                       const rb_bcu_state *bs, const rb_scenario *sc, double *row)
 {
     int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
     rb_brake_demand d = rb_scenario_demand(sc, o->time);
@@ -137,6 +138,7 @@ void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, cons
         row[5 * na + a] = o->adhesion[a];
         row[6 * na + a] = o->disc_temperature[a];
         row[7 * na + a] = o->brake_energy[a];
+        row[8 * na + a] = (double)rb_bcu_wsp_mode(bcu, bs, a);
     }
 }
 
@@ -340,7 +342,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         if (series && r->out.time >= r->next_record - 1e-9) {
             if (r->rows >= max_rows)
                 return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
-            rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
+            rb_run_record_row(plant, &r->out, bcu, &r->bcu, sc, series + r->rows * (size_t)nch);
             r->rows++;
             r->next_record += sc->record_interval;
         }
@@ -365,7 +367,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         if (read) rb_plant_update_outputs(plant, &r->plant, &r->out);
         if (r->finished) {
             if (series && r->rows < max_rows) {
-                rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
+                rb_run_record_row(plant, &r->out, bcu, &r->bcu, sc, series + r->rows * (size_t)nch);
                 r->rows++;
             }
         }

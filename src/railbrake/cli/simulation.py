@@ -65,7 +65,8 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
         from railbrake.results.outputs import write_outputs
         prepare_folder(out)
         from railbrake.results.events import run_events
-        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, mdf_events=run_events(sc),
+        run_record = record.from_simulation(result, sc)
+        write_outputs(run_record, out, formats, axles, window, mdf_events=run_events(sc, run_record),
                       resolved=resolved)
     return result
 
