@@ -17,6 +17,20 @@ from railbrake.results.record import RunRecord, from_simulation, parse_axles, pa
 PLOT_KINDS = ("wsp_cycle", "braking_curve", "speed_time", "slip", "reservoirs", "cylinders")
 
 
+class ReadOnlyKpis(dict):
+    """A result's KPIs: a dict to read (JSON, ``dict(...)``, ``|``), refusing every change, so what
+    ``save()`` writes is what the run computed. ``dict(result.kpis)`` is a copy to change."""
+
+    def _refuse(self, *args, **kwargs):
+        raise TypeError("Result.kpis is read-only (the KPIs the run computed, as save() writes them): "
+                        "copy it to change it, e.g. kpis = dict(result.kpis)")
+
+    __setitem__ = __delitem__ = __ior__ = update = pop = popitem = clear = setdefault = _refuse
+
+    def __reduce__(self):   # pickle and copy rebuild it whole (not item by item)
+        return (ReadOnlyKpis, (dict(self),))
+
+
 @dataclass
 class Result:
     """A run's time series (SI), their units and KPIs (`run --json`'s units). For scripts:
@@ -28,10 +42,17 @@ class Result:
     time: np.ndarray
     outputs: dict          # channel name -> array (SI)
     units: dict            # channel name -> SI unit
-    kpis: dict
+    kpis: dict             # read-only (ReadOnlyKpis)
     atmosphere: float = math.nan   # Pa, the plant's (the train file's)
     meta: dict = field(default_factory=dict)   # what was run, as in run.json (a loaded result)
     resolved: object = field(default=None, repr=False, compare=False)   # the resolve.Resolved run
+
+    def __setattr__(self, name, value):
+        if name == "kpis":
+            if "kpis" in self.__dict__:
+                ReadOnlyKpis._refuse(value)
+            value = ReadOnlyKpis(value)
+        object.__setattr__(self, name, value)
 
     def to_dataframe(self):
         """pandas DataFrame, a column per channel; units in .attrs["units"], KPIs in .attrs["kpis"]."""

@@ -143,3 +143,25 @@ def test_compare_names_the_bad_run_by_its_position(result, bad, kind):
     with pytest.raises(kind) as caught:
         railbrake.compare(result, bad)
     assert str(caught.value).startswith("runs[1]") and len(str(caught.value)) < 300, caught.value
+
+
+def test_kpis_are_read_only_and_save_writes_them(result, tmp_path):
+    import copy
+    import pickle
+    before = dict(result.kpis)
+    for change in (lambda k: k.__setitem__("stopping_distance_m", 1.0), lambda k: k.update(x=1),
+                   lambda k: k.pop("stopped"), lambda k: k.clear(), lambda k: k.__delitem__("stopped")):
+        with pytest.raises(TypeError, match=r"Result.kpis is read-only.*dict\(result.kpis\)"):
+            change(result.kpis)
+    with pytest.raises(TypeError, match="read-only"):
+        result.kpis = {}
+    assert result.kpis == before
+    mine = dict(result.kpis)          # the way to change them: a copy
+    mine["stopping_distance_m"] = 1.0
+    assert result.kpis["stopping_distance_m"] == before["stopping_distance_m"]
+    assert pickle.loads(pickle.dumps(result.kpis)) == before and copy.deepcopy(result.kpis) == before
+    result.save(tmp_path / "run")
+    assert json.loads((tmp_path / "run" / "kpis.json").read_text()).keys() == before.keys()
+    assert railbrake.load_result(tmp_path / "run").kpis == before
+    with pytest.raises(TypeError, match="read-only"):
+        railbrake.load_result(tmp_path / "run").kpis["stopped"] = False
