@@ -11,6 +11,7 @@ from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, 
                            TimeRemainingColumn)
 
 from railbrake.campaign.budget import MAX_RUNS
+from railbrake.cli import _common
 from railbrake.cli._common import print_json, reports_errors
 
 MAX_RUNS_HELP = "Refuse a design of more runs than this (before drawing it), with an estimate of its cost."
@@ -61,7 +62,7 @@ def _default_out(study) -> Path:
 @app.command("run")
 @reports_errors
 def run(
-    study: str = typer.Argument(..., help="Study YAML file or preset study (railbrake.study/1)."),
+    study: str = typer.Argument(..., autocompletion=_common.complete_study, help="Study YAML file or preset study (railbrake.study/1)."),
     out: Optional[Path] = typer.Option(None, help="Dataset folder (default: out/campaigns/<study name>)."),
     workers: Optional[int] = typer.Option(None, min=1, help="Local worker processes (default: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT "
@@ -108,7 +109,7 @@ def run(
 @app.command("plan")
 @reports_errors
 def plan_command(
-    study: str = typer.Argument(..., help="Study YAML file or preset study."),
+    study: str = typer.Argument(..., autocompletion=_common.complete_study, help="Study YAML file or preset study."),
     json: bool = typer.Option(False, "--json", help="Print the runs as JSON."),
     max_runs: int = typer.Option(MAX_RUNS, min=1, help=MAX_RUNS_HELP),
 ):
