@@ -113,13 +113,30 @@ def calibrate_dry_medium():
     return PolachParams(fit.x[0], fit.x[1], fit.x[2], 1.0, 0.4)
 
 
+def fit_mu0(shape: PolachParams, speeds_kmh, targets) -> float:
+    """mu0 (least squares on peak / target - 1) with the other four parameters of `shape`."""
+    def residual(x):
+        p = PolachParams(x[0], shape.A, shape.B, shape.kA, shape.kS)
+        return [peak(p, v) / t - 1.0 for v, t in zip(speeds_kmh, targets)]
+    return float(least_squares(residual, [shape.mu0], bounds=([1e-3], [2.0])).x[0])
+
+
+# HAROLD full-scale rig, wetted leaf layer, 40 and 70 mph: 0.01-0.02 (centre 0.015), the data set
+# validation/validation/leaves-full-scale-rig
+LEAVES_RIG_KMH = (64.37, 112.65)
+LEAVES_RIG_CENTRE = 0.015
+
+
 def main():
     print("dry-medium:", calibrate_dry_medium())
     contaminated = PolachParams(0.3, 0.40, 0.60, 0.50, 0.20)
     print("dry-contaminated mu0 (0.15 at 30 km/h):", scale_mu0(contaminated, 30.0, 0.15))
     wet_shape = PolachParams(0.3, 0.40, 0.20, 0.30, 0.10)
     print("oil-film mu0 (0.06 at 100 km/h):", scale_mu0(wet_shape, 100.0, 0.06))
-    print("leaves mu0 (0.03 at 100 km/h):", scale_mu0(wet_shape, 100.0, 0.03))
+    print("leaves mu0 (0.03 at 100 km/h, centre of the leaf-layer range 0.01-0.05):",
+          scale_mu0(wet_shape, 100.0, 0.03))
+    print("leaves-full-scale mu0 (0.015 at 64 and 113 km/h, HAROLD rig):",
+          fit_mu0(wet_shape, LEAVES_RIG_KMH, [LEAVES_RIG_CENTRE] * 2))
     base, (f0, n_rec) = calibrate_heavy_rain()
     print("heavy-rain base:", base, "leading_factor:", f0, "recovery_axles:", n_rec)
     print("hs-wet:", calibrate_hs_wet())
