@@ -65,7 +65,8 @@ def list_conditions(json: bool = typer.Option(False, "--json", help="Print as JS
         print_json({"conditions": [
             {"name": c.name, "title": c.title, "params": c.params.as_dict(), "source": c.source,
              "conditioning": None if c.conditioning is None else vars(c.conditioning),
-             "validity": None if c.validity is None else vars(c.validity)}
+             "validity": None if c.validity is None else vars(c.validity),
+             "fit": None if c.fit is None else vars(c.fit)}
             for c in presets]})
         return
     table = Table(title="Adhesion conditions (Polach parameters)")
