@@ -133,7 +133,11 @@ void rb_det_build_car(const rb_plant_params *p, const rb_detailed_params *d, int
     link(&l[CL_EMERGENCY], RB_LINK_FIXED, CN_CONTROL, CN_REGULATED, car->emergency_area, p);
     l[CL_EMERGENCY].opening.n = 1;
     l[CL_EPV_INLET].opening.n = l[CL_EPV_EXHAUST].opening.n = 1;
+    l[CL_RELAY_INLET].opening.n = 1;   /* shut by a failed relay valve or an isolated car */
     k->emergency_switch = INFINITY;
+    memset(k->hold_stuck, -1, sizeof k->hold_stuck);
+    memset(k->vent_stuck, -1, sizeof k->vent_stuck);
+    k->vent_area = car->vent_area;
 
     rb_net_body *b = &k->body[CB_ARMATURE];
     body(b, d->armature_mass, d->armature_spring_rate, d->armature_preload, d->armature_damping, 0.0,
@@ -157,15 +161,28 @@ void rb_det_build_car(const rb_plant_params *p, const rb_detailed_params *d, int
     rb_det_apply_commands(k);
 }
 
+/* Each axle's outlet: the vent port (open or shut) and a leak beside it, one orifice of their summed
+   area opened to the part that is open (no leak: the vent port alone, opening 1 or 0). */
+static void cylinder_outlet(rb_detailed_car *k, int a, int vent)
+{
+    double area = k->vent_area + k->leak[a], open = (vent ? k->vent_area : 0.0) + k->leak[a];
+    k->link[CL_VENT + a].orifice.area = area;
+    k->link[CL_VENT + a].opening.value[0] = area > 0.0 ? open / area : 0.0;
+}
+
 void rb_det_apply_commands(rb_detailed_car *k)
 {
     for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
-        k->link[CL_HOLD + a].opening.value[0] = k->hold[a] ? 0.0 : 1.0;
-        k->link[CL_VENT + a].opening.value[0] = k->vent[a] ? 1.0 : 0.0;
+        int hold = k->hold_stuck[a] >= 0 ? k->hold_stuck[a] : k->hold[a];
+        int vent = k->vent_stuck[a] >= 0 ? k->vent_stuck[a] : k->vent[a];
+        k->link[CL_HOLD + a].opening.value[0] = hold ? 0.0 : 1.0;
+        cylinder_outlet(k, a, vent);
     }
     k->body[CB_ARMATURE].current.value[0] = k->current;
-    k->link[CL_EPV_INLET].opening.value[0] = k->link[CL_EPV_EXHAUST].opening.value[0] = k->emergency_cut ? 0.0 : 1.0;
+    k->link[CL_EPV_INLET].opening.value[0] = k->link[CL_EPV_EXHAUST].opening.value[0] =
+        k->emergency_cut || k->ep_failed ? 0.0 : 1.0;
     k->link[CL_EMERGENCY].opening.value[0] = k->emergency ? 1.0 : 0.0;
+    k->link[CL_RELAY_INLET].opening.value[0] = k->relay_shut ? 0.0 : 1.0;
 }
 
 void rb_det_car_system(rb_detailed_car *k, const rb_detailed_params *d, const rb_membrane *membrane,

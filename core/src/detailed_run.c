@@ -41,27 +41,40 @@ static void build_line(const rb_plant_params *p, const rb_detailed_params *d, rb
         nd->pressure = p->initial_pressure;
         nd->temperature = T;
     }
-    for (int j = 0; j < 2 * n; ++j) {
+    rb_net_node *atm = &s->line_node[2 * n + 1];   /* the pipe leaks' outlet (line_system) */
+    atm->kind = RB_NODE_RESERVOIR;
+    atm->pressure = p->atmosphere;
+    atm->temperature = T;
+    for (int j = 0; j < 3 * n; ++j) {
         rb_net_link *l = &s->line_link[j];
         l->kind = RB_LINK_FIXED;
         l->orifice.discharge_coefficient = p->discharge_coefficient;
         l->orifice.critical_ratio = p->critical_ratio;
         if (j == 0) { l->from = 0; l->to = 1 + p->compressor_car; l->orifice.area = p->main_reservoir_area; }
         else if (j < n) { l->from = j; l->to = j + 1; l->orifice.area = p->car[j - 1].pipe_area; }
-        else { l->from = 1 + (j - n); l->to = n + 1 + (j - n); l->orifice.area = p->car[j - n].charge_area;
-               l->opening.n = 1; }
+        else if (j < 2 * n) { l->from = 1 + (j - n); l->to = n + 1 + (j - n);
+                              l->orifice.area = p->car[j - n].charge_area; l->opening.n = 1; }
+        else { l->from = 1 + (j - 2 * n); l->to = 2 * n + 1; }   /* pipe leak: area set each cycle */
     }
 }
 
+/* The line's network: without pipe leaks the MR, pipes and supply reservoirs with their links (the
+   charged air per car accumulated); with them also the atmosphere and a leak link per pipe (the
+   leaked air per car accumulated after the charged). */
 static void line_system(const rb_plant_params *p, rb_detailed_state *s, rb_det_system *sys)
 {
-    int n = p->n_cars;
+    int n = p->n_cars, leaks = s->pipe_leaks;
     memset(sys, 0, sizeof *sys);
-    rb_network net = {s->line_node, (size_t)(2 * n + 1), s->line_link, (size_t)(2 * n), NULL, 0, NULL, 0, NULL, 0};
+    rb_network net = {s->line_node, (size_t)(2 * n + 1 + leaks), s->line_link, (size_t)((2 + leaks) * n),
+                      NULL, 0, NULL, 0, NULL, 0};
     sys->net = net;
-    sys->n_acc = n;
+    sys->n_acc = (1 + leaks) * n;
     memset(sys->acc_of_link, -1, sizeof sys->acc_of_link);
     for (int c = 0; c < n; ++c) sys->acc_of_link[n + c] = (signed char)c;
+    for (int c = 0; c < n && leaks && 2 * n + c < RB_DET_LINE_LINKS; ++c) {
+        sys->acc_of_link[2 * n + c] = (signed char)(n + c);
+        s->line_link[2 * n + c].orifice.area = s->pipe_leak[c];
+    }
 }
 
 static double car_mass(const rb_detailed_car *k)
@@ -105,7 +118,7 @@ static double node_volume(const rb_plant_params *p, int node)
 /* The plant's compressors over dt, delivering at the air temperature: n_compressors = 0, the single
    one into the MR (compressor_flow); else each with its own governor reading the pressure of the
    node it feeds (the main reservoir or its car's MR pipe). */
-static void compressors(const rb_plant_params *p, rb_detailed_state *s, double dt)
+static void compressors(const rb_plant_params *p, rb_detailed_state *s, double dt, int off)
 {
     double *y = s->line_y;
     int single = p->n_compressors == 0, any = 0;
@@ -114,6 +127,7 @@ static void compressors(const rb_plant_params *p, rb_detailed_state *s, double d
         double fed = y[2 * node] * RB_AIR_R * y[2 * node + 1] / node_volume(p, node);
         if (fed < p->governor_on) s->compressor_running[i] = 1;
         if (fed > p->governor_off) s->compressor_running[i] = 0;
+        if (off) s->compressor_running[i] = 0;   /* RB_FAULT_COMPRESSOR_OFF: every one stopped */
         if (s->compressor_running[i]) {
             double dm = (single ? p->compressor_flow : p->compressor_delivery[i]) * dt;
             add_air(&y[2 * node], &y[2 * node + 1], dm, p->temperature);
@@ -125,11 +139,11 @@ static void compressors(const rb_plant_params *p, rb_detailed_state *s, double d
 }
 
 static rb_status advance_line(const rb_plant_params *p, const rb_detailed_params *d, rb_detailed_state *s,
-                              double t0, double t1, rb_error *err)
+                              double t0, double t1, int compressor_off, rb_error *err)
 {
     int n = p->n_cars;
     double *y = s->line_y;
-    compressors(p, s, t1 - t0);
+    compressors(p, s, t1 - t0, compressor_off);
     for (int c = 0; c < n; ++c) {   /* supply reservoirs held; the check valve decides at the cycle start */
         const rb_detailed_car *k = &s->car[c];
         rb_net_node *res = &s->line_node[n + 1 + c];
@@ -143,7 +157,7 @@ static rb_status advance_line(const rb_plant_params *p, const rb_detailed_params
     rb_status st = rb_det_system_init(&sys, s->eval_work, sizeof s->eval_work / sizeof *s->eval_work,
                                       s->iwork + RB_DET_MAX_STATES, RB_DET_LINE_NODES, s->y0, s->scale, err);
     if (st) return st;
-    for (int c = 0; c < n; ++c) y[sys.n_net + c] = 0.0;
+    for (int c = 0; c < sys.n_acc; ++c) y[sys.n_net + c] = 0.0;
     if ((st = rb_det_solve(&sys, d, t0, y, &t1, 1, s->y_out, &s->line_h, s->scale, s->work, s->iwork, &s->stats, err)))
         return st;
     for (int c = 0; c < n; ++c) {   /* the charged air enters the supply reservoir */
@@ -151,6 +165,7 @@ static rb_status advance_line(const rb_plant_params *p, const rb_detailed_params
         double dm = y[sys.n_net + c];
         add_air(&k->y[0], &k->y[1], dm, dm > 0.0 ? y[2 * (c + 1) + 1] : k->y[1]);
         s->m_charged_total += dm;
+        if (s->pipe_leaks) s->m_pipe_leaked += y[sys.n_net + n + c];
     }
     return RB_OK;
 }
@@ -282,9 +297,9 @@ static void cycle_outputs(const rb_plant_params *p, const rb_detailed_params *d,
     s->out.pipe_end = s->line_y[2 * n] * RB_AIR_R * s->line_y[2 * n + 1] / p->car[n - 1].pipe_volume;
     s->out.compressor_on = s->compressor_on;
     s->out.air_in_system = air_in_volumes(p, s);
-    s->out.air_vented = vented;
+    s->out.air_vented = vented + s->m_pipe_leaked;
     s->out.air_compressed = s->m_compressed;
-    s->out.air_drawn = s->m_line_initial + s->m_compressed - air_in_line(p, s);
+    s->out.air_drawn = s->m_line_initial + s->m_compressed - air_in_line(p, s) - s->m_pipe_leaked;
 }
 
 /* Outputs after sub-step i of the cycle: mechanics now, air from the buffer. */
@@ -299,7 +314,7 @@ static void substep_outputs(const rb_plant_params *p, rb_detailed_state *s, int 
     s->out.air_in_system = keep.air_in_system;
     s->out.air_compressed = keep.air_compressed;
     s->out.air_drawn = keep.air_drawn;
-    s->out.air_vented = 0.0;
+    s->out.air_vented = s->m_pipe_leaked;   /* the line's leaks, then each car's vented air */
     for (int c = 0; c < p->n_cars; ++c) {
         s->out.supply[c] = *buf(s, i, B_SUPPLY, c);
         s->out.pilot[c] = *buf(s, i, B_CONTROL, c);
@@ -326,9 +341,6 @@ rb_status rb_detailed_init(const rb_plant_params *p, const rb_detailed_params *d
     s->max_disc_surface_temperature = p->ambient_temperature;
     s->mech.derived.slip_probe_ahead = 0.0;   /* the reference's mechanics as they were: probed at each
                                                  fine step's start (its lag is a tenth of the 1 ms one) */
-    if (p->n_faults > 0)
-        return rb_fail(err, RB_EINVAL, "n_faults = %d: the detailed model does not model faults (needs 0)",
-                       p->n_faults);
     if ((st = rb_bcu_init(bcu, wsp, &s->bcu, err))) return st;
     if (bcu->n_cars != p->n_cars)
         return rb_fail(err, RB_EINVAL, "bcu.n_cars = %d: must equal the plant's n_cars = %d", bcu->n_cars, p->n_cars);
@@ -369,23 +381,64 @@ static double now(const rb_detailed_state *s, const rb_bcu_params *bcu)
     return s->cycle < 0 ? 0.0 : s->cycle * bcu->cycle + s->substep * s->dt_mech;
 }
 
+/* The faults in force at time t, as the plant gathers them (its state's time set to t meanwhile:
+   the mechanics' own time is not kept by the detailed model). */
+static void faults_at(const rb_plant_params *p, rb_detailed_state *s, double t, rb_plant_faults *f)
+{
+    double keep = s->mech.time;
+    s->mech.time = t;
+    rb_plant_gather_faults(p, &s->mech, f);
+    s->mech.time = keep;
+}
+
+/* Each car's faults over a new cycle, on the components they fail (rb_detailed.h): stuck WSP
+   valves, cylinder leaks, the EP valve's seats, the relay valve's inlet seat (shut for an isolated
+   car, a relay with no output, or one stuck at a partial pressure its output has reached at the
+   cycle's start; an isolated car's cylinders vented), the MR pipes' leaks. */
+static void cycle_faults(const rb_plant_params *p, rb_detailed_state *s, const rb_plant_faults *f)
+{
+    s->pipe_leaks = f->pipe_leaks;
+    for (int c = 0; c < p->n_cars; ++c) {
+        rb_detailed_car *k = &s->car[c];
+        int isolated = f->isolated[c] > 0.0;
+        s->pipe_leak[c] = f->pipe_leak[c];
+        for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
+            int i = c * RB_AXLES_PER_CAR + a;
+            k->hold_stuck[a] = f->hold[i];
+            k->vent_stuck[a] = isolated ? 1 : f->vent[i];
+            k->leak[a] = f->leak[i];
+        }
+        k->ep_failed = f->ep_failed[c] > 0.0;
+        double limit = f->relay_limit[c];
+        k->relay_shut = isolated || (limit > 0.0 && (limit <= p->atmosphere + 1.0 || s->out.relay[c] >= limit));
+    }
+}
+
 /* Car c's emergency circuit at a new cycle: when its valve acts (the loop's opening time is kept
    in the mechanics' plant state), and the load-weighing valve's regulated output (the demand within
-   its limit, at most the supply at the cycle's start). */
-static void emergency_cycle(const rb_plant_params *p, rb_detailed_state *s, int c)
+   its limit, at most the supply at the cycle's start). Its faults: a car that does not see the loop
+   keeps its EP valve and its choke shut; a failed emergency valve keeps its choke shut (the loop
+   still cuts the EP valve off); a failed limiter limits the output to its own pressure. */
+static void emergency_cycle(const rb_plant_params *p, rb_detailed_state *s, int c, const rb_plant_faults *f)
 {
     rb_detailed_car *k = &s->car[c];
     const rb_plant_car *car = &p->car[c];
     k->emergency_switch = rb_emergency_switch_time(car, s->mech.loop_open_time);
-    k->emergency_cut = k->emergency_switch < INFINITY;
+    k->emergency_cut = k->emergency_switch < INFINITY && !(f->loop_lost[c] > 0.0);
+    if (f->loop_lost[c] > 0.0 || f->emergency_failed[c] > 0.0) k->emergency_switch = INFINITY;
     double target = rb_emergency_target(car, s->in.pressure_demand[c], p->atmosphere);
+    if (f->limiter[c] > 0.0) {   /* as the plant's apply_emergency_faults */
+        double demand = s->in.pressure_demand[c];
+        target = demand < f->limiter[c] ? demand : f->limiter[c];
+        target = target > p->atmosphere ? target : p->atmosphere;
+    }
     double supply = s->out.supply[c];
     k->node[CN_REGULATED].pressure = target < supply ? target : supply;
 }
 
 /* EP currents (static inverse + trimmed) and WSP valve commands of a new cycle. */
 static void apply_bcu(const rb_plant_params *p, const rb_detailed_params *d, const rb_bcu_params *bcu,
-                      rb_detailed_state *s, double t)
+                      rb_detailed_state *s, double t, const rb_plant_faults *f)
 {
     const double trim_band = 0.2e5, trim_limit = 0.3e5;   /* Pa: integrate near the target only; limit */
     for (int c = 0; c < p->n_cars; ++c) {
@@ -405,7 +458,7 @@ static void apply_bcu(const rb_plant_params *p, const rb_detailed_params *d, con
             if (hold != k->hold_pending[a]) { k->hold_pending[a] = hold; k->hold_switch[a] = at; }
             if (vent != k->vent_pending[a]) { k->vent_pending[a] = vent; k->vent_switch[a] = at; }
         }
-        emergency_cycle(p, s, c);
+        emergency_cycle(p, s, c, f);
         rb_det_apply_commands(k);
     }
 }
@@ -433,14 +486,17 @@ static rb_status start_cycle(const rb_plant_params *p, const rb_detailed_params 
     }
     rb_bcu_step(bcu, &s->bcu, &dem, &s->out, &s->in);
     s->mech.loop_open_time = rb_emergency_loop(s->mech.loop_open_time, s->in.emergency, t0);
-    apply_bcu(p, d, bcu, s, t0);
+    rb_plant_faults f;
+    faults_at(p, s, t0, &f);
+    cycle_faults(p, s, &f);
+    apply_bcu(p, d, bcu, s, t0, &f);
     /* rows recorded inside the cycle get exact control and relay pressures */
     uint8_t full[RB_DET_MAX_SUBSTEPS] = {0};
     double next = s->next_record;
     for (int i = 0; i + 1 < s->n_sub; ++i)
         if (sub_time(s, t0, i) >= next - 1e-9) { full[i] = 1; next += sc->record_interval; }
     rb_status st;
-    if ((st = advance_line(p, d, s, t0, sub_time(s, t0, s->n_sub - 1), err))) return st;
+    if ((st = advance_line(p, d, s, t0, sub_time(s, t0, s->n_sub - 1), f.compressor_off, err))) return st;
     for (int c = 0; c < p->n_cars; ++c)
         if ((st = advance_car(p, d, s, c, t0, full, err))) return st;
     return RB_OK;
@@ -468,7 +524,7 @@ rb_status rb_detailed_advance(const rb_plant_params *p, const rb_detailed_params
         if (s->substep >= s->n_sub && (st = start_cycle(p, d, bcu, sc, s, series, max_rows, err))) return st;
         int i = s->substep;
         rb_plant_faults f;
-        rb_plant_gather_faults(p, &s->mech, &f);
+        faults_at(p, s, now(s, bcu), &f);
         rb_plant_step_mechanics(p, &s->mech, &s->in, &f, &s->buffer[i][B_CARS * RB_PLANT_MAX_CARS], s->dt_mech);
         rb_plant_discs(p, &s->mech, s->dt_mech);   /* the discs heat and the pads fade as in the plant */
         for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
@@ -508,7 +564,7 @@ void rb_detailed_kpis(const rb_plant_params *p, const rb_detailed_state *s, rb_k
     k->max_slip = s->max_slip;
     k->max_disc_surface_temperature = s->max_disc_surface_temperature;
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) k->brake_energy += s->mech.brake_energy[a];
-    double vented = 0.0;
+    double vented = s->m_pipe_leaked;
     for (int c = 0; c < p->n_cars; ++c) vented += s->car[c].y[CS_VENTED];
     k->air_consumed_kg = vented;
     k->safety_timer_trips = s->bcu.wsp_default.trips;

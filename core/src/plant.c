@@ -74,7 +74,7 @@ const char *rb_fault_kind_name(int kind)
         "hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed", "sensor_lost",
         "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost", "car_isolated", "compressor_off",
         "emergency_valve_failed", "emergency_loop_lost", "relay_valve_failed", "pressure_limiter_failed",
-        "axle_isolated"};
+        "axle_isolated", "pipe_leak"};
     return kind >= 0 && kind < RB_FAULT_KINDS ? names[kind] : "unknown";
 }
 
@@ -229,6 +229,7 @@ static void derive_air(const rb_plant_params *p, rb_plant_derived *d)
         d->ik_pipe[c] = c + 1 < p->n_cars ? 1.0 / (n_pipe * d->k_pipe[c] + pipe_links(p, c + 1) * d->k_pipe[c + 1]) : 0.0;
         d->g_charge[c] = d->g_unit * car->charge_area;
         d->ik_charge[c] = 1.0 / (n_pipe * d->k_pipe[c] + supply_links * d->k_supply[c]);
+        d->ik_pipe_leak[c] = 1.0 / ((n_pipe + 1.0) * d->k_pipe[c]);   /* the leak: one more link */
         d->g_ep[c] = d->g_unit * car->ep_area;
         d->ik_ep_in[c] = 1.0 / (supply_links * d->k_supply[c] + pilot_links * d->k_pilot[c]);
         d->ik_ep_out[c] = 1.0 / (pilot_links * d->k_pilot[c]);

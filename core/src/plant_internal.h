@@ -218,6 +218,8 @@ typedef struct {
     double relay_limit[RB_PLANT_MAX_CARS];  /* Pa absolute the relay's output is held at most at; 0: none */
     double limiter[RB_PLANT_MAX_CARS];      /* Pa absolute the emergency control pressure is limited to; 0: none */
     int emergency_faults;                   /* any of them */
+    double pipe_leak[RB_PLANT_MAX_CARS];    /* m^2, leak from the car's MR pipe */
+    int pipe_leaks;                         /* any */
 } rb_plant_faults;
 
 void rb_plant_gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f);

@@ -13,7 +13,7 @@
 typedef char rb_no_faults_fills_every_axle[RB_PLANT_MAX_AXLES == 64 ? 1 : -1];
 static const rb_plant_faults no_faults = {{RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16},
                                           {RB_NONE_16, RB_NONE_16, RB_NONE_16, RB_NONE_16}, {0.0}, {0.0}, {0}, {0.0}, {0.0}, 0, 0,
-                                          {0.0}, {0.0}, {0.0}, {0.0}, 0};
+                                          {0.0}, {0.0}, {0.0}, {0.0}, 0, {0.0}, 0};
 
 static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_plant_faults *f)
 {
@@ -49,6 +49,7 @@ static void gather_faults(const rb_plant_params *p, const rb_plant_state *s, rb_
         if (q->kind == RB_FAULT_RELAY_VALVE) f->relay_limit[q->car] = p->atmosphere + q->value;
         if (q->kind == RB_FAULT_LIMITER) f->limiter[q->car] = p->atmosphere + q->value;
         f->emergency_faults |= q->kind >= RB_FAULT_EMERGENCY_VALVE && q->kind <= RB_FAULT_LIMITER;
+        if (q->kind == RB_FAULT_PIPE_LEAK) { f->pipe_leak[q->car] += q->value; f->pipe_leaks = 1; }
     }
 }
 
@@ -238,6 +239,12 @@ static void air_supply(const rb_plant_params *p, rb_plant_state *s, const rb_pla
             dm = rb_plant_link_mass_fixed(d, p_pipe, p_supply, d->g_charge[c], d->ik_charge[c], d->fill_charge[c]);
             m_pipe -= dm;
             s->m_supply[c] += dm;
+        }
+        if (f->pipe_leaks && f->pipe_leak[c] > 0.0) {   /* the pipe's leak, after its other links */
+            dm = rb_plant_link_mass(d, m_pipe * d->k_pipe[c], p->atmosphere, d->g_unit * f->pipe_leak[c],
+                                    d->ik_pipe_leak[c]);
+            m_pipe -= dm;
+            s->m_vented += dm;
         }
         s->m_pipe[c] = m_pipe;
         if (valves->moving) car_wsp_valves(p, s, in, f, c, valves);

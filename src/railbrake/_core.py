@@ -319,7 +319,7 @@ class Fault(Structure):
 FAULT_KINDS = ("hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
                "sensor_lost", "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost",
                "car_isolated", "compressor_off", "emergency_valve_failed", "emergency_loop_lost",
-               "relay_valve_failed", "pressure_limiter_failed", "axle_isolated")
+               "relay_valve_failed", "pressure_limiter_failed", "axle_isolated", "pipe_leak")
 
 
 class PlantParams(Structure):

@@ -21,7 +21,15 @@
  *    the train line (supply pressures held; the charged air is then added to the supply
  *    reservoirs, mass and enthalpy), then each car's network with dense output at the mechanics
  *    sub-steps, then the mechanics (the plant's own rb_plant_step_mechanics) at mechanics_dt.
- *  - Not modelled: faults (rb_detailed_init rejects n_faults > 0).
+ *  - Faults (rb_plant_params.fault, as the plant reads them, sampled at each BCU cycle's start) act
+ *    on the component they fail: a stuck WSP valve ignores its command; a cylinder leak is an
+ *    orifice beside the vent port; a failed EP valve's seats are shut; an isolated car's or a relay
+ *    valve with no output has its relay inlet seat shut, one stuck at a partial pressure shuts it
+ *    once its output reaches that pressure; an isolated axle is cut off from its relay and vented;
+ *    a failed emergency valve keeps its choke shut (the EP valve still cut off by the loop); a car
+ *    that does not see the loop keeps its EP valve; a failed limiter regulates the choke's source
+ *    to its own pressure; a pipe leak is an orifice from the car's MR pipe to the atmosphere; the
+ *    compressors stop; sensor and ED faults act in the shared mechanics.
  */
 #ifndef RAILBRAKE_DETAILED_H
 #define RAILBRAKE_DETAILED_H
@@ -67,8 +75,10 @@ typedef struct {
 
 enum { RB_DET_CAR_NODES = 10, RB_DET_CAR_LINKS = 15, RB_DET_CAR_BODIES = 3 };
 enum { RB_DET_CAR_STATES = 2 * 8 + 2 * RB_DET_CAR_BODIES + 1 };   /* + vented mass */
-enum { RB_DET_LINE_NODES = 2 * RB_PLANT_MAX_CARS + 1, RB_DET_LINE_LINKS = 2 * RB_PLANT_MAX_CARS };
-enum { RB_DET_LINE_STATES = 2 * (RB_PLANT_MAX_CARS + 1) + RB_PLANT_MAX_CARS };
+/* line: MR, MR pipes, supply reservoirs, the atmosphere (with pipe leaks); links: MR, pipe chain,
+   charges, pipe leaks; states: the volumes, then the charged and the leaked air per car */
+enum { RB_DET_LINE_NODES = 2 * RB_PLANT_MAX_CARS + 2, RB_DET_LINE_LINKS = 3 * RB_PLANT_MAX_CARS };
+enum { RB_DET_LINE_STATES = 2 * (RB_PLANT_MAX_CARS + 1) + 2 * RB_PLANT_MAX_CARS };
 enum { RB_DET_MAX_STATES = RB_DET_LINE_STATES };
 enum { RB_DET_BUFFER = 4 * RB_PLANT_MAX_CARS + RB_PLANT_MAX_AXLES };   /* air outputs per sub-step */
 
@@ -87,6 +97,12 @@ typedef struct {
     uint8_t emergency_cut;          /* 1: the loop is open, the EP valve's seats cut off */
     uint8_t emergency;              /* 1: the emergency valve acts: its choke is open */
     double emergency_switch;        /* s; INFINITY: the loop is closed */
+    /* faults in force over the cycle (rb_plant_gather_faults at its start) */
+    signed char hold_stuck[RB_AXLES_PER_CAR], vent_stuck[RB_AXLES_PER_CAR];   /* -1: as commanded */
+    double leak[RB_AXLES_PER_CAR];  /* m^2, cylinder leak beside the vent port */
+    double vent_area;               /* m^2, the vent port (rb_plant_car.vent_area) */
+    uint8_t ep_failed;              /* the EP valve's seats shut */
+    uint8_t relay_shut;             /* the relay valve's inlet seat held shut */
 } rb_detailed_car;
 
 typedef struct {
@@ -104,6 +120,9 @@ typedef struct {
     uint8_t compressor_running[RB_MAX_COMPRESSORS];   /* governors of the plant's compressors */
     double m_compressed, m_charged_total, m_initial;
     double m_line_initial;          /* air in the main reservoir and MR pipes at t = 0 (air drawn) */
+    double m_pipe_leaked;           /* air the MR pipes' leaks let out (RB_FAULT_PIPE_LEAK) */
+    double pipe_leak[RB_PLANT_MAX_CARS];  /* m^2, each car's MR pipe leak over the cycle */
+    int pipe_leaks;                 /* any: the line has its atmosphere node and leak links */
     long cycle;                     /* BCU cycles done */
     long substep;                   /* mechanics sub-steps done in the cycle */
     int n_sub;

@@ -167,6 +167,9 @@ typedef enum {
                                  control pressure to value (Pa gauge) instead of emergency_limit */
     RB_FAULT_AXLE_ISOLATED,   /* the axle's brake isolated (its bogie's cock): cylinder cut off
                                  from the relay and vented */
+    RB_FAULT_PIPE_LEAK,       /* the car's main-reservoir pipe leaks to the atmosphere through an
+                                 orifice of area value (m^2; the train has no brake pipe: the MR
+                                 pipe is the one train line) */
     RB_FAULT_KINDS
 } rb_fault_kind;
 
@@ -302,6 +305,7 @@ typedef struct {
     double k_relay[RB_PLANT_MAX_CARS], k_cyl[RB_PLANT_MAX_CARS];
     double g_pipe[RB_PLANT_MAX_CARS], ik_pipe[RB_PLANT_MAX_CARS];   /* car c -> c + 1 */
     double g_charge[RB_PLANT_MAX_CARS], ik_charge[RB_PLANT_MAX_CARS];
+    double ik_pipe_leak[RB_PLANT_MAX_CARS];   /* a leak from the car's MR pipe (RB_FAULT_PIPE_LEAK) */
     double g_ep[RB_PLANT_MAX_CARS], ik_ep_in[RB_PLANT_MAX_CARS], ik_ep_out[RB_PLANT_MAX_CARS];
     double g_relay_supply[RB_PLANT_MAX_CARS], g_relay_exhaust[RB_PLANT_MAX_CARS];
     double ik_relay_supply[RB_PLANT_MAX_CARS], ik_relay_exhaust[RB_PLANT_MAX_CARS];

@@ -28,13 +28,13 @@ from railbrake.errors import InputError
 RELIABILITY_SCHEMA = "railbrake.reliability/1"
 SCATTER_SCHEMA = "railbrake.scatter/1"
 
-# the unit a fault kind of the plant hits: a car's (EP valve, isolating cock, ED brake), an axle's
-# (WSP valves, speed sensor, cylinder) or the train's (the air supply); "bogie" hits both axles
-# (the emergency path's: emergency valve, the loop's command to the car, relay valve, load-weighing
-# valve / pressure limiter, rb_plant.h rb_fault_kind), an axle's (WSP valves, speed sensor,
-# cylinder, its isolating cock), or the train's (the air supply); "bogie" hits both axles
+# the unit a fault kind of the plant hits (rb_plant.h, rb_fault_kind): a car's (EP valve, isolating
+# cock, ED brake; the emergency path's: emergency valve, the loop's command to the car, relay valve,
+# load-weighing valve / pressure limiter; a leak of its main-reservoir pipe, the train having no
+# brake pipe), an axle's (WSP valves, speed sensor, cylinder, its isolating cock), or the train's
+# (the air supply); "bogie" hits both axles
 CAR_KINDS = ("ep_valve_failed", "car_isolated", "ed_lost", "emergency_valve_failed", "emergency_loop_lost",
-             "relay_valve_failed", "pressure_limiter_failed")
+             "relay_valve_failed", "pressure_limiter_failed", "pipe_leak")
 AXLE_KINDS = ("hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed", "sensor_lost",
               "sensor_noisy", "cylinder_leak", "axle_isolated")
 TRAIN_KINDS = ("compressor_off",)
@@ -43,8 +43,8 @@ UNITS = {**{k: ("car",) for k in CAR_KINDS}, **{k: ("axle", "bogie") for k in AX
 assert set(UNITS) == set(_core.FAULT_KINDS), "every fault kind of the plant has its units"
 # the value a kind needs: a leak's area, a sensor's noise, the pressure (bar gauge) a failed relay
 # holds its output at most at (0: no output) or a failed limiter limits the emergency pressure to
-VALUE_KEYS = {"cylinder_leak": "leak_area_mm2", "sensor_noisy": "noise_kmh", "relay_valve_failed": "pressure_bar",
-              "pressure_limiter_failed": "pressure_bar"}
+VALUE_KEYS = {"cylinder_leak": "leak_area_mm2", "pipe_leak": "leak_area_mm2", "sensor_noisy": "noise_kmh",
+              "relay_valve_failed": "pressure_bar", "pressure_limiter_failed": "pressure_bar"}
 
 # A normal factor without bounds must keep zero this many standard deviations below its mean
 # (P < 1e-23): a factor on friction, pressure or mass cannot be negative.

@@ -19,6 +19,7 @@ import numpy as np
 import yaml
 
 from railbrake import _core
+from railbrake.errors import InputError
 from railbrake.resolve import resolve
 from railbrake.scenario import load
 from railbrake.results.scripting import Result
@@ -86,12 +87,20 @@ def detailed_params(valves: dict | None = None) -> _core.DetailedParams:
 
 
 def run_detailed(scenario="emergency-300-heavy-rain", cars: int | None = None, valves: dict | None = None,
-                 progress: Callable[[float, float], None] | None = None) -> Result:
+                 progress: Callable[[float, float], None] | None = None, faults=None) -> Result:
     """Run a scenario with the detailed model; the same Result shape as simulation.run. The kpis
-    add the solver's work (ode_steps, ode_rejected, rhs_calls) and the wall time (wall_s)."""
+    add the solver's work (ode_steps, ode_rejected, rhs_calls) and the wall time (wall_s). faults:
+    _core.Fault structs replacing the scenario's (every kind of the plant, rb_plant.h; None: the
+    scenario's own)."""
     resolved = resolve(scenario, cars)
     sc, n_cars = resolved.scenario, resolved.cars
     plant = plant_params(sc, n_cars, train=resolved.train)
+    if faults is not None:
+        if len(faults) > _core.MAX_FAULTS:
+            raise InputError(f"faults: {len(faults)} given; a run takes at most {_core.MAX_FAULTS}")
+        plant.n_faults = len(faults)
+        for i, f in enumerate(faults):
+            plant.fault[i] = f
     bcu = bcu_params(plant, sc, True, resolved.train)
     wsp, spec, det = wsp_params(sc), _scenario_struct(sc), detailed_params(valves)
     state = ctypes.create_string_buffer(_core.rb_detailed_state_size())
