@@ -174,6 +174,9 @@ static rb_status advance_line(const rb_plant_params *p, const rb_detailed_params
 
 static double sub_time(const rb_detailed_state *s, double t0, int i) { return t0 + (i + 1) * s->dt_mech; }
 
+/* A WSP valve's state as it acts (and as the plant records it): stuck, or as commanded. */
+static uint8_t effective(signed char stuck, uint8_t state) { return stuck >= 0 ? (uint8_t)stuck : state; }
+
 /* Valve switchings due by time t act; returns the next pending switching time (or INFINITY). */
 static double settle_valves(rb_detailed_car *k, double t)
 {
@@ -246,8 +249,8 @@ static rb_status advance_car(const rb_plant_params *p, const rb_detailed_params 
                 int i_cyl = 2 * (CN_CYL + a);
                 *buf_cyl(s, i, c * RB_AXLES_PER_CAR + a) =
                     row[i_cyl] * RB_AIR_R * row[i_cyl + 1] / p->car[c].cylinder_volume;
-                s->hold_at[i][c * RB_AXLES_PER_CAR + a] = k->hold[a];
-                s->vent_at[i][c * RB_AXLES_PER_CAR + a] = k->vent[a];
+                s->hold_at[i][c * RB_AXLES_PER_CAR + a] = effective(k->hold_stuck[a], k->hold[a]);
+                s->vent_at[i][c * RB_AXLES_PER_CAR + a] = effective(k->vent_stuck[a], k->vent[a]);
             }
             if (full[i]) {
                 rb_network_rates(s->t_out[i - first], row, s->y0, &sys.ev);
@@ -287,8 +290,8 @@ static void cycle_outputs(const rb_plant_params *p, const rb_detailed_params *d,
         for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
             int i = c * RB_AXLES_PER_CAR + a;
             s->out.cylinder[i] = sys.ev.p[CN_CYL + a];
-            s->out.hold[i] = k->hold[a];
-            s->out.vent[i] = k->vent[a];
+            s->out.hold[i] = effective(k->hold_stuck[a], k->hold[a]);
+            s->out.vent[i] = effective(k->vent_stuck[a], k->vent[a]);
         }
         vented += k->y[CS_VENTED];
     }

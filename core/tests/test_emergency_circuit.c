@@ -3,7 +3,8 @@
  * (the demand or the limit, whichever is lower) at the choked orifice rate of ISO 6358
  * (rb_orifice_mass_flow_fast, the library's law) and it settles there; the EP valve is cut off meanwhile, and a failed EP valve does not
  * stop the emergency brake; the emergency path's faults (emergency valve, loop, limiter, relay valve) act
- * through their component; air is conserved; bad parameters are refused by name. */
+ * through their component; a leak of the MR pipe lets out the orifice flow; air is conserved; bad
+ * parameters are refused by name. */
 #include "plant_fixture.h"
 #include "rb_test.h"
 
@@ -164,6 +165,45 @@ static void bad_parameters_are_refused_by_name(void)
     CHECK(strstr(err.message, "car[0].emergency_delay") != NULL);
 }
 
+static double pipe_end(const rb_plant_params *p, const rb_plant_state *s)
+{
+    rb_plant_outputs out;
+    rb_plant_get_outputs(p, s, &out);
+    return out.pipe_end;
+}
+
+/* A leak of the MR pipe (the train line; there is no brake pipe): the last car's pipe lets out, over
+ * 20 ms, the choked orifice flow of ISO 6358 through its area at the pipe's mean pressure (within
+ * 1 %), the air is conserved (what leaves is booked as vented), and without the leak nothing
+ * leaves. */
+static void a_pipe_leak_vents_the_line_at_the_orifice_rate(void)
+{
+    for (int leaking = 0; leaking < 2; ++leaking) {
+        rb_plant_params p;
+        rb_plant_state s;
+        rb_plant_inputs in;
+        const double area = 20e-6, t = 0.02;
+        fill_plant(&p, 2, 0.0);
+        p.n_faults = 1 + leaking;
+        p.fault[0] = (rb_fault){RB_FAULT_COMPRESSOR_OFF, 0, -1, 0.0, 0.0};
+        p.fault[1] = (rb_fault){RB_FAULT_PIPE_LEAK, 1, -1, 0.0, area};
+        CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
+        memset(&in, 0, sizeof in);
+        for (int c = 0; c < 2; ++c) in.pressure_demand[c] = p.atmosphere;
+        double m0 = rb_plant_air_mass(&p, &s), p0 = pipe_end(&p, &s);
+        int steps = (int)(t / p.dt + 0.5);
+        for (int i = 0; i < steps; ++i) rb_plant_step(&p, &s, &in);
+        double p1 = pipe_end(&p, &s), balance = rb_plant_air_mass(&p, &s) + s.m_vented - m0;
+        double q = rb_orifice_mass_flow_fast(0.5 * (p0 + p1), p.temperature, p.atmosphere, p.temperature, area,
+                                             p.discharge_coefficient, p.critical_ratio);
+        printf("MR pipe leak %.0f mm2: %.4g kg out in %.0f ms (orifice law %.4g kg); air balance %.2e kg\n",
+               leaking * area * 1e6, s.m_vented, t * 1e3, leaking * q * t, balance);
+        CHECK(fabs(balance) < 1e-9 * m0 + 1e-12);
+        if (leaking) CHECK(fabs(s.m_vented - q * t) < 0.01 * q * t);
+        else CHECK(s.m_vented < 1e-9 * m0);
+    }
+}
+
 int main(void)
 {
     fills_at_the_choked_rate_after_the_delay();
@@ -172,5 +212,6 @@ int main(void)
     a_failed_ep_valve_does_not_stop_the_emergency_brake();
     emergency_path_faults_act_through_their_component();
     bad_parameters_are_refused_by_name();
+    a_pipe_leak_vents_the_line_at_the_orifice_rate();
     return rb_test_summary("emergency_circuit");
 }
