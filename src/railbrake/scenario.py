@@ -229,7 +229,7 @@ CONTROLLER_KEYS = {
 
 FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
                     "sensor_lost", "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost",
-                    "car_isolated", "compressor_off"]
+                    "car_isolated", "compressor_off", "pipe_leak"]
 
 
 class FaultSpec(_Strict):
@@ -238,12 +238,13 @@ class FaultSpec(_Strict):
     axle: int | None = Field(default=None, ge=1, le=4, description="1-based; omitted: every axle of the car")
     start: EventTime = 0.0
     noise: Q_SCENARIO_FAULT_NOISE | None = None         # sensor_noisy only
-    leak_area: Q_SCENARIO_FAULT_LEAK_AREA | None = None  # cylinder_leak only
+    leak_area: Q_SCENARIO_FAULT_LEAK_AREA | None = None  # cylinder_leak and pipe_leak only
 
 
 # the parameter each fault kind reads (rb_plant.h, rb_fault_kind); every other is refused
-FAULT_VALUE = {"sensor_noisy": "noise", "cylinder_leak": "leak_area"}
-CAR_FAULTS = ("ep_valve_failed", "ed_lost", "car_isolated", "compressor_off")   # no axle
+FAULT_VALUE = {"sensor_noisy": "noise", "cylinder_leak": "leak_area", "pipe_leak": "leak_area"}
+# no axle; pipe_leak: the car's main-reservoir pipe (the train has no brake pipe)
+CAR_FAULTS = ("ep_valve_failed", "ed_lost", "car_isolated", "compressor_off", "pipe_leak")
 
 
 def fault_problem(fault: FaultSpec, needs_value: bool = True) -> tuple[str, str] | None:
@@ -252,8 +253,8 @@ def fault_problem(fault: FaultSpec, needs_value: bool = True) -> tuple[str, str]
     needed = FAULT_VALUE.get(fault.type) if needs_value else None
     for key in ("noise", "leak_area"):
         if getattr(fault, key) is not None and key != needed:
-            why = (f"only {'a sensor_noisy' if key == 'noise' else 'a cylinder_leak'} fault does" if needs_value
-                   else "a fault cleared is named by type, car and axle only")
+            users = "a sensor_noisy" if key == "noise" else "a cylinder_leak or pipe_leak"
+            why = f"only {users} fault does" if needs_value else "a fault cleared is named by type, car and axle only"
             return key, f": a {fault.type} fault does not use {key} ({why}): remove it"
     if needed and getattr(fault, needed) is None:
         return "type", f": a {fault.type} fault needs {needed}"

@@ -52,7 +52,8 @@ def parse_fault(data, action: str, n_cars: int, where: str) -> tuple[FaultSpec, 
         raise InputError(f"{where}: fault.{problem[0]}{problem[1]}")
     if spec.car is not None and spec.car > n_cars:
         raise InputError(f"{where}: fault.car = {spec.car}: the train has cars 1..{n_cars}")
-    value = spec.noise if spec.type == "sensor_noisy" else spec.leak_area if spec.type == "cylinder_leak" else None
+    value = (spec.noise if spec.type == "sensor_noisy" else
+             spec.leak_area if spec.type in ("cylinder_leak", "pipe_leak") else None)
     fault = _core.Fault(_core.FAULT_KINDS.index(spec.type), 0 if spec.car is None else spec.car - 1,
                         -1 if spec.axle is None else spec.axle - 1, 0.0, value or 0.0)
     return spec, fault

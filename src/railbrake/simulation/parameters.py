@@ -238,8 +238,9 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
     scenario.check_cars(n_cars)
     p.n_faults = len(spec.faults)
     for i, f in enumerate(spec.faults):
-        value = f.noise if f.type == "sensor_noisy" else f.leak_area if f.type == "cylinder_leak" else None
-        if value is None and f.type in ("sensor_noisy", "cylinder_leak"):
+        leaks = ("cylinder_leak", "pipe_leak")
+        value = f.noise if f.type == "sensor_noisy" else f.leak_area if f.type in leaks else None
+        if value is None and f.type in ("sensor_noisy", "cylinder_leak", "pipe_leak"):
             key = "noise" if f.type == "sensor_noisy" else "leak_area"
             raise InputError(f"{scenario.where('faults', i, 'type')}: a {f.type} fault needs {key}")
         p.fault[i] = _core.Fault(_FAULT_INDEX[f.type], 0 if f.car is None else f.car - 1, -1 if f.axle is None else f.axle - 1,
