@@ -28,7 +28,14 @@ def test_compare_rt_table_without_steps():
     assert "stopping distance detailed" in result.output and "step-size" not in result.output
 
 
-def test_compare_rt_refuses_a_faulty_scenario():
-    result = CliRunner().invoke(app, ["compare-rt", "fault-vent-valve-stuck"])
-    assert result.exit_code == 2
-    assert "n_faults" in result.output
+def test_compare_rt_compares_a_faulty_scenario():
+    # the detailed model takes the scenario's faults (the vent valve of car 3, axle 2 stuck open
+    # from 2 s): both models vent that axle and stop alike
+    result = CliRunner().invoke(app, ["compare-rt", "fault-vent-valve-stuck", "--cars", "3", "--no-steps", "--json",
+                                      "--set", "initial_speed=80 km/h"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert abs(data["summary"]["stopping_distance_difference_pct"]) < 2.0
+    for model in ("rt", "detailed"):
+        assert data["axles"]["c3a2"][model]["vent_open_s"] > 5.0
+        assert data["axles"]["c3a1"][model]["vent_open_s"] == 0.0
