@@ -63,6 +63,8 @@ static const rb_bound bounds[] = {
     {"wsp.lead_time", "s", 0.0, 1.0, "the slip predicted up to 1 s ahead"},
     {"wsp.ref_decel_margin", "m/s2", 0.0, 5.0, "a speed estimate falling up to 5 m/s2 faster than the body"},
     {"wsp.setpoint_release", "s", 0.0, 600.0, "an axle let go after up to 10 min braked as demanded"},
+    {"wsp.setpoint_memory", "1", 0.1, 1.0, "re-applied quickly to 10 to 100 % of the pressure that slid"},
+    {"wsp.setpoint_ramp", "Pa/s", 0.0, 1e6, "a ceiling rising at up to 10 bar/s"},
     {"wsp.ds_speed_threshold", "m/s", 0.01, 10.0, "a slip speed of 0.04 to 36 km/h vents"},
     {"wsp.ds_slip_threshold", "1", 0.0, 0.5, "up to 50 % of the reference speed"},
     {"wsp.ds_decel_threshold", "m/s2", 0.1, 100.0, "a positive wheel deceleration"},
@@ -292,6 +294,8 @@ rb_status rb_wsp_check(const rb_wsp_params *w, rb_error *err)
     WSP_BOUND(lead_time);
     WSP_BOUND(ref_decel_margin);
     WSP_BOUND(setpoint_release);
+    WSP_BOUND(setpoint_memory);
+    WSP_BOUND(setpoint_ramp);
     WSP_BOUND(ds_speed_threshold);
     WSP_BOUND(ds_slip_threshold);
     WSP_BOUND(ds_decel_threshold);

@@ -278,7 +278,7 @@ WSP_CONTROLLERS = ("threshold", "slip_setpoint", "decel_slip_speed")   # rb_wsp_
 # the scenario's wsp keys that are rb_wsp_params fields of the same name (SI)
 _WSP_OVERRIDES = ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold", "ref_decel_max",
                   "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin",
-                  "setpoint_release", "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold",
+                  "setpoint_release", "setpoint_memory", "setpoint_ramp", "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold",
                   "ds_reaccel_threshold", "conditioning_ratio")
 
 
