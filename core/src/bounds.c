@@ -111,6 +111,7 @@ static const rb_bound bounds[] = {
     {"train.compressor_delivery", "kg/s", 1e-4, 0.2, "a compressor of 5 l/min to 10 m3/min of free air"},
     {"train.pipe_diameter", "m", 0.01, 0.05, "a main reservoir pipe of 10 to 50 mm (typically 25 mm)"},
     {"train.air_flow_area", "m2", 1e-6, 2e-3, "a flow area of 1 to 2000 mm2 (a 50 mm pipe)"},
+    {"train.main_reservoir_min_working", "Pa", 1e5, 1e6, "a minimum working pressure of 1 to 10 bar gauge"},
     {"train.main_reservoir_gauge", "Pa", 4e5, 1e6, "main reservoir of 4 to 10 bar gauge: the ideal-gas air of the model holds below 10 bar (docs/pneumatics.md)"},
     {"train.discharge_coefficient", "1", 0.3, 1.0, "a discharge coefficient of real ports (sharp-edged about 0.6-0.8)"},
     {"train.critical_ratio", "1", 0.1, 0.9, "ISO 6358 critical pressure ratio b of real valves (ideal nozzle 0.528)"},

@@ -21,6 +21,9 @@ KPI_INFO = {
     "min_supply_bar": ("bar g", "lowest supply reservoir pressure of any car"),
     "min_supply_margin_bar": ("bar", "lowest supply reservoir pressure less its car's cylinder demand, "
                                      "while braking (below 0: the supply cannot give the demand)"),
+    "max_air_shortfall_bar": ("bar", "largest amount by which a braking car's cylinder demand exceeded its supply "
+                                     "reservoir, the most its cylinders can reach: a cylinder short of its demand "
+                                     "for want of air (0: never)"),
     "braked_distance_m": ("m", "distance from the first brake demand to the end of the run (HIL; also "
                                "when it ended before the stop)"),
     "air_drawn_kg": ("kg", "air taken from the main reservoir and its pipe (cylinder fills, venting, "

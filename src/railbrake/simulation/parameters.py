@@ -419,6 +419,7 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
         "min_main_reservoir_bar": gauge(k["min_main_reservoir"]),
         "min_supply_bar": gauge(k["min_supply"]),
         "min_supply_margin_bar": k["min_supply_margin"] / BAR,
+        "max_air_shortfall_bar": max(0.0, -k["min_supply_margin"] / BAR),
         "air_drawn_kg": k["air_drawn_kg"],
         "air_vented_kg": k["air_vented_kg"],
         "cylinder_shortfall_s": k["cylinder_shortfall_s"],
