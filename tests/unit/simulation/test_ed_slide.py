@@ -29,7 +29,14 @@ def _run(controller: str, ed: bool):
         return simulation.run(scenario.parse(TEXT % controller, "ed-hs-wet"), train=train)
 
 
-@pytest.mark.parametrize("controller", ["threshold", "slip_setpoint"])
+# decel_slip_speed: the whole train's wheels creep together past the hs-wet peak (the fastest
+# wheel, their speed reference, creeps with them) until the adhesion falls off its cliff at
+# 40-44 km/h; the slide that follows is 0.138 deep with the ED brake against 0.122 without, and the
+# order flips with the speed estimate's margin (0.126/0.102 at 0.01 m/s^2, 0.127/0.129 at 0.02):
+# not yet met
+@pytest.mark.parametrize("controller", ["threshold", "slip_setpoint", pytest.param(
+    "decel_slip_speed", marks=pytest.mark.xfail(strict=True, reason="issue 38: the whole train creeps past the "
+                                                "hs-wet peak; with the ED brake its slide is deeper (0.138 vs 0.122)"))])
 def test_no_axle_slides_deeper_with_the_ed_brake_than_without(controller):
     # max_slip: the largest |slip| of any axle above 10 km/h, every 1 ms step
     with_ed, without = _run(controller, True), _run(controller, False)
