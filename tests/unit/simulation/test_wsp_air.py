@@ -38,6 +38,7 @@ def test_slip_setpoint_keeps_the_air_of_8_cars_on_hs_wet():
     _check("velaro-8")
 
 
+@pytest.mark.slow   # a 16-car stop from 300 km/h: about 25 s under the sanitizers
 def test_slip_setpoint_keeps_the_air_of_16_cars_on_hs_wet():
     _check("crh380al-16")
 
