@@ -42,6 +42,7 @@ typedef void (*rb_wsp_function)(void *context, const rb_wsp_inputs *in, rb_wsp_c
 /* ---- the default WSP */
 
 typedef enum {
+    RB_WSP_OFF = -1,       /* no default WSP on the axle: the BCU's WSP disabled, or a user function (records) */
     RB_WSP_APPLY = 0,      /* brake as demanded */
     RB_WSP_VENT = 1,       /* hold closed, vent open */
     RB_WSP_HOLD = 2,       /* hold closed */
@@ -209,6 +210,10 @@ void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand 
                  const rb_plant_outputs *out, rb_plant_inputs *in);
 /* The BCU's speed: the fastest measured wheel (a lost sensor reads < 0 and is ignored). */
 double rb_bcu_speed(const rb_plant_outputs *out, int n_cars);
+/* The default WSP's mode (rb_wsp_mode) of axle a, for records: RB_WSP_OFF when the BCU runs no
+ * WSP or a user function (p->wsp), whose state the BCU does not know. A safety-timer trip is the
+ * axle's mode becoming RB_WSP_INHIBITED or RB_WSP_ISOLATED, which it keeps to the end of the run. */
+int rb_bcu_wsp_mode(const rb_bcu_params *p, const rb_bcu_state *s, int a);
 /* Demanded deceleration (m/s^2) of a brake demand at speed v, for records. */
 double rb_bcu_demand_deceleration(const rb_bcu_params *p, const rb_brake_demand *d, double speed);
 

@@ -34,7 +34,12 @@ KPI_INFO = {
     "worst_axle": ("", "axle with the most lock events or, without locks, the largest slip above 2 % "
                        "(none: no axle slid)"),
     "brake_energy_mj": ("MJ", "energy dissipated by the friction brakes"),
-    "max_disc_temperature_c": ("°C", "highest lumped brake disc temperature of any axle"),
+    "max_disc_temperature_c": ("°C", "highest mean brake disc temperature of any axle"),
+    "max_disc_surface_temperature_c": ("°C", "highest friction surface temperature of any brake disc (the "
+                                             "mean disc temperature for discs without a surface layer)"),
+    "mean_pad_friction": ("1", "stop-averaged pad friction: the pads' instantaneous friction averaged over "
+                               "their sliding distance while they press, all braked axles (UIC 541-3's "
+                               "mean friction of a dynamometer stop); none if no pad pressed"),
     "valve_switchings": ("", "changes of state of the WSP hold and vent valves of the whole train while "
                              "braking (the valves' actual states)"),
     "max_sliding_energy_kj": ("kJ", "largest over the axles of the sliding energy, the time integral of creep "
