@@ -27,18 +27,14 @@
 void rb_wsp_setpoint_defaults(rb_wsp_params *p)
 {
     p->controller = RB_WSP_THRESHOLD;
-    /* Wet rail at high speed (hs-wet: Polach's wet set with its rolling-speed factor) peaks at slip
-       velocities growing with speed, 0.37 m/s at 10 km/h, 0.51 m/s at 20 km/h to 1.11 m/s at
-       300 km/h: the set-point lies on the stable side below the peak, at 0.45 to 0.72 of its slip
-       velocity from 10 to 300 km/h, where the curve gives 94.5 to 99.5 % of the peak adhesion.
-       Chosen on the hs-wet emergency stops from 300 km/h (velaro-8 with and without its ED brake,
-       8 and 16 cars): the chord through the peak's own slip velocities slid to 26 % slip at 10 km/h
-       (the peak creep grows as the speed falls). The earlier 0.036 m/s + 0.11 % followed hs-wet's
-       former fit (B = 17 s/m, a peak at 0.13 m/s at 300 km/h) and used 65 % of the adhesion on the
-       refitted curve. [T]: no published set-point of a particular WSP was found; exposed
+    /* Wet rail at high speed (hs-wet, Polach B = 17 s/m) peaks at slip velocities growing with
+       speed, 0.042 m/s at 20 km/h to 0.128 m/s at 300 km/h: the set-point is the chord of that
+       curve through both ends, so it lies on or below the peak (its stable side) in between.
+       A constant set-point (0.07 m/s before) sat at 69 % of the peak adhesion at 300 km/h and past
+       the peak below 60 km/h. [T]: no published set-point of a particular WSP was found; exposed
        (scenario wsp.*). */
-    p->setpoint_speed = 0.25;    /* m/s ... */
-    p->setpoint_slip = 0.006;    /* ... plus this fraction of the reference speed */
+    p->setpoint_speed = 0.036;   /* m/s ... */
+    p->setpoint_slip = 0.0011;   /* ... plus this fraction of the reference speed */
     /* Band, lead time and the estimate's margin chosen on the hs-wet emergency stops from 300 km/h
        of 4 to 16 cars [T] (docs/simulation.md): a narrow band keeps the slip at the
        peak, the lead time covers the valves' delay and the cylinder's first fall, a small margin
