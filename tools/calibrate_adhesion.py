@@ -10,6 +10,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
+from railbrake.adhesion import load_condition
 from railbrake.contact import PolachParams, default_contact, polach_coefficient, polach_peak
 
 CONTACT = default_contact()
@@ -77,7 +78,7 @@ def calibrate_heavy_rain(leading_factor_low: float = 0.2, rolling_factor: bool =
     return params(fit.x), fit.x[3:5]
 
 
-# Polach's wet set (Wear 258 (2005) 992-1000, Table 2): the shape of hs-wet's curve after its peak
+# Polach's wet set (Wear 258 (2005) 992-1000, Table 2)
 WET_SET = PolachParams(0.30, 0.40, 0.20, 0.30, 0.10)
 HS_WET_SPEEDS = np.array([30.0, 60.0, 100.0, 150.0, 200.0, 250.0, 300.0, 320.0])
 HS_WET_BOUNDS = ([0.01, 5.0], [1.0, 2000.0])   # mu0, v_ref_kmh: hs-wet.yaml fit.parameters
@@ -92,29 +93,46 @@ def with_rolling_factor(shape: PolachParams, mu0: float, v_ref_kmh: float) -> Po
     return PolachParams(mu0, shape.A, shape.B, shape.kA, shape.kS, v_ref_kmh / 3.6)
 
 
-def calibrate_hs_wet():
-    """mu0 and the rolling-speed factor's v_ref (mu0 / (1 + v / v_ref), the water film) so that the
-    peak follows the Shinkansen design adhesion 13.6/(v+85) from 30 to 320 km/h; A, B, kA, kS from
-    Polach's wet set (the curve's tail after the peak, which the design curve's peaks do not fix:
-    hs_wet_shape_free). Both fitted parameters end inside their bounds."""
+def hs_wet_shape() -> PolachParams:
+    """The curve's shape of the heavy-rain preset (A, B fitted on the Shinkansen heavy-rain
+    measurement, kA, kS Polach's wet set): the same wet rail at the same speeds."""
+    return load_condition("heavy-rain").params
+
+
+def fit_hs_wet(shape: PolachParams):
+    """mu0 and v_ref (mu0 / (1 + v / v_ref)) of `shape` fitted on the design curve 30-320 km/h."""
     def residual(x):
-        p = with_rolling_factor(WET_SET, x[0], x[1])
+        p = with_rolling_factor(shape, x[0], x[1])
         r = [peak(p, v) / design(v) - 1.0 for v in HS_WET_SPEEDS]
         return r + [3.0 * max(0.0, tail_ratio(p, v) - 0.8) for v in (60.0, 300.0)]
 
     fits = [least_squares(residual, x0, bounds=HS_WET_BOUNDS) for x0 in ([0.3, 100.0], [0.15, 50.0], [0.5, 400.0])]
-    best = min(fits, key=lambda f: f.cost)
+    return min(fits, key=lambda f: f.cost)
+
+
+def calibrate_hs_wet():
+    """mu0 and the rolling-speed factor's v_ref so that the peak follows the Shinkansen design adhesion
+    13.6/(v+85) from 30 to 320 km/h; A, B, kA, kS those of heavy-rain (hs_wet_shape: the design
+    curve's peaks do not fix the curve after the peak, hs_wet_shape_free). Both fitted parameters end
+    inside their bounds."""
+    best = fit_hs_wet(hs_wet_shape())
     print("hs-wet residuals (peak / design - 1 at 30..320 km/h, tails):", np.round(best.fun, 4))
     inside = np.all((best.x > np.array(HS_WET_BOUNDS[0]) + 1e-6) & (best.x < np.array(HS_WET_BOUNDS[1]) - 1e-6))
     print("hs-wet mu0, v_ref_kmh:", np.round(best.x, 4), "inside their bounds:", bool(inside))
-    return with_rolling_factor(WET_SET, *best.x)
+    return with_rolling_factor(hs_wet_shape(), *best.x)
+
+
+def peak_slip_velocity(params: PolachParams, v_kmh: float) -> float:
+    return polach_peak(v_kmh / 3.6, Q, CONTACT, params)[1] * v_kmh / 3.6
 
 
 def hs_wet_shape_free():
-    """Why hs-wet takes A and B from Polach's wet set: fitted with mu0 and v_ref on the design curve's
-    peaks, A and B are not determined by them (A goes to its bound 0 at the same residuals); and why
-    the rolling-speed factor: without it (Polach's law alone, A, B free), A goes to 0 on every speed
-    range and with kA, kS free too, as the friction falls with slip velocity only."""
+    """Why hs-wet's A and B are not fitted, and why heavy-rain's: fitted with mu0 and v_ref on the
+    design curve's peaks, A and B are not determined by them (A goes to its bound 0 at the same
+    residuals); Polach's wet set fits the peaks as well but puts them at 4 times heavy-rain's slip
+    velocity at 300 km/h, on the same wet rail. And why the rolling-speed factor: without it
+    (Polach's law alone, A, B free), A goes to 0 on every speed range and with kA, kS free too, as
+    the friction falls with slip velocity only."""
     def residual(x):
         p = with_rolling_factor(PolachParams(x[0], x[2], x[3], 0.3, 0.1), x[0], x[1])
         r = [peak(p, v) / design(v) - 1.0 for v in HS_WET_SPEEDS]
@@ -122,6 +140,12 @@ def hs_wet_shape_free():
     fit = least_squares(residual, [0.3, 100.0, 0.4, 0.2], bounds=([0.01, 5.0, 0.0, 0.0], [1.0, 2000.0, 1.0, 20.0]))
     print(f"hs-wet with A, B free beside mu0, v_ref: A = {fit.x[2]:.2g}, B = {fit.x[3]:.3g} s/m, worst residual "
           f"{np.max(np.abs(fit.fun)):.4f} (the peaks do not fix the tail)")
+    wet = fit_hs_wet(WET_SET)
+    heavy = [peak_slip_velocity(load_condition("heavy-rain").params_at_axle(a), 300.0) for a in (0, 31)]
+    print(f"hs-wet on Polach's wet set's A, B: mu0, v_ref_kmh = {np.round(wet.x, 4)}, worst residual "
+          f"{np.max(np.abs(wet.fun)):.4f}; peak slip velocity at 300 km/h "
+          f"{peak_slip_velocity(with_rolling_factor(WET_SET, *wet.x), 300.0):.2f} m/s against heavy-rain's "
+          f"{heavy[0]:.2f}-{heavy[1]:.2f} m/s (axles 1 and 32)")
     for speeds in (HS_WET_SPEEDS, HS_WET_SPEEDS[1:], HS_WET_SPEEDS[2:]):
         for free_k in (False, True):
             def residual(x):

@@ -41,8 +41,8 @@ def test_no_fitted_parameter_at_a_bound_without_the_finding(name):
 
 
 def test_the_parameter_at_a_bound_is_the_finding_known():
-    """hs-wet's A left its bound with the rolling-speed factor (A, B now Polach's wet set, mu0 and
-    v_ref fitted); heavy-rain's leading factor stays at its bound, with the factor too."""
+    """hs-wet's A left its bound with the rolling-speed factor (A, B now heavy-rain's, mu0 and v_ref
+    fitted); heavy-rain's leading factor stays at its bound, with the factor too."""
     at_bound = {(c.name, p) for c in adhesion.conditions() for p in c.fit.at_bound}
     assert at_bound == {("heavy-rain", "leading_factor")}
 
@@ -91,12 +91,13 @@ def test_the_three_adhesion_cases_pass_or_are_findings_naming_the_data(case_id):
 
 
 def test_hs_wet_follows_the_design_curve_by_its_rolling_speed_factor():
-    """hs-wet: Polach's wet set with mu0 / (1 + v / v_ref) fitted on the Shinkansen design curve
-    (the data set hs-wet-design-adhesion, within 1 %) and checked on data not fitted, the heavy-rain
-    band at 300 km/h (0.02 front car to 0.05 car 4); v_ref and mu0 inside their fit's bounds."""
-    hs_wet, wet = adhesion.load_condition("hs-wet"), adhesion.load_condition("wet")
+    """hs-wet: heavy-rain's curve with mu0 / (1 + v / v_ref) fitted on the Shinkansen design curve
+    (the data set hs-wet-design-adhesion, within 1 % on average, 2.3 % at worst) and checked on data
+    not fitted, the heavy-rain band at 300 km/h (0.02 front car to 0.05 car 4); v_ref and mu0 inside
+    their fit's bounds."""
+    hs_wet, rain = adhesion.load_condition("hs-wet"), adhesion.load_condition("heavy-rain")
     assert (hs_wet.params.A, hs_wet.params.B, hs_wet.params.kA, hs_wet.params.kS) == \
-        (wet.params.A, wet.params.B, wet.params.kA, wet.params.kS)
+        (rain.params.A, rain.params.B, rain.params.kA, rain.params.kS)
     values = hs_wet.fit_values()
     for name, (low, high) in hs_wet.fit.bounds.items():
         assert not adhesion.at_fit_bound(values[name], low, high), name
@@ -109,17 +110,17 @@ def test_a_file_without_the_rolling_speed_factor_has_none(tmp_path):
     far beyond the train's speed (at 36000 km/h, 300 km/h lowers mu0 by 300/36000 = 0.8 %)."""
     text = _preset_text("hs-wet")
     path, far = tmp_path / "off.yaml", tmp_path / "far.yaml"
-    path.write_text(text.replace(", v_ref_kmh: 102.7}", "}").split("fit:")[0])
-    far.write_text(text.replace("v_ref_kmh: 102.7", "v_ref_kmh: 36000").split("fit:")[0])
+    path.write_text(text.replace(", v_ref_kmh: 152.4}", "}").split("fit:")[0])
+    far.write_text(text.replace("v_ref_kmh: 152.4", "v_ref_kmh: 36000").split("fit:")[0])
     off = adhesion.load_condition(path)
     assert off.params.v_ref is None and "v_ref" not in off.params.as_dict()
     at_300 = adhesion.peak_adhesion(off, 300 / 3.6).coefficient
     assert at_300 > 2.0 * adhesion.peak_adhesion("hs-wet", 300 / 3.6).coefficient
-    assert adhesion.peak_adhesion(far, 300 / 3.6).coefficient == pytest.approx(at_300 / (1 + 300 / 36000), rel=2e-3)
+    assert at_300 / (1 + 300 / 36000) <= adhesion.peak_adhesion(far, 300 / 3.6).coefficient < at_300
 
 
 def test_a_rolling_speed_factor_out_of_range_is_refused_with_its_line(tmp_path):
     path = tmp_path / "c.yaml"
-    path.write_text(_preset_text("hs-wet").replace("v_ref_kmh: 102.7", "v_ref_kmh: 1"))
+    path.write_text(_preset_text("hs-wet").replace("v_ref_kmh: 152.4", "v_ref_kmh: 1"))
     with pytest.raises(InputError, match=r"line 6: params\.v_ref_kmh = 1: .* greater than or equal to 3\.(6|5999)"):
         adhesion.load_condition(path)
