@@ -366,6 +366,7 @@ class WspParams(Structure):
                         "reapply_off", "reapply_time", "filter_time",
                         "safety_time", "min_speed") + [("controller", c_int)] + _doubles(
         "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release",
+        "setpoint_memory", "setpoint_ramp",
         "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold", "ds_reaccel_threshold") + [
         ("conditioning_mode", c_int), ("conditioning_ratio", c_double)]
 

@@ -165,6 +165,8 @@ class _AirSupply(_Strict):
     governor_on_bar: float = _num("train.main_reservoir_gauge", BAR)       # gauge: a compressor starts below
     governor_off_bar: float = _num("train.main_reservoir_gauge", BAR)      # gauge: and stops above
     charged_bar: float = _num("train.main_reservoir_gauge", BAR)           # gauge: main reservoir and pipe at the start
+    # gauge: the brake's working range ends below (a run whose main reservoir falls there warns)
+    min_working_bar: float = _num("train.main_reservoir_min_working", BAR)
     main_reservoir_l: float = _num("main_reservoir_volume", L)   # lumped main reservoirs of the whole train
     main_reservoir_outlet_mm2: float = _num("train.air_flow_area", MM2)
     pipe: _MainReservoirPipe
@@ -175,6 +177,9 @@ class _AirSupply(_Strict):
         if not self.governor_off_bar > self.governor_on_bar:
             raise ValueError(f"governor_off_bar = {self.governor_off_bar} must exceed governor_on_bar = "
                              f"{self.governor_on_bar} (bar gauge)")
+        if not self.min_working_bar < self.governor_on_bar:
+            raise ValueError(f"min_working_bar = {self.min_working_bar} must lie below governor_on_bar = "
+                             f"{self.governor_on_bar} (bar gauge): the compressors keep the main reservoir above it")
         if not self.charged_bar <= self.governor_off_bar:
             raise ValueError(f"charged_bar = {self.charged_bar} must not exceed governor_off_bar = "
                              f"{self.governor_off_bar} (bar gauge): the compressors stop there")
@@ -754,6 +759,11 @@ def _check_supply(model: _TrainFile, locate) -> None:
         low, high, why = config.bound_in("car.supply_pressure", BAR, bar_to_pa(atm))
         raise InputError(f"{where}: must lie in [{low:.3g}, {high:.3g}] bar gauge at atmospheric_pressure_bar = "
                          f"{atm:g} ({why})")
+    working = model.air_supply.min_working_bar
+    if not gauge < working:
+        raise InputError(f"{where}: must stay below air_supply.min_working_bar = {working:g} (bar gauge; "
+                         f"{locate(('air_supply', 'min_working_bar'))}): a main reservoir at its minimum working "
+                         "pressure still charges the brake supply")
     governor_on = model.air_supply.governor_on_bar
     if not gauge < governor_on:
         raise InputError(f"{where}: must stay below air_supply.governor_on_bar = {governor_on:g} (bar gauge; "

@@ -76,6 +76,11 @@ typedef struct {
                                   the body's deceleration plus this (when every wheel slides) */
     double setpoint_release;   /* s braked as demanded after which the set-point controller lets an
                                   axle go (until the next detected slide) */
+    /* the set-point controller's pressure memory: below the band the brake re-applies quickly up to
+       setpoint_memory x the cylinder pressure (gauge) at which the axle last had to vent, then
+       holds; that ceiling rises at setpoint_ramp (Pa/s) while the axle stays below the band */
+    double setpoint_memory;    /* fraction of the remembered pressure */
+    double setpoint_ramp;      /* Pa/s */
     /* RB_WSP_DECEL_SLIP_SPEED (wsp_decel_slip.c): a slide is vented when the wheel's slip speed
      * (reference - wheel) exceeds ds_speed_threshold + ds_slip_threshold x reference or its
      * deceleration exceeds ds_decel_threshold */
@@ -112,6 +117,8 @@ typedef struct {
     double low_time[RB_PLANT_MAX_AXLES];        /* s of cylinder far below demand without a command */
     int trips;
     uint8_t engaged[RB_PLANT_MAX_AXLES];        /* set-point controller: a slide was detected on the axle */
+    double memory[RB_PLANT_MAX_AXLES];          /* set-point controller: Pa abs, the cylinder when it
+                                                   last began to vent, risen since (setpoint_ramp) */
 } rb_wsp_default;
 
 void rb_wsp_default_params(rb_wsp_params *p);

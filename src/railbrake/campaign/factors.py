@@ -27,7 +27,7 @@ COMPOSITES = {
     "zone": ("start", "length", "condition"),
 }
 NO_FAULT = "none"   # fault.type level for the healthy train
-SI_UNIT = {"speed": "m/s", "time": "s", "length": "m", "acceleration": "m/s^2", "pressure": "Pa",
+SI_UNIT = {"speed": "m/s", "time": "s", "length": "m", "acceleration": "m/s^2", "pressure": "Pa", "pressure rate": "Pa/s",
            "area": "m^2"}
 
 

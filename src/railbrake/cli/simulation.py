@@ -25,7 +25,9 @@ DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 def warnings_for(result) -> list[str]:
     """What a brake engineer must not miss in a run (railbrake.results.kpis.warnings)."""
     from railbrake.results import kpis as info
-    return info.warnings(result.kpis, healthy_reference(result))
+    resolved = getattr(result, "resolved", None)
+    working = None if resolved is None else resolved.train.spec.air_supply.min_working_bar
+    return info.warnings(result.kpis, healthy_reference(result), working)
 
 
 def healthy_reference(result) -> float | None:

@@ -278,7 +278,7 @@ WSP_CONTROLLERS = ("threshold", "slip_setpoint", "decel_slip_speed")   # rb_wsp_
 # the scenario's wsp keys that are rb_wsp_params fields of the same name (SI)
 _WSP_OVERRIDES = ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold", "ref_decel_max",
                   "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin",
-                  "setpoint_release", "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold",
+                  "setpoint_release", "setpoint_memory", "setpoint_ramp", "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold",
                   "ds_reaccel_threshold", "conditioning_ratio")
 
 
@@ -419,6 +419,7 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
         "min_main_reservoir_bar": gauge(k["min_main_reservoir"]),
         "min_supply_bar": gauge(k["min_supply"]),
         "min_supply_margin_bar": k["min_supply_margin"] / BAR,
+        "max_air_shortfall_bar": max(0.0, -k["min_supply_margin"] / BAR),
         "air_drawn_kg": k["air_drawn_kg"],
         "air_vented_kg": k["air_vented_kg"],
         "cylinder_shortfall_s": k["cylinder_shortfall_s"],
