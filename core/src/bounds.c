@@ -140,6 +140,7 @@ static const rb_bound bounds[] = {
     {"adhesion.target_tolerance", "1", 1e-3, 1.0, "a calibration target met within 0.1 % to 100 %"},
     {"adhesion.recovery_axles", "1", 0.1, 100.0, "the rail recovers behind 0.1 to 100 axles (a train has at most 64)"},
     {"adhesion.reference_energy", "J/m2", 1.0, 1e9, "contact energy per rail area that cleans 63 % of the contamination: 1 J/m2 to 1 GJ/m2"},
+    {"adhesion.v_ref", "m/s", 1.0, 1e4, "a rolling speed of 3.6 to 36000 km/h at which wet rail's mu0 is halved (none: no rolling-speed factor)"},
     {"adhesion.rail_cell_length", "m", 0.01, 10.0, "rail cells of 1 cm to 10 m (axles of a bogie stand 2.5 m apart)"},
     {"profile.response_time", "s", 0.0, 30.0, "a brake delay or build-up of up to 30 s (EMUs: ta + tb/2 of 1 to 4 s, EN 14531-1)"},
     {"profile.deceleration", "m/s2", 0.01, 5.0, "a demanded deceleration of 0.01 to 5 m/s2 (beyond, no wheel-rail adhesion)"},

@@ -16,6 +16,8 @@ rb_status rb_polach_check(const rb_polach_params *p, rb_error *err)
     if ((s = rb_check_range(err, "B", p->B, 0.0, 100.0))) return s;
     if ((s = rb_check_range(err, "kA", p->kA, 1e-6, 1.0))) return s;
     if ((s = rb_check_range(err, "kS", p->kS, 1e-6, 1.0))) return s;
+    /* v_ref >= 1 m/s; 0: no rolling-speed factor */
+    if ((s = rb_check_range(err, "v_ref_inv", p->v_ref_inv, 0.0, 1.0))) return s;
     return RB_OK;
 }
 
@@ -30,11 +32,22 @@ rb_status rb_creep_contact_check(const rb_creep_contact *c, rb_error *err)
     return RB_OK;
 }
 
+double rb_polach_rolling_factor(double speed, double v_ref_inv)
+{
+    return 1.0 / (1.0 + speed * v_ref_inv);
+}
+
+/* mu0 at rolling speed `speed`: a division by exactly 1 without the factor (Polach's mu0 itself). */
+static double mu0_at(const rb_polach_params *p, double speed)
+{
+    return p->mu0 / (1.0 + speed * p->v_ref_inv);
+}
+
 double rb_polach_coefficient_fast(double creep, double speed, double normal_force,
                                   const rb_creep_contact *c, const rb_polach_params *p)
 {
     double slip_velocity = fabs(creep) * speed;
-    double mu = p->mu0 * ((1.0 - p->A) * exp(-p->B * slip_velocity) + p->A);
+    double mu = mu0_at(p, speed) * ((1.0 - p->A) * exp(-p->B * slip_velocity) + p->A);
     /* With A = 0 the friction underflows to 0 at large slip velocity: no force (the limit), not 0/0. */
     if (!(mu > 0.0))
         return 0.0;
@@ -128,7 +141,7 @@ static double polach_at(const void *curve, double log_creep)
 static rb_creep_curve polach_curve_of(const polach_curve *k)
 {
     const rb_polach_params *p = k->p;
-    rb_creep_curve f = {polach_at, NULL, k, p->mu0 * ((1.0 - p->A) * exp(-p->B * k->speed) + p->A)};
+    rb_creep_curve f = {polach_at, NULL, k, mu0_at(p, k->speed) * ((1.0 - p->A) * exp(-p->B * k->speed) + p->A)};
     return f;
 }
 

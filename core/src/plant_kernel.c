@@ -47,13 +47,21 @@ RB_ALWAYS_INLINE double polach_magnitude(double mu, double abs_creep, double kA_
     return mu * (2.0 / M_PI) * (base + (num * k_den + k * mu * den) / (den * k_den));
 }
 
+/* The friction coefficient at slip velocity w and rolling speed v with an axle's constants:
+   Polach's falling friction over the rolling-speed factor (rb_polach_params; a division by exactly
+   1 without it, so the law is Polach's bit for bit). */
+RB_ALWAYS_INLINE double friction(double mu_slip, double mu_static, double B, double v_ref_inv, double w, double v)
+{
+    return (mu_slip * rb_exp_nonpos(-B * w) + mu_static) / (1.0 + v * v_ref_inv);
+}
+
 /* Polach's coefficient at a creep and speed with an axle's constants (rb_plant_derived's): the
    kernel's own passes' operations, in their order. */
-RB_ALWAYS_INLINE double polach_law(double mu_slip, double mu_static, double B, double kA_gain, double kS_gain,
-                                   double creep, double speed)
+RB_ALWAYS_INLINE double polach_law(double mu_slip, double mu_static, double B, double v_ref_inv, double kA_gain,
+                                   double kS_gain, double creep, double speed)
 {
     double abs_creep = fabs(creep);
-    double mu = mu_slip * rb_exp_nonpos(-B * (abs_creep * speed)) + mu_static;
+    double mu = friction(mu_slip, mu_static, B, v_ref_inv, abs_creep * speed, speed);
     double f = polach_magnitude(mu, abs_creep, kA_gain, kS_gain);
     return creep < 0.0 ? -f : f;
 }
@@ -61,8 +69,8 @@ RB_ALWAYS_INLINE double polach_law(double mu_slip, double mu_static, double B, d
 /* Polach's coefficient of axle a at a creep and speed. */
 RB_ALWAYS_INLINE double polach(const rb_plant_derived *d, int a, double creep, double speed)
 {
-    return polach_law(d->mu_slip[a], d->mu_static[a], d->polach_B[a], d->polach_kA_gain[a], d->polach_kS_gain[a],
-                      creep, speed);
+    return polach_law(d->mu_slip[a], d->mu_static[a], d->polach_B[a], d->polach_v_ref_inv[a], d->polach_kA_gain[a],
+                      d->polach_kS_gain[a], creep, speed);
 }
 
 /* Pad friction coefficient of axle a at wheel speed `speed` from its car's table; caches the
@@ -103,7 +111,7 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restri
         s->slip_start[a] = slip;
         double creep = fabs(probe * in->inv_creep_speed[a]);
         x.abs_probe[a] = creep > 1e-7 ? creep : 1e-7;
-        x.mu[a] = d->mu_slip[a] * rb_exp_nonpos(-d->polach_B[a] * (x.abs_probe[a] * v)) + d->mu_static[a];
+        x.mu[a] = friction(d->mu_slip[a], d->mu_static[a], d->polach_B[a], d->polach_v_ref_inv[a], x.abs_probe[a] * v, v);
         x.pad[a] = d->pad_value_lo[a] + (wheel - d->pad_speed_lo[a]) * d->pad_slope[a];
         outside |= rb_plant_sign_bits(wheel - d->pad_speed_lo[a]) | ~rb_plant_sign_bits(wheel - d->pad_speed_hi[a]);
     }
@@ -236,16 +244,18 @@ static void axle_curve_at_many(const void *curve, const double *log_creep, doubl
 RB_ALWAYS_INLINE void axle_curves_each(const rb_creep_curve *curves, const int *member, const double *log_creep,
                                        double *f, int n)
 {
-    double mu_slip[RB_CREEP_BATCH * 2], mu_static[RB_CREEP_BATCH * 2], B[RB_CREEP_BATCH * 2];
+    double mu_slip[RB_CREEP_BATCH * 2], mu_static[RB_CREEP_BATCH * 2], B[RB_CREEP_BATCH * 2], v_ref_inv[RB_CREEP_BATCH * 2];
     double kA[RB_CREEP_BATCH * 2], kS[RB_CREEP_BATCH * 2], speed[RB_CREEP_BATCH * 2];
     for (int j = 0; j < n; ++j) {
         const axle_curve *k = curves[member[j]].curve;
         const int a = k->axle;
         mu_slip[j] = k->d->mu_slip[a]; mu_static[j] = k->d->mu_static[a]; B[j] = k->d->polach_B[a];
+        v_ref_inv[j] = k->d->polach_v_ref_inv[a];
         kA[j] = k->d->polach_kA_gain[a]; kS[j] = k->d->polach_kS_gain[a]; speed[j] = k->speed;
     }
     for (int j = 0; j < n; ++j)
-        f[j] = polach_law(mu_slip[j], mu_static[j], B[j], kA[j], kS[j], rb_exp_nonpos(log_creep[j] * M_LN10), speed[j]);
+        f[j] = polach_law(mu_slip[j], mu_static[j], B[j], v_ref_inv[j], kA[j], kS[j],
+                          rb_exp_nonpos(log_creep[j] * M_LN10), speed[j]);
 }
 
 static void axle_curves_each_portable(const rb_creep_curve *curves, const int *member, const double *log_creep,
@@ -273,7 +283,8 @@ static rb_creep_curve axle_curve_of(const rb_plant_state *s, int axle, axle_curv
     k->avx2 = s->kernel == RB_PLANT_KERNEL_AVX2;
     k->speed = v > 0.0 ? v : 0.0;
     rb_creep_curve f = {axle_curve_at, axle_curve_at_many, k,
-                        d->mu_slip[axle] * rb_exp_nonpos(-d->polach_B[axle] * k->speed) + d->mu_static[axle]};
+                        friction(d->mu_slip[axle], d->mu_static[axle], d->polach_B[axle], d->polach_v_ref_inv[axle],
+                                 k->speed, k->speed)};
     return f;
 }
 

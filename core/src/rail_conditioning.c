@@ -248,6 +248,7 @@ void rb_plant_set_axle_adhesion(rb_plant_state *s, int axle, const rb_polach_par
     s->polach[axle] = *q;
     d->mu_static[axle] = q->mu0 * q->A;
     d->mu_slip[axle] = q->mu0 * (1.0 - q->A);
+    d->polach_v_ref_inv[axle] = q->v_ref_inv;
     d->polach_B[axle] = q->B;
     d->polach_kA_gain[axle] = q->kA * d->polach_gain[axle / RB_AXLES_PER_CAR];   /* derive_mechanics set the gain */
     d->polach_kS_gain[axle] = q->kS * d->polach_gain[axle / RB_AXLES_PER_CAR];

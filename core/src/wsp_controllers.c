@@ -32,14 +32,17 @@
 void rb_wsp_setpoint_defaults(rb_wsp_params *p)
 {
     p->controller = RB_WSP_THRESHOLD;
-    /* Wet rail at high speed (hs-wet, Polach B = 17 s/m) peaks at slip velocities growing with
-       speed, 0.042 m/s at 20 km/h to 0.128 m/s at 300 km/h: the set-point is the chord of that
-       curve through both ends, so it lies on or below the peak (its stable side) in between.
-       A constant set-point (0.07 m/s before) sat at 69 % of the peak adhesion at 300 km/h and past
-       the peak below 60 km/h. [T]: no published set-point of a particular WSP was found; exposed
-       (scenario wsp.*). */
-    p->setpoint_speed = 0.036;   /* m/s ... */
-    p->setpoint_slip = 0.0011;   /* ... plus this fraction of the reference speed */
+    /* Wet rail at high speed peaks at slip velocities growing with speed; lowest on heavy-rain's
+       leading axle (its curve is hs-wet's, on a fifth of the friction), 0.066 m/s at 20 km/h to
+       0.233 m/s at 300 km/h, whose chord through both ends, 0.054 m/s + 0.215 %, lies on or below
+       the peak (its stable side) of every axle of heavy-rain and of hs-wet. The set-point lies
+       somewhat below that chord, chosen on the emergency stops from 300 km/h with the pressure
+       memory below [T]: at the chord itself the 1-car heavy-rain stop used 0.63 of its adhesion
+       (0.83 to 0.86 around the set-point chosen; hs-wet, 8 and 16 cars: 0.88, 0.87). The chord of
+       hs-wet's former fit (B = 17 s/m), 0.036 m/s + 0.11 %, used 0.80 of the refitted hs-wet's
+       adhesion. No published set-point of a particular WSP was found; exposed (scenario wsp.*). */
+    p->setpoint_speed = 0.045;   /* m/s ... */
+    p->setpoint_slip = 0.0016;   /* ... plus this fraction of the reference speed */
     /* Band, lead time and the estimate's margin chosen on the hs-wet emergency stops from 300 km/h
        of 4 to 16 cars [T] (docs/simulation.md): a narrow band keeps the slip at the
        peak, the lead time covers the valves' delay and the cylinder's first fall, a small margin

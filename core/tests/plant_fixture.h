@@ -43,7 +43,7 @@ static inline void fill_plant(rb_plant_params *p, int n_cars, double speed)
     p->compressor_flow = 0.03; p->governor_on = 8.5e5; p->governor_off = 10e5;
     p->initial_pressure = 9.5e5; p->initial_speed = speed;
     p->n_conditions = 1;
-    p->condition[0] = (rb_plant_condition){{0.55, 0.40, 0.60, 1.0, 0.4}, 1.0, 0.0, 0.0};  /* Polach dry */
+    p->condition[0] = (rb_plant_condition){{0.55, 0.40, 0.60, 1.0, 0.4, 0.0}, 1.0, 0.0, 0.0};  /* Polach dry */
     p->creep_speed_min = 1.0;
 }
 

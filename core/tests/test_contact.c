@@ -83,13 +83,13 @@ static void test_kalker(void)
 static void test_polach(void)
 {
     rb_creep_contact c = {6e-3, 4e-3, 4.0, 8.1e10};
-    rb_polach_params linear = {0.5, 1.0, 0.0, 1.0, 1.0};
+    rb_polach_params linear = {0.5, 1.0, 0.0, 1.0, 1.0, 0.0};
     double Q = 8e4, s = 1e-7;
     /* kA = kS = 1, constant mu: Kalker's linear slope G a b c11. */
     double f = rb_polach_coefficient_fast(s, 10.0, Q, &c, &linear) * Q;
     CHECK_CLOSE(f / s, c.shear_modulus * c.a * c.b * c.c11, 1e-6, 0);
     /* Zero creep, antisymmetry, locked wheel, standstill. */
-    rb_polach_params dry = {0.55, 0.4, 0.6, 1.0, 0.4};
+    rb_polach_params dry = {0.55, 0.4, 0.6, 1.0, 0.4, 0.0};
     CHECK(rb_polach_coefficient_fast(0.0, 30.0, Q, &c, &dry) == 0.0);
     CHECK_CLOSE(rb_polach_coefficient_fast(-0.02, 30.0, Q, &c, &dry),
                 -rb_polach_coefficient_fast(0.02, 30.0, Q, &c, &dry), 1e-15, 0);
@@ -117,10 +117,62 @@ static void test_polach(void)
 static void test_polach_vanishing_friction(void)
 {
     rb_creep_contact c = {0.006, 0.005, 4.0, 8.1e10};
-    rb_polach_params p = {0.5, 0.0, 20.0, 0.3, 0.1};
+    rb_polach_params p = {0.5, 0.0, 20.0, 0.3, 0.1, 0.0};
     double f = rb_polach_coefficient_fast(-1.0, 83.3, 83e3, &c, &p);
     CHECK(isfinite(f));
     CHECK(f == 0.0);
+}
+
+/* The rolling-speed factor mu0 / (1 + v / v_ref): off (v_ref_inv 0) and at v_ref -> infinity
+ * (v_ref_inv below half an ulp of 1 over the speed) it is Polach's law bit for bit (Polach 2005's
+ * mu(w) and F written here again, in the same operations); on, the coefficient and the peak at speed v are those of
+ * Polach's law with mu0 / (1 + v / v_ref), so at v = v_ref the peak is that of mu0 / 2; the peak
+ * falls with speed at any slip. */
+static double polach_reference(double creep, double speed, double Q, const rb_creep_contact *c,
+                               const rb_polach_params *p)
+{
+    double w = fabs(creep) * speed, mu = p->mu0 * ((1.0 - p->A) * exp(-p->B * w) + p->A);
+    double eps = c->shear_modulus * M_PI * c->a * c->b * c->c11 / (4.0 * Q * mu) * fabs(creep), k = p->kA * eps;
+    double f = 2.0 * mu / M_PI * (k / (1.0 + k * k) + atan(p->kS * eps));
+    return creep < 0.0 ? -f : f;
+}
+
+static void test_polach_rolling_factor(void)
+{
+    rb_creep_contact c = {0.0062, 0.0049, 4.12, 8.1e10};
+    const double Q = 83e3;
+    rb_polach_params off = {0.30, 0.40, 0.20, 0.3, 0.1, 0.0}, far = off, on = off;
+    far.v_ref_inv = 1e-300;            /* v_ref -> infinity */
+    on.v_ref_inv = 3.6 / 100.0;        /* v_ref 100 km/h */
+    int same = 1;
+    for (int i = 0; i <= 70; ++i)
+        for (int j = 0; j <= 10; ++j) {
+            double creep = -pow(10.0, -7.0 + i * 0.1), v = 10.0 * j;
+            double reference = polach_reference(creep, v, Q, &c, &off);
+            same &= rb_polach_coefficient_fast(creep, v, Q, &c, &off) == reference;
+            same &= rb_polach_coefficient_fast(creep, v, Q, &c, &far) == reference;
+            rb_polach_params scaled = off;
+            scaled.mu0 = off.mu0 / (1.0 + v * on.v_ref_inv);
+            CHECK_CLOSE(rb_polach_coefficient_fast(creep, v, Q, &c, &on), polach_reference(creep, v, Q, &c, &scaled),
+                        1e-15, 0);
+        }
+    CHECK(same);
+    CHECK(rb_polach_rolling_factor(250.0, 0.0) == 1.0);
+    CHECK_CLOSE(rb_polach_rolling_factor(100.0 / 3.6, 3.6 / 100.0), 0.5, 1e-15, 0);
+    double peak_on, peak_half, peak_off, creep_on, creep_half;
+    rb_polach_params half = off;
+    half.mu0 = 0.5 * off.mu0;
+    CHECK(rb_polach_peak(100.0 / 3.6, Q, &c, &on, &peak_on, &creep_on, NULL) == RB_OK);
+    CHECK(rb_polach_peak(100.0 / 3.6, Q, &c, &half, &peak_half, &creep_half, NULL) == RB_OK);
+    CHECK(rb_polach_peak(100.0 / 3.6, Q, &c, &off, &peak_off, NULL, NULL) == RB_OK);
+    CHECK_CLOSE(peak_on, peak_half, 1e-9, 0);
+    CHECK_CLOSE(creep_on, creep_half, 1e-6, 0);
+    CHECK(peak_on < 0.6 * peak_off);
+    rb_error err;
+    rb_polach_params bad = on;
+    bad.v_ref_inv = -0.01;
+    CHECK(rb_polach_check(&bad, &err) == RB_EINVAL);
+    CHECK(strstr(err.message, "v_ref_inv") != NULL);
 }
 
 /* The followed peak (rb_polach_peak_track), down in speed as a run samples it, over the checked
@@ -143,7 +195,7 @@ static void test_polach_peak_track(void)
     int same_branch = 0, other_branch = 0;
     for (int set = 0; set < 200; ++set) {
         rb_polach_params p = {0.01 + 0.99 * uniform(&seed), uniform(&seed), pow(10.0, -2.0 + 4.0 * uniform(&seed)),
-                              pow(10.0, -3.0 + 3.0 * uniform(&seed)), pow(10.0, -3.0 + 3.0 * uniform(&seed))};
+                              pow(10.0, -3.0 + 3.0 * uniform(&seed)), pow(10.0, -3.0 + 3.0 * uniform(&seed)), 0.0};
         if (set % 2 == 0) p.kS = p.kA * (0.14 + 0.86 * uniform(&seed));
         double Q = 50e3 + 60e3 * uniform(&seed), log_creep = NAN;
         for (double v = 100.0; v > 2.0; v -= 0.7) {
@@ -196,7 +248,7 @@ static void test_peaks_track_batch(void)
     int differ = 0;
     for (int i = 0; i < N; ++i) {
         rb_polach_params p = {0.01 + 0.99 * uniform(&seed), uniform(&seed), pow(10.0, -2.0 + 4.0 * uniform(&seed)),
-                              pow(10.0, -3.0 + 3.0 * uniform(&seed)), pow(10.0, -3.0 + 3.0 * uniform(&seed))};
+                              pow(10.0, -3.0 + 3.0 * uniform(&seed)), pow(10.0, -3.0 + 3.0 * uniform(&seed)), 0.0};
         k[i] = (test_curve){2.0 + 90.0 * uniform(&seed), 50e3 + 60e3 * uniform(&seed), &c, p};
         f[i] = (rb_creep_curve){test_curve_at, NULL, &k[i], p.mu0 * ((1.0 - p.A) * exp(-p.B * k[i].speed) + p.A)};
         int maxima;   /* a start near the peak (Newton's), or none (the scan) */
@@ -223,6 +275,7 @@ int main(void)
     test_hertz_bad_input();
     test_kalker();
     test_polach();
+    test_polach_rolling_factor();
     test_polach_peak_track();
     test_peaks_track_batch();
     return rb_test_summary("test_contact");

@@ -18,9 +18,9 @@ static void run_stop(int kernel, int wsp, rb_run_state *r, rb_kpis *k, char *nam
     int finished = 0;
     fill_plant(&p, 4, 250 / 3.6);
     p.kernel = kernel;
-    p.n_conditions = 2;   /* wet (Polach) with a low-adhesion zone */
-    p.condition[0] = (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0, 0.0};
-    p.condition[1] = (rb_plant_condition){{0.12, 0.40, 0.20, 0.2, 0.05}, 0.6, 4.0, 0.0};
+    p.n_conditions = 2;   /* wet (Polach) with a low-adhesion zone whose friction falls with rolling speed */
+    p.condition[0] = (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1, 0.0}, 0.5, 4.0, 0.0};
+    p.condition[1] = (rb_plant_condition){{0.24, 0.40, 0.20, 0.2, 0.05, 3.6 / 250.0}, 0.6, 4.0, 0.0};
     p.n_zones = 1;
     p.zone[0] = (rb_track_zone){300.0, 900.0, 1};
     memset(&b, 0, sizeof b);
@@ -240,7 +240,8 @@ static void test_kernels_agree_car_faults(void)
 
 /* The kernel's Polach coefficient (divisions merged, rb_atan_ratio_parts) against the law with libm
  * (rb_polach_coefficient_fast) over creeps from 1e-7 to 1 and speeds from 0.5 to 100 m/s, on dry
- * and wet rail (each axle its conditioning): within 1e-14 relative. */
+ * and wet rail (each axle its conditioning) and wet rail with the rolling-speed factor: within
+ * 1e-14 relative. */
 static void test_polach(void)
 {
     static rb_plant_params p;
@@ -248,9 +249,12 @@ static void test_polach(void)
     double worst = 0.0;
     fill_plant(&p, 1, 50.0);
     p.n_conditions = 1;
-    for (int set = 0; set < 2; ++set) {
-        p.condition[0] = set ? (rb_plant_condition){{0.30, 0.40, 0.25, 0.3, 0.1}, 0.5, 4.0, 0.0}
-                             : (rb_plant_condition){{0.55, 0.40, 0.60, 0.4, 0.2}, 1.0, 0.0, 0.0};
+    const rb_plant_condition sets[3] = {{{0.55, 0.40, 0.60, 0.4, 0.2, 0.0}, 1.0, 0.0, 0.0},
+                                        {{0.30, 0.40, 0.25, 0.3, 0.1, 0.0}, 0.5, 4.0, 0.0},
+                                        /* wet with the rolling-speed factor (v_ref 100 km/h) */
+                                        {{0.18, 0.40, 0.20, 0.3, 0.1, 3.6 / 100.0}, 1.0, 0.0, 0.0}};
+    for (int set = 0; set < 3; ++set) {
+        p.condition[0] = sets[set];
         CHECK(rb_plant_init(&p, &s, NULL) == RB_OK);
         double wheel_load = 0.5 * p.car[0].vehicle.wheelset.axle_load * 9.80665;
         for (int axle = 0; axle < RB_AXLES_PER_CAR; ++axle)

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#define HEAVY_RAIN {0.126, 0.126, 1.37, 0.30, 0.10}
+#define HEAVY_RAIN {0.126, 0.126, 1.37, 0.30, 0.10, 0.0}
 
 /* n cars from 300 km/h on uniformly contaminated rail, cylinders filled at a constant demand with
  * no WSP: the wheels slide and clean the rail. */

@@ -45,7 +45,7 @@ static void test_conditioned_rail_with_a_zone(void)
     fill_plant(&p, 4, 300 / 3.6);
     p.n_conditions = 2;
     p.condition[1] = p.condition[0];   /* the fixture's: Polach dry */
-    p.condition[0] = (rb_plant_condition){{0.126, 0.126, 1.37, 0.30, 0.10}, 0.2, 8.7, 0.0};
+    p.condition[0] = (rb_plant_condition){{0.126, 0.126, 1.37, 0.30, 0.10, 0.0}, 0.2, 8.7, 0.0};
     p.n_zones = 1;
     p.zone[0] = (rb_track_zone){1500.0, 2500.0, 1};
     double difference = followed_against_full(&p, 400.0);
@@ -62,7 +62,7 @@ static void test_second_branch(void)
 {
     static rb_plant_params p;
     fill_plant(&p, 1, 120 / 3.6);
-    p.condition[0] = (rb_plant_condition){{0.460578, 0.172817, 1.21811, 0.445929, 0.105872}, 1.0, 0.0, 0.0};
+    p.condition[0] = (rb_plant_condition){{0.460578, 0.172817, 1.21811, 0.445929, 0.105872, 0.0}, 1.0, 0.0, 0.0};
     double difference = followed_against_full(&p, 400.0);
     printf("second branch: followed peaks against full searches %.2e\n", difference);
     CHECK(difference <= 1e-10);
@@ -232,7 +232,7 @@ static void test_sliding_energy(void)
     static rb_run_state r;
     double e[3], lock[2];
     rb_kpis k;
-    const rb_polach_params dry = {0.55, 0.40, 0.60, 1.0, 0.4}, flat = {0.05, 1.0, 0.60, 1.0, 0.4};
+    const rb_polach_params dry = {0.55, 0.40, 0.60, 1.0, 0.4, 0.0}, flat = {0.05, 1.0, 0.60, 1.0, 0.4, 0.0};
     energy_stop(&dry, 1, &r, &p, e, lock);
     rb_run_kpis(&p, &r, &k);
     printf("dry, WSP: kinetic %.4e J, discs %.4e J, sliding %.4e J\n", e[0], e[1], e[2]);

@@ -93,7 +93,7 @@ class Hertz(Structure):
 
 
 class PolachParamsC(Structure):
-    _fields_ = [(n, c_double) for n in ("mu0", "A", "B", "kA", "kS")]
+    _fields_ = [(n, c_double) for n in ("mu0", "A", "B", "kA", "kS", "v_ref_inv")]
 
 
 class CreepContact(Structure):

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railbrake import _core
+from railbrake import _core, config
 from railbrake._args import instance, real, reals
 from railbrake.errors import InputError
 from railbrake.units import G_STANDARD
@@ -57,24 +57,37 @@ class HertzContact:
 
 @dataclass(frozen=True)
 class PolachParams:
-    """Polach's five parameters: mu0, A, B [s/m], kA, kS (Polach 2005, Table 2 for dry/wet)."""
+    """Polach's five parameters: mu0, A, B [s/m], kA, kS (Polach 2005, Table 2 for dry/wet), and
+    optionally v_ref [m/s], the rolling speed at which mu0 is halved: wet rail's friction falling
+    with the train speed v itself, mu0 / (1 + v / v_ref) (rb_contact.h). v_ref = None (the default):
+    Polach's law."""
 
     mu0: float
     A: float
     B: float
     kA: float
     kS: float
+    v_ref: float | None = None
 
     def __post_init__(self):
         for key in ("mu0", "A", "B", "kA", "kS"):
             object.__setattr__(self, key, real(key, getattr(self, key)))
+        if self.v_ref is not None:
+            object.__setattr__(self, "v_ref", real("v_ref", self.v_ref, *config.bound_in("adhesion.v_ref")[:2]))
         _core.call(_core.rb_polach_check, ctypes.byref(self.to_c()))
 
+    @property
+    def v_ref_inv(self) -> float:
+        """1 / v_ref (s/m), 0 without the rolling-speed factor: the C core's form."""
+        return 0.0 if self.v_ref is None else 1.0 / self.v_ref
+
     def to_c(self) -> _core.PolachParamsC:
-        return _core.PolachParamsC(self.mu0, self.A, self.B, self.kA, self.kS)
+        return _core.PolachParamsC(self.mu0, self.A, self.B, self.kA, self.kS, self.v_ref_inv)
 
     def as_dict(self) -> dict:
-        return {"mu0": self.mu0, "A": self.A, "B": self.B, "kA": self.kA, "kS": self.kS}
+        """The parameters; v_ref (m/s) only where the rolling-speed factor is on."""
+        out = {"mu0": self.mu0, "A": self.A, "B": self.B, "kA": self.kA, "kS": self.kS}
+        return out if self.v_ref is None else {**out, "v_ref": self.v_ref}
 
 
 def relative_radius(*radii: float) -> float:

@@ -198,3 +198,23 @@ def test_polach_peak_is_the_maximum():
     dense = polach_coefficient(creep, 10.0, contact.normal_force, contact, params)
     assert peak >= dense.max() - 1e-12
     assert at == pytest.approx(creep[np.argmax(dense)], rel=2e-3)
+
+
+def test_polach_rolling_speed_factor_scales_mu0_with_the_train_speed():
+    """mu0 / (1 + v / v_ref): at each speed the law of mu0 scaled by the factor (the C core's, through
+    the bindings); without v_ref Polach's law itself; a v_ref below 1 m/s is refused by name."""
+    contact = default_contact()
+    q = contact.normal_force
+    wet = PolachParams(0.30, 0.40, 0.20, 0.30, 0.10)
+    film = PolachParams(0.30, 0.40, 0.20, 0.30, 0.10, v_ref=25.0)
+    creep = -np.logspace(-6, 0, 61)
+    for v in (0.0, 10.0, 25.0, 80.0):
+        scaled = PolachParams(0.30 / (1.0 + v / 25.0), 0.40, 0.20, 0.30, 0.10)
+        assert np.allclose(polach_coefficient(creep, v, q, contact, film),
+                           polach_coefficient(creep, v, q, contact, scaled), rtol=1e-14, atol=0.0)
+    assert polach_peak(25.0, q, contact, film)[0] == pytest.approx(
+        polach_peak(25.0, q, contact, PolachParams(0.15, 0.40, 0.20, 0.30, 0.10))[0], rel=1e-9)
+    assert np.array_equal(polach_coefficient(creep, 80.0, q, contact, wet),
+                          polach_coefficient(creep, 80.0, q, contact, PolachParams(0.30, 0.40, 0.20, 0.30, 0.10, None)))
+    with pytest.raises(InputError, match="v_ref = 0.5"):
+        PolachParams(0.30, 0.40, 0.20, 0.30, 0.10, v_ref=0.5)

@@ -39,14 +39,25 @@ rb_status rb_hertz_contact(double normal_force, double rx, double ry, double you
  * Linear in a/b inside Table E.3, quadratic in poisson (on 1/C), asymptotes outside. */
 rb_status rb_kalker(int which, double a_over_b, double poisson, double *out, rb_error *err);
 
-/* Polach's five parameters. */
+/* Polach's five parameters, and an optional rolling-speed factor on mu0 (wet rail: the water film
+ * between wheel and rail thickens with rolling speed, so the friction falls with the train speed v
+ * itself, not only with the slip velocity w):
+ *     mu(v, w) = mu0 / (1 + v v_ref_inv) * ((1 - A) exp(-B w) + A).
+ * v_ref_inv = 0 (v_ref infinite) is Polach's law, bit for bit (the factor is exactly 1). The rolling
+ * speed is taken as the train speed: the wheel's differs by the slip velocity, the contact's
+ * entrainment speed by half of it. */
 typedef struct {
-    double mu0;  /* maximum friction coefficient (at zero slip velocity) */
+    double mu0;  /* maximum friction coefficient (at zero slip velocity; at standstill with v_ref_inv) */
     double A;    /* ratio of the friction at infinite slip velocity to mu0, 0..1 */
     double B;    /* exponential friction decrease rate, s/m */
     double kA;   /* reduction of Kalker's slope in the area of adhesion, (0, 1] */
     double kS;   /* reduction of Kalker's slope in the area of slip, (0, 1] */
+    double v_ref_inv;  /* 1 / v_ref, s/m: rolling speed at which mu0 is halved, inverted; 0: none */
 } rb_polach_params;
+
+/* The rolling-speed factor 1 / (1 + v v_ref_inv) on mu0 at train speed v (m/s, >= 0): exactly 1
+ * with v_ref_inv = 0. */
+double rb_polach_rolling_factor(double speed, double v_ref_inv);
 
 /* What the creep-force law needs of a contact. */
 typedef struct {

@@ -327,9 +327,10 @@ typedef struct {
     double brake_gain[RB_PLANT_MAX_CARS];    /* discs x 2 x mean radius x lever x efficiency */
     double caliper_atmosphere[RB_PLANT_MAX_CARS], caliper_area[RB_PLANT_MAX_CARS];
     double caliper_spring[RB_PLANT_MAX_CARS];
-    /* Polach per axle (refreshed with the axle's zone): mu = mu_static + mu_slip exp(-B w); k_A and
-       k_S times the car's polach_gain (k_A eps = kA_gain |creep| / mu) */
-    double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES];
+    /* Polach per axle (refreshed with the axle's zone): mu = (mu_static + mu_slip exp(-B w)) / (1 + v
+       v_ref_inv) (the rolling-speed factor, exactly 1 with v_ref_inv 0); k_A and k_S times the car's
+       polach_gain (k_A eps = kA_gain |creep| / mu) */
+    double mu_static[RB_PLANT_MAX_AXLES], mu_slip[RB_PLANT_MAX_AXLES], polach_v_ref_inv[RB_PLANT_MAX_AXLES];
     double polach_B[RB_PLANT_MAX_AXLES], polach_kA_gain[RB_PLANT_MAX_AXLES], polach_kS_gain[RB_PLANT_MAX_AXLES];
     /* each axle's last pad-table interval, speed[lo] <= wheel speed < speed[lo + 1], with its ends,
        value and slope (so the kernel interpolates without the table or a division; empty at init:

@@ -1,6 +1,7 @@
 """Adhesion conditions (presets as data files), peak adhesion and the Polach parameter fit.
 
-A *condition* is Polach's five parameters plus, optionally, rail conditioning by the axles
+A *condition* is Polach's five parameters plus, optionally, a rolling-speed factor on mu0 (wet
+rail: mu0 / (1 + v / v_ref), the file's params.v_ref_kmh) and rail conditioning by the axles
 ahead (heavy rain: the leading wheels clean the rail for those behind). Wherever a condition
 is accepted, so are a preset name, a path to a preset file, a :class:`PolachParams`, or a
 mapping with the five parameters.
@@ -97,7 +98,7 @@ class Fit:
     no_data: str = ""           # where fitted_on is empty: what was searched and not found
     creep: str = ""             # the creep the data cover
 
-    FITTABLE = ("mu0", "A", "B", "kA", "kS", "leading_factor", "recovery_axles")
+    FITTABLE = ("mu0", "A", "B", "kA", "kS", "v_ref_kmh", "leading_factor", "recovery_axles")
 
 
 @dataclass(frozen=True)
@@ -144,6 +145,16 @@ class AdhesionCondition:
     validity: Validity | None = None
     fit: Fit | None = None
 
+    def fit_values(self) -> dict:
+        """The parameters a fit block names, in the file's units (v_ref_kmh in km/h, where set)."""
+        values = {k: getattr(self.params, k) for k in ("mu0", "A", "B", "kA", "kS")}
+        if self.params.v_ref is not None:
+            values["v_ref_kmh"] = ms_to_kmh(self.params.v_ref)
+        if self.conditioning is not None:
+            values.update(leading_factor=self.conditioning.leading_factor,
+                          recovery_axles=self.conditioning.recovery_axles)
+        return values
+
     def params_at_axle(self, axle: int = 0) -> PolachParams:
         """Polach parameters seen by the given axle (counted from the front of the train)."""
         axle = whole("axle", axle)
@@ -163,6 +174,14 @@ class _ParamsModel(BaseModel):
     B: float
     kA: float
     kS: float
+    # the rolling speed (km/h) at which mu0 is halved, mu0 / (1 + v / v_ref); absent: none
+    v_ref_kmh: float | None = Field(default=None, ge=ms_to_kmh(config.bound_in("adhesion.v_ref")[0]),
+                                    le=ms_to_kmh(config.bound_in("adhesion.v_ref")[1]))
+
+    def polach(self) -> dict:
+        """PolachParams' arguments, in SI."""
+        values = self.model_dump(exclude={"v_ref_kmh"})
+        return values if self.v_ref_kmh is None else {**values, "v_ref": self.v_ref_kmh * KMH}
 
 
 class _CellsModel(BaseModel):
@@ -261,7 +280,8 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
                                                    _config_lines(text).get(("validity", "creep")))
     try:
         return AdhesionCondition(
-            name=model.name, title=model.title, params=_located(PolachParams, model.params, "params", text, origin),
+            name=model.name, title=model.title,
+            params=_located(PolachParams, model.params, "params", text, origin, values=model.params.polach()),
             conditioning=_conditioning(cond, text, origin) if cond else None,
             source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets),
             validity=validity, fit=_fit(model, text, origin))
@@ -279,7 +299,7 @@ def _fit(model: _ConditionFile, text: str, origin: str) -> Fit | None:
     where = f"{origin}{f', line {line}' if line else ''}: fit"
     if not fit.fitted_on and not (fit.no_data and fit.no_data.strip()):
         raise InputError(f"{where}: fitted_on is empty: name the data sets fitted, or say in no_data what was searched")
-    values = dict(model.params.model_dump())
+    values = {k: v for k, v in model.params.model_dump().items() if v is not None}
     if model.conditioning is not None:
         values.update(leading_factor=model.conditioning.leading_factor,
                       recovery_axles=model.conditioning.recovery_axles)
@@ -343,10 +363,11 @@ def car_max_adhesion(result, above_kmh: float) -> dict:
     return {car: float(np.mean(v)) for car, v in sorted(per_car.items())}
 
 
-def _located(kind, block, section: str, text: str, origin: str, exclude=None):
-    """kind(**block) with the core's range error located: file, line and the key under `section`."""
+def _located(kind, block, section: str, text: str, origin: str, exclude=None, values=None):
+    """kind(**block) (or kind(**values), the block's values converted) with the core's range error
+    located: file, line and the key under `section`."""
     try:
-        return kind(**block.model_dump(exclude=exclude))
+        return kind(**(block.model_dump(exclude=exclude) if values is None else values))
     except InputError as exc:
         key = str(exc).split(" = ", 1)[0].split(":", 1)[0].strip()
         line = _config_lines(text).get((section, key))
@@ -361,7 +382,8 @@ ConditionLike = Union[str, Path, PolachParams, Mapping, AdhesionCondition]
 
 
 def load_condition(condition: ConditionLike) -> AdhesionCondition:
-    """A preset name, a preset file, PolachParams, a mapping of the five parameters, or a condition."""
+    """A preset name, a preset file, PolachParams, a mapping of the five parameters (and v_ref, m/s,
+    optional), or a condition."""
     if isinstance(condition, AdhesionCondition):
         return condition
     if isinstance(condition, PolachParams):
@@ -370,7 +392,8 @@ def load_condition(condition: ConditionLike) -> AdhesionCondition:
         missing = {"mu0", "A", "B", "kA", "kS"} - set(condition)
         if missing:
             raise InputError(f"condition = {dict(condition)}: missing {sorted(missing)}")
-        return load_condition(PolachParams(**{k: float(condition[k]) for k in ("mu0", "A", "B", "kA", "kS")}))
+        keys = ("mu0", "A", "B", "kA", "kS") + (("v_ref",) if "v_ref" in condition else ())
+        return load_condition(PolachParams(**{k: float(condition[k]) for k in keys}))
     name = name_or_path("condition", condition)
     if name in preset_names():
         return _preset(name)

@@ -70,14 +70,17 @@ def list_conditions(json: bool = typer.Option(False, "--json", help="Print as JS
             for c in presets]})
         return
     table = Table(title="Adhesion conditions (Polach parameters)")
-    for column in ("name", "mu0", "A", "B (s/m)", "kA", "kS", "conditioning", "valid (km/h)", "source"):
+    for column in ("name", "mu0", "A", "B (s/m)", "kA", "kS", "v_ref (km/h)", "conditioning", "valid (km/h)",
+                   "source"):
         table.add_column(column)
     for c in presets:
         p = c.params
         cond = "-" if c.conditioning is None else \
             f"lead x{c.conditioning.leading_factor:g}, {c.conditioning.recovery_axles:g} axles"
         valid = "-" if c.validity is None else f"{c.validity.speed_min_kmh:g}-{c.validity.speed_max_kmh:g}"
-        table.add_row(c.name, f"{p.mu0:g}", f"{p.A:g}", f"{p.B:g}", f"{p.kA:g}", f"{p.kS:g}", cond, valid, c.source)
+        v_ref = "-" if p.v_ref is None else f"{ms_to_kmh(p.v_ref):g}"
+        table.add_row(c.name, f"{p.mu0:g}", f"{p.A:g}", f"{p.B:g}", f"{p.kA:g}", f"{p.kS:g}", v_ref, cond, valid,
+                      c.source)
     Console(width=200).print(table)
 
 

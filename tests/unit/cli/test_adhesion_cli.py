@@ -45,7 +45,10 @@ def test_conditions_lists_presets_with_sources():
     assert "Polach" in names["wet"]["source"]
     # each preset's fit: the data sets (validation cases) and the findings at a bound
     assert names["dry-medium"]["fit"]["fitted_on"] == ["curtius-kniffler-dry"]
-    assert names["hs-wet"]["fit"]["bounds"]["A"] == [0.05, 1.0] and "A" in names["hs-wet"]["fit"]["at_bound"]
+    assert names["hs-wet"]["fit"]["bounds"]["v_ref_kmh"] == [5.0, 2000.0] and not names["hs-wet"]["fit"]["at_bound"]
+    assert "leading_factor" in names["heavy-rain"]["fit"]["at_bound"]
+    # the rolling-speed factor in SI (m/s) where a preset has it, absent where not
+    assert names["hs-wet"]["params"]["v_ref"] == pytest.approx(152.4 / 3.6) and "v_ref" not in names["wet"]["params"]
 
 
 def test_fit_command_on_example(tmp_path):
