@@ -242,7 +242,15 @@ def _more_runs(ctx: runs.Context, counts: list, bounds: list, carrying: list, bu
     return jobs
 
 
-def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) -> BrakingModel:
+def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None, scheduler: str | None = None,
+                  connect_timeout: float | None = None) -> BrakingModel:
+    """The braking model of spec's train; its runs in `out` (None: kept in memory) on the campaign
+    engine (railbrake.etcs.runs.Runner: `workers` local processes, or an existing Dask scheduler)."""
+    with runs.Runner(spec, out, workers, scheduler, progress, connect_timeout) as runner:
+        return _braking_model(spec, runner)
+
+
+def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     ctx = runs.context(spec)
     warnings_ = check_conditions(ctx)   # before any run
     t_be = nominal_build_up(ctx)
@@ -251,7 +259,7 @@ def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) ->
     effects_, screened = screen(ctx, t_be, nominal)
     warnings_ += screened
     missing = max(0.0, 1.0 - sum(st.probability for st in ctx.states))
-    rows = runs.run_all(spec, ctx.jobs(), out, workers, progress)
+    rows = runner.run(ctx.jobs())
     while True:
         per_state = [[] for _ in ctx.states]
         for (s, _), row in sorted(rows.items()):
@@ -261,7 +269,7 @@ def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) ->
         more = _more_runs(ctx, [len(r) for r in ratios], bounds, carrying, spec.run_budget - len(rows))
         if not more:
             break
-        rows.update(runs.run_all(spec, more, out, workers, progress))
+        rows.update(runner.run(more))
     worst = max(max(lh) for step in bounds for lh in step)
     if worst > spec.kdry_bound:
         warnings_.append(f"Kdry_rst: the sampling bound reaches {worst:.4f} (above {spec.kdry_bound:g}) after the "
