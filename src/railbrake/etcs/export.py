@@ -55,6 +55,7 @@ def to_json(m: BrakingModel) -> dict:
         "failure_states": m.states,
         "unenumerated_probability": m.unenumerated_probability,
         "failure_effects": m.effects,
+        "importance": m.importance,
         "warnings": m.warnings,
         "runs": m.runs,
         "analysis": asdict(m.spec),

@@ -32,7 +32,7 @@ from railbrake import _core, config, simulation
 from railbrake.adhesion import load_condition
 from railbrake.simulation import response
 from railbrake.errors import InputError
-from railbrake.etcs import bound, confidence, effects, mixture, runs
+from railbrake.etcs import bound, confidence, effects, importance, mixture, runs
 from railbrake.units import KMH
 
 
@@ -118,6 +118,7 @@ class BrakingModel:
     kdry_bounds: list = field(default_factory=list)   # [step][M_NVEBCL]: (lower, upper) distance, 95 %
     kwet_steps: list = field(default_factory=list)    # Kwet_rst per speed step, before rounding
     initial_speed_kmh: float = 0.0
+    importance: list = field(default_factory=list)   # [M_NVEBCL]: railbrake.etcs.importance.ranking
 
     def kdry_coded(self) -> list:
         """Each Kdry_rst on the coding grid from the conservative side of its bound."""
@@ -261,9 +262,10 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     missing = max(0.0, 1.0 - sum(st.probability for st in ctx.states))
     rows = runner.run(ctx.jobs())
     while True:
-        per_state = [[] for _ in ctx.states]
-        for (s, _), row in sorted(rows.items()):
+        per_state, samples = [[] for _ in ctx.states], [[] for _ in ctx.states]
+        for (s, i), row in sorted(rows.items()):
             per_state[s].append(step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be) / nominal)
+            samples[s].append(i)
         ratios = [np.asarray(r) for r in per_state]
         kdry, bounds, deciding, carrying = _estimate(ctx, ratios, missing, spec.seed)
         more = _more_runs(ctx, [len(r) for r in ratios], bounds, carrying, spec.run_budget - len(rows))
@@ -281,7 +283,8 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     n_steps = len(ctx.marks) + 1
     return BrakingModel(spec.train, spec, steps, [float(a) for a in nominal], t_be, kdry, k_wet, pairs,
                         summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios],
-                        effects_, warnings_, missing, bounds, kwet_steps, ctx.v0 / KMH)
+                        effects_, warnings_, missing, bounds, kwet_steps, ctx.v0 / KMH,
+                        importance.ranking(ctx, ratios, samples, missing))
 
 
 def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, list]:
