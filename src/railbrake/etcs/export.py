@@ -45,6 +45,7 @@ def to_json(m: BrakingModel) -> dict:
         "Kdry_rst": [{"M_NVEBCL": i, "EBCL": confidence.ebcl_text(i),
                       "value": [step[i] for step in m.kdry],
                       "bound_95": [list(b[i]) for b in m.kdry_bounds] if m.kdry_bounds else None,
+                      "step_allowance": m.step_allowance or None,
                       "coded": [step[i] for step in coded],
                       "deciding_state": [step[i] for step in m.deciding]} for i in levels],
         "Kwet_rst": {"value": m.kwet, "coded": m.kwet_coded(), "value_per_step": m.kwet_steps,

@@ -20,6 +20,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 from importlib import resources
@@ -53,6 +54,7 @@ class Method(BaseModel):
     kdry_bound: float = Field(gt=0.0, le=0.05)
     run_budget: int = Field(ge=0, le=10_000_000)
     bootstrap_replicates: int = Field(ge=20, le=10_000)
+    step_ms: float = Field(gt=0.0, le=2.0)   # one plant step, no sub-steps (simulation.MAX_SUBSTEP)
 
 
 # the window the bootstrap reads a quantile in (+- this about the estimate): replicates beyond it
@@ -76,7 +78,7 @@ def spec(train: str, reliability: str = "hs-emu", scatter: str | None = "hs-emu"
                      initial_speed_kmh=initial_speed_kmh, samples=m["samples"], rare_samples=m["rare_samples"],
                      likely_state=m["likely_state"], state_floor=m["state_floor"], seed=seed,
                      kdry_bound=m["kdry_bound"], run_budget=m["run_budget"], replicates=m["bootstrap_replicates"],
-                     force_conditions=bool(force_conditions))
+                     force_conditions=bool(force_conditions), step_ms=m["step_ms"])
 
 
 def step_decelerations(v0: float, marks: tuple, stop_speed: float, row: dict, t_be: float) -> np.ndarray:
@@ -119,13 +121,16 @@ class BrakingModel:
     kwet_steps: list = field(default_factory=list)    # Kwet_rst per speed step, before rounding
     initial_speed_kmh: float = 0.0
     importance: list = field(default_factory=list)   # [M_NVEBCL]: railbrake.etcs.importance.ranking
+    step_allowance: list = field(default_factory=list)   # per step: the runs' step's ratio error (step_allowance)
 
     def kdry_coded(self) -> list:
-        """Each Kdry_rst on the coding grid from the conservative side of its bound."""
+        """Each Kdry_rst on the coding grid from the conservative side of its bound, less the
+        step allowance of its speed step."""
+        allowance = self.step_allowance or [0.0] * len(self.kdry)
         if not self.kdry_bounds:
-            return [[confidence.coded(k) for k in step] for step in self.kdry]
-        return [[confidence.coded(max(0.0, k - low)) for k, (low, _) in zip(step, b)]
-                for step, b in zip(self.kdry, self.kdry_bounds)]
+            return [[confidence.coded(max(0.0, k - a)) for k in step] for step, a in zip(self.kdry, allowance)]
+        return [[confidence.coded(max(0.0, k - low - a)) for k, (low, _) in zip(step, b)]
+                for step, b, a in zip(self.kdry, self.kdry_bounds, allowance)]
 
     def kwet_coded(self) -> float:
         return confidence.coded(self.kwet)
@@ -256,9 +261,11 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     warnings_ = check_conditions(ctx)   # before any run
     t_be = nominal_build_up(ctx)
     stop_speed = ctx.structs[3].stop_speed
-    nominal = nominal_decelerations(ctx, t_be, stop_speed)
+    nominal = nominal_decelerations(ctx, t_be, stop_speed)   # at the runs' step: the ratios' denominator
+    a_brake = nominal_decelerations(ctx, t_be, stop_speed, ctx.stop(ctx.v0, spec.dry_condition))   # at 1 ms
     effects_, screened = screen(ctx, t_be, nominal)
     warnings_ += screened
+    allowance = step_allowance(ctx, t_be, nominal)
     missing = max(0.0, 1.0 - sum(st.probability for st in ctx.states))
     rows = runner.run(ctx.jobs())
     while True:
@@ -281,10 +288,10 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     summary = [{"label": st.label, "probability": st.probability, "runs": len(r),
                 "mean_ratio": [float(x) for x in r.mean(axis=0)]} for st, r in zip(ctx.states, ratios)]
     n_steps = len(ctx.marks) + 1
-    return BrakingModel(spec.train, spec, steps, [float(a) for a in nominal], t_be, kdry, k_wet, pairs,
+    return BrakingModel(spec.train, spec, steps, [float(a) for a in a_brake], t_be, kdry, k_wet, pairs,
                         summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios],
                         effects_, warnings_, missing, bounds, kwet_steps, ctx.v0 / KMH,
-                        importance.ranking(ctx, ratios, samples, missing))
+                        importance.ranking(ctx, ratios, samples, missing), allowance)
 
 
 def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, list]:
@@ -294,9 +301,31 @@ def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, l
                           / nominal, method().no_effect_ratio)
 
 
-def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float) -> np.ndarray:
-    """A_brake_emergency per step: the nominal train's stop (no failure, no scatter)."""
-    row = runs._row(simulation.run_structs([ctx.structs])[0])
+def step_allowance(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> list[float]:
+    """Per speed step (lowest first), the largest change of the ratio between the runs' step and
+    the plant's nominal 1 ms over the failures run alone and the tolerances at their ends
+    (railbrake.etcs.effects' cases): the coded Kdry_rst takes it off too (the safe side). 0 at 1 ms."""
+    n_steps = len(ctx.marks) + 1
+    if ctx.spec.step_ms * 1e-3 == simulation.DT:
+        return [0.0] * n_steps
+    fine = copy.copy(ctx)
+    fine.structs = ctx.stop(ctx.v0, ctx.spec.dry_condition)
+    fine.structs[3].max_time = ctx.structs[3].max_time
+    stop_speed = ctx.structs[3].stop_speed
+    change = np.zeros(n_steps)
+    for c, denominator in ((ctx, nominal), (fine, nominal_decelerations(fine, t_be, stop_speed))):
+        def ratio_of(kpis, d=denominator):
+            return step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(kpis), t_be) / d
+        found, _ = effects.screen(c, ratio_of, method().no_effect_ratio)
+        ratios = np.array([e["ratio"] for e in found] + [list(r) for r in effects.scatter_ends(c, ratio_of)[1]])
+        change = ratios if c is ctx else np.abs(change - ratios)
+    return [float(x) for x in np.max(change, axis=0, initial=0.0)] if len(change) else [0.0] * n_steps
+
+
+def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float, structs: tuple | None = None) -> np.ndarray:
+    """Per step, the nominal train's deceleration (no failure, no scatter) in the stop `structs`
+    (default: the analysis' runs', at its step): at 1 ms, A_brake_emergency."""
+    row = runs._row(simulation.run_structs([structs or ctx.structs])[0])
     a = step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be)
     if not np.all(a > 0.0):
         raise InputError(f"train {ctx.spec.train}: the nominal emergency stop from {ctx.v0 / KMH:.0f} km/h did not stop")

@@ -52,6 +52,7 @@ class Spec:
     run_budget: int = 100_000   # or the analysis has run this many
     replicates: int = 200       # bootstrap replicates (railbrake.etcs.bound)
     force_conditions: bool = False   # run an adhesion condition outside its validity (recorded as a warning)
+    step_ms: float = 1.0        # the plant's step in the runs of the mixture (data/etcs/method.yaml)
 
     def key(self) -> str:
         return hashlib.sha256(json.dumps(asdict(self), sort_keys=True).encode()).hexdigest()[:16]
@@ -70,7 +71,7 @@ class Context:
         self.train = train
         self.v0 = train.max_speed if spec.initial_speed_kmh is None else spec.initial_speed_kmh * KMH
         self.marks = tuple(v * KMH for v in sorted(spec.speed_steps_kmh, reverse=True) if 0 < v * KMH < self.v0)
-        self.structs = self.stop(self.v0, spec.dry_condition)
+        self.structs = self.stop(self.v0, spec.dry_condition, spec.step_ms * 1e-3)
         nominal = simulation.run_structs([self.structs])[0]
         if isinstance(nominal, Exception) or nominal["stopping_time_s"] is None:
             raise InputError(f"train {spec.train}: the nominal emergency stop from {self.v0 / KMH:.0f} km/h "
@@ -80,15 +81,16 @@ class Context:
         self.classes, self.common, self.states = failures.enumerate_states(self.reliability, train, spec.state_floor)
         self._blocks: dict = {}
 
-    def stop(self, v0: float, condition: str) -> tuple:
-        """The C structs of an emergency stop from v0 (m/s) on `condition`, with the speed marks."""
+    def stop(self, v0: float, condition: str, dt: float = simulation.DT) -> tuple:
+        """The C structs of an emergency stop from v0 (m/s) on `condition` at the plant step dt (s),
+        with the speed marks."""
         # the reduced-adhesion condition is EN 15595's test level, run at Table 5's test speeds (up
         # to the maximum speed) whatever its validity: forced, and so warned (AdhesionRangeWarning)
         sc = simulation.emergency_scenario(self.spec.train, v0, condition,
                                            allow_outside_validity=condition == self.spec.reduced_condition)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", sizing.SupplyWarning)
-            plant, bcu, wsp, scen = simulation.structs(resolve(sc, self.spec.cars or len(self.train.cars)))
+            plant, bcu, wsp, scen = simulation.structs(resolve(sc, self.spec.cars or len(self.train.cars)), dt=dt)
         scen.n_speed_marks = len(self.marks)
         for i, v in enumerate(self.marks):
             scen.speed_mark[i] = v
