@@ -60,6 +60,9 @@ class Method(BaseModel):
 # the window the bootstrap reads a quantile in (+- this about the estimate): replicates beyond it
 # are taken at its edge, which the bound then shows as this large
 BOUND_WINDOW = 0.1
+# a round of added runs goes to the states holding this share of a level's variance (_more_runs):
+# doubling them takes the variance down by at least ALLOCATED / 2 a round
+ALLOCATED = 0.8
 
 
 def method() -> Method:
@@ -219,7 +222,7 @@ def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int) -> tup
         for c, v in zip(confidence.EBCL, values):
             low, high, carry = bound.bound(states, 1.0 - c, v, missing, rng, ctx.spec.replicates, BOUND_WINDOW)
             step_bounds.append((low, high))
-            step_carrying.append(carry)
+            step_carrying.append({s: _variance_share(states[s], v) for s in carry})
         kdry.append([min(v, confidence.K_MAX) if v > 0 else 0.0 for v in values])
         bounds.append(step_bounds)
         deciding.append([ctx.states[_deciding(states, v)].label if v > 0 else "states left out (no brake)"
@@ -228,17 +231,31 @@ def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int) -> tup
     return kdry, bounds, deciding, carrying
 
 
+def _variance_share(state: mixture.State, x: float) -> float:
+    """A state's share of the variance of the mixture's CDF at x (to first order, that of the
+    quantile there): p^2 F (1 - F) / n, its estimate of F(x) from n runs weighed by its probability."""
+    f = state.cdf(x)
+    return state.probability ** 2 * f * (1.0 - f) / state.ratios.size
+
+
 def _more_runs(ctx: runs.Context, counts: list, bounds: list, carrying: list, budget: int) -> list:
-    """The next runs: for every (step, level) whose bound is above the target, the samples of the
-    states that carry it doubled (a block at least), the states whose runs are fewest relative to
-    their share first, within the budget; [] if none is needed or the budget is spent."""
+    """The next runs: for every (step, level) whose bound is above the target, the samples doubled
+    (a block at least) of the states that carry it, those with the largest shares of its variance
+    first until they hold ALLOCATED of it (the others would buy little: Neyman's allocation, to
+    first order), the states whose runs are fewest relative to their share first, within the
+    budget; [] if none is needed or the budget is spent."""
     target, block = ctx.spec.kdry_bound, ctx.spec.rare_samples
     wanted: dict[int, int] = {}
     for step_bounds, step_carrying in zip(bounds, carrying):
         for (low, high), carry in zip(step_bounds, step_carrying):
-            if max(low, high) > target:
-                for s in carry:
-                    wanted[s] = max(wanted.get(s, 0), max(block, counts[s]))
+            if max(low, high) <= target:
+                continue
+            total, held = sum(carry.values()), 0.0
+            for s in sorted(carry, key=lambda s: -carry[s]):
+                if total > 0.0 and held >= ALLOCATED * total:
+                    break
+                held += carry[s]
+                wanted[s] = max(wanted.get(s, 0), max(block, counts[s]))
     jobs = []
     for s in sorted(wanted, key=lambda s: -ctx.states[s].probability / counts[s]):
         extra = min(wanted[s], budget - len(jobs))
