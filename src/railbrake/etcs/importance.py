@@ -9,7 +9,7 @@ were removed, that is Kdry_rst with it minus Kdry_rst without it, the larger the
   sites in the train; 1 - p for a common-cause group): exact, as the states' probabilities are
   products over the sites (railbrake.etcs.failures). The states' samples stay as they are.
 - A tolerance fixed at its nominal: each run's ratio less the tolerance's first-order share,
-  sum over cars of beta_c (f_c - 1), with the slopes beta_c fitted by least squares on the
+  beta (mean over the cars of f_c - 1), with the slope beta fitted by least squares on the
   no-failure state's runs (its many samples) and scaled per state by the state's mean ratio to the
   no-failure state's (a state that lost brakes has less brake force for a tolerance to act on).
   A first-order estimate: a ranking, not a safety figure.
@@ -100,10 +100,10 @@ def _tolerance_ratios(ctx, ratios: list, samples: list) -> list[tuple[str, list]
     n_cars = len(ctx.train.cars)
     draws = [np.array([ctx.draw(s, i) for i in idx]) for s, idx in enumerate(samples)]
     given = ctx.scatter.quantities()
-    columns = [(QUANTITIES.index(q), (c,)) for q, d in given.items()
-               for c in range(1 if d.per == "train" else n_cars)]
-    if len(ratios[reference]) < 4 * (len(columns) + 1):   # too few runs for a slope per car: one per tolerance
-        columns = [(QUANTITIES.index(q), tuple(range(n_cars))) for q in given]
+    # one slope per tolerance on its mean over the cars: a slope per car would fit the other
+    # tolerances' scatter too (dozens of columns on a long train) and so credit each tolerance
+    # with a share of the rest
+    columns = [(QUANTITIES.index(q), tuple(range(n_cars))) for q in given]
     x = np.column_stack([np.ones(len(ratios[reference])), _regressors(draws[reference], columns)])
     beta = np.linalg.lstsq(x, ratios[reference], rcond=None)[0][1:]
     mean0 = ratios[reference].mean(axis=0)
