@@ -32,10 +32,9 @@ TRAIN = "crh380al-16"
 BIN = Path(sys.executable).parent
 
 
-def analyse(out: Path, workers: int, samples: int | None, scheduler: str | None = None) -> dict:
+def analyse(out: Path, workers: int, settings: dict, scheduler: str | None = None) -> dict:
     from railbrake import jsonio
     from railbrake.etcs import export, model
-    settings = {} if samples is None else {"samples": samples}
     m = model.braking_model(model.spec(TRAIN, **settings), out, workers, scheduler=scheduler, connect_timeout=120.0)
     data = json.loads(jsonio.dumps(export.to_json(m)))
     (out / "braking-model.json").write_text(json.dumps(data, indent=1))
@@ -78,15 +77,14 @@ def external_cluster(workers: int) -> tuple[str, list]:
     return address, processes
 
 
-def timed(label: str, out: Path, workers: int, samples: int | None, scheduler: str | None) -> dict:
+def timed(label: str, out: Path, workers: int, settings: dict, scheduler: str | None) -> dict:
     load0 = os.getloadavg()
     wall, cpu = time.perf_counter(), cpu_s()
-    data = analyse(out, workers, samples, scheduler)
+    data = analyse(out, workers, settings, scheduler)
     wall, cpu = time.perf_counter() - wall, cpu_s() - cpu + workers_cpu_s(scheduler)
     load1 = os.getloadavg()
     print(f"{TRAIN} {label}: {data['runs']} runs, {wall:.0f} s wall ({wall / 60:.1f} min), {cpu:.0f} s CPU "
-          f"({'workers not counted, ' if scheduler is None and workers > 1 else ''}"
-          f"load {load0[0]:.1f}/{load0[1]:.1f} before, {load1[0]:.1f}/{load1[1]:.1f} after)", flush=True)
+          f"(load {load0[0]:.1f}/{load0[1]:.1f} before, {load1[0]:.1f}/{load1[1]:.1f} after)", flush=True)
     return data
 
 
@@ -95,6 +93,9 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("out/bench-etcs"))
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--samples", type=int, default=None, help="runs of the likely states (method.yaml's)")
+    parser.add_argument("--rare-samples", type=int, default=None, help="first runs of the rare states (method.yaml's)")
+    parser.add_argument("--state-floor", type=float, default=None,
+                        help="a shortened analysis: states down to this (method.yaml's); not the must-hold's figure")
     parser.add_argument("--scheduler", default=None, help="an existing Dask scheduler instead of local workers")
     parser.add_argument("--external", action="store_true",
                         help="then the same on a dask scheduler and worker started here, compared")
@@ -102,21 +103,24 @@ def main() -> None:
     parser.add_argument("--compare", type=Path, default=None, help="a clean run's folder to compare with")
     parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     a = parser.parse_args()
+    settings = {k: v for k, v in (("samples", a.samples), ("rare_samples", a.rare_samples),
+                                  ("state_floor", a.state_floor)) if v is not None}
     if a.child:
-        analyse(a.out, a.workers, a.samples, a.scheduler)
+        analyse(a.out, a.workers, settings, a.scheduler)
         return
     if a.kill_after is not None:
         shutil.rmtree(a.out, ignore_errors=True)
         child = subprocess.Popen([sys.executable, __file__, "--child", "--out", str(a.out), "--workers",
-                                  str(a.workers)] + ([] if a.samples is None else ["--samples", str(a.samples)]),
+                                  str(a.workers)] + [f"--{k.replace('_', '-')}={v}" for k, v in settings.items()],
                                  start_new_session=True)
         time.sleep(a.kill_after)
         os.killpg(child.pid, signal.SIGKILL)   # the analysis and its workers, as a crash would
         child.wait()
         done = len(list((a.out / "batches").glob("*.json"))) if (a.out / "batches").exists() else 0
         print(f"killed after {a.kill_after:g} s with {done} batches written", flush=True)
-    data = timed(f"on {a.workers} local workers" if a.scheduler is None else f"on {a.scheduler}",
-                 a.out, a.workers, a.samples, a.scheduler)
+    label = (f"on {a.workers} local workers" if a.scheduler is None else f"on {a.scheduler}") + \
+        (f" (shortened: {settings})" if settings else "")
+    data = timed(label, a.out, a.workers, settings, a.scheduler)
     for level in data["Kdry_rst"]:
         print(f"  M_NVEBCL {level['M_NVEBCL']}: Kdry_rst {level['coded']}, worst bound "
               f"{max(max(b) for b in level['bound_95']):.4f}")
@@ -126,7 +130,7 @@ def main() -> None:
         address, processes = external_cluster(a.workers)
         try:
             other = timed(f"on an external dask scheduler with {a.workers} workers", Path(f"{a.out}-external"),
-                          a.workers, a.samples, address)
+                          a.workers, settings, address)
         finally:
             for p in reversed(processes):
                 p.terminate()
