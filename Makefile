@@ -52,7 +52,7 @@ ctest-sanitize:
 
 # One pytest worker per core (pytest-xdist); a file's tests stay on one worker, so its module
 # fixtures (a detailed run, a compiled FMU) are made once.
-PYTEST_PARALLEL := -n $(JOBS) --dist loadfile
+PYTEST_PARALLEL := -n $(JOBS) --dist loadfile --no-loadscope-reorder
 
 # System packages two tests need (Debian names), installed by an explicit, announced step of `make test`:
 # wine64 runs the FMU's win64 binary (tests/unit/fmu/test_fmu_platforms.py), chromium loads the HIL
@@ -79,8 +79,10 @@ wine browser: system-packages
 
 # One worker more than cores: the paced 8-car HIL stop (tests/unit/hil/test_loopback.py, 170 s on the
 # wall clock, a few per cent of a core) would otherwise leave its worker's core idle that long.
+# --no-loadscope-reorder: files handed out in tests/conftest.py's order (those with slow tests first),
+# not xdist's by number of tests, which starts the long files last.
 pytest: install system-packages
-	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile -m "not long" --durations=15
+	$(PY) -m pytest -q -n $$(( $(JOBS) + 1 )) --dist loadfile --no-loadscope-reorder -m "not long" --durations=15
 
 # The statistical must-holds that take tens of minutes of CPU (ETCS: the method against a brute
 # force on the plant, five seeds giving the same coded Kdry): not part of `make test`.
@@ -91,14 +93,17 @@ test-long: install
 # Python itself is not instrumented, so leak detection is left to the C tests. The FMU tests are
 # left out: they run FMU binaries gcc builds from the exported sources, not this core library, and
 # build their own ASan/UBSan FMUs for the fuzz and memory tests in the plain pass. The docs tests
-# (Sphinx over the pages) and the sequences (Python steps over the run API the simulation tests
-# cover) add time here, not coverage of the core.
+# (Sphinx over the pages), the sequences (Python steps over the run API the simulation tests
+# cover), the command line and the campaigns (processes and Dask workers over the same run API)
+# add time here, not coverage of the core; so do the slow tests (processes killed mid-write,
+# thousands of Python refusals: each says why it is slow).
 pytest-sanitize: install ctest-sanitize
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
 	RAILBRAKE_CORE_LIBRARY=$(CURDIR)/$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
 	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow and not long" -p no:cacheprovider --durations=15 \
-	    --ignore=tests/unit/fmu --ignore=tests/unit/docs --ignore=tests/unit/sequence
+	    --ignore=tests/unit/fmu --ignore=tests/unit/docs --ignore=tests/unit/sequence \
+	    --ignore=tests/unit/cli --ignore=tests/unit/campaign
 
 # Every verification and validation case (docs/validation-cases.md): the HTML report into out/,
 # the Markdown summary into docs/validation.md. Failing validation cases are findings, so only a

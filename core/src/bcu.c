@@ -106,6 +106,11 @@ double rb_bcu_speed(const rb_plant_outputs *out, int n_cars)
     return v;
 }
 
+int rb_bcu_wsp_mode(const rb_bcu_params *p, const rb_bcu_state *s, int a)
+{
+    return p->wsp_enabled && !p->wsp ? s->wsp_default.mode[a] : RB_WSP_OFF;
+}
+
 double rb_bcu_demand_deceleration(const rb_bcu_params *p, const rb_brake_demand *d, double speed)
 {
     int emergency = d->emergency > 0.5;

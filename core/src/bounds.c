@@ -63,6 +63,8 @@ static const rb_bound bounds[] = {
     {"wsp.lead_time", "s", 0.0, 1.0, "the slip predicted up to 1 s ahead"},
     {"wsp.ref_decel_margin", "m/s2", 0.0, 5.0, "a speed estimate falling up to 5 m/s2 faster than the body"},
     {"wsp.setpoint_release", "s", 0.0, 600.0, "an axle let go after up to 10 min braked as demanded"},
+    {"wsp.setpoint_memory", "1", 0.1, 1.0, "re-applied quickly to 10 to 100 % of the pressure that slid"},
+    {"wsp.setpoint_ramp", "Pa/s", 0.0, 1e6, "a ceiling rising at up to 10 bar/s"},
     {"wsp.ds_speed_threshold", "m/s", 0.01, 10.0, "a slip speed of 0.04 to 36 km/h vents"},
     {"wsp.ds_slip_threshold", "1", 0.0, 0.5, "up to 50 % of the reference speed"},
     {"wsp.ds_decel_threshold", "m/s2", 0.1, 100.0, "a positive wheel deceleration"},
@@ -84,6 +86,10 @@ static const rb_bound bounds[] = {
     {"train.disc_mass", "kg", 10.0, 500.0, "one disc of 10 to 500 kg"},
     {"train.disc_specific_heat", "J/(kg.K)", 300.0, 1000.0, "steel 460, cast iron 500, aluminium 900 J/(kg K)"},
     {"train.disc_cooling", "W/K", 0.0, 1e4, "convective cooling of one disc up to 10 kW/K"},
+    {"train.disc_surface_share", "1", 0.01, 0.9, "a friction surface layer of 1 to 90 % of the disc's heat capacity"},
+    {"train.disc_surface_conductance", "W/K", 1.0, 1e5, "a surface layer linked to the disc's bulk by 1 W/K to 100 kW/K"},
+    {"train.pad_fade_onset", "K", 273.15, 1273.15, "pads that begin to fade at a friction surface of 0 to 1000 degC"},
+    {"train.pad_fade_rate", "1/K", 0.0, 0.01, "a fading of up to 1 % of the friction per kelvin above the onset"},
     {"train.sand_rate", "kg/s", 0.0, 1.0, "a sander's sand (both rails) up to 60 kg/min"},
     {"train.cylinder_stroke", "m", 1e-3, 0.1, "a piston stroke of 1 to 100 mm"},
     {"train.cylinder_dead_volume", "m3", 0.0, 0.02, "up to 20 l of cylinder dead volume and piping"},
@@ -109,6 +115,7 @@ static const rb_bound bounds[] = {
     {"train.compressor_delivery", "kg/s", 1e-4, 0.2, "a compressor of 5 l/min to 10 m3/min of free air"},
     {"train.pipe_diameter", "m", 0.01, 0.05, "a main reservoir pipe of 10 to 50 mm (typically 25 mm)"},
     {"train.air_flow_area", "m2", 1e-6, 2e-3, "a flow area of 1 to 2000 mm2 (a 50 mm pipe)"},
+    {"train.main_reservoir_min_working", "Pa", 1e5, 1e6, "a minimum working pressure of 1 to 10 bar gauge"},
     {"train.main_reservoir_gauge", "Pa", 4e5, 1e6, "main reservoir of 4 to 10 bar gauge: the ideal-gas air of the model holds below 10 bar (docs/pneumatics.md)"},
     {"train.discharge_coefficient", "1", 0.3, 1.0, "a discharge coefficient of real ports (sharp-edged about 0.6-0.8)"},
     {"train.critical_ratio", "1", 0.1, 0.9, "ISO 6358 critical pressure ratio b of real valves (ideal nozzle 0.528)"},
@@ -292,6 +299,8 @@ rb_status rb_wsp_check(const rb_wsp_params *w, rb_error *err)
     WSP_BOUND(lead_time);
     WSP_BOUND(ref_decel_margin);
     WSP_BOUND(setpoint_release);
+    WSP_BOUND(setpoint_memory);
+    WSP_BOUND(setpoint_ramp);
     WSP_BOUND(ds_speed_threshold);
     WSP_BOUND(ds_slip_threshold);
     WSP_BOUND(ds_decel_threshold);

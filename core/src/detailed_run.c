@@ -323,6 +323,7 @@ rb_status rb_detailed_init(const rb_plant_params *p, const rb_detailed_params *d
     if ((st = rb_detailed_check(d, err)) || (st = rb_run_check_scenario(sc, err))) return st;
     memset(s, 0, sizeof *s);
     if ((st = rb_plant_init(p, &s->mech, err))) return st;
+    s->max_disc_surface_temperature = p->ambient_temperature;
     s->mech.derived.slip_probe_ahead = 0.0;   /* the reference's mechanics as they were: probed at each
                                                  fine step's start (its lag is a tenth of the 1 ms one) */
     if (p->n_faults > 0)
@@ -420,7 +421,7 @@ static rb_status start_cycle(const rb_plant_params *p, const rb_detailed_params 
     cycle_outputs(p, d, s, t0);
     if (series && t0 >= s->next_record - 1e-9) {
         if (s->rows >= max_rows) return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
-        rb_run_record_row(p, &s->out, bcu, sc, series + s->rows++ * (size_t)nch);
+        rb_run_record_row(p, &s->out, bcu, &s->bcu, sc, series + s->rows++ * (size_t)nch);
         s->next_record += sc->record_interval;
     }
     rb_brake_demand dem = rb_scenario_demand(sc, t0);
@@ -469,6 +470,10 @@ rb_status rb_detailed_advance(const rb_plant_params *p, const rb_detailed_params
         rb_plant_faults f;
         rb_plant_gather_faults(p, &s->mech, &f);
         rb_plant_step_mechanics(p, &s->mech, &s->in, &f, &s->buffer[i][B_CARS * RB_PLANT_MAX_CARS], s->dt_mech);
+        rb_plant_discs(p, &s->mech, s->dt_mech);   /* the discs heat and the pads fade as in the plant */
+        for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a)
+            if (s->mech.disc_temperature[a] > s->max_disc_surface_temperature)
+                s->max_disc_surface_temperature = s->mech.disc_temperature[a];
         rb_plant_update_sensors(p, &s->mech, &f);
         s->substep++;
         double t = now(s, bcu);
@@ -479,7 +484,7 @@ rb_status rb_detailed_advance(const rb_plant_params *p, const rb_detailed_params
             substep_outputs(p, s, i, t);
             if (s->rows >= max_rows)
                 return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
-            rb_run_record_row(p, &s->out, bcu, sc, series + s->rows++ * (size_t)nch);
+            rb_run_record_row(p, &s->out, bcu, &s->bcu, sc, series + s->rows++ * (size_t)nch);
             if (!last) s->next_record += sc->record_interval;
         }
         if (last) {
@@ -501,6 +506,8 @@ void rb_detailed_kpis(const rb_plant_params *p, const rb_detailed_state *s, rb_k
         k->mean_deceleration = k->stopping_time_s > 0.0 ? (s->brake_speed - s->mech.v[0]) / k->stopping_time_s : 0.0;
     }
     k->max_slip = s->max_slip;
+    k->max_disc_surface_temperature = s->max_disc_surface_temperature;
+    for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) k->brake_energy += s->mech.brake_energy[a];
     double vented = 0.0;
     for (int c = 0; c < p->n_cars; ++c) vented += s->car[c].y[CS_VENTED];
     k->air_consumed_kg = vented;

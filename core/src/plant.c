@@ -292,6 +292,8 @@ static void derive_mechanics(const rb_plant_params *p, rb_plant_derived *d)
             d->pad_bracket[a] = 0;
             d->pad_speed_lo[a] = d->pad_speed_hi[a] = 0.0;   /* empty: the kernel's first look-up fills it */
             d->pad_value_lo[a] = d->pad_slope[a] = 0.0;
+            d->pad_fade_onset[a] = b->pad.fade_onset;
+            d->pad_fade_rate[a] = b->pad.fade_rate;
         }
     }
 }

@@ -113,6 +113,13 @@ RB_ALWAYS_INLINE void wheelsets(const rb_plant_params *p, rb_plant_state *restri
             if (!(wheel >= d->pad_speed_lo[a] && wheel < d->pad_speed_hi[a]))
                 x.pad[a] = pad_lookup(&p->car[a / NA].vehicle.brake.pad.table, d, a, wheel);
         }
+    /* the pads' heat fading at the friction surface's temperature of the last step (rb_pad_friction:
+       a factor of exactly 1 below the onset or without fading) */
+    for (int a = 0; a < n; ++a) {
+        const double hot = s->disc_temperature[a] - d->pad_fade_onset[a];
+        x.pad[a] = x.pad[a] / (1.0 + d->pad_fade_rate[a] * (hot > 0.0 ? hot : 0.0));
+        s->pad_friction[a] = x.pad[a];
+    }
     /* Polach's coefficient at the probe creep (its own pass: short dependency chains, so the
        processor overlaps many axles) */
     for (int a = 0; a < n; ++a)

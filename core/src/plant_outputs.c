@@ -26,7 +26,17 @@ static void axle_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_p
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a)
             out->slip[a] = (out->wheel_speed[a] - v) / vr;
     }
-    memcpy(out->disc_temperature, s->disc_temperature, (size_t)n * sizeof(double));
+    /* the disc's mean temperature (Cs Ts + Cb Tb) / (Cs + Cb); without a surface layer (Cb = 0) the
+       lumped disc's, as it is */
+    for (int c = 0; c < p->n_cars; ++c) {
+        const double cs = d->disc_capacity[c], cb = d->disc_bulk_capacity[c];
+        const double inv = cb > 0.0 ? 1.0 / (cs + cb) : 0.0;
+        for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a)
+            out->disc_temperature[a] = cb > 0.0 ? (cs * s->disc_temperature[a] + cb * s->disc_bulk_temperature[a]) * inv
+                                                : s->disc_temperature[a];
+    }
+    memcpy(out->disc_surface_temperature, s->disc_temperature, (size_t)n * sizeof(double));
+    memcpy(out->pad_friction, s->pad_friction, (size_t)n * sizeof(double));
     /* the whole arrays (their rest is 0 in both): a copy of fixed size is a few vector moves, not a call */
     memcpy(out->hold, s->hold_effective, sizeof out->hold);
     memcpy(out->vent, s->vent_effective, sizeof out->vent);

@@ -33,6 +33,15 @@ rb_status rb_plant_train_check(const rb_plant_params *p, rb_error *err)
     for (int c = 0; c < p->n_cars; ++c) {
         snprintf(name, sizeof name, "car[%d].disc_heat_capacity", c);
         if ((s = rb_check_nonnegative(err, name, p->car[c].disc_heat_capacity))) return s;
+        const double surface = p->car[c].disc_surface_capacity, conductance = p->car[c].disc_surface_conductance;
+        snprintf(name, sizeof name, "car[%d].disc_surface_capacity", c);
+        if ((s = rb_check_nonnegative(err, name, surface))) return s;
+        if (surface > 0.0 && !(surface < p->car[c].disc_heat_capacity))
+            return rb_fail(err, RB_EINVAL, "%s = %g J/K: must be below disc_heat_capacity = %g J/K (the surface "
+                           "layer is part of the disc)", name, surface, p->car[c].disc_heat_capacity);
+        snprintf(name, sizeof name, "car[%d].disc_surface_conductance", c);
+        if ((s = surface > 0.0 ? rb_check_positive(err, name, conductance) : rb_check_nonnegative(err, name, conductance)))
+            return s;
         if (p->car[c].disc_cooling.n > 0 &&
             (s = rb_speed_table_check(&p->car[c].disc_cooling, "disc_cooling", 0.0, 1e5, err)))
             return s;
@@ -53,12 +62,15 @@ void rb_plant_train_init(const rb_plant_params *p, rb_plant_state *s)
         s->compressor_running[i] = fed < p->governor_on;
     }
     for (int c = 0; c < p->n_cars; ++c) {   /* empty: the first step finds the cooling's interval */
-        s->derived.disc_capacity[c] = p->car[c].disc_heat_capacity;
+        const double surface = p->car[c].disc_surface_capacity;
+        s->derived.disc_capacity[c] = surface > 0.0 ? surface : p->car[c].disc_heat_capacity;
+        s->derived.disc_bulk_capacity[c] = surface > 0.0 ? p->car[c].disc_heat_capacity - surface : 0.0;
+        s->derived.disc_conductance[c] = surface > 0.0 ? p->car[c].disc_surface_conductance : 0.0;
         s->derived.cooling_lo[c] = s->derived.cooling_hi[c] = 0.0;
         s->derived.cooling_value_lo[c] = s->derived.cooling_slope[c] = 0.0;
     }
     for (int a = 0; a < p->n_cars * RB_AXLES_PER_CAR; ++a) {
-        s->disc_temperature[a] = p->ambient_temperature;
+        s->disc_temperature[a] = s->disc_bulk_temperature[a] = p->ambient_temperature;
         s->brake_energy[a] = 0.0;
     }
 }
@@ -121,20 +133,26 @@ static void discs(const rb_plant_params *p, rb_plant_state *s, double dt)
                 cooling[c] = d->cooling_value_lo[c] + (s->v[c] - d->cooling_lo[c]) * d->cooling_slope[c];
             }
     /* each car's constants in a vector loop over the cars, then each car's axles (one vector of
-       four in AVX2) with them */
-    double to_ambient[RB_PLANT_MAX_CARS], inv_retained[RB_PLANT_MAX_CARS];
+       four in AVX2) with them: the two-node disc of rb_vehicle.h (rb_disc_step), surface layer and
+       bulk; without a surface layer (Cb = G = 0) the lumped disc's update, bit for bit */
+    double to_ambient[RB_PLANT_MAX_CARS], inv_retained[RB_PLANT_MAX_CARS], to_bulk[RB_PLANT_MAX_CARS];
     for (int c = 0; c < n_cars; ++c) {
+        to_bulk[c] = rb_disc_to_bulk(d->disc_bulk_capacity[c], d->disc_conductance[c], dt);
         to_ambient[c] = cooling[c] * p->ambient_temperature;
-        inv_retained[c] = 1.0 / (d->disc_capacity[c] + dt * cooling[c]);
+        inv_retained[c] = rb_disc_inverse(d->disc_capacity[c], d->disc_bulk_capacity[c], cooling[c], to_bulk[c], dt);
     }
     for (int c = 0; c < n_cars; ++c) {
         const double capacity = d->disc_capacity[c], amb = to_ambient[c], inv = inv_retained[c];
+        const double g = to_bulk[c], bulk_g = d->disc_bulk_capacity[c] * g;
+        if (!(capacity > 0.0)) {   /* no heat capacity: no temperature, the energy only */
+            for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a)
+                s->brake_energy[a] += s->brake_torque[a] * s->omega[a] * dt;
+            continue;
+        }
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
             double power = s->brake_torque[a] * s->omega[a];   /* W into the discs: the step's torque */
             s->brake_energy[a] += power * dt;
-            /* implicit in the cooling: stable at any step; without a heat capacity no temperature */
-            double heated = (capacity * s->disc_temperature[a] + dt * (power + amb)) * inv;
-            s->disc_temperature[a] = capacity > 0.0 ? heated : s->disc_temperature[a];
+            rb_disc_step(capacity, bulk_g, g, inv, dt, power, amb, &s->disc_temperature[a], &s->disc_bulk_temperature[a]);
         }
     }
 }

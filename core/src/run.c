@@ -15,7 +15,7 @@
 size_t rb_run_state_size(void) { return sizeof(rb_run_state); }
 size_t rb_kpis_size(void) { return sizeof(rb_kpis); }
 
-enum { GLOBAL_CHANNELS = 10, CAR_CHANNELS = 4, AXLE_CHANNELS = 8 };
+enum { GLOBAL_CHANNELS = 10, CAR_CHANNELS = 4, AXLE_CHANNELS = 9 };
 static const rb_channel_name global_names[GLOBAL_CHANNELS] = {
     {"time", "s"}, {"speed", "m/s"}, {"position", "m"}, {"deceleration", "m/s^2"},
     {"demand_deceleration", "m/s^2"}, {"main_reservoir", "Pa"}, {"pipe_end", "Pa"},
@@ -24,7 +24,8 @@ static const rb_channel_name car_names[CAR_CHANNELS] = {
     {"supply", "Pa"}, {"pilot", "Pa"}, {"relay", "Pa"}, {"ed_force", "N"}};
 static const rb_channel_name axle_names[AXLE_CHANNELS] = {
     {"wheel_speed", "m/s"}, {"slip", "1"}, {"cylinder", "Pa"}, {"hold", "1"}, {"vent", "1"},
-    {"adhesion", "1"}, {"disc_temperature", "K"}, {"brake_energy", "J"}};
+    {"adhesion", "1"}, {"disc_temperature", "K"}, {"brake_energy", "J"},
+    {"wsp_mode", "1"}};
 
 static const rb_channel_layout layout = {global_names, car_names, axle_names,
                                          GLOBAL_CHANNELS, CAR_CHANNELS, AXLE_CHANNELS};
@@ -99,7 +100,8 @@ void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
         run->total_mass += plant->car[c].vehicle.mass;
     }
     for (int a = 0; a < plant->n_cars * RB_AXLES_PER_CAR; ++a) {
-        run->axle_max_disc_temperature[a] = plant->ambient_temperature;
+        run->axle_max_disc_temperature[a] = run->axle_max_disc_surface_temperature[a] = plant->ambient_temperature;
+        run->axle_pad_distance[a] = run->axle_pad_friction_distance[a] = 0.0;
         run->adhesion_axle[a] = !rb_run_car_isolated(plant, a / RB_AXLES_PER_CAR);
         run->peak_log_creep[a] = NAN;
         run->peak_zone[a] = -1;
@@ -110,7 +112,7 @@ void rb_run_start_kpis(const rb_plant_params *plant, rb_run_state *run)
 }
 
 void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, const rb_bcu_params *bcu,
-                       const rb_scenario *sc, double *row)
+                       const rb_bcu_state *bs, const rb_scenario *sc, double *row)
 {
     int n = p->n_cars, na = n * RB_AXLES_PER_CAR;
     rb_brake_demand d = rb_scenario_demand(sc, o->time);
@@ -136,6 +138,7 @@ void rb_run_record_row(const rb_plant_params *p, const rb_plant_outputs *o, cons
         row[5 * na + a] = o->adhesion[a];
         row[6 * na + a] = o->disc_temperature[a];
         row[7 * na + a] = o->brake_energy[a];
+        row[8 * na + a] = (double)rb_bcu_wsp_mode(bcu, bs, a);
     }
 }
 
@@ -243,8 +246,11 @@ static inline void accumulate_effort(const rb_plant_params *p, rb_run_state *r)
     r->valve_switchings += switches;
     for (int c = 0; c < p->n_cars; ++c)
         for (int a = c * RB_AXLES_PER_CAR; a < (c + 1) * RB_AXLES_PER_CAR; ++a) {
-            double w = s->omega[a] * s->derived.axle_radius[a] - s->v[c];
+            double wheel = s->omega[a] * s->derived.axle_radius[a], w = wheel - s->v[c];
             r->axle_sliding_energy[a] += s->force[a] * w * p->dt;
+            double ds = s->brake_torque[a] > 0.0 ? wheel * p->dt : 0.0;   /* the pads slide while they press */
+            r->axle_pad_distance[a] += ds;
+            r->axle_pad_friction_distance[a] += s->pad_friction[a] * ds;
         }
 }
 
@@ -281,6 +287,9 @@ static inline void accumulate(const rb_plant_params *p, const rb_scenario *sc, r
     for (int c = 0; c < p->n_cars; ++c) r->car_min_supply[c] = smaller(o->supply[c], r->car_min_supply[c]);
     for (int a = 0; a < n_axles; ++a)
         r->axle_max_disc_temperature[a] = larger(o->disc_temperature[a], r->axle_max_disc_temperature[a]);
+    for (int a = 0; a < n_axles; ++a)
+        r->axle_max_disc_surface_temperature[a] = larger(o->disc_surface_temperature[a],
+                                                         r->axle_max_disc_surface_temperature[a]);
     if (!r->braking) return;   /* before braking every shortfall, slip and lock is 0 */
     pass_marks(sc, r);
     for (int c = 0; c < p->n_cars; ++c) {
@@ -333,7 +342,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         if (series && r->out.time >= r->next_record - 1e-9) {
             if (r->rows >= max_rows)
                 return rb_fail(err, RB_ESIZE, "max_rows = %zu: the series needs more rows", max_rows);
-            rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
+            rb_run_record_row(plant, &r->out, bcu, &r->bcu, sc, series + r->rows * (size_t)nch);
             r->rows++;
             r->next_record += sc->record_interval;
         }
@@ -358,7 +367,7 @@ rb_status rb_run_advance(const rb_plant_params *plant, const rb_bcu_params *bcu,
         if (read) rb_plant_update_outputs(plant, &r->plant, &r->out);
         if (r->finished) {
             if (series && r->rows < max_rows) {
-                rb_run_record_row(plant, &r->out, bcu, sc, series + r->rows * (size_t)nch);
+                rb_run_record_row(plant, &r->out, bcu, &r->bcu, sc, series + r->rows * (size_t)nch);
                 r->rows++;
             }
         }
@@ -428,6 +437,14 @@ void rb_run_kpis(const rb_plant_params *plant, const rb_run_state *r, rb_kpis *k
         k->sliding_energy += r->axle_sliding_energy[a];
         k->max_sliding_energy = larger(r->axle_sliding_energy[a], k->max_sliding_energy);
     }
+    double pad_distance = 0.0, pad_friction_distance = 0.0;
+    k->max_disc_surface_temperature = plant->ambient_temperature;
+    for (int a = 0; a < n_axles; ++a) {
+        pad_distance += r->axle_pad_distance[a];
+        pad_friction_distance += r->axle_pad_friction_distance[a];
+        k->max_disc_surface_temperature = larger(r->axle_max_disc_surface_temperature[a], k->max_disc_surface_temperature);
+    }
+    k->mean_pad_friction = pad_distance > 0.0 ? pad_friction_distance / pad_distance : 0.0;
     for (int i = 0; i < RB_MAX_SPEED_MARKS; ++i) {
         int passed = i < r->marks_passed;
         k->mark_time_s[i] = passed ? r->mark_time[i] - r->brake_time : -1.0;

@@ -53,9 +53,19 @@ double rb_pad_friction_at(const rb_pad_friction *f, double speed)
     return rb_speed_table_at(&f->table, speed);
 }
 
+double rb_pad_friction_eval(const rb_pad_friction *f, double speed, double surface_temperature)
+{
+    return rb_speed_table_at(&f->table, speed) * rb_pad_fade_factor(f->fade_onset, f->fade_rate, surface_temperature);
+}
+
 rb_status rb_pad_friction_check(const rb_pad_friction *f, rb_error *err)
 {
-    return rb_speed_table_check(&f->table, "pad_friction", 0.05, 1.0, err);
+    rb_status s = rb_speed_table_check(&f->table, "pad_friction", 0.05, 1.0, err);
+    if (s != RB_OK)
+        return s;
+    if ((s = rb_check_range(err, "pad_friction.fade_onset", f->fade_onset, 0.0, 2000.0)) != RB_OK)
+        return s;
+    return rb_check_range(err, "pad_friction.fade_rate", f->fade_rate, 0.0, 0.1);
 }
 
 rb_status rb_pad_friction_sintered(double low_speed_value, rb_pad_friction *out, rb_error *err)
@@ -74,6 +84,8 @@ rb_status rb_pad_friction_sintered(double low_speed_value, rb_pad_friction *out,
     }
     out->table.speed[points] = 2.0 * knee;
     out->table.value[points] = high;
+    out->fade_onset = 0.0;
+    out->fade_rate = 0.0;   /* no heat fading unless a train file gives it */
     return RB_OK;
 }
 

@@ -107,7 +107,10 @@ static void rk4_step(decel_fn a, const void *ctx, const rb_stop_options *o, doub
     *v += h * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
 }
 
-static rb_status integrate(decel_fn a, const void *ctx, const rb_stop_options *o, recorder *rec,
+/* Called after each step from t over h with the speeds at its ends (NULL: nothing to follow). */
+typedef void (*after_fn)(void *ctx, double t, double h, double v_start, double v_end);
+
+static rb_status integrate(decel_fn a, void *ctx, after_fn after, const rb_stop_options *o, recorder *rec,
                            double *distance_out, double *time_out, rb_error *err)
 {
     double t = 0.0, v = o->v0, s = 0.0;
@@ -130,6 +133,8 @@ static rb_status integrate(decel_fn a, const void *ctx, const rb_stop_options *o
             *time_out = t;
             return RB_OK;
         }
+        if (after)
+            after(ctx, t, h, v, v1);
         t += h;
         v = v1;
         s = s1;
@@ -145,6 +150,11 @@ typedef struct {
     const rb_brake_command *cmd;
     double gradient;
     double p_atm_motor, p_atm_trailer;
+    /* the discs (NULL: cold pads): each car's surface and bulk temperatures, the pads' fading */
+    const rb_train_discs *discs;
+    const rb_stop_options *options;
+    double surface[RB_MAX_CARS], bulk[RB_MAX_CARS], fade[RB_MAX_CARS];
+    double max_surface;
 } train_ctx;
 
 static double pressure_at(const rb_speed_table *table, double p_atm, double speed)
@@ -152,15 +162,69 @@ static double pressure_at(const rb_speed_table *table, double p_atm, double spee
     return table->n > 0 ? rb_speed_table_at(table, speed) : p_atm;
 }
 
-static double train_decel(const void *ctx, double speed, double effort, double gradient)
+static rb_brake_state brake_state(const train_ctx *c, double speed, double effort)
 {
-    const train_ctx *c = ctx;
     rb_brake_state state = {pressure_at(&c->cmd->p_motor, c->p_atm_motor, speed),
                             pressure_at(&c->cmd->p_trailer, c->p_atm_trailer, speed),
                             c->cmd->ed_mode,
                             c->cmd->ed_mode == RB_ED_BLENDED ? rb_speed_table_at(&c->cmd->ed_demand, speed) : 0.0,
-                            effort};
+                            effort, {0.0}};
+    for (int k = 0; k < c->train->n_cars; ++k) state.fade[k] = c->fade[k];
+    return state;
+}
+
+static double train_decel(const void *ctx, double speed, double effort, double gradient)
+{
+    const train_ctx *c = ctx;
+    rb_brake_state state = brake_state(c, speed, effort);
     return rb_train_deceleration(c->train, &state, speed, gradient, NULL);
+}
+
+/* After a step: each car's discs take its pneumatic brake's power at the step's mean speed and
+   effort (rail force x speed, shared by its axles), and the pads' fading follows the surface. */
+static void heat_discs(void *ctx, double t, double h, double v_start, double v_end)
+{
+    train_ctx *c = ctx;
+    const rb_train_discs *d = c->discs;
+    const double v = 0.5 * (v_start + v_end);
+    const double effort = effort_at(c->options, t + 0.5 * h, t + 0.5 * h);
+    for (int k = 0; k < c->train->n_cars; ++k) {
+        const rb_car *car = &c->train->cars[k];
+        if (!(d->heat_capacity[k] > 0.0))
+            continue;
+        double p = car->motor ? pressure_at(&c->cmd->p_motor, c->p_atm_motor, v)
+                              : pressure_at(&c->cmd->p_trailer, c->p_atm_trailer, v);
+        double p_atm = car->brake.caliper.atmospheric_pressure;
+        double torque = rb_axle_brake_torque(&car->brake, p_atm + effort * (p - p_atm), v) / (1.0 + c->fade[k]);
+        double power = torque / car->wheelset.wheel_radius * v;   /* per axle */
+        const int layered = d->surface_capacity[k] > 0.0;
+        const double cs = layered ? d->surface_capacity[k] : d->heat_capacity[k];
+        const double cb = layered ? d->heat_capacity[k] - cs : 0.0;
+        const double cooling = d->cooling[k].n > 0 ? rb_speed_table_at(&d->cooling[k], v) : 0.0;
+        const double to_bulk = rb_disc_to_bulk(cb, layered ? d->surface_conductance[k] : 0.0, h);
+        rb_disc_step(cs, cb * to_bulk, to_bulk, rb_disc_inverse(cs, cb, cooling, to_bulk, h), h, power,
+                     cooling * d->ambient_temperature, &c->surface[k], &c->bulk[k]);
+        double hot = c->surface[k] - car->brake.pad.fade_onset;
+        c->fade[k] = hot > 0.0 ? car->brake.pad.fade_rate * hot : 0.0;
+        c->max_surface = c->surface[k] > c->max_surface ? c->surface[k] : c->max_surface;
+    }
+}
+
+static rb_status check_discs(const rb_train *t, const rb_train_discs *d, rb_error *err)
+{
+    rb_status s = rb_check_range(err, "discs.ambient_temperature", d->ambient_temperature, 200.0, 350.0);
+    for (int k = 0; s == RB_OK && k < t->n_cars; ++k) {
+        if (!(d->heat_capacity[k] >= 0.0) || !(d->surface_capacity[k] >= 0.0) ||
+            (d->heat_capacity[k] > 0.0 && !(d->surface_capacity[k] < d->heat_capacity[k])) ||
+            !(d->surface_conductance[k] >= 0.0) || (d->surface_capacity[k] > 0.0 && !(d->surface_conductance[k] > 0.0)))
+            return rb_fail(err, RB_EINVAL, "discs of cars[%d]: heat_capacity = %g J/K, surface_capacity = %g J/K, "
+                           "surface_conductance = %g W/K: need capacities >= 0, the surface's below the disc's, and "
+                           "a conductance > 0 with a surface layer", k, d->heat_capacity[k], d->surface_capacity[k],
+                           d->surface_conductance[k]);
+        if (d->cooling[k].n > 0)
+            s = rb_speed_table_check(&d->cooling[k], "discs.cooling", 0.0, 1e5, err);
+    }
+    return s;
 }
 
 /* Checks a pressure table of one car type against [atmospheric, supply] of those cars. */
@@ -185,7 +249,22 @@ rb_status rb_stop_train(const rb_train *t, const rb_brake_command *cmd, const rb
                         double *time, double *speed, double *distance, size_t capacity,
                         size_t *n_out, double *distance_out, double *time_out, rb_error *err)
 {
-    train_ctx ctx = {t, cmd, o->gradient, 0.0, 0.0};
+    return rb_stop_train_heated(t, cmd, NULL, o, time, speed, distance, capacity, n_out, distance_out, time_out,
+                                NULL, err);
+}
+
+rb_status rb_stop_train_heated(const rb_train *t, const rb_brake_command *cmd, const rb_train_discs *discs,
+                               const rb_stop_options *o, double *time, double *speed, double *distance,
+                               size_t capacity, size_t *n_out, double *distance_out, double *time_out,
+                               double *max_surface_temperature, rb_error *err)
+{
+    static train_ctx ctx_zero;
+    train_ctx ctx = ctx_zero;
+    ctx.train = t;
+    ctx.cmd = cmd;
+    ctx.gradient = o->gradient;
+    ctx.discs = discs;
+    ctx.options = o;
     rb_status s;
     if ((s = rb_train_check(t, err)) != RB_OK || (s = check_options(o, err)) != RB_OK ||
         (s = check_pressure_table(t, 1, &cmd->p_motor, "p_motor", &ctx.p_atm_motor, err)) != RB_OK ||
@@ -197,9 +276,15 @@ rb_status rb_stop_train(const rb_train *t, const rb_brake_command *cmd, const rb
     if (cmd->ed_mode == RB_ED_BLENDED &&
         (s = rb_speed_table_check(&cmd->ed_demand, "ed_demand", 0.0, 5.0, err)) != RB_OK)
         return s;
+    if (discs && (s = check_discs(t, discs, err)) != RB_OK)
+        return s;
+    ctx.max_surface = discs ? discs->ambient_temperature : 0.0;
+    for (int k = 0; discs && k < t->n_cars; ++k) ctx.surface[k] = ctx.bulk[k] = discs->ambient_temperature;
     recorder rec = {time, speed, distance, capacity, 0, 0.0, o->dt_out};
-    s = integrate(train_decel, &ctx, o, &rec, distance_out, time_out, err);
+    s = integrate(train_decel, &ctx, discs ? heat_discs : NULL, o, &rec, distance_out, time_out, err);
     *n_out = rec.n;
+    if (max_surface_temperature)
+        *max_surface_temperature = ctx.max_surface;
     return s;
 }
 
@@ -220,7 +305,7 @@ rb_status rb_stop_profile(const rb_speed_table *decel, const rb_stop_options *o,
         (s = rb_speed_table_check(decel, "deceleration", 1e-3, 5.0, err)) != RB_OK)
         return s;
     recorder rec = {time, speed, distance, capacity, 0, 0.0, o->dt_out};
-    s = integrate(profile_decel, decel, o, &rec, distance_out, time_out, err);
+    s = integrate(profile_decel, (void *)decel, NULL, o, &rec, distance_out, time_out, err);
     *n_out = rec.n;
     return s;
 }

@@ -228,7 +228,7 @@ double rb_train_deceleration(const rb_train *t, const rb_brake_state *s, double 
     for (int k = 0; k < t->n_cars; ++k) {
         const rb_car *c = &t->cars[k];
         double p = c->motor ? s->p_motor : s->p_trailer;
-        brake += car_pneumatic_force(c, p, s->effort, speed) + car_ed_force(t, k, s, speed, gradient);
+        brake += car_pneumatic_force(c, p, s->effort, speed) / (1.0 + s->fade[k]) + car_ed_force(t, k, s, speed, gradient);
     }
     if (brake_force)
         *brake_force = brake;
@@ -277,7 +277,7 @@ rb_status rb_train_deceleration_curve(const rb_train *t, const double *speed, co
             (s = check_pressure(t, 0, p_trailer[i], "p_trailer", i, speed[i], err)) != RB_OK)
             return s;
         rb_brake_state state = {p_motor[i], p_trailer[i], ed_mode,
-                                ed_mode == RB_ED_BLENDED ? ed_demand[i] : 0.0, 1.0};
+                                ed_mode == RB_ED_BLENDED ? ed_demand[i] : 0.0, 1.0, {0.0}};
         decel[i] = rb_train_deceleration(t, &state, speed[i], gradient, NULL);
     }
     return RB_OK;

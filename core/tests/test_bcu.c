@@ -95,6 +95,55 @@ static void test_slide_cycle(void)
     CHECK(w.trips == 0);
 }
 
+/* The slip set-point controller's pressure memory: after a slide vented from a cylinder of 3 bar
+ * gauge, it re-applies at once up to setpoint_memory x 3 bar, holds there, and opens again once the
+ * ceiling, rising at setpoint_ramp, has passed the cylinder. */
+static void test_setpoint_pressure_memory(void)
+{
+    rb_wsp_params p;
+    rb_wsp_default w;
+    rb_wsp_commands out;
+    rb_wsp_default_params(&p);
+    p.controller = RB_WSP_SLIP_SETPOINT;
+    rb_wsp_default_reset(&w, &p);
+    double t = 0.0;
+    rb_wsp_inputs in = inputs(t, 50.0, 50.0);   /* cylinders at their demand, 3 bar gauge */
+    rb_wsp_default_step(&w, &in, &out);
+    CHECK(out.vent[0] == 0 && out.hold[0] == 0);
+    /* axle 0 falls 1 m/s behind (beyond the detection's 0.4 m/s + 0.5 %): engaged, it vents */
+    int vented = 0;
+    for (int i = 0; i < 5; ++i) {
+        t += 0.01;
+        in = inputs(t, 50.0, 50.0 - 0.2 * (i + 1));
+        rb_wsp_default_step(&w, &in, &out);
+        vented |= out.vent[0];
+    }
+    CHECK(vented && w.engaged[0]);
+    CHECK_CLOSE(w.memory[0], 4e5, 0.0, 1.0);   /* the cylinder when it began to vent, Pa abs */
+    /* the wheel is back with the train, its cylinder vented to 1 bar gauge: it re-applies */
+    for (int i = 0; i < 20; ++i) {
+        t += 0.01;
+        in = inputs(t, 50.0, 50.0);
+        for (int a = 0; a < 4; ++a) in.cylinder[a] = 2e5;
+        rb_wsp_default_step(&w, &in, &out);
+    }
+    CHECK(out.hold[0] == 0 && out.vent[0] == 0);
+    /* at 2.7 bar gauge, above 0.87 x 3 bar: held until the ceiling has risen past it */
+    double ceiling_passes = (2.7e5 / p.setpoint_memory - (w.memory[0] - 1e5)) / p.setpoint_ramp;
+    double opened = -1.0;
+    for (int i = 0; i < 200 && opened < 0.0; ++i) {
+        t += 0.01;
+        in = inputs(t, 50.0, 50.0);
+        for (int a = 0; a < 4; ++a) in.cylinder[a] = 3.7e5;
+        rb_wsp_default_step(&w, &in, &out);
+        if (i == 0) CHECK(out.hold[0] == 1 && out.vent[0] == 0 && w.mode[0] == RB_WSP_HOLD);
+        if (!out.hold[0]) opened = (i + 1) * 0.01;
+    }
+    CHECK(ceiling_passes > 0.1);
+    CHECK_CLOSE(opened, ceiling_passes, 0.0, 0.015);
+    CHECK(w.trips == 0);
+}
+
 static void test_safety_timer_on_continuous_venting(void)
 {
     rb_wsp_params p;
@@ -181,6 +230,7 @@ int main(void)
 {
     test_ed_blending_under_wsp();
     test_slide_cycle();
+    test_setpoint_pressure_memory();
     test_safety_timer_on_continuous_venting();
     test_cylinder_vented_without_command_isolates_the_axle();
     test_service_jerk_ramp();

@@ -252,8 +252,75 @@ static void test_sliding_energy(void)
     CHECK(k.max_sliding_energy >= r.axle_sliding_energy[0] && k.max_sliding_energy <= k.sliding_energy);
 }
 
+/* The recorded wsp_mode channels: a vent valve stuck open (and its hold valve shut) on axle 2 from
+ * 1 s vents its cylinder without command, so the safety timer isolates the axle (RB_WSP_ISOLATED) once it has seen the
+ * cylinder low for safety_time, not before: the channel shows it from then on, every mode is one
+ * of rb_wsp_mode, and the axles whose last mode is a trip are the safety_timer_trips KPI. Without
+ * WSP every axle reads RB_WSP_OFF. */
+static int mode_column(int n_cars, const char *channel)
+{
+    char name[64], unit[16];
+    for (int i = 0; i < rb_run_channel_count(n_cars); ++i) {
+        CHECK(rb_run_channel_info(i, n_cars, name, sizeof name, unit, sizeof unit, NULL) == RB_OK);
+        if (strcmp(name, channel) == 0) return i;
+    }
+    return -1;
+}
+
+static void test_wsp_mode_channels(void)
+{
+    static rb_plant_params p;
+    static rb_run_state r;
+    static double series[8000 * 64];
+    rb_bcu_params b;
+    rb_kpis k;
+    rb_wsp_params w;
+    rb_scenario sc = {1, {0.0}, {0.0}, {1.0}, 60.0, 0.05, 0.01, 0.1, 0, {0}};
+    int nch = rb_run_channel_count(1), first = mode_column(1, "wsp_mode_c1a1");
+    CHECK(nch <= 64 && first >= 0 && mode_column(1, "wsp_mode_c1a4") == first + 3);
+    rb_wsp_default_params(&w);
+    for (int wsp = 1; wsp >= 0; --wsp) {
+        int finished = 0;
+        fill_plant(&p, 1, 100 / 3.6);
+        p.n_faults = 2;   /* (this light car's relay outfeeds a stuck vent alone: its hold valve stuck shut too) */
+        p.fault[0] = (rb_fault){RB_FAULT_VENT_STUCK_OPEN, 0, 1, 1.0, 0.0};
+        p.fault[1] = (rb_fault){RB_FAULT_HOLD_STUCK_CLOSED, 0, 1, 1.0, 0.0};
+        memset(&b, 0, sizeof b);
+        b.n_cars = 1; b.cycle = 0.01; b.atmosphere = p.atmosphere;
+        b.service_decel = 1.0; b.emergency_decel = 1.2; b.wsp_enabled = wsp;
+        rb_bcu_pressure_map(&p, p.atmosphere + 3.8e5, &b);
+        CHECK(rb_run_init(&p, &b, &w, &sc, &r, NULL) == RB_OK);
+        CHECK(rb_run_advance(&p, &b, &sc, &r, 1e9, series, 8000, &finished, NULL) == RB_OK);
+        CHECK(finished && r.rows > 100);
+        rb_run_kpis(&p, &r, &k);
+        double trip = -1.0;
+        int valid = 1, tripped = 0;
+        for (size_t i = 0; i < r.rows; ++i) {
+            const double *row = series + i * (size_t)nch;
+            for (int a = 0; a < RB_AXLES_PER_CAR; ++a) {
+                double m = row[first + a];
+                valid &= wsp ? (m == (int)m && m >= RB_WSP_APPLY && m <= RB_WSP_ISOLATED) : m == RB_WSP_OFF;
+            }
+            if (trip < 0.0 && row[first + 1] == RB_WSP_ISOLATED) trip = row[0];
+            if (trip >= 0.0) valid &= row[first + 1] == RB_WSP_ISOLATED;   /* kept to the end */
+        }
+        const double *last = series + (r.rows - 1) * (size_t)nch;
+        for (int a = 0; a < RB_AXLES_PER_CAR; ++a) tripped += last[first + a] >= RB_WSP_INHIBITED;
+        CHECK(valid);
+        CHECK(k.safety_timer_trips == tripped);
+        if (wsp) {
+            printf("vent stuck open, hold shut at 1 s: axle 2 isolated at %.2f s (safety time %.1f s), %d trip(s)\n", trip,
+                   w.safety_time, tripped);
+            CHECK(trip >= 1.0 + w.safety_time && tripped >= 1);
+        } else {
+            CHECK(trip < 0.0 && tripped == 0);
+        }
+    }
+}
+
 int main(void)
 {
+    test_wsp_mode_channels();
     test_sliding_energy();
     test_speed_marks();
     test_batch_runs_each_variant();

@@ -165,7 +165,7 @@ static void test_sizing_inverse(void)
     CHECK_CLOSE(back[N - 1], coast, 1e-12, 0);
     /* the force on the rails of each axle: brake minus what spins its wheelset down */
     t = small_train();
-    rb_brake_state s = {pm[2], pt[2], RB_ED_BLENDED, a[2], 1.0};
+    rb_brake_state s = {pm[2], pt[2], RB_ED_BLENDED, a[2], 1.0, {0.0}};
     double brake;
     rb_train_deceleration(&t, &s, v[2], 0.0, &brake);
     double rail = 0.0;
@@ -235,6 +235,35 @@ static void test_stopping(void)
     CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s, &tt, &err) == RB_EINVAL);
     CHECK(strstr(err.message, "gradient_start[1] = -5 m") != NULL);
     o.n_gradients = 0;
+
+    /* heated discs: pads that never fade give rb_stop_train's stop exactly; pads fading from the
+       ambient on lengthen it, and the hottest surface lies above the ambient */
+    cmd.p_trailer = (rb_speed_table){1, {0.0}, {P_ATM + 3e5}};
+    cmd.p_motor = cmd.p_trailer;
+    o.v_end = 0.0;
+    double s_cold, t_cold, s_hot, t_hot, hottest;
+    CHECK(rb_stop_train(&t, &cmd, &o, time, speed, dist, 4000, &n, &s_cold, &t_cold, &err) == RB_OK);
+    static rb_train_discs discs;
+    discs.ambient_temperature = 293.15;
+    for (int c = 0; c < t.n_cars; ++c) {
+        discs.heat_capacity[c] = 3 * 115.0 * 460.0;
+        discs.surface_capacity[c] = 0.12 * discs.heat_capacity[c];
+        discs.surface_conductance[c] = 3 * 1450.0;
+        t.cars[c].brake.pad.fade_onset = 293.15;
+        t.cars[c].brake.pad.fade_rate = 0.0;
+    }
+    CHECK(rb_stop_train_heated(&t, &cmd, &discs, &o, time, speed, dist, 4000, &n, &s_hot, &t_hot, &hottest, &err) ==
+          RB_OK);
+    CHECK(s_hot == s_cold && t_hot == t_cold);
+    CHECK(hottest > 293.15 + 50.0);
+    for (int c = 0; c < t.n_cars; ++c) t.cars[c].brake.pad.fade_rate = 0.002;
+    CHECK(rb_stop_train_heated(&t, &cmd, &discs, &o, time, speed, dist, 4000, &n, &s_hot, &t_hot, &hottest, &err) ==
+          RB_OK);
+    CHECK(s_hot > s_cold * 1.01);
+    discs.surface_capacity[1] = discs.heat_capacity[1];
+    CHECK(rb_stop_train_heated(&t, &cmd, &discs, &o, time, speed, dist, 4000, &n, &s_hot, &t_hot, &hottest, &err) ==
+          RB_EINVAL);
+    CHECK(strstr(err.message, "discs of cars[1]") != NULL);
 
     /* a pressure beyond the supply is refused and named */
     cmd.p_trailer = (rb_speed_table){1, {0.0}, {P_ATM + 6e5}};

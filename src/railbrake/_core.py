@@ -141,7 +141,7 @@ class SpeedTable(Structure):
 
 
 class PadFriction(Structure):
-    _fields_ = [("table", SpeedTable)]
+    _fields_ = [("table", SpeedTable), ("fade_onset", c_double), ("fade_rate", c_double)]
 
 
 class Caliper(Structure):
@@ -211,6 +211,20 @@ rb_speed_table_at = _declare("rb_speed_table_at", c_double, POINTER(SpeedTable),
 rb_speed_table_check = _declare("rb_speed_table_check", c_int, POINTER(SpeedTable), ctypes.c_char_p,
                                 c_double, c_double, _err_p)
 rb_pad_friction_at = _declare("rb_pad_friction_at", c_double, POINTER(PadFriction), c_double)
+class DynoStop(Structure):
+    _fields_ = ([(n, c_double) for n in ("initial_speed", "mass", "pad_force", "friction_radius", "wheel_radius",
+                                         "heat_capacity", "surface_capacity", "surface_conductance")]
+                + [("cooling", SpeedTable), ("ambient_temperature", c_double), ("dt", c_double)])
+
+
+class DynoResult(Structure):
+    _fields_ = [(n, c_double) for n in ("mean_friction", "max_surface_temperature", "max_mean_temperature", "heat",
+                                        "stored", "cooled", "distance", "time")]
+
+
+rb_pad_friction_eval = _declare("rb_pad_friction_eval", c_double, POINTER(PadFriction), c_double, c_double)
+rb_dyno_stop_run = _declare("rb_dyno_stop_run", c_int, POINTER(PadFriction), POINTER(DynoStop), POINTER(DynoResult),
+                            _err_p)
 rb_pad_friction_sintered = _declare("rb_pad_friction_sintered", c_int, c_double, POINTER(PadFriction),
                                     _err_p)
 rb_caliper_check = _declare("rb_caliper_check", c_int, POINTER(Caliper), _err_p)
@@ -241,6 +255,14 @@ rb_size_car_demand = _declare("rb_size_car_demand", c_int, POINTER(TrainC), c_in
 rb_stop_train = _declare("rb_stop_train", c_int, POINTER(TrainC), POINTER(BrakeCommand),
                          POINTER(StopOptions), c_double_p, c_double_p, c_double_p, c_size_t, _size_p,
                          c_double_p, c_double_p, _err_p)
+class TrainDiscs(Structure):
+    _fields_ = [(n, c_double * MAX_CARS) for n in ("heat_capacity", "surface_capacity", "surface_conductance")] + [
+        ("cooling", SpeedTable * MAX_CARS), ("ambient_temperature", c_double)]
+
+
+rb_stop_train_heated = _declare("rb_stop_train_heated", c_int, POINTER(TrainC), POINTER(BrakeCommand),
+                                POINTER(TrainDiscs), POINTER(StopOptions), c_double_p, c_double_p, c_double_p,
+                                c_size_t, _size_p, c_double_p, c_double_p, c_double_p, _err_p)
 rb_stop_profile = _declare("rb_stop_profile", c_int, POINTER(SpeedTable), POINTER(StopOptions),
                            c_double_p, c_double_p, c_double_p, c_size_t, _size_p, c_double_p,
                            c_double_p, _err_p)
@@ -278,7 +300,8 @@ class PlantCar(Structure):
                            "hold_area", "vent_area", "valve_delay",
                            "pipe_area", "disc_heat_capacity")
                 + [("disc_cooling", SpeedTable)]
-                + _doubles("emergency_delay", "emergency_area", "emergency_limit"))
+                + _doubles("emergency_delay", "emergency_area", "emergency_limit")
+                + _doubles("disc_surface_capacity", "disc_surface_conductance"))
 
 
 class PlantCondition(Structure):
@@ -343,6 +366,7 @@ class WspParams(Structure):
                         "reapply_off", "reapply_time", "filter_time",
                         "safety_time", "min_speed") + [("controller", c_int)] + _doubles(
         "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release",
+        "setpoint_memory", "setpoint_ramp",
         "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold", "ds_reaccel_threshold") + [
         ("conditioning_mode", c_int), ("conditioning_ratio", c_double)]
 
@@ -378,7 +402,8 @@ KPI_NAMES = ("stopping_distance_m", "stopping_time_s", "mean_deceleration", "max
              "min_main_reservoir", "min_supply", "air_drawn_kg", "air_vented_kg", "cylinder_shortfall_s",
              "worst_axle", "brake_energy", "max_disc_temperature", "min_supply_margin")
 # after the speed marks in rb_kpis
-KPI_TAIL_NAMES = ("valve_switchings", "max_sliding_energy", "sliding_energy")
+KPI_TAIL_NAMES = ("valve_switchings", "max_sliding_energy", "sliding_energy", "mean_pad_friction",
+                  "max_disc_surface_temperature")
 SHORTFALL_PA = 0.2e5  # RB_SHORTFALL_PA
 
 

@@ -24,7 +24,8 @@ LAYERS = (
     ("data and schemas", "data files read and validated: trains, scenarios, adhesion conditions, valves, "
      "pneumatic elements, deceleration profiles, wheel-rail contact",
      ("railbrake.config", "railbrake.vehicle", "railbrake.scenario", "railbrake.contact", "railbrake.adhesion",
-      "railbrake.pneumatics", "railbrake.valves", "railbrake.train_template", "railbrake.profiles")),
+      "railbrake.pneumatics", "railbrake.valves", "railbrake.train_template", "railbrake.profiles",
+      "railbrake.pad_fade")),
     ("resolution", "one resolved, validated configuration; sizing of the brake steps on a train",
      ("railbrake.resolve", "railbrake.sizing")),
     ("C structs", "the C core's structs of a resolved configuration, its KPIs back as a dict",

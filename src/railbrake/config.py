@@ -8,7 +8,9 @@ Before validation the text is checked as a whole, without recursion, so no input
 loader or end in a traceback: it must be UTF-8 (read_text), nest at most MAX_DEPTH levels, use no
 anchors or aliases (`&a`, `*a`: an alias bomb of 13 levels expands to 67 million items) and give
 no key twice in a mapping (both lines are named), and no .nan or .inf anywhere. Values are validated strictly: a string or a
-Boolean is not read as a number (`load_t: "1_000"`, `wheelset_inertia_kgm2: true`).
+Boolean is not read as a number (`load_t: "1_000"`, `wheelset_inertia_kgm2: true`). A key whose name
+gives its unit (`tare_t`) takes a bare number: `'60 t'` is refused with the number to write
+(named_unit_hint; scenario keys take their unit in the value instead).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import copy
 import functools
 import math
 import os
+import re
 import stat
 from pathlib import Path
 from typing import TypeVar
@@ -26,6 +29,7 @@ from pydantic import BaseModel, ValidationError
 
 from railbrake._args import name_or_path, show
 from railbrake.errors import InputError
+from railbrake.units import unit_in_name
 
 Model = TypeVar("Model", bound=BaseModel)
 
@@ -209,7 +213,42 @@ def _describe(error: dict) -> str:
         written = f"{number:.1e}" if "e" in value.lower() else f"{number:g}"
         return (f"{key} = {value!r}: text, not a number (YAML 1.1 reads quoted values and exponents "
                 f"without a dot, such as 1e29, as strings): write {written}")
+    if error["type"] in ("float_type", "int_type") and isinstance(value, str) and _QUANTITY.match(value):
+        return f"{key} = {value!r}: {_number_alone(tuple(error['loc']), value)}"
     return f"{key} = {value!r}: {_message(error)}"
+
+
+# a number followed by a unit, as scenario keys take them ('300 km/h', '60 t', '-2.5e3 kg')
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d[\d_]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([^\d\s.+-].*?)\s*$")
+
+
+def named_unit_hint(key, value) -> str | None:
+    """How to write a value given with a unit ('60 t') to a key whose name gives its unit: tare_t,
+    a dotted key ending in it, or a key inside one (limit_bar.tare): a bare number in that unit
+    (train files name units in their keys; scenario keys take them in their values). None for any
+    other key or value."""
+    parts = tuple(str(key).split(".")) if isinstance(key, str) else tuple(key)
+    if (not isinstance(value, str) or _yaml_text_number(value) or not _QUANTITY.match(value)
+            or _named_unit(parts) is None):
+        return None
+    return _number_alone(parts, value)
+
+
+def _named_unit(parts: tuple) -> tuple[str, str] | None:
+    """(key, unit) of the innermost key of a key path whose name gives a unit."""
+    return next(((str(p), unit_in_name(str(p))) for p in reversed(parts) if unit_in_name(str(p))), None)
+
+
+def _number_alone(parts: tuple, value: str) -> str:
+    number, unit = _QUANTITY.match(value).groups()
+    named = _named_unit(parts)
+    if named is None:
+        return f"write the number alone, e.g. {number}"
+    name, named_unit = named
+    if unit.replace(" ", "") == named_unit.replace(" ", ""):
+        return f"the key's name gives the unit ({name}: {named_unit}): write the number alone, {number}"
+    return (f"the key's name gives the unit ({name}: {named_unit}): write the number alone, in {named_unit} "
+            f"(not {unit})")
 
 
 def _yaml_text_number(text: str) -> bool:

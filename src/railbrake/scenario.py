@@ -30,6 +30,7 @@ _UNITS = {
     "m": ("length", 1.0), "km": ("length", 1e3),
     "m/s^2": ("acceleration", 1.0), "m/s2": ("acceleration", 1.0),
     "bar": ("pressure", 1e5), "kPa": ("pressure", 1e3), "Pa": ("pressure", 1.0),
+    "bar/s": ("pressure rate", 1e5), "kPa/s": ("pressure rate", 1e3), "Pa/s": ("pressure rate", 1.0),
     "mm^2": ("area", 1e-6), "m^2": ("area", 1.0),
     "‰": ("gradient", 1e-3), "permille": ("gradient", 1e-3), "%": ("gradient", 1e-2),
 }
@@ -114,6 +115,8 @@ Q_WSP_SETPOINT_BAND = _bounded("wsp.setpoint_band")
 Q_WSP_LEAD_TIME = _quantity("time", "wsp.lead_time")
 Q_WSP_REF_DECEL_MARGIN = _quantity("acceleration", "wsp.ref_decel_margin")
 Q_WSP_SETPOINT_RELEASE = _quantity("time", "wsp.setpoint_release")
+Q_WSP_SETPOINT_MEMORY = _bounded("wsp.setpoint_memory")
+Q_WSP_SETPOINT_RAMP = _quantity("pressure rate", "wsp.setpoint_ramp")
 Q_WSP_DS_SPEED_THRESHOLD = _quantity("speed", "wsp.ds_speed_threshold")
 Q_WSP_DS_SLIP_THRESHOLD = _bounded("wsp.ds_slip_threshold")
 Q_WSP_DS_DECEL_THRESHOLD = _quantity("acceleration", "wsp.ds_decel_threshold")
@@ -204,6 +207,8 @@ class WspSettings(_Strict):
     lead_time: Q_WSP_LEAD_TIME | None = None
     ref_decel_margin: Q_WSP_REF_DECEL_MARGIN | None = None
     setpoint_release: Q_WSP_SETPOINT_RELEASE | None = None
+    setpoint_memory: Q_WSP_SETPOINT_MEMORY | None = None
+    setpoint_ramp: Q_WSP_SETPOINT_RAMP | None = None
     ds_speed_threshold: Q_WSP_DS_SPEED_THRESHOLD | None = None
     ds_slip_threshold: Q_WSP_DS_SLIP_THRESHOLD | None = None
     ds_decel_threshold: Q_WSP_DS_DECEL_THRESHOLD | None = None
@@ -221,7 +226,8 @@ CONTROLLER_KEYS = {
     "threshold": ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold"),
     # the threshold controller's detection engages it on an axle
     "slip_setpoint": ("speed_threshold", "slip_threshold", "decel_threshold", "setpoint_speed", "setpoint_slip",
-                      "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release"),
+                      "setpoint_band", "lead_time", "ref_decel_margin", "setpoint_release", "setpoint_memory",
+                      "setpoint_ramp"),
     "decel_slip_speed": ("ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold", "ds_reaccel_threshold",
                          "ref_decel_margin"),
 }

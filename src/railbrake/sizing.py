@@ -27,7 +27,7 @@ from railbrake.errors import InputError
 from railbrake.profiles import (PROFILE_SCHEMA, Profile, ProfileLike, load_profile, make_profile,  # noqa: F401
                                 profile_names, read_profile_csv)
 from railbrake.units import KMH, ms_to_kmh
-from railbrake.vehicle import Train, load_train
+from railbrake.vehicle import Train, load_train, train_discs
 
 MAX_STOP_STEPS = 10**8      # integration steps of one stop (a few s of C time), and
 MAX_CURVE_POINTS = 10**6    # points of its curve (24 MB): checked before either is spent
@@ -291,6 +291,7 @@ class StoppingResult:
     delay: Optional[float] = None     # s, ta used
     build_up: Optional[float] = None  # s, tb used
     simulated_response: bool = False  # ta, tb measured on the plant (simulation.response)
+    max_disc_surface_temperature: Optional[float] = None   # K, hottest friction surface (a train's stop)
 
 
 def _options(v0, v_end, gradient, delay, build_up, equivalent, dt, dt_out, t_max, gradients=()):
@@ -318,12 +319,12 @@ def train_length(train: Train) -> float:
     return float(sum(car.equipment.length_m for car in train.cars))
 
 
-def _run(function, first, options, t_max, dt_out) -> tuple:
+def _run(function, first, options, t_max, dt_out, last=()) -> tuple:
     capacity = int(t_max / dt_out) + 4
     t, v, s = np.empty(capacity), np.empty(capacity), np.empty(capacity)
     n, dist, time = ctypes.c_size_t(), ctypes.c_double(), ctypes.c_double()
     _core.call(function, *first, ctypes.byref(options), _core.ptr(t), _core.ptr(v), _core.ptr(s),
-               capacity, ctypes.byref(n), ctypes.byref(dist), ctypes.byref(time))
+               capacity, ctypes.byref(n), ctypes.byref(dist), ctypes.byref(time), *last)
     k = n.value
     return dist.value, time.value, t[:k].copy(), v[:k].copy(), s[:k].copy()
 
@@ -391,8 +392,12 @@ def stopping_distance(v0: float, train=None, profile: Optional[ProfileLike] = No
         result = _run(_core.rb_stop_profile, (ctypes.byref(table),), options, t_max, dt_out)
         return StoppingResult(*result, delay=ta, build_up=tb)
     cmd, warnings = _pressure_command(trained, prof, v0, ed)
-    result = _run(_core.rb_stop_train, (ctypes.byref(trained.c), ctypes.byref(cmd)), options, t_max, dt_out)
-    return StoppingResult(*result, warnings=warnings, delay=ta, build_up=tb)
+    # the pads fade with their discs' heat as in the plant (rb_stop_train_heated)
+    discs, hottest = train_discs(trained), ctypes.c_double()
+    result = _run(_core.rb_stop_train_heated, (ctypes.byref(trained.c), ctypes.byref(cmd), ctypes.byref(discs)),
+                  options, t_max, dt_out, (ctypes.byref(hottest),))
+    return StoppingResult(*result, warnings=warnings, delay=ta, build_up=tb,
+                          max_disc_surface_temperature=hottest.value)
 
 
 def _pairs(name: str, pairs) -> list:

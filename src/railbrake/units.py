@@ -36,6 +36,21 @@ def kn_to_n(f_kn):
     return _number('f_kn', f_kn) * KN
 
 
+# The unit a file key names at the end of its name (tare_t, max_speed_kmh, A_kN): such keys take a
+# bare number in that unit. Longest suffixes first.
+NAME_UNITS = (("_kN_per_kmh2", "kN/(km/h)²"), ("_kN_per_kmh", "kN/(km/h)"), ("_kN_per_mm", "kN/mm"),
+              ("_kN_s_per_m", "kN s/m"), ("_J_per_kgK", "J/(kg K)"), ("_W_per_K", "W/K"), ("_m_per_s", "m/s"),
+              ("_J_m2", "J/m²"), ("_per_h", "1/h"), ("_kg_s", "kg/s"), ("_kgm2", "kg m²"), ("_mm2", "mm²"),
+              ("_m2", "m²"), ("_ms2", "m/s²"), ("_kmh", "km/h"), ("_bar", "bar"), ("_kN", "kN"), ("_kg", "kg"),
+              ("_mm", "mm"), ("_ms", "ms"), ("_t", "t"), ("_m", "m"), ("_s", "s"), ("_l", "l"), ("_c", "°C"),
+              ("_K", "K"), ("_h", "h"), ("_percent", "%"), ("_permille", "‰"))
+
+
+def unit_in_name(key: str) -> str | None:
+    """The unit a key's name ends with ('tare_t' -> 't', 'B_kN_per_kmh' -> 'kN/(km/h)'), else None."""
+    return next((unit for suffix, unit in NAME_UNITS if key.endswith(suffix)), None)
+
+
 def _number(name: str, value):
     """value if a number or an array (numpy, pandas); not a Boolean, a string, a list or None."""
     if isinstance(value, (bool, np.bool_)) or not (isinstance(value, numbers.Number) or hasattr(value, "__array__")):

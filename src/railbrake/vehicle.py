@@ -165,6 +165,8 @@ class _AirSupply(_Strict):
     governor_on_bar: float = _num("train.main_reservoir_gauge", BAR)       # gauge: a compressor starts below
     governor_off_bar: float = _num("train.main_reservoir_gauge", BAR)      # gauge: and stops above
     charged_bar: float = _num("train.main_reservoir_gauge", BAR)           # gauge: main reservoir and pipe at the start
+    # gauge: the brake's working range ends below (a run whose main reservoir falls there warns)
+    min_working_bar: float = _num("train.main_reservoir_min_working", BAR)
     main_reservoir_l: float = _num("main_reservoir_volume", L)   # lumped main reservoirs of the whole train
     main_reservoir_outlet_mm2: float = _num("train.air_flow_area", MM2)
     pipe: _MainReservoirPipe
@@ -175,6 +177,9 @@ class _AirSupply(_Strict):
         if not self.governor_off_bar > self.governor_on_bar:
             raise ValueError(f"governor_off_bar = {self.governor_off_bar} must exceed governor_on_bar = "
                              f"{self.governor_on_bar} (bar gauge)")
+        if not self.min_working_bar < self.governor_on_bar:
+            raise ValueError(f"min_working_bar = {self.min_working_bar} must lie below governor_on_bar = "
+                             f"{self.governor_on_bar} (bar gauge): the compressors keep the main reservoir above it")
         if not self.charged_bar <= self.governor_off_bar:
             raise ValueError(f"charged_bar = {self.charged_bar} must not exceed governor_off_bar = "
                              f"{self.governor_off_bar} (bar gauge): the compressors stop there")
@@ -195,6 +200,14 @@ class _Coupler(_Strict):
     source: str
 
 
+class _SurfaceLayer(_Strict):
+    """The disc's friction surface as its own thermal node (rb_plant_car.disc_surface_*): its share of
+    the disc's heat capacity and its conductance to the rest of the disc, per disc."""
+    share: float = _num("train.disc_surface_share")
+    conductance_W_per_K: float = _num("train.disc_surface_conductance")
+    source: str
+
+
 class _Discs(_Strict):
     per_axle: int = Field(ge=1, le=8)
     mounting: Literal["axle", "wheel"]
@@ -202,6 +215,7 @@ class _Discs(_Strict):
     mass_kg: float = _num("train.disc_mass")                   # one disc (the part that stores heat)
     specific_heat_J_per_kgK: float = _num("train.disc_specific_heat")
     cooling_W_per_K: _CoolingTable                             # per disc, over speed
+    surface_layer: Optional[_SurfaceLayer] = None              # none: one lumped disc
 
 
 class _Cylinder(_Strict):
@@ -216,9 +230,18 @@ class _Caliper(_Strict):
     efficiency: float = _num("train.caliper_efficiency")
 
 
+class _PadFade(_Strict):
+    """Heat fading (rb_pad_friction): the friction divided by 1 + rate_per_K (T_s - onset_c) above
+    the onset, T_s the disc's friction surface temperature."""
+    onset_c: float = _num("train.pad_fade_onset", offset=ZERO_CELSIUS)
+    rate_per_K: float = _num("train.pad_fade_rate")
+    source: str
+
+
 class _PadFriction(_Strict):
     sintered_low_speed: Optional[float] = _num("train.pad_sintered_low_speed", default=None)
     table: Optional[_PadTable] = None
+    fade: Optional[_PadFade] = None    # none: the table alone, at any temperature
 
     @model_validator(mode="after")
     def _one_form(self):
@@ -550,6 +573,8 @@ def _pad_friction(pad: _PadFriction) -> _core.PadFriction:
         out.table = _core.speed_table(np.asarray(pad.table.speed_kmh) * KMH, pad.table.value)
     else:
         _core.call(_core.rb_pad_friction_sintered, pad.sintered_low_speed, ctypes.byref(out))
+    if pad.fade is not None:
+        out.fade_onset, out.fade_rate = pad.fade.onset_c + ZERO_CELSIUS, pad.fade.rate_per_K
     return out
 
 
@@ -734,6 +759,11 @@ def _check_supply(model: _TrainFile, locate) -> None:
         low, high, why = config.bound_in("car.supply_pressure", BAR, bar_to_pa(atm))
         raise InputError(f"{where}: must lie in [{low:.3g}, {high:.3g}] bar gauge at atmospheric_pressure_bar = "
                          f"{atm:g} ({why})")
+    working = model.air_supply.min_working_bar
+    if not gauge < working:
+        raise InputError(f"{where}: must stay below air_supply.min_working_bar = {working:g} (bar gauge; "
+                         f"{locate(('air_supply', 'min_working_bar'))}): a main reservoir at its minimum working "
+                         "pressure still charges the brake supply")
     governor_on = model.air_supply.governor_on_bar
     if not gauge < governor_on:
         raise InputError(f"{where}: must stay below air_supply.governor_on_bar = {governor_on:g} (bar gauge; "
@@ -942,6 +972,97 @@ def pad_friction_of(car: Car, speed):
     """lambda(v) of a car's pads at speed (m/s)."""
     pad = ctypes.byref(instance("car", car, Car).c.brake.pad)
     return _vectorised(lambda v: _core.rb_pad_friction_at(pad, v), _speeds(speed))
+
+
+def pad_friction_at_temperature(car: Car, speed, surface_temperature: float):
+    """The instantaneous friction of a car's pads at speed (m/s) on a friction surface at
+    surface_temperature (K): the table faded by the heat (rb_pad_friction_eval)."""
+    pad = ctypes.byref(instance("car", car, Car).c.brake.pad)
+    t = real("surface_temperature", surface_temperature, 0.0, 5000.0)
+    return _vectorised(lambda v: _core.rb_pad_friction_eval(pad, v, t), _speeds(speed))
+
+
+@dataclass(frozen=True)
+class AxleDiscs:
+    """The discs of one of a car's axles as the plant and the stopping distance heat them (SI)."""
+    heat_capacity: float        # J/K
+    surface_capacity: float     # J/K, the friction surface layer's (0: one lumped node)
+    surface_conductance: float  # W/K, surface to bulk
+    cooling_speed: np.ndarray   # m/s
+    cooling: np.ndarray         # W/K over cooling_speed
+
+
+def axle_discs(car: Car) -> AxleDiscs:
+    """A car's discs per axle from its train file: discs x one disc's heat capacity, its surface
+    layer's share and conductance, its cooling."""
+    discs = instance("car", car, Car).equipment.discs
+    capacity = discs.per_axle * discs.mass_kg * discs.specific_heat_J_per_kgK
+    layer = discs.surface_layer
+    return AxleDiscs(capacity, 0.0 if layer is None else layer.share * capacity,
+                     0.0 if layer is None else discs.per_axle * layer.conductance_W_per_K,
+                     np.asarray(discs.cooling_W_per_K.speed_kmh, dtype=float) * KMH,
+                     discs.per_axle * np.asarray(discs.cooling_W_per_K.value, dtype=float))
+
+
+def train_discs(train: Train) -> _core.TrainDiscs:
+    """Every car's axle discs (axle_discs) for the stopping distance, at the train's air temperature."""
+    out = _core.TrainDiscs()
+    for k, car in enumerate(instance("train", train, Train).cars):
+        d = axle_discs(car)
+        out.heat_capacity[k], out.surface_capacity[k], out.surface_conductance[k] = (
+            d.heat_capacity, d.surface_capacity, d.surface_conductance)
+        out.cooling[k] = _core.speed_table(d.cooling_speed, d.cooling)
+    out.ambient_temperature = train.spec.pneumatics.air_temperature_c + ZERO_CELSIUS
+    return out
+
+
+@dataclass(frozen=True)
+class DynoStop:
+    """A dynamometer stop of one of a car's discs (rb_dyno_stop_run; SI, temperatures in K)."""
+    mean_friction: float            # UIC 541-3's mean: (1/s) int mu ds
+    max_surface_temperature: float
+    max_mean_temperature: float
+    heat: float                     # J into the disc
+    stored: float                   # J in the disc at the stop
+    cooled: float                   # J to the air
+    distance: float                 # m
+    time: float                     # s
+    pad_force: float                # N per pad
+
+
+def dynamometer_stop(car: Car, initial_speed: float, deceleration: float, ambient_temperature: float,
+                     dt: float = 1e-3, pad: _core.PadFriction | None = None) -> DynoStop:
+    """One of a car's discs on a dynamometer: the mass it brakes (the car's over its discs) from
+    initial_speed (m/s) to a stop at a constant pad force, the force that gives `deceleration`
+    (m/s^2) with the cold pad's friction at the initial speed; the pads fade with the disc's surface
+    temperature as in the plant (the car's discs and pads as in its train file, cooling included).
+    ambient_temperature (K): the disc's at the start and its cooling's reference; pad: other pads
+    than the car's (a fit's trial, railbrake.pad_fade)."""
+    instance("car", car, Car)
+    if pad is not None:
+        instance("pad", pad, _core.PadFriction)
+    v0 = real("initial_speed", initial_speed, 0.0, 200.0, low_open=True)
+    a = real("deceleration", deceleration, 0.0, 10.0, low_open=True)
+    discs, brake = car.equipment.discs, car.c.brake
+    pad = brake.pad if pad is None else pad
+    n_discs = car.axles * discs.per_axle
+    mass = car.c.mass / n_discs
+    mu0 = _core.rb_pad_friction_at(ctypes.byref(pad), v0)
+    d = _core.DynoStop()
+    d.initial_speed, d.mass = v0, mass
+    d.pad_force = mass * a * car.wheel_radius / (2.0 * mu0 * brake.mean_radius)
+    d.friction_radius, d.wheel_radius = brake.mean_radius, car.wheel_radius
+    d.heat_capacity = discs.mass_kg * discs.specific_heat_J_per_kgK
+    if discs.surface_layer is not None:
+        d.surface_capacity = discs.surface_layer.share * d.heat_capacity
+        d.surface_conductance = discs.surface_layer.conductance_W_per_K
+    d.cooling = _core.speed_table(np.asarray(discs.cooling_W_per_K.speed_kmh) * KMH, discs.cooling_W_per_K.value)
+    d.ambient_temperature = real("ambient_temperature", ambient_temperature, 200.0, 350.0)
+    d.dt = real("dt", dt, 0.0, 0.1, low_open=True)
+    r = _core.DynoResult()
+    _core.call(_core.rb_dyno_stop_run, ctypes.byref(pad), ctypes.byref(d), ctypes.byref(r))
+    return DynoStop(r.mean_friction, r.max_surface_temperature, r.max_mean_temperature, r.heat, r.stored, r.cooled,
+                    r.distance, r.time, d.pad_force)
 
 
 def _speeds(speed):

@@ -42,6 +42,7 @@ typedef void (*rb_wsp_function)(void *context, const rb_wsp_inputs *in, rb_wsp_c
 /* ---- the default WSP */
 
 typedef enum {
+    RB_WSP_OFF = -1,       /* no default WSP on the axle: the BCU's WSP disabled, or a user function (records) */
     RB_WSP_APPLY = 0,      /* brake as demanded */
     RB_WSP_VENT = 1,       /* hold closed, vent open */
     RB_WSP_HOLD = 2,       /* hold closed */
@@ -75,6 +76,11 @@ typedef struct {
                                   the body's deceleration plus this (when every wheel slides) */
     double setpoint_release;   /* s braked as demanded after which the set-point controller lets an
                                   axle go (until the next detected slide) */
+    /* the set-point controller's pressure memory: below the band the brake re-applies quickly up to
+       setpoint_memory x the cylinder pressure (gauge) at which the axle last had to vent, then
+       holds; that ceiling rises at setpoint_ramp (Pa/s) while the axle stays below the band */
+    double setpoint_memory;    /* fraction of the remembered pressure */
+    double setpoint_ramp;      /* Pa/s */
     /* RB_WSP_DECEL_SLIP_SPEED (wsp_decel_slip.c): a slide is vented when the wheel's slip speed
      * (reference - wheel) exceeds ds_speed_threshold + ds_slip_threshold x reference or its
      * deceleration exceeds ds_decel_threshold */
@@ -111,6 +117,8 @@ typedef struct {
     double low_time[RB_PLANT_MAX_AXLES];        /* s of cylinder far below demand without a command */
     int trips;
     uint8_t engaged[RB_PLANT_MAX_AXLES];        /* set-point controller: a slide was detected on the axle */
+    double memory[RB_PLANT_MAX_AXLES];          /* set-point controller: Pa abs, the cylinder when it
+                                                   last began to vent, risen since (setpoint_ramp) */
 } rb_wsp_default;
 
 void rb_wsp_default_params(rb_wsp_params *p);
@@ -202,6 +210,10 @@ void rb_bcu_step(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_demand 
                  const rb_plant_outputs *out, rb_plant_inputs *in);
 /* The BCU's speed: the fastest measured wheel (a lost sensor reads < 0 and is ignored). */
 double rb_bcu_speed(const rb_plant_outputs *out, int n_cars);
+/* The default WSP's mode (rb_wsp_mode) of axle a, for records: RB_WSP_OFF when the BCU runs no
+ * WSP or a user function (p->wsp), whose state the BCU does not know. A safety-timer trip is the
+ * axle's mode becoming RB_WSP_INHIBITED or RB_WSP_ISOLATED, which it keeps to the end of the run. */
+int rb_bcu_wsp_mode(const rb_bcu_params *p, const rb_bcu_state *s, int a);
 /* Demanded deceleration (m/s^2) of a brake demand at speed v, for records. */
 double rb_bcu_demand_deceleration(const rb_bcu_params *p, const rb_brake_demand *d, double speed);
 

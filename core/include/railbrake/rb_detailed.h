@@ -115,6 +115,7 @@ typedef struct {
     /* run bookkeeping */
     int braking, finished, stopped;
     double brake_time, brake_position, brake_speed, next_record, max_slip;
+    double max_disc_surface_temperature;   /* K, the hottest friction surface so far */
     size_t rows;
     rb_ode_stats stats;             /* summed over every solver call */
     /* scratch for the solver and the network evaluation */

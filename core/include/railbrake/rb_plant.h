@@ -122,6 +122,13 @@ typedef struct {
     double emergency_delay;   /* s, >= 0 */
     double emergency_area;    /* m^2, >= 0 */
     double emergency_limit;   /* Pa absolute */
+    /* the discs' friction surface (plant_train.c): a surface layer of heat capacity
+     * disc_surface_capacity (J/K per axle, part of disc_heat_capacity) takes the braking power and
+     * gives it to the air (disc_cooling) and through disc_surface_conductance (W/K per axle) to the
+     * rest of the disc (its bulk). Its temperature is the friction surface's, which fades the pads
+     * (rb_pad_friction). disc_surface_capacity = 0: one lumped disc, whose temperature the pads see. */
+    double disc_surface_capacity;     /* J/K per axle, in [0, disc_heat_capacity) */
+    double disc_surface_conductance;  /* W/K per axle, > 0 with a surface layer */
 } rb_plant_car;
 
 typedef struct {
@@ -275,8 +282,11 @@ typedef struct {
     double air_vented;            /* kg to the atmosphere since t = 0 */
     double air_compressed;        /* kg delivered by the compressor since t = 0 */
     double air_drawn;             /* kg taken from the main reservoir and its pipe since t = 0 */
-    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K, lumped discs of each axle */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K, mean temperature of each axle's discs */
     double brake_energy[RB_PLANT_MAX_AXLES];     /* J, friction brake energy of each axle since t = 0 */
+    double disc_surface_temperature[RB_PLANT_MAX_AXLES]; /* K, the friction surface's (the mean without
+                                                            a surface layer) */
+    double pad_friction[RB_PLANT_MAX_AXLES];     /* the pads' instantaneous friction coefficient */
 } rb_plant_outputs;
 
 /* ---- constants derived from the parameters at rb_plant_init (never set them: init does) */
@@ -352,7 +362,11 @@ typedef struct {
     double axle_r_cyl[RB_PLANT_MAX_AXLES];   /* r_cyl of the axle's car: cylinder pressure = mt_cyl x it */
     double car_length[RB_PLANT_MAX_CARS], ed_lag[RB_PLANT_MAX_CARS];   /* m; h / (ed_tau + h) */
     double supply_volume[RB_PLANT_MAX_CARS];  /* m^3 (the outputs' supply pressures) */
-    double disc_capacity[RB_PLANT_MAX_CARS];  /* J/K per axle */
+    double disc_capacity[RB_PLANT_MAX_CARS];  /* J/K per axle: the surface layer's (all of it without one) */
+    double disc_bulk_capacity[RB_PLANT_MAX_CARS];  /* J/K per axle: the rest (0 without a surface layer) */
+    double disc_conductance[RB_PLANT_MAX_CARS];    /* W/K per axle, surface to bulk (0 without a surface layer) */
+    /* the pads' heat fading per axle (rb_pad_friction of the axle's car) */
+    double pad_fade_onset[RB_PLANT_MAX_AXLES], pad_fade_rate[RB_PLANT_MAX_AXLES];
     /* each car's last disc-cooling interval (cooling_bracket), as the pad's above */
     double cooling_lo[RB_PLANT_MAX_CARS], cooling_hi[RB_PLANT_MAX_CARS];
     double cooling_value_lo[RB_PLANT_MAX_CARS], cooling_slope[RB_PLANT_MAX_CARS];
@@ -400,7 +414,10 @@ typedef struct {
     /* plant_train.c */
     uint8_t compressor_running[RB_MAX_COMPRESSORS];
     double m_supply_side_initial; /* kg in the main reservoir and pipe at t = 0 */
-    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K */
+    double disc_temperature[RB_PLANT_MAX_AXLES]; /* K, the friction surface's (the lumped disc's without a
+                                                    surface layer) */
+    double disc_bulk_temperature[RB_PLANT_MAX_AXLES]; /* K, the disc under the surface layer */
+    double pad_friction[RB_PLANT_MAX_AXLES];     /* the pads' friction coefficient in the last step (kernel) */
     double brake_energy[RB_PLANT_MAX_AXLES];     /* J */
     double brake_torque[RB_PLANT_MAX_AXLES];     /* N m, friction brake torque of the last step (kernel) */
     int sensors_written;      /* a sensor fault has set noise or loss since the last clearing */

@@ -63,6 +63,12 @@ typedef struct {
     double max_sliding_energy;    /* J, the largest over the axles of the sliding energy, the time
                                      integral of creep force x slip velocity (wheel-flat risk) */
     double sliding_energy;        /* J, the same summed over the axles */
+    /* the pads and discs */
+    double mean_pad_friction;     /* stop-averaged pad friction: the instantaneous friction averaged
+                                     over the pads' sliding distance while they press (UIC 541-3's
+                                     mean friction of a dynamometer stop, 1/s int mu ds), all braked
+                                     axles together; 0 if no pad pressed */
+    double max_disc_surface_temperature; /* K, hottest friction surface of any disc */
 } rb_kpis;
 
 #define RB_SHORTFALL_PA 0.2e5
@@ -88,6 +94,10 @@ typedef struct {
     double axle_locks[RB_PLANT_MAX_AXLES];
     double axle_max_disc_temperature[RB_PLANT_MAX_AXLES];
     double axle_sliding_energy[RB_PLANT_MAX_AXLES];   /* J, integral of F w dt */
+    double axle_max_disc_surface_temperature[RB_PLANT_MAX_AXLES];
+    /* the pads' sliding distance (at the wheel's radius: the disc's scales both) while they press,
+       and the integral of their friction over it */
+    double axle_pad_distance[RB_PLANT_MAX_AXLES], axle_pad_friction_distance[RB_PLANT_MAX_AXLES];
     uint8_t last_hold[RB_PLANT_MAX_AXLES], last_vent[RB_PLANT_MAX_AXLES];   /* valve states of the last step */
     long valve_switchings;
     /* constant over the run (rb_run_start_kpis): the train's mass, which axles count for adhesion */

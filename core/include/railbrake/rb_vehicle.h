@@ -47,12 +47,29 @@ rb_status rb_speed_table_check(const rb_speed_table *t, const char *name, double
 
 /* ------------------------------------------------------------------ foundation brake */
 
-/* Pad friction coefficient lambda(v): a table over speed. */
+/* Pad friction coefficient: the instantaneous friction of a pad sliding at speed v on a disc whose
+ * friction surface is at temperature T_s,
+ *     lambda(v, T_s) = table(v) / (1 + fade_rate * max(T_s - fade_onset, 0)),
+ * the table the cold pad's friction over sliding speed, the divisor its heat fading: Cu-based
+ * sintered pads keep their friction below a surface temperature and lose it above (friction film
+ * softening; the stop-averaged friction of dynamometer stops falls from some 300 km/h on, where
+ * the friction surface passes that temperature). fade_rate = 0: no fading, the table alone. */
 typedef struct rb_pad_friction {
     rb_speed_table table;
+    double fade_onset;   /* K, friction surface temperature where fading begins, >= 0 */
+    double fade_rate;    /* 1/K, >= 0 */
 } rb_pad_friction;
 
+/* The cold pad's friction table(v): the friction at a surface below fade_onset. */
 double rb_pad_friction_at(const rb_pad_friction *f, double speed);
+/* 1 / (1 + fade_rate max(T_s - fade_onset, 0)): the fading factor at surface temperature T_s (K). */
+static inline double rb_pad_fade_factor(double fade_onset, double fade_rate, double surface_temperature)
+{
+    double hot = surface_temperature - fade_onset;
+    return 1.0 / (1.0 + fade_rate * (hot > 0.0 ? hot : 0.0));
+}
+/* lambda(v, T_s): the instantaneous friction at sliding speed v (m/s) and surface temperature T_s (K). */
+double rb_pad_friction_eval(const rb_pad_friction *f, double speed, double surface_temperature);
 rb_status rb_pad_friction_check(const rb_pad_friction *f, rb_error *err);
 
 /* Default for sintered pads [T]: 0.35 at and above 100 km/h, rising as a parabola to
@@ -104,6 +121,69 @@ static inline double rb_speed_table_at_from(const rb_speed_table *t, double spee
     double w = (speed - t->speed[lo]) / (t->speed[hi] - t->speed[lo]);
     return t->value[lo] + w * (t->value[hi] - t->value[lo]);
 }
+
+/* ------------------------------------------------------------------ disc temperature */
+
+/* A brake disc as two thermal nodes: its friction surface layer (capacity Cs, temperature Ts: it
+ * takes the braking power P and gives h (Ts - T_amb) to the air) and its bulk (Cb, Tb), linked by
+ * the conductance G; both implicit (backward Euler: stable at any step, and each step's heat
+ * balance Cs dTs + Cb dTb = dt (P - h (Ts' - T_amb)) exact). The bulk's equation gives
+ * Tb' = (1 - g) Tb + g Ts' with g = dt G / (Cb + dt G); the surface's then
+ * Ts' = (Cs Ts + dt (P + h T_amb) + Cb g Tb) / (Cs + dt h + Cb g). A lumped disc is Cb = G = 0
+ * (g = 0). The plant (plant_train.c) and rb_dyno_stop step their discs with these. */
+static inline double rb_disc_to_bulk(double bulk_capacity, double conductance, double dt)
+{
+    double link = dt * conductance;
+    return link > 0.0 ? link / (bulk_capacity + link) : 0.0;
+}
+/* 1 / (Cs + dt h + Cb g): the surface update's divisor */
+static inline double rb_disc_inverse(double surface_capacity, double bulk_capacity, double cooling, double to_bulk,
+                                     double dt)
+{
+    return 1.0 / (surface_capacity + dt * cooling + bulk_capacity * to_bulk);
+}
+/* The step: *surface and *bulk (K) advanced by dt (s) with the power P (W) and h T_amb (W);
+   bulk_g = Cb g. */
+static inline void rb_disc_step(double surface_capacity, double bulk_g, double to_bulk, double inverse, double dt,
+                                double power, double to_ambient, double *surface, double *bulk)
+{
+    double heated = (surface_capacity * *surface + dt * (power + to_ambient) + bulk_g * *bulk) * inverse;
+    *surface = heated;
+    *bulk += to_bulk * (heated - *bulk);
+}
+
+/* A dynamometer stop (UIC 541-3, EN 15328 bench tests): one disc with its 2 pads pressed by a
+ * constant normal force brakes the translational mass it carries from initial_speed to a stop;
+ * its pads' friction follows rb_pad_friction at the vehicle's speed and the disc's surface
+ * temperature, the disc heats as above. The stop's mean friction is UIC 541-3's: the friction
+ * averaged over the sliding distance, (1/s) int mu ds. */
+typedef struct rb_dyno_stop {
+    double initial_speed;        /* m/s, the vehicle's, > 0 */
+    double mass;                 /* kg braked by the disc, > 0 */
+    double pad_force;            /* N, normal force of each of the 2 pads, > 0 */
+    double friction_radius;      /* m, > 0 */
+    double wheel_radius;         /* m, > 0 */
+    double heat_capacity;        /* J/K, the disc's, > 0 */
+    double surface_capacity;     /* J/K, its surface layer, in [0, heat_capacity) (0: lumped) */
+    double surface_conductance;  /* W/K, surface to bulk, > 0 with a surface layer */
+    rb_speed_table cooling;      /* W/K over the vehicle's speed (n = 0: none) */
+    double ambient_temperature;  /* K, the disc's at the start */
+    double dt;                   /* s, in (0, 0.1] */
+} rb_dyno_stop;
+
+typedef struct rb_dyno_result {
+    double mean_friction;            /* (1/s) int mu ds */
+    double max_surface_temperature;  /* K */
+    double max_mean_temperature;     /* K, (Cs Ts + Cb Tb) / (Cs + Cb) */
+    double heat;                     /* J into the disc: the mass's kinetic energy */
+    double stored;                   /* J in the disc at the stop above the ambient */
+    double cooled;                   /* J given to the air (stored + cooled = heat) */
+    double distance;                 /* m, the vehicle's */
+    double time;                     /* s */
+} rb_dyno_result;
+
+rb_status rb_dyno_stop_run(const rb_pad_friction *pad, const rb_dyno_stop *stop, rb_dyno_result *out,
+                           rb_error *err);
 
 /* discs * 2 pads * R_mean * lambda(v) * F_pad, N m. */
 double rb_axle_brake_torque(const rb_axle_brake *b, double cylinder_pressure, double speed);
@@ -222,6 +302,9 @@ typedef struct rb_brake_state {
     int ed_mode;          /* rb_ed_mode */
     double ed_demand;     /* m/s^2, demanded deceleration for RB_ED_BLENDED */
     double effort;        /* 0..1, build-up: scales ED force and gauge cylinder pressure */
+    /* per car: fade_rate x (friction surface temperature - fade_onset) where positive, the pads'
+       heat fading (rb_pad_friction: the friction over 1 + this); 0: cold pads */
+    double fade[RB_MAX_CARS];
 } rb_brake_state;
 
 /* Train as one rigid body: deceleration (m/s^2, positive slowing) from the brake forces at the
@@ -306,6 +389,26 @@ typedef struct rb_brake_command {
 rb_status rb_stop_train(const rb_train *t, const rb_brake_command *cmd, const rb_stop_options *o,
                         double *time, double *speed, double *distance, size_t capacity,
                         size_t *n_out, double *distance_out, double *time_out, rb_error *err);
+
+/* The discs of each car for rb_stop_train_heated, per axle (as rb_plant_car's): heat capacity
+ * (0: the car's pads stay cold), its surface layer and conductance (0: one lumped node), cooling
+ * over speed (n = 0: none); all start at ambient_temperature (K). */
+typedef struct rb_train_discs {
+    double heat_capacity[RB_MAX_CARS];       /* J/K per axle */
+    double surface_capacity[RB_MAX_CARS];    /* J/K per axle, in [0, heat_capacity) */
+    double surface_conductance[RB_MAX_CARS]; /* W/K per axle */
+    rb_speed_table cooling[RB_MAX_CARS];     /* W/K per axle over speed */
+    double ambient_temperature;              /* K */
+} rb_train_discs;
+
+/* rb_stop_train with the pads fading as the plant's (rb_pad_friction): each car's discs heated by
+ * its pneumatic brake's power (two nodes, rb_disc_step, advanced after each step with the step's
+ * mean power, the friction of the next step faded at the surface's temperature). discs = NULL:
+ * rb_stop_train. max_surface_temperature (K, may be NULL): the hottest surface of the stop. */
+rb_status rb_stop_train_heated(const rb_train *t, const rb_brake_command *cmd, const rb_train_discs *discs,
+                               const rb_stop_options *o, double *time, double *speed, double *distance,
+                               size_t capacity, size_t *n_out, double *distance_out, double *time_out,
+                               double *max_surface_temperature, rb_error *err);
 
 /* Kinematic: the deceleration over speed is given (effort * decel(v)); no resistance, no train. */
 rb_status rb_stop_profile(const rb_speed_table *decel, const rb_stop_options *o, double *time,

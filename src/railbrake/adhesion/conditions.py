@@ -11,7 +11,7 @@ from __future__ import annotations
 import ctypes
 import math
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -85,6 +85,22 @@ class Validity:
 
 
 @dataclass(frozen=True)
+class Fit:
+    """How a preset's parameters were obtained: the data sets (validation case ids, in
+    validation/validation/) fitted and those only checked, each fitted parameter's bounds in the fit,
+    the findings where one ends at a bound, and what was searched where no data set was found."""
+
+    fitted_on: tuple = ()       # case ids the parameters were fitted on
+    checked_on: tuple = ()      # case ids not used in the fit: the validation proper
+    bounds: dict = field(default_factory=dict)     # fitted parameter -> (low, high)
+    at_bound: dict = field(default_factory=dict)   # parameter -> the finding (which data disagree)
+    no_data: str = ""           # where fitted_on is empty: what was searched and not found
+    creep: str = ""             # the creep the data cover
+
+    FITTABLE = ("mu0", "A", "B", "kA", "kS", "leading_factor", "recovery_axles")
+
+
+@dataclass(frozen=True)
 class EnergyConditioning:
     """Rail conditioning by dissipated energy (option; law in core/src/contact_conditioning.c).
 
@@ -126,6 +142,7 @@ class AdhesionCondition:
     source: str = "user parameters"
     targets: tuple = ()
     validity: Validity | None = None
+    fit: Fit | None = None
 
     def params_at_axle(self, axle: int = 0) -> PolachParams:
         """Polach parameters seen by the given axle (counted from the front of the train)."""
@@ -191,6 +208,16 @@ class _ValidityModel(BaseModel):
     source: str
 
 
+class _FitModel(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    fitted_on: list[str] = []
+    checked_on: list[str] = []
+    parameters: dict[str, list[float]] = {}     # name -> [low, high] of the fit
+    at_bound: dict[str, str] = {}
+    no_data: str | None = None
+    creep: str
+
+
 class _ConditionFile(BaseModel):
     model_config = ConfigDict(extra="forbid")
     schema_: str = Field(alias="schema")
@@ -200,6 +227,7 @@ class _ConditionFile(BaseModel):
     conditioning: _ConditioningModel | None = None
     source: str
     validity: _ValidityModel | None = None
+    fit: _FitModel | None = None
     targets: list[_TargetModel] = []
 
 
@@ -236,9 +264,54 @@ def _parse_condition_file(text: str, origin: str) -> AdhesionCondition:
             name=model.name, title=model.title, params=_located(PolachParams, model.params, "params", text, origin),
             conditioning=_conditioning(cond, text, origin) if cond else None,
             source=" ".join(model.source.split()), targets=tuple(t.model_dump() for t in model.targets),
-            validity=validity)
+            validity=validity, fit=_fit(model, text, origin))
     except InputError as exc:
         raise InputError(f"{origin}: {exc}") if origin not in str(exc) else exc from None
+
+
+def _fit(model: _ConditionFile, text: str, origin: str) -> Fit | None:
+    """The file's fit block, each fitted parameter's value inside its bounds (at a bound only with
+    the finding that says why), a data set fitted or the search that found none."""
+    fit = model.fit
+    if fit is None:
+        return None
+    line = _config_lines(text).get(("fit",))
+    where = f"{origin}{f', line {line}' if line else ''}: fit"
+    if not fit.fitted_on and not (fit.no_data and fit.no_data.strip()):
+        raise InputError(f"{where}: fitted_on is empty: name the data sets fitted, or say in no_data what was searched")
+    values = dict(model.params.model_dump())
+    if model.conditioning is not None:
+        values.update(leading_factor=model.conditioning.leading_factor,
+                      recovery_axles=model.conditioning.recovery_axles)
+    bounds = {}
+    for name, pair in fit.parameters.items():
+        if name not in Fit.FITTABLE:
+            raise InputError(f"{where}.parameters.{name}: unknown (known: {', '.join(Fit.FITTABLE)})")
+        if len(pair) != 2 or not pair[0] < pair[1]:
+            raise InputError(f"{where}.parameters.{name} = {pair}: give [low, high] with low < high")
+        if name not in values:
+            raise InputError(f"{where}.parameters.{name}: the file has no such parameter (no conditioning)")
+        low, high = pair
+        if not low <= values[name] <= high:
+            raise InputError(f"{where}.parameters.{name}: the value {values[name]:g} lies outside the fit's "
+                             f"bounds [{low:g}, {high:g}]")
+        bounds[name] = (float(low), float(high))
+    for name in fit.at_bound:
+        if name not in bounds:
+            raise InputError(f"{where}.at_bound.{name}: not a fitted parameter (fit.parameters)")
+    for name, (low, high) in bounds.items():
+        if name not in fit.at_bound and at_fit_bound(values[name], low, high):
+            raise InputError(f"{where}.parameters.{name}: the value {values[name]:g} sits at a bound of the fit "
+                             f"[{low:g}, {high:g}]: move it off or give the finding in fit.at_bound.{name}")
+    return Fit(tuple(fit.fitted_on), tuple(fit.checked_on), bounds,
+               {k: " ".join(v.split()) for k, v in fit.at_bound.items()},
+               " ".join((fit.no_data or "").split()), " ".join(fit.creep.split()))
+
+
+def at_fit_bound(value: float, low: float, high: float) -> bool:
+    """True if value lies within 0.1 % of the range's width of either bound."""
+    tol = 1e-3 * (high - low)
+    return value <= low + tol or value >= high - tol
 
 
 def _file_of(origin: str) -> str:

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from railbrake.campaign.budget import MAX_RUNS
+from railbrake.config import named_unit_hint
 from railbrake.errors import InputError
 from railbrake.scenario import _QUANTITY, _UNITS
 
@@ -26,7 +27,7 @@ COMPOSITES = {
     "zone": ("start", "length", "condition"),
 }
 NO_FAULT = "none"   # fault.type level for the healthy train
-SI_UNIT = {"speed": "m/s", "time": "s", "length": "m", "acceleration": "m/s^2", "pressure": "Pa",
+SI_UNIT = {"speed": "m/s", "time": "s", "length": "m", "acceleration": "m/s^2", "pressure": "Pa", "pressure rate": "Pa/s",
            "area": "m^2"}
 
 
@@ -140,6 +141,11 @@ def _range(name: str, value: dict, where: str, max_levels: int) -> Factor:
 
 
 def make_factor(name: str, value: Any, where: str, max_levels: int = MAX_RUNS) -> Factor:
+    given = [value.get("low"), value.get("high")] if isinstance(value, dict) else value if isinstance(value, list) else []
+    for level in given:   # '60 t' for a key naming its unit (train.car_types.motor.tare_t): a bare number
+        hint = named_unit_hint(name, level)
+        if hint:
+            raise InputError(f"{where} = {level!r}: {hint}")
     if isinstance(value, dict):
         return _range(name, value, where, max_levels)
     if not isinstance(value, list):

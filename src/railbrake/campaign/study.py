@@ -318,6 +318,9 @@ def parse(text: str, origin: str, folder: Path | None = None, lines: dict | None
     study.keys = configuration.valid_keys(resolved)
     for key, value in spec.set.items():
         _check_path(study, key, ("set", key))
+        hint = config.named_unit_hint(key, value)   # '60 t' for train.car_types.motor.tare_t: a bare number
+        if hint:
+            raise InputError(f"{study.where('set', key)} = {value!r}: {hint}")
         target = study.fixed_parts if key.partition(".")[0] in COMPOSITES else study.fixed
         target[key] = value
     for name, value in spec.factors.items():

@@ -27,18 +27,52 @@ SET_HELP = ("Override a key of the resolved configuration: KEY=VALUE, the value 
             "--set initial_speed='300 km/h' (repeatable; `railbrake config show` lists the keys).")
 
 
-def complete_scenario(incomplete: str) -> list[str]:
-    """Shell completion of a scenario argument: the scenario presets, then the YAML files of the
-    current folder, that start with what is typed."""
-    from railbrake import scenario
-    found = [n for n in scenario.preset_names() if n.startswith(incomplete)]
+def _presets_then_files(presets: list[str], incomplete: str) -> list[str]:
+    """Shell completion of an argument taking a preset name or a YAML file: the presets, then the
+    YAML files of the current folder, that start with what is typed."""
+    found = [n for n in presets if n.startswith(incomplete)]
     return found + sorted(str(p) for p in Path(".").glob(f"{incomplete}*") if p.suffix in (".yaml", ".yml"))
+
+
+def complete_scenario(incomplete: str) -> list[str]:
+    """A scenario argument: the scenario presets, then YAML files."""
+    from railbrake import scenario
+    return _presets_then_files(scenario.preset_names(), incomplete)
+
+
+def complete_train(incomplete: str) -> list[str]:
+    """A train argument: the train presets, then YAML files."""
+    from railbrake import vehicle
+    return _presets_then_files(vehicle.preset_names(), incomplete)
+
+
+def complete_study(incomplete: str) -> list[str]:
+    """A study argument: the study presets, then YAML files."""
+    from railbrake.campaign import study
+    return _presets_then_files(study.preset_names(), incomplete)
+
+
+def complete_profile(incomplete: str) -> list[str]:
+    """A deceleration profile: the profile presets, then YAML files."""
+    from railbrake import profiles
+    return _presets_then_files(profiles.profile_names(), incomplete)
+
+
+def complete_condition(incomplete: str) -> list[str]:
+    """An adhesion condition: the condition presets, then YAML files."""
+    from railbrake import adhesion
+    return _presets_then_files(adhesion.preset_names(), incomplete)
+
+
+def complete_sequence(incomplete: str) -> list[str]:
+    """A test sequence: the shipped sequences, then YAML files."""
+    from railbrake.sequence import schema
+    return _presets_then_files(schema.presets(), incomplete)
 
 
 def complete_scenario_or_train(incomplete: str) -> list[str]:
     """As complete_scenario, with the train presets (export-fmu takes a train too)."""
-    from railbrake import vehicle
-    return sorted(set(complete_scenario(incomplete) + [n for n in vehicle.preset_names() if n.startswith(incomplete)]))
+    return sorted(set(complete_scenario(incomplete) + complete_train(incomplete)))
 
 
 def parse_float_list(text: str, option: str) -> list[float]:

@@ -13,6 +13,7 @@ from rich.console import Console
 from rich.table import Table
 
 from railbrake import adhesion as adh
+from railbrake.cli import _common
 from railbrake.cli._common import parse_float_list, prepare_plot, print_json, reports_errors
 from railbrake.contact import default_contact, polach_coefficient
 from railbrake.errors import InputError
@@ -25,7 +26,7 @@ app = typer.Typer(help="Wheel-rail adhesion: creep-force curves, conditions, par
 @app.command("curves")
 @reports_errors
 def curves(
-    condition: str = typer.Option("dry-high", help="Preset name or YAML file (see 'adhesion conditions')."),
+    condition: str = typer.Option("dry-high", autocompletion=_common.complete_condition, help="Preset name or YAML file (see 'adhesion conditions')."),
     speed_kmh: str = typer.Option("20,60,300", help="Comma-separated speeds in km/h."),
     axle: int = typer.Option(0, help="Axle counted from the front of the train (0 = leading)."),
     plot: Optional[Path] = typer.Option(None, help="Write a PNG of the curves here."),
@@ -64,7 +65,8 @@ def list_conditions(json: bool = typer.Option(False, "--json", help="Print as JS
         print_json({"conditions": [
             {"name": c.name, "title": c.title, "params": c.params.as_dict(), "source": c.source,
              "conditioning": None if c.conditioning is None else vars(c.conditioning),
-             "validity": None if c.validity is None else vars(c.validity)}
+             "validity": None if c.validity is None else vars(c.validity),
+             "fit": None if c.fit is None else vars(c.fit)}
             for c in presets]})
         return
     table = Table(title="Adhesion conditions (Polach parameters)")

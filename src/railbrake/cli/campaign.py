@@ -11,6 +11,7 @@ from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, 
                            TimeRemainingColumn)
 
 from railbrake.campaign.budget import MAX_RUNS
+from railbrake.cli import _common
 from railbrake.cli._common import print_json, reports_errors
 
 MAX_RUNS_HELP = "Refuse a design of more runs than this (before drawing it), with an estimate of its cost."
@@ -19,21 +20,39 @@ app = typer.Typer(help="Campaigns: studies of many configurations on a laptop or
                   no_args_is_help=True)
 
 
-def _answers(link: str, timeout: float = 2.0) -> bool:
-    """The page at link answers (HTTP 200): a dashboard without its page (no bokeh) answers 404."""
+DASHBOARD = "127.0.0.1:8787"   # the local cluster's Dask dashboard (Dask moves it to a free port if taken)
+NO_DASHBOARD = "off"
+
+
+def _answers(link: str, timeout: float = 2.0) -> str | None:
+    """None when the page at link answers an HTTP GET (200), else why not: a dashboard without its
+    pages (no bokeh) answers 404."""
+    import urllib.error
     import urllib.request
     try:
         with urllib.request.urlopen(link, timeout=timeout) as page:
-            return page.status == 200
-    except (OSError, ValueError):
-        return False
+            return None if page.status == 200 else f"HTTP {page.status}"
+    except urllib.error.HTTPError as exc:
+        return f"HTTP {exc.code}" + (" (its pages need bokeh)" if exc.code == 404 else "")
+    except (OSError, ValueError) as exc:
+        return f"no answer ({getattr(exc, 'reason', None) or exc})"
 
 
-def _show_dashboard(client) -> None:
-    """The Dask dashboard's link, only when it is served and its page answers."""
-    link = client.dashboard_link if client.scheduler_info().get("services", {}).get("dashboard") else None
-    if link and _answers(link):
-        typer.echo(f"Dask dashboard: {link}", err=True)
+def _dashboard_reporter(asked: bool):
+    """on_connect(client): the Dask dashboard's link once an HTTP GET of it succeeds; otherwise, if
+    one was asked for (the default), why it is not shown; nothing when --dashboard off."""
+    def show(client) -> None:
+        link = client.dashboard_link if client.scheduler_info().get("services", {}).get("dashboard") else None
+        why = _answers(link) if link else "the scheduler serves none (Dask serves it with bokeh installed)"
+        if why is None:
+            typer.echo(f"Dask dashboard: {link}", err=True)
+        elif asked:
+            typer.echo(f"Dask dashboard: not shown: {link + ' ' if link else ''}{why}", err=True)
+    return show
+
+
+def _dashboard_address(option: str) -> str | None:
+    return None if option.strip().lower() == NO_DASHBOARD else option
 
 
 def _default_out(study) -> Path:
@@ -43,16 +62,16 @@ def _default_out(study) -> Path:
 @app.command("run")
 @reports_errors
 def run(
-    study: str = typer.Argument(..., help="Study YAML file or preset study (railbrake.study/1)."),
+    study: str = typer.Argument(..., autocompletion=_common.complete_study, help="Study YAML file or preset study (railbrake.study/1)."),
     out: Optional[Path] = typer.Option(None, help="Dataset folder (default: out/campaigns/<study name>)."),
     workers: Optional[int] = typer.Option(None, min=1, help="Local worker processes (default: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT "
                                             "(default: $DASK_SCHEDULER_ADDRESS, else a local cluster)."),
     batch_size: Optional[int] = typer.Option(None, min=1, help="Runs per Dask task (default: automatic)."),
     timeseries: bool = typer.Option(False, "--timeseries", help="Also write each run's time series."),
-    dashboard: Optional[str] = typer.Option(None, help="Serve the local cluster's Dask dashboard at "
-                                            "[HOST]:PORT (e.g. 127.0.0.1:8787; :0 for a free port). An "
-                                            "external scheduler (--scheduler) serves its own."),
+    dashboard: str = typer.Option(DASHBOARD, help="The local cluster's Dask dashboard at [HOST]:PORT (:0 "
+                                  "for a free port; another one if taken), its link printed once it answers; "
+                                  "'off': none. An external scheduler (--scheduler) serves its own."),
     json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
     max_runs: int = typer.Option(MAX_RUNS, min=1, help=MAX_RUNS_HELP),
 ):
@@ -73,7 +92,8 @@ def run(
     try:
         summary = execute.run_study(spec, folder, workers=workers, scheduler=scheduler,
                                     batch_size=batch_size, timeseries=timeseries, progress=progress,
-                                    dashboard=dashboard, on_connect=_show_dashboard)
+                                    dashboard=_dashboard_address(dashboard),
+                                    on_connect=_dashboard_reporter(_dashboard_address(dashboard) is not None))
     finally:
         bar.stop()
     if json:
@@ -89,7 +109,7 @@ def run(
 @app.command("plan")
 @reports_errors
 def plan_command(
-    study: str = typer.Argument(..., help="Study YAML file or preset study."),
+    study: str = typer.Argument(..., autocompletion=_common.complete_study, help="Study YAML file or preset study."),
     json: bool = typer.Option(False, "--json", help="Print the runs as JSON."),
     max_runs: int = typer.Option(MAX_RUNS, min=1, help=MAX_RUNS_HELP),
 ):

@@ -11,6 +11,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from railbrake import atomic
+from railbrake.cli import _common
 from railbrake.cli._common import prepare_folder, print_json, reports_errors
 
 app = typer.Typer(help="ETCS braking model of a train: A_brake_emergency, T_brake, Kdry_rst, Kwet_rst.",
@@ -20,7 +21,7 @@ app = typer.Typer(help="ETCS braking model of a train: A_brake_emergency, T_brak
 @app.command("braking-model")
 @reports_errors
 def braking_model(
-    train: str = typer.Argument(..., help="Train preset or train file."),
+    train: str = typer.Argument(..., autocompletion=_common.complete_train, help="Train preset or train file."),
     reliability: str = typer.Option("hs-emu", help="Reliability file or preset (data/etcs/reliability-*.yaml)."),
     scatter: str = typer.Option("hs-emu", help="Scatter file or preset (data/etcs/scatter-*.yaml); 'none': no scatter."),
     cars: Optional[int] = typer.Option(None, min=1, max=16, help="Number of cars (default: the train's)."),
@@ -80,7 +81,7 @@ def braking_model(
 @app.command("curves")
 @reports_errors
 def curves(
-    train: str = typer.Argument(..., help="A braking model: the folder `etcs braking-model` wrote, or its "
+    train: str = typer.Argument(..., autocompletion=_common.complete_train, help="A braking model: the folder `etcs braking-model` wrote, or its "
                                 "braking-model.json; or a train preset or file (its model computed first)."),
     track: str = typer.Option("flat-10km", help="Track file or preset (data/etcs/track-*.yaml)."),
     national: str = typer.Option("default", help="National values file or preset (data/etcs/national-*.yaml)."),

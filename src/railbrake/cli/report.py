@@ -11,6 +11,7 @@ from rich.console import Console
 from rich.table import Table
 
 from railbrake import vehicle
+from railbrake.cli import _common
 from railbrake.cli._common import prepare_folder, print_json, reports_errors
 from railbrake.errors import InputError
 
@@ -20,7 +21,7 @@ app = typer.Typer(help="Reports computed from a train file.", no_args_is_help=Tr
 @app.command("brake")
 @reports_errors
 def brake(
-    trains: Optional[list[str]] = typer.Argument(None, help=f"Presets ({', '.join(vehicle.preset_names())}) or "
+    trains: Optional[list[str]] = typer.Argument(None, autocompletion=_common.complete_train, help=f"Presets ({', '.join(vehicle.preset_names())}) or "
                                                  "train YAML files (default: every preset)."),
     load_case: Optional[str] = typer.Option(None, "--load-case", help="tare, normal or crush (default: each "
                                             "train file's)."),

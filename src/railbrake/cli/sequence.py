@@ -8,6 +8,7 @@ from typing import Optional
 import typer
 from rich.console import Console
 
+from railbrake.cli import _common
 from railbrake.cli._common import SET_HELP, prepare_output, reports_errors
 from railbrake.errors import InputError
 
@@ -28,7 +29,7 @@ def list_presets():
 @app.command("run")
 @reports_errors
 def run(
-    source: str = typer.Argument(..., help="A sequence file or a shipped preset (`railbrake sequence list`)."),
+    source: str = typer.Argument(..., autocompletion=_common.complete_sequence, help="A sequence file or a shipped preset (`railbrake sequence list`)."),
     junit: Optional[Path] = typer.Option(None, "--junit", help="Write the verdicts as JUnit XML here."),
     html: Optional[Path] = typer.Option(None, "--html", help="Write the HTML report (plots of each "
                                         "expectation's window) here."),

@@ -25,7 +25,9 @@ DEFAULT_SCENARIO = "emergency-300-heavy-rain"
 def warnings_for(result) -> list[str]:
     """What a brake engineer must not miss in a run (railbrake.results.kpis.warnings)."""
     from railbrake.results import kpis as info
-    return info.warnings(result.kpis, healthy_reference(result))
+    resolved = getattr(result, "resolved", None)
+    working = None if resolved is None else resolved.train.spec.air_supply.min_working_bar
+    return info.warnings(result.kpis, healthy_reference(result), working)
 
 
 def healthy_reference(result) -> float | None:
@@ -59,13 +61,15 @@ def run_scenario(scenario: str, cars: Optional[int], wsp: bool, out: Optional[Pa
     try:
         result = simulation.run(resolved, wsp=wsp, progress=progress, kernel=kernel)
     finally:
-        bar.stop()
+        if bar.live.is_started:   # a bar never shown leaves no empty line on stderr
+            bar.stop()
     healthy_reference(result)   # in result.meta, for the report's warnings
     if out is not None:
         from railbrake.results.outputs import write_outputs
         prepare_folder(out)
         from railbrake.results.events import run_events
-        write_outputs(record.from_simulation(result, sc), out, formats, axles, window, mdf_events=run_events(sc),
+        run_record = record.from_simulation(result, sc)
+        write_outputs(run_record, out, formats, axles, window, mdf_events=run_events(sc, run_record),
                       resolved=resolved)
     return result
 
@@ -115,9 +119,9 @@ def print_kpis(result) -> None:
 
 
 def print_warnings(result) -> None:
-    console = Console(stderr=True)          # wraps at the terminal's width
+    """Each warning on one line of its own (not wrapped: a line per warning for grep and logs)."""
     for warning in warnings_for(result):
-        console.print(f"warning: {warning}", highlight=False, markup=False)
+        typer.echo(f"warning: {warning}", err=True)
 
 
 def register(app: typer.Typer) -> None:

@@ -10,6 +10,7 @@ from rich.console import Console
 from rich.table import Table
 
 from railbrake import sizing, vehicle
+from railbrake.cli import _common
 from railbrake.cli._common import prepare_plot, print_json, reports_errors
 from railbrake.errors import InputError
 from railbrake.units import kmh_to_ms, ms_to_kmh
@@ -73,8 +74,8 @@ def register(app: typer.Typer) -> None:
     @app.command("size")
     @reports_errors
     def size(
-        train: str = typer.Option("crh380a-8", help=f"Preset ({', '.join(vehicle.preset_names())}) or YAML."),
-        profile: Optional[str] = typer.Option(None, help=f"Preset ({', '.join(sizing.profile_names())}) or file "
+        train: str = typer.Option("crh380a-8", autocompletion=_common.complete_train, help=f"Preset ({', '.join(vehicle.preset_names())}) or YAML."),
+        profile: Optional[str] = typer.Option(None, autocompletion=_common.complete_profile, help=f"Preset ({', '.join(sizing.profile_names())}) or file "
                                               "(default: the train's emergency brake step)."),
         profile_csv: Optional[Path] = typer.Option(None, help="CSV with speed_kmh, deceleration_ms2."),
         adhesion_limit: float = typer.Option(sizing.ADHESION_LIMIT, help="Design limit of the adhesion demand."),
@@ -91,9 +92,9 @@ def register(app: typer.Typer) -> None:
     @app.command("stopping-distance")
     @reports_errors
     def stopping_distance(
-        train: str = typer.Option("crh380a-8", help="Train preset or YAML file."),
+        train: str = typer.Option("crh380a-8", autocompletion=_common.complete_train, help="Train preset or YAML file."),
         v0_kmh: float = typer.Option(..., "--v0-kmh", help="Initial speed, km/h."),
-        profile: Optional[str] = typer.Option(None, help="Deceleration profile (preset or file; default: the "
+        profile: Optional[str] = typer.Option(None, autocompletion=_common.complete_profile, help="Deceleration profile (preset or file; default: the "
                                                           "train's emergency brake step)."),
         deceleration_ms2: Optional[float] = typer.Option(None, help="Hand check: constant deceleration."),
         response_time_s: Optional[float] = typer.Option(None, help="Equivalent response time te, s."),

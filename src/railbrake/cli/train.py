@@ -8,6 +8,7 @@ from typing import Optional
 import typer
 
 from railbrake import atomic
+from railbrake.cli import _common
 from railbrake.cli._common import prepare_output, reports_errors
 
 app = typer.Typer(help="Train files: a commented template to start from.", no_args_is_help=True)
@@ -16,7 +17,7 @@ app = typer.Typer(help="Train files: a commented template to start from.", no_ar
 @app.command("new")
 @reports_errors
 def new(
-    preset: str = typer.Option(..., "--from", help="Train preset (or train file) to start from."),
+    preset: str = typer.Option(..., "--from", autocompletion=_common.complete_train, help="Train preset (or train file) to start from."),
     name: Optional[str] = typer.Option(None, help="The new train's name (default: my-PRESET)."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here (.yaml; default: stdout)."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),

@@ -9,6 +9,7 @@ import typer
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
+from railbrake.cli import _common
 from railbrake.cli._common import print_json, reports_errors
 from railbrake.cli.campaign import MAX_RUNS, MAX_RUNS_HELP
 
@@ -18,7 +19,7 @@ app = typer.Typer(help="Wheel-slide protection: tuning over a study's cases.", n
 @app.command("tune")
 @reports_errors
 def tune(
-    study: str = typer.Argument(..., help="Study YAML file or preset study with 'assessment' and 'tuning'."),
+    study: str = typer.Argument(..., autocompletion=_common.complete_study, help="Study YAML file or preset study with 'assessment' and 'tuning'."),
     params: str = typer.Option(..., help="WSP parameters to tune, e.g. speed_threshold,decel_threshold."),
     objective: str = typer.Option("worst-delta-s", help="worst-delta-s (TPE) or pareto (NSGA-II: dS vs air)."),
     budget: int = typer.Option(24, min=1, help="Evaluations in all (a rerun continues up to this many)."),

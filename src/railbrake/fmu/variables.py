@@ -218,7 +218,10 @@ def table(roots: dict, n_cars: int, atmosphere: float) -> list[Variable]:
     for name, field, unit, description in (
             ("wheel_speed", "wheel_speed", "m/s", "wheel peripheral speed (true)"),
             ("wheel_speed_measured", "wheel_speed_measured", "m/s", "wheel speed sensor (< 0: sensor lost)"),
-            ("cylinder", "cylinder", "Pa", "brake cylinder pressure (absolute)")):
+            ("cylinder", "cylinder", "Pa", "brake cylinder pressure (absolute)"),
+            ("disc_surface_temperature", "disc_surface_temperature", "K",
+             "friction surface temperature of the axle's brake discs"),
+            ("pad_friction", "pad_friction", "1", "the pads' friction coefficient, faded by the discs' heat")):
         for a in range(n_axles):
             v.append(Variable(name + axle(a), "output", "Real", f"out.{field}[{a}]", unit, description=description))
     return v

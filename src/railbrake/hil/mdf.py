@@ -99,18 +99,42 @@ class StreamingRecording:
 def recording_events(result, scenario=None) -> list[tuple[float, str, str]]:
     """(time s, name, comment) of what changed during the run, in time order: each fault the
     scenario schedules (fault_on at its start) and each injected or cleared live (fault_on,
-    fault_off), the safe state entered and left (from the loop's event log), each change of the
-    applied brake demand (at the recorded sample that first shows it)."""
-    from railbrake.results.events import scheduled_faults
+    fault_off), each entry into and exit from the safe state (safe_on, safe_off), each change of the
+    applied brake demand (at the recorded sample that first shows it) and the WSP trips the
+    recording shows (railbrake.results.events.wsp_trips)."""
+    from railbrake.results.channel_info import demand_text
+    from railbrake.results.events import scheduled_faults, wsp_trips
     demand = np.asarray(result.outputs.get("brake_demand", []))
     changed = np.flatnonzero(np.diff(demand)) + 1
-    events = [(float(result.time[i]), "demand", f"brake demand {demand[i - 1]:g} -> {demand[i]:g} (2: the safe "
-               "state's emergency demand)") for i in changed]
+    events = [(float(result.time[i]), "demand", f"brake demand {demand_text(demand[i - 1])} -> "
+               f"{demand_text(demand[i])}") for i in changed]
     events += [(c.time_s, f"fault_{'on' if c.action == 'inject' else 'off'}", f"{c.text} ({c.origin})")
               for c in getattr(result, "fault_changes", [])]
-    events += [(t, kind, text) for t, kind, text in result.events if kind in ("safe_on", "safe_off")]
+    events += safe_state_changes(result)
     events += scheduled_faults(scenario) if scenario is not None else []
+    events += wsp_trips(result.time, result.outputs)
     return sorted(events, key=lambda e: e[0])
+
+
+def safe_state_changes(result) -> list[tuple[float, str, str]]:
+    """safe_on and safe_off from the loop's event log (the step and its reason), and from the
+    recorded safe_state channel each change the log no longer holds (it keeps its latest
+    entries only: a flood of late or malformed frames can push one out) at the recorded sample
+    that first shows it."""
+    logged = [(t, kind, text) for t, kind, text in result.events if kind in ("safe_on", "safe_off")]
+    state = np.asarray(result.outputs.get("safe_state", []))
+    time = np.asarray(result.time)
+    interval = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+    # the loop starts in the safe state until the first valid BCU frame, without a logged change
+    recorded = [(float(time[0]), "safe_on", "safe state from the start, until the first valid BCU frame")] \
+        if len(state) and state[0] else []
+    for i in np.flatnonzero(np.diff(state)) + 1:
+        kind = "safe_on" if state[i] else "safe_off"
+        # logged at its step, recorded at the next sample: within one record interval before
+        if not any(k == kind and time[i] - interval - 1e-9 <= t <= time[i] + 1e-9 for t, k, _ in logged):
+            recorded.append((float(time[i]), kind, f"safe state {'entered' if state[i] else 'left'} (from the "
+                             "recorded safe_state channel: the loop's event log no longer held it)"))
+    return logged + recorded
 
 
 def write_mdf(result, path: Path, scenario=None) -> Path:

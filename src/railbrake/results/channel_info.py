@@ -29,6 +29,7 @@ COMMENTS = {
     "adhesion": "adhesion coefficient used by the wheelset",
     "disc_temperature": "brake disc temperature of the wheelset",
     "brake_energy": "friction brake energy of the wheelset so far",
+    "wsp_mode": "state of the BCU's WSP on the wheelset (4, 5: its safety timer tripped)",
     "brake_demand": "brake demand applied by the plant",
     "safe_state": "HIL watchdog state",
     "bcu_frames": "valid BCU frames received so far",
@@ -40,7 +41,13 @@ STATES = {
     "vent": {0: "shut", 1: "energised: open (vents)"},
     "compressor_on": {0: "off", 1: "running"},
     "safe_state": {0: "BCU commands applied", 1: "safe state"},
+    # rb_wsp_mode (core/include/railbrake/rb_bcu.h)
+    "wsp_mode": {-1: "no default WSP (off, or a user function)", 0: "apply", 1: "vent", 2: "hold", 3: "re-apply",
+                 4: "inhibited: safety timer tripped on commanded venting",
+                 5: "isolated: safety timer tripped on a cylinder vented without command"},
 }
+# wsp_mode values from which the axle's safety timer has tripped (kept to the end of the run)
+WSP_TRIPPED = (4, 5)
 
 
 # channels of numbers in named ranges: [lower, upper) -> text (MDF4 value-range-to-text; for floats
@@ -49,6 +56,14 @@ RANGES = {
     "brake_demand": [(0.0, 1e-9, "release"), (1e-9, 1.0 + 1e-6, "service (raw value: the fraction of full service)"),
                      (1.0 + 1e-6, 1e3, "emergency")],
 }
+
+
+def demand_text(value: float) -> str:
+    """'release', 'service 40 %', 'emergency': a brake demand (the HIL frames' brake_demand: 0 .. 1
+    of full service, > 1 emergency) as a driver reads it."""
+    if value > 1.0:
+        return "emergency"
+    return "release" if value <= 0.0 else f"service {100.0 * value:.0f} %"
 
 
 def base_name(channel: str) -> str:

@@ -1,9 +1,16 @@
 """A run's events for its MDF4 recording: (time s, name, comment), what changed and when. The
-faults the scenario schedules (fault_on at their start; a scheduled fault stays to the end), from
-`run` and `hil` alike; `hil` adds its live fault changes and safe-state changes
-(railbrake.hil.mdf.recording_events)."""
+faults the scenario schedules (fault_on at their start; a scheduled fault stays to the end) and
+each WSP safety-timer trip (wsp_trip: an axle's recorded wsp_mode becoming inhibited or isolated,
+at the first sample that shows it), from `run` and `hil` alike; `hil` adds its live fault changes
+and safe-state changes (railbrake.hil.mdf.recording_events)."""
 
 from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from railbrake.results.channel_info import STATES, WSP_TRIPPED
 
 
 def fault_text(fault) -> str:
@@ -20,6 +27,22 @@ def scheduled_faults(scenario) -> list[tuple[float, str, str]]:
             for f in (getattr(spec, "faults", None) or [])]
 
 
-def run_events(scenario) -> list[tuple[float, str, str]]:
-    """The events of a `run` (simulation) recording, in time order."""
-    return sorted(scheduled_faults(scenario), key=lambda e: e[0])
+def wsp_trips(time, outputs: dict) -> list[tuple[float, str, str]]:
+    """wsp_trip for each axle whose wsp_mode channel reaches a tripped state (a recording without
+    those channels, as a HIL plant's, whose WSP is the external BCU's: none)."""
+    events = []
+    for name, values in outputs.items():
+        where = re.fullmatch(r"wsp_mode_c(\d+)a(\d+)", name)
+        tripped = np.flatnonzero(np.isin(np.asarray(values), WSP_TRIPPED)) if where else []
+        if len(tripped):
+            mode = int(values[tripped[0]])
+            events.append((float(time[tripped[0]]), "wsp_trip",
+                           f"car {where.group(1)}, axle {where.group(2)}: {STATES['wsp_mode'][mode]}"))
+    return events
+
+
+def run_events(scenario, record=None) -> list[tuple[float, str, str]]:
+    """The events of a `run` (simulation) recording, in time order: the scenario's faults and,
+    with its record (a RunRecord), the WSP trips."""
+    trips = wsp_trips(record.time, record.outputs) if record is not None else []
+    return sorted(scheduled_faults(scenario) + trips, key=lambda e: e[0])

@@ -93,7 +93,7 @@ def _mdf_signal(name: str, values, time, unit: str):
     if conversion is not None and "lower_0" in conversion:   # ranges among numbers: the samples as they are
         pass
     elif conversion is not None and np.all(np.isin(samples, [float(v) for k, v in conversion.items() if k.startswith("val_")])):
-        samples = samples.astype(np.uint8)
+        samples = samples.astype(np.int8 if samples.size and samples.min() < 0 else np.uint8)
     else:
         conversion = None
     return Signal(samples=samples, timestamps=time, name=name, unit=unit, comment=channel_info.comment(name),

@@ -21,6 +21,9 @@ KPI_INFO = {
     "min_supply_bar": ("bar g", "lowest supply reservoir pressure of any car"),
     "min_supply_margin_bar": ("bar", "lowest supply reservoir pressure less its car's cylinder demand, "
                                      "while braking (below 0: the supply cannot give the demand)"),
+    "max_air_shortfall_bar": ("bar", "largest amount by which a braking car's cylinder demand exceeded its supply "
+                                     "reservoir, the most its cylinders can reach: a cylinder short of its demand "
+                                     "for want of air (0: never)"),
     "braked_distance_m": ("m", "distance from the first brake demand to the end of the run (HIL; also "
                                "when it ended before the stop)"),
     "air_drawn_kg": ("kg", "air taken from the main reservoir and its pipe (cylinder fills, venting, "
@@ -31,7 +34,12 @@ KPI_INFO = {
     "worst_axle": ("", "axle with the most lock events or, without locks, the largest slip above 2 % "
                        "(none: no axle slid)"),
     "brake_energy_mj": ("MJ", "energy dissipated by the friction brakes"),
-    "max_disc_temperature_c": ("°C", "highest lumped brake disc temperature of any axle"),
+    "max_disc_temperature_c": ("°C", "highest mean brake disc temperature of any axle"),
+    "max_disc_surface_temperature_c": ("°C", "highest friction surface temperature of any brake disc (the "
+                                             "mean disc temperature for discs without a surface layer)"),
+    "mean_pad_friction": ("1", "stop-averaged pad friction: the pads' instantaneous friction averaged over "
+                               "their sliding distance while they press, all braked axles (UIC 541-3's "
+                               "mean friction of a dynamometer stop); none if no pad pressed"),
     "valve_switchings": ("", "changes of state of the WSP hold and vent valves of the whole train while "
                              "braking (the valves' actual states)"),
     "max_sliding_energy_kj": ("kJ", "largest over the axles of the sliding energy, the time integral of creep "
@@ -72,9 +80,10 @@ def shortfall_limit(healthy_shortfall_s: float | None) -> float:
     return SHORTFALL_WARNING_S if healthy_shortfall_s is None else SHORTFALL_FACTOR * healthy_shortfall_s
 
 
-def warnings(kpis: dict, healthy_shortfall_s: float | None = None) -> list[str]:
+def warnings(kpis: dict, healthy_shortfall_s: float | None = None, min_working_bar: float | None = None) -> list[str]:
     """Plain-words warnings about a run's KPIs; healthy_shortfall_s: the cylinder_shortfall_s of a
-    healthy brake of the run's train (its own build-up), the cylinders' shortfall is judged on."""
+    healthy brake of the run's train (its own build-up), the cylinders' shortfall is judged on;
+    min_working_bar: the train file's minimum working pressure of the main reservoir (bar gauge)."""
     out = []
     if kpis.get("stopped") is False:
         out.append("the train did not stop within the scenario's max_time: distance and time are to the end of the run")
@@ -90,6 +99,11 @@ def warnings(kpis: dict, healthy_shortfall_s: float | None = None) -> list[str]:
         healthy = "" if healthy_shortfall_s is None else f", a healthy brake of the train {healthy_shortfall_s:.1f} s"
         out.append(f"a brake cylinder stayed more than 0.2 bar below its demand for {kpis['cylinder_shortfall_s']:.1f} s "
                    f"(WSP valves at rest{healthy}): the air did not reach it in time")
+    reservoir = kpis.get("min_main_reservoir_bar")
+    if min_working_bar is not None and reservoir is not None and reservoir < min_working_bar:
+        out.append(f"the main reservoir fell to {reservoir:.2f} bar g, below the train's minimum working pressure "
+                   f"{min_working_bar:g} bar g (air_supply.min_working_bar): the brake used more air than the "
+                   "compressors and reservoirs give")
     margin = kpis.get("min_supply_margin_bar")
     if margin is not None and margin < 0.0:
         out.append(f"a supply reservoir fell {-margin:.2f} bar below its car's cylinder demand (lowest supply "

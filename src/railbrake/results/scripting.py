@@ -17,6 +17,20 @@ from railbrake.results.record import RunRecord, from_simulation, parse_axles, pa
 PLOT_KINDS = ("wsp_cycle", "braking_curve", "speed_time", "slip", "reservoirs", "cylinders")
 
 
+class ReadOnlyKpis(dict):
+    """A result's KPIs: a dict to read (JSON, ``dict(...)``, ``|``), refusing every change, so what
+    ``save()`` writes is what the run computed. ``dict(result.kpis)`` is a copy to change."""
+
+    def _refuse(self, *args, **kwargs):
+        raise TypeError("Result.kpis is read-only (the KPIs the run computed, as save() writes them): "
+                        "copy it to change it, e.g. kpis = dict(result.kpis)")
+
+    __setitem__ = __delitem__ = __ior__ = update = pop = popitem = clear = setdefault = _refuse
+
+    def __reduce__(self):   # pickle and copy rebuild it whole (not item by item)
+        return (ReadOnlyKpis, (dict(self),))
+
+
 @dataclass
 class Result:
     """A run's time series (SI), their units and KPIs (`run --json`'s units). For scripts:
@@ -28,13 +42,21 @@ class Result:
     time: np.ndarray
     outputs: dict          # channel name -> array (SI)
     units: dict            # channel name -> SI unit
-    kpis: dict
+    kpis: dict             # read-only (ReadOnlyKpis)
     atmosphere: float = math.nan   # Pa, the plant's (the train file's)
     meta: dict = field(default_factory=dict)   # what was run, as in run.json (a loaded result)
     resolved: object = field(default=None, repr=False, compare=False)   # the resolve.Resolved run
 
+    def __setattr__(self, name, value):
+        if name == "kpis":
+            if "kpis" in self.__dict__:
+                ReadOnlyKpis._refuse(value)
+            value = ReadOnlyKpis(value)
+        object.__setattr__(self, name, value)
+
     def to_dataframe(self):
-        """pandas DataFrame, a column per channel; units in .attrs["units"], KPIs in .attrs["kpis"]."""
+        """pandas DataFrame, a column per channel (SI) and each pressure also in bar gauge beside it
+        (NAME_bar_g); units in .attrs["units"], KPIs in .attrs["kpis"]."""
         return to_dataframe(self)
 
     def to_arrow(self):
@@ -67,12 +89,25 @@ def record_of(result) -> RunRecord:
     return RunRecord(result.time, dict(result.outputs), dict(result.units), dict(result.kpis), meta)
 
 
+GAUGE_SUFFIX = "_bar_g"   # a pressure channel's DataFrame column in bar gauge, as the CLI shows it
+
+
 def to_dataframe(result):
-    """pandas DataFrame, one float64 column per channel (SI), `time` included; the units in
-    df.attrs["units"] (channel -> unit), the KPIs in df.attrs["kpis"]."""
+    """pandas DataFrame, one float64 column per channel (SI: pressures absolute in Pa, as in the
+    files), `time` included, and beside each pressure channel NAME its gauge pressure in bar
+    (NAME_bar_g: the unit the CLI, the plots and the KPIs use); the units in df.attrs["units"]
+    (column -> unit, "bar g" for those), the KPIs in df.attrs["kpis"]."""
     import pandas as pd
-    frame = pd.DataFrame({name: values for name, values in result.outputs.items()}, copy=True)
-    frame.attrs["units"] = dict(result.units)
+    from railbrake.units import pa_to_bar
+    columns, units = {}, {}
+    atmosphere = record_of(result).atmosphere if not math.isfinite(result.atmosphere) else result.atmosphere
+    for name, values in result.outputs.items():
+        columns[name], units[name] = values, result.units.get(name, "")
+        if units[name] == "Pa":
+            columns[name + GAUGE_SUFFIX] = pa_to_bar(np.asarray(values) - atmosphere)
+            units[name + GAUGE_SUFFIX] = "bar g"
+    frame = pd.DataFrame(columns, copy=True)
+    frame.attrs["units"] = units
     frame.attrs["kpis"] = dict(result.kpis)
     frame.attrs["scenario"] = result.scenario
     return frame

@@ -23,7 +23,7 @@ from railbrake.resolve import resolve
 from railbrake.scenario import load
 from railbrake.results.scripting import Result
 from railbrake.simulation.runs import CHUNK
-from railbrake.simulation.parameters import _scenario_struct, bcu_params, channels, plant_params, wsp_params
+from railbrake.simulation.parameters import ZERO_CELSIUS, _scenario_struct, bcu_params, channels, plant_params, wsp_params
 from railbrake.valves import load_epv, load_relay, read_force_table
 from railbrake.valves.params import _merge
 
@@ -117,6 +117,8 @@ def run_detailed(scenario="emergency-300-heavy-rain", cars: int | None = None, v
     outputs = {name: series[:, i].copy() for i, (name, _) in enumerate(names)}
     result = {k: getattr(kpis, k) for k in ("stopping_distance_m", "stopping_time_s", "mean_deceleration",
                                             "max_slip", "air_consumed_kg", "air_balance_error")}
+    result.update(brake_energy_mj=kpis.brake_energy / 1e6,
+                  max_disc_surface_temperature_c=kpis.max_disc_surface_temperature - ZERO_CELSIUS)
     result.update(stopped=bool(kpis.stopped), safety_timer_trips=int(kpis.safety_timer_trips),
                   ode_steps=stats.steps, ode_rejected=stats.rejected, rhs_calls=stats.rhs_calls, wall_s=wall)
     return Result(sc.name, n_cars, bool(bcu.wsp_enabled), outputs["time"], outputs, dict(names), result,

@@ -24,7 +24,7 @@ from railbrake.errors import InputError
 from railbrake.scenario import Scenario
 from railbrake.simulation import traction
 from railbrake.units import KMH
-from railbrake.vehicle import load_train, with_cars
+from railbrake.vehicle import axle_discs, load_train, with_cars
 
 DT = 1e-3
 # One plant step per dt up to this; a longer dt is split into equal sub-steps no longer than it. With
@@ -75,10 +75,10 @@ def _car(train, index: int) -> _core.PlantCar:
     v = t.wsp_valves
     car.hold_area, car.vent_area, car.valve_delay = v.hold_area_mm2 * MM2, v.vent_area_mm2 * MM2, v.response_s
     car.pipe_area = min(pipe.coupling_area_mm2 * MM2, math.pi / 4 * (pipe.diameter_mm * 1e-3) ** 2)
-    car.disc_heat_capacity = discs.per_axle * discs.mass_kg * discs.specific_heat_J_per_kgK
-    cooling = discs.cooling_W_per_K
-    car.disc_cooling = _core.speed_table(np.asarray(cooling.speed_kmh) * KMH,
-                                         discs.per_axle * np.asarray(cooling.value))
+    heat = axle_discs(entry)
+    car.disc_heat_capacity, car.disc_surface_capacity = heat.heat_capacity, heat.surface_capacity
+    car.disc_surface_conductance = heat.surface_conductance
+    car.disc_cooling = _core.speed_table(heat.cooling_speed, heat.cooling)
     _emergency_circuit(train, index, car)
     return car
 
@@ -278,7 +278,7 @@ WSP_CONTROLLERS = ("threshold", "slip_setpoint", "decel_slip_speed")   # rb_wsp_
 # the scenario's wsp keys that are rb_wsp_params fields of the same name (SI)
 _WSP_OVERRIDES = ("speed_threshold", "slip_threshold", "decel_threshold", "reaccel_threshold", "ref_decel_max",
                   "safety_time", "setpoint_speed", "setpoint_slip", "setpoint_band", "lead_time", "ref_decel_margin",
-                  "setpoint_release", "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold",
+                  "setpoint_release", "setpoint_memory", "setpoint_ramp", "ds_speed_threshold", "ds_slip_threshold", "ds_decel_threshold",
                   "ds_reaccel_threshold", "conditioning_ratio")
 
 
@@ -419,6 +419,7 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
         "min_main_reservoir_bar": gauge(k["min_main_reservoir"]),
         "min_supply_bar": gauge(k["min_supply"]),
         "min_supply_margin_bar": k["min_supply_margin"] / BAR,
+        "max_air_shortfall_bar": max(0.0, -k["min_supply_margin"] / BAR),
         "air_drawn_kg": k["air_drawn_kg"],
         "air_vented_kg": k["air_vented_kg"],
         "cylinder_shortfall_s": k["cylinder_shortfall_s"],
@@ -428,6 +429,8 @@ def kpi_dict(kpis: _core.Kpis, atmosphere: float, speed_marks: int = 0) -> dict:
         "valve_switchings": int(k["valve_switchings"]),
         "max_sliding_energy_kj": k["max_sliding_energy"] / 1e3,
         "sliding_energy_kj": k["sliding_energy"] / 1e3,
+        "mean_pad_friction": k["mean_pad_friction"] if k["mean_pad_friction"] > 0.0 else None,
+        "max_disc_surface_temperature_c": k["max_disc_surface_temperature"] - ZERO_CELSIUS,
         "stopped": stopped,
     }
 

@@ -9,7 +9,9 @@ emergency brake's response on the total braking force.
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
+import warnings
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
@@ -148,7 +150,32 @@ def simulated(train, initial_speed: float, condition: str = "dry-medium", preset
     initial_speed = real("initial_speed", initial_speed, 0.0, low_open=True)
     scenario = emergency_scenario(preset, initial_speed, condition, settings()["window_s"] + 0.1,
                                   train.load_case)
-    return measure(run(scenario, cars=len(train.cars), train=train), train)
+    told = (f"the simulated build-up of {train.origin} (its emergency brake from {ms_to_kmh(initial_speed):.0f} km/h "
+            f"on {condition})")
+    with told_as(scenario.name, told):
+        return measure(run(scenario, cars=len(train.cars), train=train), train)
+
+
+@contextlib.contextmanager
+def told_as(name: str, told: str):
+    """The warnings and errors of a run of a scenario made in code (emergency_scenario: its name,
+    e.g. emergency-160-dry-medium, is no preset or file the user gave) told as `told` instead of
+    'scenario NAME', each warning still one warning of its own."""
+    prefix = f"scenario {name}: "
+
+    def reworded(text: str) -> str:
+        return f"{told}: {text[len(prefix):]}" if text.startswith(prefix) else text
+
+    caught = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            yield
+    except InputError as exc:
+        raise InputError(reworded(str(exc))) from None
+    finally:
+        for w in caught:
+            warnings.warn_explicit(reworded(str(w.message)), w.category, w.filename, w.lineno)
 
 
 # ------------------------------------------------------------------ the simulated chain's response (the API's)

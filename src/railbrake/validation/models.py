@@ -239,23 +239,67 @@ def _car_of_type(train, kind: str):
     return car
 
 
-def pad_friction(inputs, x, case):
-    """Pad friction coefficient of a train preset's car type at speed x (km/h)."""
-    train = vehicle.load_train(_need(inputs, "train"))
-    car = _car_of_type(train, inputs.get("car_type", "trailer"))
-    speeds = _x(x, "speed, km/h")
-    dense = np.linspace(0.0, float(max(speeds)), 40)
-    return ModelOutput(np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(speeds))), {"train": train.name},
-                       {"x": dense.tolist(), "y": np.atleast_1d(vehicle.pad_friction_of(car, units.kmh_to_ms(dense))).tolist()})
+def _dyno(inputs):
+    """The pad data file's dynamometer (inputs.data, default sintered-cu): its car and conditions."""
+    from railbrake import pad_fade
+    data = pad_fade.load_data(inputs.get("data", "sintered-cu"))
+    return pad_fade, data, *pad_fade.dynamometer(data)
 
 
-def pad_friction_drop(inputs, x, case):
-    """Fall of the pad friction coefficient between two speeds (km/h), inputs.speeds_kmh = [from, to]."""
-    train = vehicle.load_train(_need(inputs, "train"))
-    car = _car_of_type(train, inputs.get("car_type", "trailer"))
-    low, high = (units.kmh_to_ms(float(v)) for v in _need(inputs, "speeds_kmh"))
-    at_low, at_high = (float(vehicle.pad_friction_of(car, v)) for v in (low, high))
-    return ModelOutput([at_low - at_high], {"train": train.name, "friction_from": at_low, "friction_to": at_high})
+def dynamometer_stop_mean(inputs, x, case):
+    """Stop-averaged friction (UIC 541-3's mean) of a preset's pads in dynamometer stops of its disc
+    from x (km/h), as the pad data file's dynamometer runs them (the fade by the disc's surface
+    temperature included)."""
+    _, _, car, conditions = _dyno(inputs)
+    stops = [vehicle.dynamometer_stop(car, units.kmh_to_ms(v), **conditions) for v in _x(x, "speed, km/h")]
+    return ModelOutput([s.mean_friction for s in stops], {"car": car.type_name, "surface_peak_c": [
+        round(s.max_surface_temperature - vehicle.ZERO_CELSIUS, 1) for s in stops]})
+
+
+def dynamometer_recession(inputs, x, case):
+    """Fall of the stop-averaged friction between dynamometer stops from inputs.speeds_kmh = [from, to]."""
+    _, _, car, conditions = _dyno(inputs)
+    low, high = (vehicle.dynamometer_stop(car, units.kmh_to_ms(float(v)), **conditions).mean_friction
+                 for v in _need(inputs, "speeds_kmh"))
+    return ModelOutput([low - high], {"mean_from": low, "mean_to": high})
+
+
+def dynamometer_cross_fit(inputs, x, case):
+    """Stop-averaged friction from x (km/h) of the preset's pads with their fade fitted on other data
+    than the case's reference: the onset at the surface peak of a stop from inputs.onset_kmh, the
+    rate from the ratio inputs.ratio of the stop averages between inputs.ratio_kmh = [from, to]
+    (another pad), the level from inputs.level = {speed_kmh, mean}."""
+    pad_fade, _, car, conditions = _dyno(inputs)
+    level, (low, high) = _need(inputs, "level"), _need(inputs, "ratio_kmh")
+    fit = pad_fade.fit(car, conditions, onset_speed=units.kmh_to_ms(float(_need(inputs, "onset_kmh"))),
+                       level_speed=units.kmh_to_ms(float(level["speed_kmh"])), level_mean=float(level["mean"]),
+                       ratio_speeds=(units.kmh_to_ms(float(low)), units.kmh_to_ms(float(high))),
+                       rate_ratio=float(_need(inputs, "ratio")))
+    pad = pad_fade.pad_with(car, fit.shift, fit.onset, fit.rate)
+    means = [vehicle.dynamometer_stop(car, units.kmh_to_ms(v), pad=pad, **conditions).mean_friction
+             for v in _x(x, "speed, km/h")]
+    return ModelOutput(means, {"fade_onset_c": round(fit.onset - vehicle.ZERO_CELSIUS, 1), "fade_rate_per_K": fit.rate,
+                               "table_shift": fit.shift})
+
+
+def disc_temperature(inputs, x, case):
+    """Peak disc temperature (°C) in an emergency stop of a train preset on dry rail from x (km/h):
+    inputs.which = surface (the friction surface) or mean (the disc's mean), over every disc."""
+    from railbrake import simulation
+    which = _need(inputs, "which")
+    key = {"surface": "max_disc_surface_temperature_c", "mean": "max_disc_temperature_c"}.get(which)
+    if key is None:
+        raise InputError(f"model.inputs.which = {which!r}: must be surface or mean")
+    train = _need(inputs, "train")
+    values, details = [], {}
+    for v in _x(x, "v0, km/h"):
+        scenario = simulation.emergency_scenario(train, units.kmh_to_ms(v), inputs.get("condition", "dry-medium"))
+        kpis = simulation.run(scenario, record=False).kpis
+        values.append(kpis[key])
+        details[f"{v:g} km/h"] = {"surface_c": round(kpis["max_disc_surface_temperature_c"], 1),
+                                  "mean_c": round(kpis["max_disc_temperature_c"], 1),
+                                  "mean_pad_friction": round(kpis["mean_pad_friction"], 4)}
+    return ModelOutput(values, {"train": train} | details)
 
 
 def ed_brake_force(inputs, x, case):
@@ -407,5 +451,6 @@ def etcs_curve_distance(inputs, x, case):
 
 REGISTRY = {f.__name__: f for f in (detailed_order, stop_ramp, kdry_equal_units, etcs_curve_distance,
     hertz, kalker, polach_on_contact, polach_initial_slope_ratio, polach_coefficient_at, peak_adhesion, orifice_flow,
-    tank_pressure, stop_constant, caliper_force, train_stopping_distance, train_build_up, solenoid_c_core, pad_friction, pad_friction_drop, ed_brake_force,
-    running_resistance, plant_order, sander_stopping_distance)}
+    tank_pressure, stop_constant, caliper_force, train_stopping_distance, train_build_up, solenoid_c_core, ed_brake_force,
+    running_resistance, plant_order, sander_stopping_distance, dynamometer_stop_mean, dynamometer_recession,
+    dynamometer_cross_fit, disc_temperature)}

@@ -43,6 +43,9 @@ def test_conditions_lists_presets_with_sources():
     names = {c["name"]: c for c in json.loads(result.stdout)["conditions"]}
     assert names["dry-high"]["params"]["mu0"] == 0.55
     assert "Polach" in names["wet"]["source"]
+    # each preset's fit: the data sets (validation cases) and the findings at a bound
+    assert names["dry-medium"]["fit"]["fitted_on"] == ["curtius-kniffler-dry"]
+    assert names["hs-wet"]["fit"]["bounds"]["A"] == [0.05, 1.0] and "A" in names["hs-wet"]["fit"]["at_bound"]
 
 
 def test_fit_command_on_example(tmp_path):

@@ -194,7 +194,7 @@ def test_vehicle_page_error_examples_are_what_the_commands_print(tmp_path):
     (tmp_path / "my-train.yaml").write_text(preset[:tare] + "tare_t: 44700" + preset[tare + 12:], encoding="utf-8")
     page = (REPO / "docs" / "vehicle.md").read_text(encoding="utf-8")
     examples = re.findall(r"^    \$ (railbrake .*)\n    (error: .*)$", page, re.M)
-    assert len(examples) == 2
+    assert len(examples) == 3
     for command, expected in examples:
         done = run_block(command, tmp_path, timeout=120)
         assert done.returncode == 2 and expected in done.stderr.splitlines(), (command, done.stderr[-2000:])

@@ -76,6 +76,20 @@ def test_equals_native_run(fmu):
     assert result["speed"][-1] < 0.5     # FMPy ran the whole stop
 
 
+def test_discs_and_pads_as_the_native_run(fmu2):
+    """The FMU's friction surface temperatures and pad friction: its hottest surface is the native
+    run's (KPI, every 1 ms step; the FMU sampled every record interval), its pads' friction the
+    law's at that surface (rb_pad_friction_eval)."""
+    native = simulation.run("emergency-250-dry", cars=1)
+    t = native.time
+    names = [f"disc_surface_temperature_c1a{a}" for a in range(1, 5)] + ["pad_friction_c1a1", "speed"]
+    result = simulate_fmu(str(fmu2), stop_time=float(t[-2]), output_interval=float(t[1] - t[0]), output=names)
+    hottest = max(float(np.max(result[n])) for n in names[:4]) - simulation.ZERO_CELSIUS
+    assert hottest == pytest.approx(native.kpis["max_disc_surface_temperature_c"], abs=0.5)
+    stepped = result[1:]   # (at t = 0 no step has run: no friction yet)
+    assert 0.3 < float(np.min(stepped["pad_friction_c1a1"][stepped["speed"] > 1.0])) < 0.45
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("cars", [2, 8])
 def test_trains_equal_the_native_run(cars, tmp_path):

@@ -198,6 +198,7 @@ def _refusal(function, kwargs, name) -> str | None:
     return None
 
 
+@pytest.mark.slow   # thousands of Python refusals (50 s under the sanitizers), not the core's memory
 def test_every_refusal_names_the_argument(bases, monkeypatch):
     cases, folder = bases
     monkeypatch.chdir(folder)   # an accepted empty or relative output path writes there, not into the checkout

@@ -10,6 +10,7 @@ import threading
 import time
 
 import numpy as np
+import pytest
 from asammdf import MDF
 
 from conftest import KEY_FILE, RAILBRAKE
@@ -49,6 +50,7 @@ class Witness(Peer):
         return max(times) if times else 0.0
 
 
+@pytest.mark.slow   # a process killed again and again: the recorder's files, not the core's memory
 def test_sigkill_at_random_moments_leaves_every_sample_up_to_1_s_before(tmp_path):
     moments = random.Random(32).sample([round(0.2 + 0.1 * k, 1) for k in range(30)], 5)   # 0.2 .. 3.1 s
     for moment in moments:
@@ -79,6 +81,7 @@ def test_sigkill_at_random_moments_leaves_every_sample_up_to_1_s_before(tmp_path
         assert len(t) < 2 or np.allclose(np.diff(t), step)   # every sample in between
 
 
+@pytest.mark.slow   # signals to the recorder: its files, not the core's memory
 def test_two_ctrl_c_keep_the_recording_and_the_summary(bcu_process, tmp_path):
     bcu, port = bcu_process(SCENARIO, "--cars", "1", "--idle-timeout", "0.5")
     record, out = tmp_path / "twice.mf4", tmp_path / "twice"

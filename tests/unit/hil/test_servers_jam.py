@@ -100,6 +100,7 @@ def http(port, raw: bytes) -> bytes:
     return data
 
 
+@pytest.mark.slow   # the Python servers' connection limits, not the core
 def test_idle_connections_do_not_lock_the_operator_out():
     def attack(control, board):
         idle = [connect(control.port) for _ in range(50)]

@@ -1,5 +1,6 @@
 """The run's own KPI table fits an 80-column terminal (the compare table and
-the help texts: tests/unit/cli/test_console.py)."""
+the help texts: tests/unit/cli/test_console.py). Warnings go to stderr, each on a line of its own
+however long (tests/unit/cli/test_warnings_cli.py), so only the table on stdout is measured."""
 
 from typer.testing import CliRunner
 
@@ -12,6 +13,6 @@ def test_the_run_table_fits_80_columns(saved_run):
     result = CliRunner().invoke(app, ["run", str(scenario), "--cars", "3"], terminal_width=80,
                                 env={"COLUMNS": "80"})
     assert result.exit_code == 0, result.output
-    lines = result.output.splitlines()
-    assert "stopping_distance_m" in result.output and "safety_timer_trips" in result.output
+    lines = result.stdout.splitlines()
+    assert "stopping_distance_m" in result.stdout and "safety_timer_trips" in result.stdout
     assert max(len(line) for line in lines) <= 80

@@ -20,6 +20,9 @@ from railbrake import atomic
 from railbrake.errors import InputError
 
 KILLS = 22   # kills that landed before the run ended (trials that ended first do not count)
+# 22 CLI processes killed mid-write (over 2 min under the sanitizers): the writer's files, not the core
+pytestmark = pytest.mark.slow
+
 SEED = int(os.environ.get("RAILBRAKE_KILL_SEED", "41"))
 RUN = ["run", "emergency-250-dry", "--cars", "1", "--format", "parquet,csv,mf4"]
 

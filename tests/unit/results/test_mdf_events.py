@@ -1,49 +1,115 @@
 """MDF4 recordings carry what happened as events and name the states of enumerated channels:
 `run fault-vent-valve-stuck --format mf4` writes the scenario's fault as a fault_on event at its
-start (as `hil` does for the same scenario's scheduled fault), which asammdf reads; brake_demand
-reads as release / service / emergency, its raw value kept."""
+start and the safety-timer trip it causes (the stuck vent empties the cylinder without command:
+the BCU isolates the axle) as a wsp_trip event; a `hil` recording of the same scenario names the
+scheduled fault and the safe state; every enumerated channel reads as text in asammdf, its raw
+value kept."""
+
+import json
+import secrets
 
 import numpy as np
 import pytest
 from asammdf import MDF
 from typer.testing import CliRunner
 
+from railbrake import hil
 from railbrake import scenario as scenarios
 from railbrake.cli import app
+from railbrake.hil import mdf as hil_mdf
 from railbrake.hil.mdf import recording_events
-from railbrake.results import files
+from railbrake.resolve import resolve
+from railbrake.results import channel_info, files
+from railbrake.simulation.parameters import wsp_params
+
+SCENARIO = "fault-vent-valve-stuck"
 
 
-def test_run_writes_the_scenario_s_fault_as_an_mdf4_event(tmp_path):
-    out = CliRunner().invoke(app, ["run", "fault-vent-valve-stuck", "--cars", "3", "--out", str(tmp_path / "run"),
+def _events(path):
+    with MDF(path) as mdf:
+        return [(e.name, e.sync_base * e.sync_factor, e.comment) for e in mdf.events]
+
+
+def test_run_writes_the_scenario_s_fault_and_the_wsp_trip_as_mdf4_events(tmp_path):
+    out = CliRunner().invoke(app, ["run", SCENARIO, "--cars", "3", "--out", str(tmp_path / "run"),
                                    "--format", "mf4"])
     assert out.exit_code == 0, out.output
-    fault = scenarios.load("fault-vent-valve-stuck").spec.faults[0]
-    with MDF(tmp_path / "run" / "timeseries.mf4") as mdf:
-        events = [(e.name, e.sync_base * e.sync_factor, e.comment) for e in mdf.events]
-    assert [(name, pytest.approx(t)) for name, t, _ in events] == [("fault_on", fault.start)]
+    fault = scenarios.load(SCENARIO).spec.faults[0]
+    safety_time = wsp_params(resolve(SCENARIO, 3, []).scenario).safety_time   # s, the run's
+    events = _events(tmp_path / "run" / "timeseries.mf4")
+    assert [name for name, _, _ in events] == ["fault_on", "wsp_trip"]
+    assert events[0][1] == pytest.approx(fault.start)
     assert events[0][2] == f"{fault.type} on car {fault.car}, axle {fault.axle} (scheduled by the scenario)"
+    # the timer runs from the cylinder seen low without command, after the fault: not sooner
+    print(f"fault at {events[0][1]:g} s, WSP trip at {events[1][1]:g} s (safety time {safety_time:g} s)")
+    assert events[1][1] >= fault.start + safety_time
+    assert events[1][2].startswith(f"car {fault.car}, axle {fault.axle}: isolated: safety timer tripped")
+    kpis = json.loads((tmp_path / "run" / "kpis.json").read_text())
+    assert kpis["safety_timer_trips"] == 1
+    with MDF(tmp_path / "run" / "timeseries.mf4") as mdf:   # the trip as the channel reads it
+        mode = mdf.get(f"wsp_mode_c{fault.car}a{fault.axle}")
+        text = [s.decode() for s in mode.samples]
+    assert text[0] == "apply" and text[-1].startswith("isolated")
+
+
+def test_a_hil_recording_names_the_scheduled_fault_and_the_safe_state(tmp_path):
+    """An unpaced run without BCU (the safe state from the start), written as `hil --record` writes."""
+    sc = scenarios.load(SCENARIO)
+    result = hil.run(SCENARIO, ("127.0.0.1", 9), cars=3, duration=2.5, paced=False, priority=0,
+                     key=secrets.token_bytes(16))
+    path = hil_mdf.write_mdf(result, tmp_path / "hil.mf4", sc)
+    events = _events(path)
+    assert [(name, pytest.approx(t)) for name, t, _ in events] == [("safe_on", 0.0),
+                                                                    ("fault_on", sc.spec.faults[0].start)]
+    assert "first valid BCU frame" in events[0][2] and "scheduled by the scenario" in events[1][2]
 
 
 class _HilResult:   # what recording_events reads of a hil.Result
-    time = np.array([0.0, 1.0, 2.0, 3.0])
-    outputs = {"brake_demand": np.array([0.0, 2.0, 2.0, 2.0])}
+    time = np.arange(0.0, 4.0, 0.5)
+    outputs = {"brake_demand": np.array([0.0, 0.0, 0.4, 2.0, 2.0, 2.0, 0.0, 0.0]),
+               "safe_state": np.array([0, 0, 0, 1, 1, 1, 0, 1])}
     fault_changes = []
-    events = [(2.5, "safe_on", "BCU silent for 0.1 s")]
+    events = [(1.3, "safe_on", "no valid BCU frame within the hold time: safe state"),
+              (2.9, "safe_off", "valid BCU frames: safe state left")]
 
 
-def test_hil_recordings_name_the_scheduled_fault_too():
-    events = recording_events(_HilResult(), scenarios.load("fault-vent-valve-stuck"))
-    assert [(t, name) for t, name, _ in events] == [(1.0, "demand"), (2.0, "fault_on"), (2.5, "safe_on")]
+def test_safe_state_changes_from_the_log_and_those_it_dropped_from_the_channel():
+    """The log's entries as logged; the channel's last entry (at 3.5 s), which the log no longer
+    holds, from the channel; demand changes as text."""
+    events = recording_events(_HilResult(), scenarios.load(SCENARIO))
+    assert [(t, name) for t, name, _ in events] == [(1.0, "demand"), (1.3, "safe_on"), (1.5, "demand"),
+                                                   (2.0, "fault_on"), (2.9, "safe_off"), (3.0, "demand"),
+                                                   (3.5, "safe_on")]
+    assert "recorded safe_state channel" in events[-1][2]
+    assert [text for _, name, text in events if name == "demand"] == [
+        "brake demand release -> service 40 %", "brake demand service 40 % -> emergency",
+        "brake demand emergency -> release"]
 
 
-def test_brake_demand_reads_as_text_with_its_raw_value_kept(tmp_path):
-    demand = np.array([0.0, 0.5, 1.0, 2.0])
+@pytest.mark.parametrize("name", ["hold_c1a1", "vent_c2a3", "compressor_on", "safe_state", "wsp_mode_c1a2",
+                                  "brake_demand"])
+def test_every_enumerated_channel_reads_as_text_with_its_raw_value_kept(tmp_path, name):
+    states = channel_info.STATES.get(channel_info.base_name(name))
+    values = np.array(list(states) if states else [0.0, 0.5, 1.0, 2.0], dtype=float)
     mdf = MDF(version="4.10")
-    mdf.append([files._mdf_signal("brake_demand", demand, np.arange(4.0), "1")])
+    mdf.append([files._mdf_signal(name, values, np.arange(float(len(values))), "1")])
     mdf.save(tmp_path / "d.mf4", overwrite=True)
     with MDF(tmp_path / "d.mf4") as back:
-        text = [s.decode() for s in back.get("brake_demand").samples]
-        raw = back.get("brake_demand", raw=True).samples
-    assert [t.split(" ")[0] for t in text] == ["release", "service", "service", "emergency"]
-    assert raw.tolist() == demand.tolist()
+        text = [s.decode() for s in back.get(name).samples]
+        raw = back.get(name, raw=True).samples
+    if states:
+        assert text == list(states.values())
+    else:   # ranges of a number
+        assert [t.split(" ")[0] for t in text] == ["release", "service", "service", "emergency"]
+    assert raw.tolist() == values.tolist()
+
+
+def test_every_integer_channel_of_run_and_hil_has_its_states():
+    """Each channel of `run` and `hil` recorded with unit 1 is a ratio (slip, adhesion), a counter
+    (bcu_frames) or a state channel with its text: none left bare."""
+    from railbrake.hil.runs import channels as hil_channels
+    from railbrake.simulation.parameters import channels as run_channels
+    numbers = {"slip", "adhesion", "bcu_frames"}
+    for name, unit in list(run_channels(2)) + list(hil_channels(2)):
+        if unit == "1" and channel_info.base_name(name) not in numbers:
+            assert channel_info.conversion(name) is not None, name

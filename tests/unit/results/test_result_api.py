@@ -31,10 +31,26 @@ def _same_bits(a, b) -> bool:
 
 def test_the_dataframe_has_one_column_per_channel_with_its_unit(result):
     df = result.to_dataframe()
-    assert list(df.columns) == list(result.outputs)
-    assert df.attrs["units"] == result.units and df.attrs["units"]["speed"] == "m/s"
+    pressures = [n for n, u in result.units.items() if u == "Pa"]
+    assert pressures and [c for c in df.columns if not c.endswith("_bar_g")] == list(result.outputs)
+    assert {n: df.attrs["units"][n] for n in result.outputs} == result.units and df.attrs["units"]["speed"] == "m/s"
     assert all(_same_bits(df[name].to_numpy(), values) for name, values in result.outputs.items())
     assert df.attrs["kpis"] == result.kpis
+
+
+def test_the_dataframe_gives_each_pressure_in_bar_gauge_beside_it(result):
+    """As the CLI, the plots and the KPIs (min_main_reservoir_bar, bar g) show pressures."""
+    df = result.to_dataframe()
+    columns = list(df.columns)
+    for name in (n for n, u in result.units.items() if u == "Pa"):
+        gauge = name + "_bar_g"
+        assert columns.index(gauge) == columns.index(name) + 1 and df.attrs["units"][gauge] == "bar g"
+        assert np.allclose(df[gauge] * 1e5 + result.atmosphere, df[name], rtol=1e-12, atol=1e-6)
+    train = result.resolved.train.spec
+    assert df["main_reservoir_bar_g"].iloc[0] == pytest.approx(train.air_supply.charged_bar)   # charged at start
+    assert df["cylinder_c1a1_bar_g"].iloc[0] == pytest.approx(0.0, abs=1e-9)                  # released at start
+    assert df["main_reservoir_bar_g"].min() == pytest.approx(result.kpis["min_main_reservoir_bar"], abs=1e-9)
+    assert not any(c.endswith("_bar_g") for c in result.to_arrow().column_names)   # files: SI only
 
 
 def test_the_arrow_table_carries_each_unit_in_its_field(result):
@@ -143,3 +159,25 @@ def test_compare_names_the_bad_run_by_its_position(result, bad, kind):
     with pytest.raises(kind) as caught:
         railbrake.compare(result, bad)
     assert str(caught.value).startswith("runs[1]") and len(str(caught.value)) < 300, caught.value
+
+
+def test_kpis_are_read_only_and_save_writes_them(result, tmp_path):
+    import copy
+    import pickle
+    before = dict(result.kpis)
+    for change in (lambda k: k.__setitem__("stopping_distance_m", 1.0), lambda k: k.update(x=1),
+                   lambda k: k.pop("stopped"), lambda k: k.clear(), lambda k: k.__delitem__("stopped")):
+        with pytest.raises(TypeError, match=r"Result.kpis is read-only.*dict\(result.kpis\)"):
+            change(result.kpis)
+    with pytest.raises(TypeError, match="read-only"):
+        result.kpis = {}
+    assert result.kpis == before
+    mine = dict(result.kpis)          # the way to change them: a copy
+    mine["stopping_distance_m"] = 1.0
+    assert result.kpis["stopping_distance_m"] == before["stopping_distance_m"]
+    assert pickle.loads(pickle.dumps(result.kpis)) == before and copy.deepcopy(result.kpis) == before
+    result.save(tmp_path / "run")
+    assert json.loads((tmp_path / "run" / "kpis.json").read_text()).keys() == before.keys()
+    assert railbrake.load_result(tmp_path / "run").kpis == before
+    with pytest.raises(TypeError, match="read-only"):
+        railbrake.load_result(tmp_path / "run").kpis["stopped"] = False

@@ -136,3 +136,14 @@ def test_stability_check_allows_the_references_own_ripple(compared):
     bad.outputs[pilot] = c.rt.outputs[pilot] + 0.2e5 * np.where(np.arange(c.rt.time.size) % 2, 1.0, -1.0)
     ok, why = stable(bad, c.detailed)
     assert not ok and "allowed" in why
+
+
+def test_detailed_model_heats_the_discs_as_the_plant(compared):
+    # the same two-node discs and fading pads (rb_plant_discs) after the detailed model's fine
+    # mechanics: the friction energy and the hottest friction surface agree with the 1 ms plant's
+    c = compared(DRY, 1)
+    assert c.detailed.kpis["brake_energy_mj"] == pytest.approx(c.rt.kpis["brake_energy_mj"], rel=0.01)
+    rise_rt = c.rt.kpis["max_disc_surface_temperature_c"] - c.rt.kpis["max_disc_temperature_c"]
+    assert rise_rt > 0.0   # the surface runs ahead of the disc's mean
+    assert c.detailed.kpis["max_disc_surface_temperature_c"] == pytest.approx(
+        c.rt.kpis["max_disc_surface_temperature_c"], abs=2.0)

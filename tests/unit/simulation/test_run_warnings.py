@@ -42,3 +42,19 @@ def test_a_leaking_cylinder_is_warned_of():
     found = [w for w in warnings_for(result) if "below its demand" in w]
     assert found, (result.kpis["cylinder_shortfall_s"], healthy)
     assert result.kpis["cylinder_shortfall_s"] > 1.25 * result.meta["healthy_cylinder_shortfall_s"] > 0.0
+
+
+def test_a_main_reservoir_below_its_minimum_working_pressure_is_warned_of():
+    """The 16-car heavy-rain stop with its default WSP keeps the main reservoir above the train
+    file's minimum working pressure and does not warn; with every compressor off the venting drains
+    it below and the run says so."""
+    sc = scenario.load("emergency-300-heavy-rain")
+    for faults in ([], [{"type": "compressor_off", "start": "0 s"}]):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            result = simulation.run(sc.with_({"faults": faults}), record=False)
+        working = result.resolved.train.spec.air_supply.min_working_bar
+        below = result.kpis["min_main_reservoir_bar"] < working
+        found = [w for w in warnings_for(result) if "minimum working pressure" in w]
+        assert bool(found) == below, (faults, result.kpis["min_main_reservoir_bar"], working)
+        assert below == bool(faults), (faults, result.kpis["min_main_reservoir_bar"])

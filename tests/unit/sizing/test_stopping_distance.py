@@ -61,10 +61,27 @@ def test_emergency_stops_within_the_published_limits(train):
 
 
 def test_train_stop_is_shorter_than_the_profile_alone_by_resistance():
+    # with cold pads (no fading) the brakes give the profile and the resistance adds to it
     v0 = 300 / 3.6
     alone = sizing.stopping_distance(v0, profile="emergency")
-    train = sizing.stopping_distance(v0, train="crh380al-16", profile="emergency")
+    cold = vehicle.load_train("crh380al-16")
+    for car in cold.cars:
+        car.c.brake.pad.fade_rate = 0.0
+    train = sizing.stopping_distance(v0, train=cold, profile="emergency")
     assert 0.95 * alone.distance < train.distance < alone.distance
+
+
+def test_fading_pads_lengthen_a_hot_stop():
+    # the generic emergency profile heats the crh380al-16's discs past the pads' fade onset: the
+    # pads lose friction the BCU's pressures (sized for cold pads) do not make up
+    v0 = 300 / 3.6
+    hot = sizing.stopping_distance(v0, train="crh380al-16", profile="emergency")
+    cold = vehicle.load_train("crh380al-16")
+    onset = cold.cars[0].c.brake.pad.fade_onset
+    for car in cold.cars:
+        car.c.brake.pad.fade_rate = 0.0
+    assert hot.max_disc_surface_temperature > onset
+    assert hot.distance > sizing.stopping_distance(v0, train=cold, profile="emergency").distance
 
 
 def test_bad_stopping_input_is_named():

@@ -25,3 +25,15 @@ def test_the_table_holds_every_condition_against_every_data_set():
     # dry-medium is fitted on the Curtius-Kniffler curve (within 4 %); Polach's dry set lies far above it
     assert abs(table["dry-medium"]["curtius-kniffler-dry"]) < 0.04
     assert table["dry-high"]["curtius-kniffler-dry"] > 0.3
+
+
+def test_the_fit_table_gives_each_condition_its_data_sets_with_residuals_or_the_search():
+    from railbrake.validation.adhesion_table import fit_table
+    rows = fit_table()
+    assert set(rows) == {c.name for c in __import__("railbrake").adhesion.conditions()}
+    # dry-medium: fitted on Curtius-Kniffler (worst 4 %), checked on the clean-steel rig (far below its 0.5)
+    assert rows["dry-medium"]["fitted on"].startswith("curtius-kniffler-dry (mean +0 %, worst -4 %)")
+    assert "dry-br-rig (mean -50" in rows["dry-medium"]["checked on"]
+    assert rows["oil-film"]["fitted on"].startswith("no data set: no published adhesion value")
+    assert rows["hs-wet"]["at a bound"].startswith("A: finding")
+    assert rows["leaves-full-scale"]["speed km/h"] == "64-113"

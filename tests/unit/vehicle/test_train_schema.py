@@ -35,7 +35,7 @@ def _with(path, value, name="crh380a-8"):
     (("car_types", "motor", "payload_t", "crush"), "1_000", r"crush = '1_000': text, not a number"),
     (("max_speed_kmh",), -300.0, r"max_speed_kmh = -300\.0: must lie in \[50, 500\] km/h"),
     (("supply_pressure_bar",), 80.0, r"line \d+: supply_pressure_bar = 80: must lie in \[0\.187, 9\.99\] bar gauge"),
-    (("supply_pressure_bar",), 8.0, r"supply_pressure_bar = 8: must stay below air_supply\.governor_on_bar = 7\.5"),
+    (("supply_pressure_bar",), 8.0, r"supply_pressure_bar = 8: must stay below air_supply\.min_working_bar = 5\.5"),
     (("air_supply", "charged_bar"), 9.5, r"charged_bar = 9\.5 must not exceed governor_off_bar = 9\.0"),
     (("car_types", "motor", "pad_friction"), {"table": {"speed_kmh": [0, 100], "value": [0.4, 30]}},
      r"pad_friction\.table: .*value\[1\] = 30: must lie in \[0\.1, 0\.6\]"),

@@ -1,7 +1,7 @@
 // railbrake HIL dashboard: polls the loop's live snapshot and draws scrolling plots on canvases.
 // Everything here ships with the package: no library, no font, nothing from the network.
 "use strict";
-const token = new URLSearchParams(location.search).get("token") || "";
+const token = new URLSearchParams(location.search).get("token") || "";   // sent as Authorization: Bearer
 const WINDOW_S = 30;           // seconds of history drawn
 const POLL_MS = 100;
 const history = [];            // snapshots, oldest first
@@ -12,8 +12,7 @@ const kmh = (v) => v * 3.6;
 const barg = (p) => (p - atmosphere) / 1e5;
 
 async function getJSON(path) {
-  const r = await fetch(path + (path.includes("?") ? "&" : "?") + "token=" + encodeURIComponent(token),
-                        {cache: "no-store"});
+  const r = await fetch(path, {cache: "no-store", headers: {"Authorization": "Bearer " + token}});
   return r.json();
 }
 
@@ -29,24 +28,69 @@ function axlesOfCar() {
   return [0, 1, 2, 3].map((k) => (car - 1) * info.axles_per_car + k);
 }
 
-function plot(canvas, series, unit) {
-  const ctx = canvas.getContext("2d"), w = canvas.width, h = canvas.height;
+// Plot layout (px): a legend band on top, value labels in the left margin, time labels and the
+// time axis's name in the bottom band; no two texts share a pixel. Each text's box goes into
+// canvas.dataset.labels (JSON) so a test can check exactly that.
+const FONT = "11px sans-serif", TOP = 26, LEFT = 70, RIGHT = 12, BOTTOM = 34, TICK_S = 10;
+const COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd"];
+
+function text(ctx, boxes, s, x, y, align) {
+  // y: the text's baseline; align: "left", "right" or "center" about x
+  const m = ctx.measureText(s), w = m.width;
+  const x0 = align === "right" ? x - w : align === "center" ? x - w / 2 : x;
+  ctx.textAlign = "left"; ctx.fillText(s, x0, y);
+  boxes.push({text: s, x0: x0, x1: x0 + w, y0: y - m.actualBoundingBoxAscent, y1: y + m.actualBoundingBoxDescent});
+  return x0 + w;
+}
+
+function value(v) {   // at most 4 significant digits, short enough for the left margin
+  const a = Math.abs(v);
+  const s = a !== 0 && (a < 1e-3 || a >= 1e5) ? v.toExponential(2) : String(Number(v.toPrecision(4)));
+  return s.replace(/^-/, "\u2212");   // the minus sign of the time axis
+}
+
+function plot(canvas, series, quantity) {   // quantity: the value axis's name and unit
+  const ctx = canvas.getContext("2d"), w = canvas.width, h = canvas.height, boxes = [];
   ctx.clearRect(0, 0, w, h);
   if (!history.length) return;
-  const t1 = history[history.length - 1].time, t0 = t1 - WINDOW_S;
+  const now = history[history.length - 1].time;
   let lo = Infinity, hi = -Infinity;
   for (const s of series) for (const p of history) { const v = s.get(p); lo = Math.min(lo, v); hi = Math.max(hi, v); }
   if (!(hi > lo)) { hi = lo + 1; }
-  const x = (t) => 40 + (w - 50) * (t - t0) / WINDOW_S, y = (v) => h - 15 - (h - 25) * (v - lo) / (hi - lo);
-  ctx.font = "11px sans-serif"; ctx.fillStyle = "#444";
-  ctx.fillText(hi.toPrecision(4) + " " + unit, 2, 12); ctx.fillText(lo.toPrecision(4), 2, h - 3);
-  ctx.fillText((t0 > 0 ? t0 : 0).toFixed(1) + " s", 40, h - 3); ctx.fillText(t1.toFixed(1) + " s", w - 60, h - 3);
-  const colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd"];
+  const x = (t) => LEFT + (w - LEFT - RIGHT) * (t - now + WINDOW_S) / WINDOW_S;
+  const y = (v) => h - BOTTOM - (h - TOP - BOTTOM) * (v - lo) / (hi - lo);
+  ctx.font = FONT;
+  ctx.strokeStyle = "#bbb"; ctx.strokeRect(LEFT, TOP, w - LEFT - RIGHT, h - TOP - BOTTOM);
+  ctx.fillStyle = "#444";
+  // values: top and bottom of the range, right-aligned in the left margin; the axis's name and
+  // unit on the top band, the legend after it
+  text(ctx, boxes, value(hi), LEFT - 4, TOP + 4, "right");
+  text(ctx, boxes, value(lo), LEFT - 4, h - BOTTOM + 4, "right");
+  const named = text(ctx, boxes, quantity, 2, 14, "left");
+  // time relative to now: -30 .. 0 s, then the axis's name under them
+  for (let t = -WINDOW_S; t <= 0; t += TICK_S) {
+    const px = x(now + t);
+    ctx.beginPath(); ctx.moveTo(px, h - BOTTOM); ctx.lineTo(px, h - BOTTOM + 3); ctx.stroke();
+    const align = t === -WINDOW_S ? "left" : t === 0 ? "right" : "center";   // the ends inside the plot's width
+    text(ctx, boxes, t === 0 ? "0" : "\u2212" + (-t), px, h - BOTTOM + 15, align);
+  }
+  text(ctx, boxes, "t \u2212 now [s]", LEFT + (w - LEFT - RIGHT) / 2, h - 4, "center");
+  // legend: one entry per series, a line of its colour then its name, on the top band
+  let lx = Math.max(LEFT, named + 16);
   series.forEach((s, i) => {
-    ctx.strokeStyle = colours[i % colours.length]; ctx.beginPath();
-    history.forEach((p, k) => { const px = x(p.time), py = y(s.get(p)); k ? ctx.lineTo(px, py) : ctx.moveTo(px, py); });
-    ctx.stroke(); ctx.fillStyle = ctx.strokeStyle; ctx.fillText(s.label, 50 + 110 * i, 12);
+    ctx.strokeStyle = ctx.fillStyle = COLOURS[i % COLOURS.length];
+    ctx.beginPath(); ctx.moveTo(lx, 10); ctx.lineTo(lx + 14, 10); ctx.stroke();
+    lx = text(ctx, boxes, s.label, lx + 18, 14, "left") + 14;
   });
+  ctx.save();
+  ctx.beginPath(); ctx.rect(LEFT, TOP, w - LEFT - RIGHT, h - TOP - BOTTOM); ctx.clip();
+  series.forEach((s, i) => {
+    ctx.strokeStyle = COLOURS[i % COLOURS.length]; ctx.beginPath();
+    history.forEach((p, k) => { const px = x(p.time), py = y(s.get(p)); k ? ctx.lineTo(px, py) : ctx.moveTo(px, py); });
+    ctx.stroke();
+  });
+  ctx.restore();
+  canvas.dataset.labels = JSON.stringify(boxes);
 }
 
 function row(table, cells) {
@@ -63,7 +107,8 @@ function show(s) {
   $("safe").textContent = s.safe ? "SAFE STATE" : "BCU in control";
   $("safe").className = "state " + (s.safe ? "safe" : "normal");
   const numbers = $("numbers"); numbers.textContent = "";
-  row(numbers, ["brake demand", String(s.brake_demand)]);
+  $("demand").textContent = s.brake_demand_text;
+  row(numbers, ["brake demand", s.brake_demand_text]);
   row(numbers, ["main reservoir", barg(s.main_reservoir).toFixed(2) + " bar g"]);
   s.supply.forEach((p, c) => row(numbers, ["supply car " + (c + 1), barg(p).toFixed(2) + " bar g"]));
   for (const [k, v] of Object.entries(s.counters)) row(numbers, [k.replace("_", " "), String(v)]);
@@ -73,9 +118,9 @@ function show(s) {
                                            s.vent[a] ? "VENT" : "-", s.slip[a].toFixed(3)]));
   const axles = axlesOfCar(), name = (a) => "c" + $("car").value + "a" + (a % 4 + 1);
   plot($("speeds"), [{label: "train", get: (p) => kmh(p.speed)}].concat(
-    axles.map((a) => ({label: name(a), get: (p) => kmh(p.wheel_speed[a])}))), "km/h");
-  plot($("cylinders"), axles.map((a) => ({label: name(a), get: (p) => barg(p.cylinder[a])})), "bar g");
-  plot($("slips"), axles.map((a) => ({label: name(a), get: (p) => p.slip[a]})), "");
+    axles.map((a) => ({label: name(a), get: (p) => kmh(p.wheel_speed[a])}))), "speed [km/h]");
+  plot($("cylinders"), axles.map((a) => ({label: name(a), get: (p) => barg(p.cylinder[a])})), "pressure [bar g]");
+  plot($("slips"), axles.map((a) => ({label: name(a), get: (p) => p.slip[a]})), "slip [1]");
 }
 
 async function poll() {
