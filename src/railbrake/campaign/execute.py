@@ -275,46 +275,66 @@ def _pending(study: Study, done: set):
             yield run
 
 
-def _execute(client, study, out, manifest, groups, options, summary, progress, total) -> None:
-    """Hands the batches out as the workers finish them, IN_FLIGHT_PER_WORKER per worker at a time:
-    the client holds those and the dataset's index, not the study."""
+def handed_out(client, tasks, ahead: int):
+    """(tag, result) of each task as it completes. tasks: an iterator of (function, args, key, tag),
+    submitted `ahead` at a time and the next one as each completes, so that the client holds only
+    those in flight. Interrupted (KeyboardInterrupt, or the consumer stops), the tasks in flight
+    are cancelled. The one dispatch loop of the campaign engine: studies (run_study) and the ETCS
+    analysis (railbrake.etcs.runs) both run through it."""
     from dask.distributed import as_completed
-    writer = _Writer(study, out, manifest)
-    start, submitted, spans = time.perf_counter(), time.time(), []
     futures = as_completed()
-    in_flight: set = set()
+    in_flight: dict = {}
 
     def submit_next() -> None:
-        group = next(groups, None)
-        if group is None:
+        item = next(tasks, None)
+        if item is None:
             return
-        future = client.submit(_batch_task, study.base, [_payload(r) for r in group], options,
-                               key=f"railbrake-{dataset.batch_name([r.key for r in group])[5:25]}",
-                               pure=False, retries=RETRIES)
+        function, args, key, tag = item
+        future = client.submit(function, *args, key=key, pure=False, retries=RETRIES)
         futures.add(future)
-        in_flight.add(future)
-        summary.batches += 1
+        in_flight[future] = tag
 
-    for _ in range(max(1, summary.workers) * IN_FLIGHT_PER_WORKER):
+    for _ in range(max(1, ahead)):
         submit_next()
     try:
         for future in futures:
-            in_flight.discard(future)
+            tag = in_flight.pop(future)
             result = future.result()
             submit_next()
-            _pass_on_warnings(result["rows"], summary)
-            writer.add(result["rows"])
-            summary.compute_s += result["compute_s"]
-            summary.compute_cpu_s += result.get("cpu_s", 0.0)
-            spans.append((result["worker"], result["began"], result["ended"]))
-            summary.done += len(result["rows"])
-            if progress:
-                progress(summary.done, total, writer.failed)
+            yield tag, result
+    finally:
+        if in_flight:
+            with _no_interrupt():
+                client.cancel(list(in_flight))
+
+
+def _execute(client, study, out, manifest, groups, options, summary, progress, total) -> None:
+    """Hands the batches out as the workers finish them, IN_FLIGHT_PER_WORKER per worker at a time:
+    the client holds those and the dataset's index, not the study."""
+    writer = _Writer(study, out, manifest)
+    start, submitted, spans = time.perf_counter(), time.time(), []
+
+    def tasks():
+        for group in groups:
+            summary.batches += 1
+            yield (_batch_task, (study.base, [_payload(r) for r in group], options),
+                   f"railbrake-{dataset.batch_name([r.key for r in group])[5:25]}", None)
+
+    results = handed_out(client, tasks(), max(1, summary.workers) * IN_FLIGHT_PER_WORKER)
+    try:
+        with contextlib.closing(results):   # an error here cancels the batches in flight
+            for _, result in results:
+                _pass_on_warnings(result["rows"], summary)
+                writer.add(result["rows"])
+                summary.compute_s += result["compute_s"]
+                summary.compute_cpu_s += result.get("cpu_s", 0.0)
+                spans.append((result["worker"], result["began"], result["ended"]))
+                summary.done += len(result["rows"])
+                if progress:
+                    progress(summary.done, total, writer.failed)
         writer.finish()
     except KeyboardInterrupt:
         summary.interrupted = True
-        with _no_interrupt():
-            client.cancel(list(in_flight))
     finally:
         summary.failed = writer.failed
         summary.elapsed_s = time.perf_counter() - start

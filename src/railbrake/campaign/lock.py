@@ -27,15 +27,15 @@ def _holder(handle) -> dict:
     return holder if isinstance(holder, dict) else {}
 
 
-def _refusal(out: Path, holder: dict) -> InputError:
+def _refusal(out: Path, holder: dict, command: str) -> InputError:
     since = holder.get("since")
     when = f" since {time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime(since))}" if isinstance(since, (int, float)) else ""
-    return InputError(f"--out {out}: in use by another `railbrake campaign run` (host {holder.get('host', '?')}, "
+    return InputError(f"--out {out}: in use by another `{command}` (host {holder.get('host', '?')}, "
                       f"PID {holder.get('pid', '?')}{when}; lock {out / LOCK}): wait for it to end, "
                       "or run into another folder")
 
 
-def _open_locked(out: Path):
+def _open_locked(out: Path, command: str):
     """The lock file, open and flocked by this process; InputError naming the holder. A lock file
     removed by its holder between our open and our flock (released with an empty folder) is opened
     again, so that two clients never hold two files."""
@@ -46,7 +46,7 @@ def _open_locked(out: Path):
         except BlockingIOError:
             holder = _holder(handle)
             handle.close()
-            raise _refusal(out, holder) from None
+            raise _refusal(out, holder, command) from None
         try:
             same = os.stat(out / LOCK).st_ino == os.fstat(handle.fileno()).st_ino
         except FileNotFoundError:
@@ -57,16 +57,17 @@ def _open_locked(out: Path):
 
 
 @contextlib.contextmanager
-def holding(out: Path):
+def holding(out: Path, command: str = "railbrake campaign run"):
     """Holds the campaign folder out (created) for the block; InputError naming the holder's host
-    and PID when another process holds it. A folder made here that holds nothing else when the
-    block ends (e.g. the scheduler did not answer) is removed again."""
+    and PID (and `command`, what holds such folders) when another process holds it. A folder made
+    here that holds nothing else when the block ends (e.g. the scheduler did not answer) is removed
+    again."""
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}: is a file; give a folder")
     created = not out.exists()
     out.mkdir(parents=True, exist_ok=True)
-    handle = _open_locked(out)
+    handle = _open_locked(out, command)
     try:
         handle.seek(0)
         handle.truncate()

@@ -36,7 +36,10 @@ def braking_model(
     seed: int = typer.Option(1, min=0, help="Seed of the Latin-hypercube blocks and the bootstrap."),
     out: Optional[Path] = typer.Option(None, help="Folder for the runs (a rerun resumes), the JSON, the "
                                        "OSRD export and the report (default: out/etcs/<train>)."),
-    workers: int = typer.Option(2, min=1, max=64, help="Worker processes."),
+    workers: int = typer.Option(2, min=1, max=64, help="Local worker processes (a local Dask cluster; 1: runs "
+                                "in this process)."),
+    scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT (or "
+                                            "DASK_SCHEDULER_ADDRESS), instead of local workers."),
     osrd_level: int = typer.Option(9, min=0, max=9, help="M_NVEBCL of the k_dry exported to OSRD (OSRD's national "
                                    "default: 9)."),
     osrd_layout: str = typer.Option("current", help="OSRD rolling-stock layout: current (signalling systems) or legacy."),
@@ -57,7 +60,7 @@ def braking_model(
                    console=Console(stderr=True), disable=json)
     task = bar.add_task("runs", total=None)
     with bar:
-        m = model.braking_model(spec, folder, workers,
+        m = model.braking_model(spec, folder, workers, scheduler=scheduler,
                                 progress=lambda n, total: bar.update(task, completed=n, total=total))
     data = export.to_json(m)
     atomic.write_text(folder / "braking-model.json", jsonio.dumps(data, indent=1))
@@ -92,7 +95,9 @@ def curves(
                                              "Kdry_rst bounds (model computed here; default: data/etcs/method.yaml)."),
     force_conditions: bool = typer.Option(False, "--force-conditions", help="Run an adhesion condition outside its "
                                           "validity, recorded in the model's warnings (model computed here)."),
-    workers: int = typer.Option(2, min=1, max=64, help="Worker processes (model computed here)."),
+    workers: int = typer.Option(2, min=1, max=64, help="Local worker processes (model computed here)."),
+    scheduler: Optional[str] = typer.Option(None, help="Existing Dask scheduler, tcp://HOST:PORT (model "
+                                            "computed here)."),
     out: Optional[Path] = typer.Option(None, help="Folder for curves.json, curves.png and curves.html "
                                        "(default: out/etcs-curves/<train>)."),
     json: bool = typer.Option(False, "--json", help="Print the curves as JSON."),
@@ -116,7 +121,8 @@ def curves(
         settings = {k: v for k, v in (("samples", samples), ("rare_samples", rare_samples), ("run_budget", run_budget))
                     if v is not None}
         spec = model.spec(train, cars=cars, initial_speed_kmh=speed, force_conditions=force_conditions, **settings)
-        data = json_module.loads(jsonio.dumps(export.to_json(model.braking_model(spec, workers=workers))))
+        data = json_module.loads(jsonio.dumps(export.to_json(model.braking_model(spec, workers=workers,
+                                                                                      scheduler=scheduler))))
         train_data = service.service_data(data)
     result = etcs_curves.compute(data, train_data, nv.load_track(track), nv.load_national(national))
     folder = prepare_folder(out or Path("out") / "etcs-curves" / Path(str(data["train"])).stem, "--out")

@@ -22,8 +22,8 @@ def _draw_factors(ctx: runs.Context, rng: np.random.Generator) -> np.ndarray:
     n_cars = len(ctx.train.cars)
     factors = np.ones((len(QUANTITIES), n_cars))
     for q, d in (ctx.scatter.quantities() if ctx.scatter else {}).items():
-        u = rng.random(1 if d.per == "train" else n_cars)
-        factors[QUANTITIES.index(q), :] = scatter._ppf(d, u)
+        u = rng.random((1, scatter.columns(d.per, n_cars)))
+        factors[QUANTITIES.index(q), :] = scatter.per_car(scatter._ppf(d, u), d.per, n_cars)[0]
     return factors
 
 

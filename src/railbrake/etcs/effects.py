@@ -102,21 +102,26 @@ def _ends(d) -> tuple[float, float]:
     return d.mean - END_SIGMAS * d.sd, d.mean + END_SIGMAS * d.sd
 
 
-def _scatter_warnings(ctx, ratio_of, no_effect: float) -> list[str]:
+def scatter_ends(ctx, ratio_of) -> tuple[list[str], list[np.ndarray]]:
+    """(quantity, ratio per step) of each scatter factor at each of its ends on every car."""
     if ctx.scatter is None:
-        return []
-    given = ctx.scatter.quantities()
+        return [], []
     n_cars = len(ctx.train.cars)
     prepared, names = [], []
     plant, bcu, wsp, scen = ctx.structs
-    for q, d in given.items():
+    for q, d in ctx.scatter.quantities().items():
         for end in _ends(d):
             factors = np.ones((len(QUANTITIES), n_cars))
             factors[QUANTITIES.index(q), :] = end
             p, b = scatter.apply(plant, bcu, factors)
             prepared.append((p, b, wsp, scen))
             names.append(q)
-    ratios = _ratios(ctx, prepared, ratio_of)
+    return names, _ratios(ctx, prepared, ratio_of)
+
+
+def _scatter_warnings(ctx, ratio_of, no_effect: float) -> list[str]:
+    names, ratios = scatter_ends(ctx, ratio_of)
+    given = ctx.scatter.quantities() if ctx.scatter is not None else {}
     out = []
     for q in given:
         moved = max(float(np.max(np.abs(1.0 - r))) for n, r in zip(names, ratios) if n == q)

@@ -177,7 +177,10 @@ class Distribution(_Strict):
     mean: float | None = Field(None, gt=0.0, le=10.0)
     sd: float | None = Field(None, ge=0.0, le=1.0)
     bounds: list[float] | None = Field(None, min_length=2, max_length=2)   # [low, high]
-    per: Literal["train", "car"]
+    # the tolerance's correlation: drawn once per train, per car, or per unit (each axle's brake,
+    # the car's factor the mean of its units'); none given: its quantity's default
+    # (data/etcs/factor-ranges.yaml, with its reasoning)
+    per: Literal["train", "car", "unit"] | None = None
     source: str
 
     @model_validator(mode="after")
@@ -227,6 +230,12 @@ class ScatterFile(_File):
         if span[0] < low or span[1] > high:
             raise ValueError(f"{what} = [{span[0]:g}, {span[1]:g}]: a factor on the nominal {info.field_name} must "
                              f"lie in [{low:g}, {high:g}] ({scatter_ranges()[info.field_name]['source'].strip()})")
+        correlation = scatter_ranges()[info.field_name]["correlation"]
+        if d.per is None:
+            return d.model_copy(update={"per": correlation["default"]})
+        if d.per not in correlation["allowed"]:
+            raise ValueError(f"per = {d.per!r}: {info.field_name} is drawn per "
+                             f"{' or per '.join(correlation['allowed'])} ({correlation['source'].strip()})")
         return d
 
     def quantities(self) -> dict[str, Distribution]:

@@ -20,6 +20,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 from importlib import resources
@@ -32,7 +33,7 @@ from railbrake import _core, config, simulation
 from railbrake.adhesion import load_condition
 from railbrake.simulation import response
 from railbrake.errors import InputError
-from railbrake.etcs import bound, confidence, effects, mixture, runs
+from railbrake.etcs import bound, confidence, effects, importance, mixture, runs
 from railbrake.units import KMH
 
 
@@ -53,11 +54,15 @@ class Method(BaseModel):
     kdry_bound: float = Field(gt=0.0, le=0.05)
     run_budget: int = Field(ge=0, le=10_000_000)
     bootstrap_replicates: int = Field(ge=20, le=10_000)
+    step_ms: float = Field(gt=0.0, le=2.0)   # one plant step, no sub-steps (simulation.MAX_SUBSTEP)
 
 
 # the window the bootstrap reads a quantile in (+- this about the estimate): replicates beyond it
 # are taken at its edge, which the bound then shows as this large
 BOUND_WINDOW = 0.1
+# a round of added runs goes to the states holding this share of a level's variance (_more_runs):
+# doubling them takes the variance down by at least ALLOCATED / 2 a round
+ALLOCATED = 0.8
 
 
 def method() -> Method:
@@ -76,7 +81,7 @@ def spec(train: str, reliability: str = "hs-emu", scatter: str | None = "hs-emu"
                      initial_speed_kmh=initial_speed_kmh, samples=m["samples"], rare_samples=m["rare_samples"],
                      likely_state=m["likely_state"], state_floor=m["state_floor"], seed=seed,
                      kdry_bound=m["kdry_bound"], run_budget=m["run_budget"], replicates=m["bootstrap_replicates"],
-                     force_conditions=bool(force_conditions))
+                     force_conditions=bool(force_conditions), step_ms=m["step_ms"])
 
 
 def step_decelerations(v0: float, marks: tuple, stop_speed: float, row: dict, t_be: float) -> np.ndarray:
@@ -118,13 +123,17 @@ class BrakingModel:
     kdry_bounds: list = field(default_factory=list)   # [step][M_NVEBCL]: (lower, upper) distance, 95 %
     kwet_steps: list = field(default_factory=list)    # Kwet_rst per speed step, before rounding
     initial_speed_kmh: float = 0.0
+    importance: list = field(default_factory=list)   # [M_NVEBCL]: railbrake.etcs.importance.ranking
+    step_allowance: list = field(default_factory=list)   # per step: the runs' step's ratio error (step_allowance)
 
     def kdry_coded(self) -> list:
-        """Each Kdry_rst on the coding grid from the conservative side of its bound."""
+        """Each Kdry_rst on the coding grid from the conservative side of its bound, less the
+        step allowance of its speed step."""
+        allowance = self.step_allowance or [0.0] * len(self.kdry)
         if not self.kdry_bounds:
-            return [[confidence.coded(k) for k in step] for step in self.kdry]
-        return [[confidence.coded(max(0.0, k - low)) for k, (low, _) in zip(step, b)]
-                for step, b in zip(self.kdry, self.kdry_bounds)]
+            return [[confidence.coded(max(0.0, k - a)) for k in step] for step, a in zip(self.kdry, allowance)]
+        return [[confidence.coded(max(0.0, k - low - a)) for k, (low, _) in zip(step, b)]
+                for step, b, a in zip(self.kdry, self.kdry_bounds, allowance)]
 
     def kwet_coded(self) -> float:
         return confidence.coded(self.kwet)
@@ -213,7 +222,7 @@ def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int) -> tup
         for c, v in zip(confidence.EBCL, values):
             low, high, carry = bound.bound(states, 1.0 - c, v, missing, rng, ctx.spec.replicates, BOUND_WINDOW)
             step_bounds.append((low, high))
-            step_carrying.append(carry)
+            step_carrying.append({s: _variance_share(states[s], v) for s in carry})
         kdry.append([min(v, confidence.K_MAX) if v > 0 else 0.0 for v in values])
         bounds.append(step_bounds)
         deciding.append([ctx.states[_deciding(states, v)].label if v > 0 else "states left out (no brake)"
@@ -222,17 +231,31 @@ def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int) -> tup
     return kdry, bounds, deciding, carrying
 
 
+def _variance_share(state: mixture.State, x: float) -> float:
+    """A state's share of the variance of the mixture's CDF at x (to first order, that of the
+    quantile there): p^2 F (1 - F) / n, its estimate of F(x) from n runs weighed by its probability."""
+    f = state.cdf(x)
+    return state.probability ** 2 * f * (1.0 - f) / state.ratios.size
+
+
 def _more_runs(ctx: runs.Context, counts: list, bounds: list, carrying: list, budget: int) -> list:
-    """The next runs: for every (step, level) whose bound is above the target, the samples of the
-    states that carry it doubled (a block at least), the states whose runs are fewest relative to
-    their share first, within the budget; [] if none is needed or the budget is spent."""
+    """The next runs: for every (step, level) whose bound is above the target, the samples doubled
+    (a block at least) of the states that carry it, those with the largest shares of its variance
+    first until they hold ALLOCATED of it (the others would buy little: Neyman's allocation, to
+    first order), the states whose runs are fewest relative to their share first, within the
+    budget; [] if none is needed or the budget is spent."""
     target, block = ctx.spec.kdry_bound, ctx.spec.rare_samples
     wanted: dict[int, int] = {}
     for step_bounds, step_carrying in zip(bounds, carrying):
         for (low, high), carry in zip(step_bounds, step_carrying):
-            if max(low, high) > target:
-                for s in carry:
-                    wanted[s] = max(wanted.get(s, 0), max(block, counts[s]))
+            if max(low, high) <= target:
+                continue
+            total, held = sum(carry.values()), 0.0
+            for s in sorted(carry, key=lambda s: -carry[s]):
+                if total > 0.0 and held >= ALLOCATED * total:
+                    break
+                held += carry[s]
+                wanted[s] = max(wanted.get(s, 0), max(block, counts[s]))
     jobs = []
     for s in sorted(wanted, key=lambda s: -ctx.states[s].probability / counts[s]):
         extra = min(wanted[s], budget - len(jobs))
@@ -242,26 +265,37 @@ def _more_runs(ctx: runs.Context, counts: list, bounds: list, carrying: list, bu
     return jobs
 
 
-def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) -> BrakingModel:
+def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None, scheduler: str | None = None,
+                  connect_timeout: float | None = None) -> BrakingModel:
+    """The braking model of spec's train; its runs in `out` (None: kept in memory) on the campaign
+    engine (railbrake.etcs.runs.Runner: `workers` local processes, or an existing Dask scheduler)."""
+    with runs.Runner(spec, out, workers, scheduler, progress, connect_timeout) as runner:
+        return _braking_model(spec, runner)
+
+
+def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     ctx = runs.context(spec)
     warnings_ = check_conditions(ctx)   # before any run
     t_be = nominal_build_up(ctx)
     stop_speed = ctx.structs[3].stop_speed
-    nominal = nominal_decelerations(ctx, t_be, stop_speed)
+    nominal = nominal_decelerations(ctx, t_be, stop_speed)   # at the runs' step: the ratios' denominator
+    a_brake = nominal_decelerations(ctx, t_be, stop_speed, ctx.stop(ctx.v0, spec.dry_condition))   # at 1 ms
     effects_, screened = screen(ctx, t_be, nominal)
     warnings_ += screened
+    allowance = step_allowance(ctx, t_be, nominal)
     missing = max(0.0, 1.0 - sum(st.probability for st in ctx.states))
-    rows = runs.run_all(spec, ctx.jobs(), out, workers, progress)
+    rows = runner.run(ctx.jobs())
     while True:
-        per_state = [[] for _ in ctx.states]
-        for (s, _), row in sorted(rows.items()):
+        per_state, samples = [[] for _ in ctx.states], [[] for _ in ctx.states]
+        for (s, i), row in sorted(rows.items()):
             per_state[s].append(step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be) / nominal)
+            samples[s].append(i)
         ratios = [np.asarray(r) for r in per_state]
         kdry, bounds, deciding, carrying = _estimate(ctx, ratios, missing, spec.seed)
         more = _more_runs(ctx, [len(r) for r in ratios], bounds, carrying, spec.run_budget - len(rows))
         if not more:
             break
-        rows.update(runs.run_all(spec, more, out, workers, progress))
+        rows.update(runner.run(more))
     worst = max(max(lh) for step in bounds for lh in step)
     if worst > spec.kdry_bound:
         warnings_.append(f"Kdry_rst: the sampling bound reaches {worst:.4f} (above {spec.kdry_bound:g}) after the "
@@ -271,9 +305,10 @@ def braking_model(spec: runs.Spec, out=None, workers: int = 1, progress=None) ->
     summary = [{"label": st.label, "probability": st.probability, "runs": len(r),
                 "mean_ratio": [float(x) for x in r.mean(axis=0)]} for st, r in zip(ctx.states, ratios)]
     n_steps = len(ctx.marks) + 1
-    return BrakingModel(spec.train, spec, steps, [float(a) for a in nominal], t_be, kdry, k_wet, pairs,
+    return BrakingModel(spec.train, spec, steps, [float(a) for a in a_brake], t_be, kdry, k_wet, pairs,
                         summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios],
-                        effects_, warnings_, missing, bounds, kwet_steps, ctx.v0 / KMH)
+                        effects_, warnings_, missing, bounds, kwet_steps, ctx.v0 / KMH,
+                        importance.ranking(ctx, ratios, samples, missing), allowance)
 
 
 def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, list]:
@@ -283,9 +318,31 @@ def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, l
                           / nominal, method().no_effect_ratio)
 
 
-def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float) -> np.ndarray:
-    """A_brake_emergency per step: the nominal train's stop (no failure, no scatter)."""
-    row = runs._row(simulation.run_structs([ctx.structs])[0])
+def step_allowance(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> list[float]:
+    """Per speed step (lowest first), the largest change of the ratio between the runs' step and
+    the plant's nominal 1 ms over the failures run alone and the tolerances at their ends
+    (railbrake.etcs.effects' cases): the coded Kdry_rst takes it off too (the safe side). 0 at 1 ms."""
+    n_steps = len(ctx.marks) + 1
+    if ctx.spec.step_ms * 1e-3 == simulation.DT:
+        return [0.0] * n_steps
+    fine = copy.copy(ctx)
+    fine.structs = ctx.stop(ctx.v0, ctx.spec.dry_condition)
+    fine.structs[3].max_time = ctx.structs[3].max_time
+    stop_speed = ctx.structs[3].stop_speed
+    change = np.zeros(n_steps)
+    for c, denominator in ((ctx, nominal), (fine, nominal_decelerations(fine, t_be, stop_speed))):
+        def ratio_of(kpis, d=denominator):
+            return step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(kpis), t_be) / d
+        found, _ = effects.screen(c, ratio_of, method().no_effect_ratio)
+        ratios = np.array([e["ratio"] for e in found] + [list(r) for r in effects.scatter_ends(c, ratio_of)[1]])
+        change = ratios if c is ctx else np.abs(change - ratios)
+    return [float(x) for x in np.max(change, axis=0, initial=0.0)] if len(change) else [0.0] * n_steps
+
+
+def nominal_decelerations(ctx: runs.Context, t_be: float, stop_speed: float, structs: tuple | None = None) -> np.ndarray:
+    """Per step, the nominal train's deceleration (no failure, no scatter) in the stop `structs`
+    (default: the analysis' runs', at its step): at 1 ms, A_brake_emergency."""
+    row = runs._row(simulation.run_structs([structs or ctx.structs])[0])
     a = step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be)
     if not np.all(a > 0.0):
         raise InputError(f"train {ctx.spec.train}: the nominal emergency stop from {ctx.v0 / KMH:.0f} km/h did not stop")

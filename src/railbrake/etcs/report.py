@@ -9,7 +9,7 @@ import numpy as np
 from scipy.stats import norm
 
 from railbrake import atomic
-from railbrake.etcs import confidence, mixture
+from railbrake.etcs import confidence, importance, mixture
 from railbrake.etcs.model import BrakingModel, braking_distance
 
 
@@ -82,6 +82,9 @@ def write(m: BrakingModel, path, max_states: int = 40) -> None:
                        " ".join(f"{r:.3f}" for r in e["ratio"]),
                        f"{e['drop_of_share']:.2f}" if "drop_of_share" in e else "",
                        "no effect on this brake" if e["no_effect"] else ""] for e in m.effects])
+    ranked = _rows([[i, confidence.ebcl_text(i)] + [f"{esc(e['name'])} ({e['type']}): +{e['largest_gain']:.4f}"
+                                                    for e in level["ranking"][:importance.TOP]]
+                    for i, level in enumerate(m.importance)])
     warnings_ = "".join(f"<li>{esc(w)}</li>" for w in m.warnings) or "<li>none</li>"
     inputs = inputs_of(m)
     files = "".join(f"<li>{k}: {esc(v['name'])} (SHA-256 {v['sha256']})</li>" if v else f"<li>{k}: none</li>"
@@ -96,7 +99,9 @@ def write(m: BrakingModel, path, max_states: int = 40) -> None:
 seed {m.spec.seed}</li></ul>
 <h2>Warnings</h2><ul>{warnings_}</ul>
 <h2>A_brake_emergency and Kdry_rst per speed step and M_NVEBCL</h2>
-<p>Coded (rounded down from the lower end of the 95 % sampling bound), then the unrounded value and its bound.</p>
+<p>Coded (rounded down from the lower end of the 95 % sampling bound, less the step allowance), then the unrounded
+value and its bound. Step allowance per speed step (the runs' {m.spec.step_ms:g} ms step against 1 ms):
+{' '.join(f'{a:.5f}' for a in m.step_allowance) or 'none'}.</p>
 <table><tr><th>V from km/h</th><th>A m/s²</th>{names}</tr>{kdry}</table>
 <h2>Deceleration ratio per speed step</h2>{svg}
 <h2>The deciding failure state at each level</h2>
@@ -106,6 +111,11 @@ seed {m.spec.seed}</li></ul>
 <table><tr><th>V from km/h</th><th>Kwet_rst</th><th>coded</th></tr>{kwet_steps}</table>
 <h2>Emergency braking distance from the initial speed (m)</h2>
 <table><tr><th>M_NVEBCL</th><th>EBCL</th><th>M_NVAVADH 0</th><th>M_NVAVADH 1</th></tr>{distances}</table>
+<h2>What moves Kdry_rst most</h2>
+<p>Per M_NVEBCL, the failures, common-cause groups and tolerances whose removal (probability zero, tolerance at
+nominal) would raise the unrounded Kdry_rst most, with the largest gain over the speed steps (from the runs made:
+exact for the failures, first order for the tolerances).</p>
+<table><tr><th>M_NVEBCL</th><th>EBCL</th>{''.join(f'<th>{k + 1}</th>' for k in range(importance.TOP))}</tr>{ranked}</table>
 <h2>Each failure alone</h2>
 <table><tr><th>failure</th><th>unit</th><th>car type</th><th>ratio per step</th><th>drop / unit share</th><th></th></tr>{effects_}</table>
 <h2>Failure states (the {min(max_states, len(m.states))} most likely of {len(m.states)})</h2>

@@ -1,16 +1,17 @@
 """Whole-train runs of the ETCS analysis: in batches through the C core (simulation.run_structs, one
-C call per batch), on worker processes, each batch written to the output folder as soon as it is
-done so that a rerun after a kill skips it. A run's inputs depend only on the analysis (Spec) and
-its (state, sample) indices, so a resumed analysis gives the same results bit for bit.
+C call per batch), as a study on the campaign engine (railbrake.campaign.execute: a local Dask
+cluster of `workers` processes or an existing scheduler; one worker and no scheduler: in this
+process), each batch written to the output folder as soon as it is done so that a rerun after a
+kill skips it. A run's inputs depend only on the analysis (Spec) and its (state, sample) indices,
+so a resumed analysis gives the same results bit for bit, whatever the workers.
 """
 
 from __future__ import annotations
 
-import concurrent.futures
+import contextlib
 import functools
 import hashlib
 import json
-import multiprocessing
 import warnings
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -51,6 +52,7 @@ class Spec:
     run_budget: int = 100_000   # or the analysis has run this many
     replicates: int = 200       # bootstrap replicates (railbrake.etcs.bound)
     force_conditions: bool = False   # run an adhesion condition outside its validity (recorded as a warning)
+    step_ms: float = 1.0        # the plant's step in the runs of the mixture (data/etcs/method.yaml)
 
     def key(self) -> str:
         return hashlib.sha256(json.dumps(asdict(self), sort_keys=True).encode()).hexdigest()[:16]
@@ -69,7 +71,7 @@ class Context:
         self.train = train
         self.v0 = train.max_speed if spec.initial_speed_kmh is None else spec.initial_speed_kmh * KMH
         self.marks = tuple(v * KMH for v in sorted(spec.speed_steps_kmh, reverse=True) if 0 < v * KMH < self.v0)
-        self.structs = self.stop(self.v0, spec.dry_condition)
+        self.structs = self.stop(self.v0, spec.dry_condition, spec.step_ms * 1e-3)
         nominal = simulation.run_structs([self.structs])[0]
         if isinstance(nominal, Exception) or nominal["stopping_time_s"] is None:
             raise InputError(f"train {spec.train}: the nominal emergency stop from {self.v0 / KMH:.0f} km/h "
@@ -79,15 +81,16 @@ class Context:
         self.classes, self.common, self.states = failures.enumerate_states(self.reliability, train, spec.state_floor)
         self._blocks: dict = {}
 
-    def stop(self, v0: float, condition: str) -> tuple:
-        """The C structs of an emergency stop from v0 (m/s) on `condition`, with the speed marks."""
+    def stop(self, v0: float, condition: str, dt: float = simulation.DT) -> tuple:
+        """The C structs of an emergency stop from v0 (m/s) on `condition` at the plant step dt (s),
+        with the speed marks."""
         # the reduced-adhesion condition is EN 15595's test level, run at Table 5's test speeds (up
         # to the maximum speed) whatever its validity: forced, and so warned (AdhesionRangeWarning)
         sc = simulation.emergency_scenario(self.spec.train, v0, condition,
                                            allow_outside_validity=condition == self.spec.reduced_condition)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", sizing.SupplyWarning)
-            plant, bcu, wsp, scen = simulation.structs(resolve(sc, self.spec.cars or len(self.train.cars)))
+            plant, bcu, wsp, scen = simulation.structs(resolve(sc, self.spec.cars or len(self.train.cars)), dt=dt)
         scen.n_speed_marks = len(self.marks)
         for i, v in enumerate(self.marks):
             scen.speed_mark[i] = v
@@ -155,33 +158,88 @@ def _open_folder(out: Path, spec: Spec) -> Path:
     return out / "batches"
 
 
-def run_all(spec: Spec, jobs: list, out: Path | None = None, workers: int = 1, progress=None) -> dict:
-    """{(state, sample): row} of every job, batches already in `out` read back, the others run on
-    `workers` processes (1: in this process)."""
-    folder = _open_folder(Path(out), spec) if out is not None else None
-    groups = [jobs[i:i + BATCH] for i in range(0, len(jobs), BATCH)]
-    names = [hashlib.sha256(f"{spec.key()}{g}".encode()).hexdigest()[:20] + ".json" for g in groups]
-    rows, pending = {}, []
-    for g, name in zip(groups, names):
-        if folder is not None and (folder / name).exists():
-            rows.update(zip(g, json.loads((folder / name).read_text())))
-        else:
-            pending.append((g, name))
+class Runner:
+    """Runs an analysis' jobs: in this process (one worker, no scheduler) or on the campaign
+    engine's Dask client (railbrake.campaign.execute.connect, handed_out), held open for the whole
+    analysis (its rounds of added runs); the output folder locked as a campaign's is (campaign.lock).
+    Use as a context manager."""
 
-    def done(g, name, result):
-        rows.update(zip(g, result))
-        if folder is not None:
-            _write_json(folder / name, result)
-        if progress is not None:
-            progress(len(rows), len(jobs))
+    def __init__(self, spec: Spec, out: Path | None = None, workers: int = 1, scheduler: str | None = None,
+                 progress=None, connect_timeout: float | None = None):
+        from railbrake.campaign import execute
+        execute._check_counts(workers=workers)
+        self.spec, self.out, self.workers, self.progress = spec, out, workers, progress
+        self.scheduler = execute.scheduler_address(scheduler)
+        self.timeout = connect_timeout or execute.CONNECT_TIMEOUT
+        self.client = self.cluster = self.folder = None
+        self.done = self.total = 0
+        self._stack = contextlib.ExitStack()
 
-    if workers <= 1 or len(pending) <= 1:
-        for g, name in pending:
-            done(g, name, run_batch(spec, g))
+    def __enter__(self) -> "Runner":
+        from railbrake.campaign import lock
+        if self.out is not None:
+            self._stack.enter_context(lock.holding(Path(self.out), "railbrake etcs braking-model"))
+        return self
+
+    def __exit__(self, *exc) -> None:
+        from railbrake.campaign import execute
+        try:
+            if self.client is not None:
+                with execute._no_interrupt():   # a second Ctrl-C must not break the cluster's shutdown
+                    self.client.close()
+                    if self.cluster is not None:
+                        self.cluster.close()
+        finally:
+            self._stack.close()
+
+    def _connected(self):
+        if self.client is None:
+            from railbrake.campaign import execute
+            self.client, self.cluster = execute.connect(self.scheduler, self.workers, self.timeout)
+        return self.client
+
+    def run(self, jobs: list) -> dict:
+        """{(state, sample): row} of every job, batches already in the folder read back."""
+        if self.out is not None and self.folder is None:   # at the first runs: inputs refused before leave none
+            self.folder = _open_folder(Path(self.out), self.spec)
+        groups = [jobs[i:i + BATCH] for i in range(0, len(jobs), BATCH)]
+        names = [hashlib.sha256(f"{self.spec.key()}{g}".encode()).hexdigest()[:20] + ".json" for g in groups]
+        rows, pending = {}, []
+        for g, name in zip(groups, names):
+            if self.folder is not None and (self.folder / name).exists():
+                rows.update(zip(g, json.loads((self.folder / name).read_text())))
+            else:
+                pending.append((g, name))
+        self.done += len(rows)
+        self.total += len(jobs)
+        for (g, name), result in self._results(pending):
+            rows.update(zip(g, result))
+            if self.folder is not None:
+                _write_json(self.folder / name, result)
+            self.done += len(g)
+            if self.progress is not None:
+                self.progress(self.done, self.total)
         return rows
-    ctx = multiprocessing.get_context("spawn")
-    with concurrent.futures.ProcessPoolExecutor(workers, mp_context=ctx) as pool:
-        futures = {pool.submit(run_batch, spec, g): (g, name) for g, name in pending}
-        for f in concurrent.futures.as_completed(futures):
-            done(*futures[f], f.result())
-    return rows
+
+    def _results(self, pending: list):
+        """(group, rows) of each pending batch as it completes."""
+        if not pending:
+            return
+        if self.workers <= 1 and self.scheduler is None:
+            for item in pending:
+                yield item, run_batch(self.spec, item[0])
+            return
+        from railbrake.campaign import execute
+        client = self._connected()
+        ahead = max(1, len(client.scheduler_info()["workers"])) * execute.IN_FLIGHT_PER_WORKER
+        tasks = ((run_batch, (self.spec, g), f"railbrake-etcs-{name[:20]}", (g, name)) for g, name in pending)
+        results = execute.handed_out(client, tasks, ahead)
+        with contextlib.closing(results):
+            yield from results
+
+
+def run_all(spec: Spec, jobs: list, out: Path | None = None, workers: int = 1, progress=None,
+            scheduler: str | None = None) -> dict:
+    """{(state, sample): row} of every job (Runner.run, its own Runner)."""
+    with Runner(spec, out, workers, scheduler, progress) as runner:
+        return runner.run(jobs)

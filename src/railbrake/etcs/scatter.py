@@ -1,6 +1,7 @@
 """Drawing the scatter file's tolerances and applying a draw to a run's C structs.
 
-The draws are Latin hypercubes over every factor (one per quantity, or one per quantity and car):
+The draws are Latin hypercubes over every factor (one per quantity and train, car or unit, as the
+tolerance's correlation says, railbrake.etcs.inputs.Distribution.per):
 each factor's range is covered in equal-probability strata, so a state's mean and spread converge
 faster than with independent draws (McKay, Beckman & Conover 1979). Each failure state draws its
 own, in blocks (block_draws: a block is one hypercube, seeded by the analysis' seed, the state and
@@ -13,10 +14,12 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import norm, qmc, truncnorm
 
+from railbrake import _core
 from railbrake.errors import InputError
 from railbrake.etcs.inputs import QUANTITIES, Distribution, ScatterFile
 
 MAX_SAMPLES = 100_000
+UNITS_PER_CAR = _core.AXLES_PER_CAR   # a tolerance drawn per unit: one draw per axle's brake
 
 
 def _ppf(d: Distribution, u: np.ndarray) -> np.ndarray:
@@ -39,14 +42,26 @@ def draws(scatter: ScatterFile | None, n_cars: int, n: int, seed: int) -> np.nda
     given = scatter.quantities() if scatter is not None else {}
     if not given:
         return out
-    dims = [(QUANTITIES.index(q), d, 1 if d.per == "train" else n_cars) for q, d in given.items()]
+    dims = [(QUANTITIES.index(q), d, columns(d.per, n_cars)) for q, d in given.items()]
     u = qmc.LatinHypercube(d=sum(k for _, _, k in dims), seed=seed).random(n)
     column = 0
     for q, d, k in dims:
-        values = _ppf(d, u[:, column:column + k])
-        out[:, q, :] = values if k == n_cars else values[:, :1]
+        out[:, q, :] = per_car(_ppf(d, u[:, column:column + k]), d.per, n_cars)
         column += k
     return out
+
+
+def columns(per: str, n_cars: int) -> int:
+    """The draws a tolerance takes per train: one, one per car, or one per unit (axle's brake)."""
+    return {"train": 1, "car": n_cars, "unit": n_cars * UNITS_PER_CAR}[per]
+
+
+def per_car(values: np.ndarray, per: str, n_cars: int) -> np.ndarray:
+    """(draws, n_cars) car factors from (draws, columns(per, n_cars)) values: a car's factor is
+    its units' mean (on dry rail a car's brake force is the sum of its units')."""
+    if per == "unit":
+        return values.reshape(values.shape[0], n_cars, UNITS_PER_CAR).mean(axis=2)
+    return values if per == "car" else np.repeat(values[:, :1], n_cars, axis=1)
 
 
 def block_draws(scatter: ScatterFile | None, n_cars: int, size: int, seed: int, state: int, block: int) -> np.ndarray:

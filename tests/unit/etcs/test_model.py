@@ -36,12 +36,15 @@ def shipped():
 def test_kdry_is_coded_on_the_grid_and_does_not_rise_with_the_level(shipped):
     assert len(shipped.kdry) == len(shipped.a_brake_emergency) == len(shipped.speed_steps_kmh)
     assert shipped.speed_steps_kmh == [0.0, 50.0, 100.0, 150.0]
-    for raw, coded, bounds in zip(shipped.kdry, shipped.kdry_coded(), shipped.kdry_bounds):
+    assert len(shipped.step_allowance) == len(shipped.kdry) and all(a >= 0.0 for a in shipped.step_allowance)
+    for raw, coded, bounds, allowance in zip(shipped.kdry, shipped.kdry_coded(), shipped.kdry_bounds,
+                                             shipped.step_allowance):
         assert all(0.0 <= k <= confidence.K_MAX for k in raw)
         assert all(a >= b for a, b in zip(raw, raw[1:]))
         assert all(a >= b for a, b in zip(coded, coded[1:]))
-        for k, c, (low, _) in zip(raw, coded, bounds):   # the bound's lower end rounded down onto the grid
-            assert c <= k - low + 1e-12 and (k - low) - c < confidence.K_STEP
+        for k, c, (low, _) in zip(raw, coded, bounds):   # the bound's lower end less the step allowance, rounded down
+            safe = max(0.0, k - low - allowance)
+            assert c <= safe + 1e-12 and safe - c < confidence.K_STEP
             assert abs(c / confidence.K_STEP - round(c / confidence.K_STEP)) < 1e-9
     assert all(a > 0.0 for a in shipped.a_brake_emergency) and shipped.t_brake_emergency > 0.0
 

@@ -2,7 +2,8 @@
 same coded Kdry_rst at every level and speed step, and every bound reported is at most the
 method's 0.005 (runs added until it is). A small configuration: the first 2 cars of the CRH380A from
 50 km/h (one speed step), one axle-level fault kind at 1e-2 per axle (so that the failure states
-decide EBCL 2 and up), pad friction scattered per train."""
+decide EBCL 2 and up), pad friction scattered per train; the method file's rare_samples (the
+shipped first block of the rare states) and its bound target."""
 
 import pytest
 
@@ -30,7 +31,7 @@ def test_five_seeds_give_the_same_coded_kdry_with_bounds_within_the_target(tmp_p
     coded = []
     for seed in range(1, 6):
         spec = model.spec("crh380a-8", reliability=rel, scatter=sca, cars=2, initial_speed_kmh=50, seed=seed,
-                          samples=64, rare_samples=16, state_floor=1e-12, run_budget=20_000, force_conditions=True)
+                          samples=64, state_floor=1e-12, run_budget=20_000, force_conditions=True)
         m = model.braking_model(spec)
         worst = max(max(b) for step in m.kdry_bounds for b in step)
         print(f"seed {seed}: {m.runs} runs, worst bound {worst:.4f}, Kdry", [f"{k:.4f}" for k in m.kdry[0]],
