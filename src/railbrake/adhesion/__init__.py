@@ -9,7 +9,6 @@ from railbrake.adhesion.conditions import (
     Fit,
     Peak,
     RailConditioning,
-    at_fit_bound,
     car_axles,
     car_max_adhesion,
     car_of_axle,
@@ -41,7 +40,7 @@ def __dir__():
 __all__ = [
     "AXLES_PER_CAR", "AdhesionCondition", "AdhesionRangeWarning", "CreepCurve", "EnergyConditioning",
     "Fit", "Peak", "PolachFit", "RailConditioning",
-    "at_fit_bound", "car_axles", "car_of_axle", "check_points", "conditions", "creep_curves", "creep_outside_validity",
+    "car_axles", "car_of_axle", "check_points", "conditions", "creep_curves", "creep_outside_validity",
     "identify_polach", "load_condition",
     "peak_adhesion", "preset_names", "run_outside_validity", "warn_outside_range",
 ]

@@ -6,6 +6,7 @@ from importlib import resources
 import pytest
 
 from railbrake import adhesion
+from railbrake.adhesion.conditions import at_fit_bound
 from railbrake.errors import InputError
 from railbrake.validation.adhesion_table import OUTSIDE, data_sets, residual
 from railbrake.validation.cases import load_cases
@@ -35,7 +36,7 @@ def test_no_fitted_parameter_at_a_bound_without_the_finding(name):
     values = condition.fit_values()
     for parameter, (low, high) in condition.fit.bounds.items():
         assert low <= values[parameter] <= high
-        if adhesion.at_fit_bound(values[parameter], low, high):
+        if at_fit_bound(values[parameter], low, high):
             finding = condition.fit.at_bound.get(parameter, "")
             assert "finding" in finding and "data" in finding, f"{name}.{parameter} at a bound: {finding!r}"
 
@@ -100,7 +101,7 @@ def test_hs_wet_follows_the_design_curve_by_its_rolling_speed_factor():
         (rain.params.A, rain.params.B, rain.params.kA, rain.params.kS)
     values = hs_wet.fit_values()
     for name, (low, high) in hs_wet.fit.bounds.items():
-        assert not adhesion.at_fit_bound(values[name], low, high), name
+        assert not at_fit_bound(values[name], low, high), name
     assert abs(residual(hs_wet, SETS["hs-wet-design-adhesion"])) < 0.01
     assert 0.02 <= adhesion.peak_adhesion(hs_wet, 300 / 3.6).coefficient <= 0.05
 

@@ -83,6 +83,7 @@ def bases(tmp_path_factory):
         railbrake.run: dict(scenario=SCENARIO, cars=1),
         adhesion.RailConditioning: dict(leading_factor=0.5, recovery_axles=4.0),
         adhesion.EnergyConditioning: dict(leading_factor=0.5, reference_energy=1e5),
+        adhesion.Fit: dict(fitted_on=("curtius-kniffler-dry",), checked_on=()),
         adhesion.car_axles: dict(car=1),
         adhesion.car_of_axle: dict(axle=1),
         adhesion.check_points: dict(creep=curve.creep, coefficient=curve.coefficient, speed=20.0,
