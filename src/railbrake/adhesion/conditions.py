@@ -309,6 +309,9 @@ def _fit(model: _ConditionFile, text: str, origin: str) -> Fit | None:
             raise InputError(f"{where}.parameters.{name}: unknown (known: {', '.join(Fit.FITTABLE)})")
         if len(pair) != 2 or not pair[0] < pair[1]:
             raise InputError(f"{where}.parameters.{name} = {pair}: give [low, high] with low < high")
+        if pair[0] < 0:   # every fittable parameter is a friction level, a rate, a factor or a count
+            raise InputError(f"{where}.parameters.{name} = {pair}: the bounds of a parameter that is never "
+                             f"negative lie in [0, inf)")
         if name not in values:
             raise InputError(f"{where}.parameters.{name}: the file has no such parameter (no conditioning)")
         low, high = pair
