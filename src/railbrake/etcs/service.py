@@ -53,8 +53,8 @@ def _stop(train: str, cars: int, v0: float, condition: str, demand: float, marks
     if isinstance(row, Exception) or row["stopping_distance_m"] is None:
         raise InputError(f"train {train}: the service stop ({demand:g}) from {v0 / KMH:.0f} km/h on {condition} "
                          f"did not stop ({row})")
-    return {"stopping_distance_m": row["stopping_distance_m"], "marks_m": row["speed_marks"]["distance_m"],
-            "stop_speed": four[3].stop_speed}
+    marks_m = row["speed_marks"]["distance_m"] if marks else []   # no mark below v0: one speed step
+    return {"stopping_distance_m": row["stopping_distance_m"], "marks_m": marks_m, "stop_speed": four[3].stop_speed}
 
 
 def build_up(train_obj, train: str, v0: float, condition: str) -> float:
