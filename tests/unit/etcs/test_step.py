@@ -6,6 +6,7 @@ sensitive to the step): the analysis' step allowance is the largest change per s
 half the method's Kdry_rst bound, and the coded Kdry_rst takes it off."""
 
 import numpy as np
+import pytest
 
 from railbrake.etcs import confidence, effects, model, runs, scatter
 from railbrake.etcs.inputs import QUANTITIES
@@ -35,6 +36,7 @@ def ratios(step_ms: float) -> np.ndarray:
     return np.array([e["ratio"] for e in found] + [list(r) for r in effects._ratios(ctx, ends, ratio_of)])
 
 
+@pytest.mark.slow   # every failure and tolerance end run at 1 and 2 ms: 100 s under the sanitizers
 def test_the_step_allowance_is_the_largest_ratio_change_against_1_ms():
     method = model.method()
     assert method.step_ms > 1.0   # else there is nothing to check
