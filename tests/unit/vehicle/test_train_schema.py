@@ -83,3 +83,28 @@ def test_gradient_needs_a_unit(tmp_path):
     result = CliRunner().invoke(app, ["run", str(path)])
     assert result.exit_code != 0 and "Traceback" not in result.output
     assert "line 6: track.gradients.0.gradient = 12: a unit is required" in result.output
+
+
+def test_every_preset_names_its_minimum_working_pressure_below_the_governor():
+    for name in ("velaro-8", "crh380al-16", "crh380a-8", "class387-4"):
+        spec = vehicle.load_train(name).spec
+        assert spec.supply_pressure_bar < spec.air_supply.min_working_bar < spec.air_supply.governor_on_bar
+
+
+@pytest.mark.parametrize("value, message", [
+    (20.0, r"line \d+: air_supply\.min_working_bar = 20\.0: must lie in \[1, 10\] bar"),
+    (8.0, r"min_working_bar = 8\.0 must lie below governor_on_bar = 7\.5 \(bar gauge\)"),
+    (4.0, r"supply_pressure_bar = 4\.5: must stay below air_supply\.min_working_bar = 4 \(bar gauge; train crh380a-8, line \d+\)"),
+])
+def test_a_bad_minimum_working_pressure_is_named_with_file_line_and_range(value, message):
+    data, origin, lines = _with(("air_supply", "min_working_bar"), value)
+    with pytest.raises(InputError, match=message) as err:
+        vehicle.parse_train_data(data, origin, lines)
+    assert str(err.value).startswith("train crh380a-8")
+
+
+def test_a_train_file_without_it_is_refused():
+    data, origin, lines = _with(("air_supply", "min_working_bar"), None)
+    del data["air_supply"]["min_working_bar"]
+    with pytest.raises(InputError, match=r"air_supply\.min_working_bar"):
+        vehicle.parse_train_data(data, origin, lines)
