@@ -11,12 +11,15 @@ import re
 import numpy as np
 
 from railbrake.results.channel_info import STATES, WSP_TRIPPED
+from railbrake.scenario import _UNITS, VALUE_RANGE
 
 
 def fault_text(fault) -> str:
-    """'vent_stuck_open on car 3, axle 2' (a FaultSpec), as the HIL loop words a fault."""
+    """'vent_stuck_open on car 3, axle 2' (a FaultSpec), as the HIL loop words a fault; a value in the
+    unit its range is given in ('relay_valve_failed on car 1, pressure 1.5 bar')."""
     where = "" if fault.car is None else f" on car {fault.car}" + ("" if fault.axle is None else f", axle {fault.axle}")
-    value = next((f", {k} {getattr(fault, k):g}" for k in ("noise", "leak_area") if getattr(fault, k) is not None), "")
+    value = next((f", {k} {getattr(fault, k) / _UNITS[unit][1]:g} {unit}" for k, (_, unit) in VALUE_RANGE.items()
+                  if getattr(fault, k) is not None), "")
     return f"{fault.type}{where}{value}"
 
 
