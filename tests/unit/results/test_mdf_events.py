@@ -139,3 +139,6 @@ faults:
     faults = _scenario_meta(sc)["faults"]
     assert faults[0] == {"type": "relay_valve_failed", "car": 1, "axle": None, "start": 1.0, "pressure": 1.5e5}
     assert faults[3] == {"type": "emergency_valve_failed", "car": 4, "axle": None, "start": 0.0}
+    # the run's report words them from what was run as the events do
+    from railbrake.results.events import fault_text
+    assert [fault_text(f) for f in faults] == [fault_text(f) for f in sc.spec.faults]
