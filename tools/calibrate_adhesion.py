@@ -211,8 +211,6 @@ LEAVES_RIG_CENTRE = 0.015
 
 def main():
     print("dry-medium:", calibrate_dry_medium())
-    contaminated = PolachParams(0.3, 0.40, 0.60, 0.50, 0.20)
-    print("dry-contaminated mu0 (0.15 at 30 km/h):", scale_mu0(contaminated, 30.0, 0.15))
     wet_shape = WET_SET
     print("oil-film mu0 (0.06 at 100 km/h):", scale_mu0(wet_shape, 100.0, 0.06))
     print("leaves mu0 (0.03 at 100 km/h, centre of the leaf-layer range 0.01-0.05):",
