@@ -291,9 +291,12 @@ def _needed_fade(pad_fade, car, conditions, fit, inputs, speed_kmh, case) -> dic
     tol = case.tolerance.value * (abs(reference) / 100.0 if case.tolerance.unit == "%" else 1.0)
     level = inputs["level"]
     low, high = (units.kmh_to_ms(float(v)) for v in inputs["ratio_kmh"])
-    rates = [pad_fade.rate_for(car, conditions, onset=fit.onset, level_speed=units.kmh_to_ms(float(level["speed_kmh"])),
-                               level_mean=float(level["mean"]), speed=units.kmh_to_ms(float(speed_kmh)), mean=m)
-             for m in (reference + tol, reference - tol)]
+    try:
+        rates = [pad_fade.rate_for(car, conditions, onset=fit.onset, level_speed=units.kmh_to_ms(float(level["speed_kmh"])),
+                                   level_mean=float(level["mean"]), speed=units.kmh_to_ms(float(speed_kmh)), mean=m)
+                 for m in (reference + tol, reference - tol)]
+    except ValueError:   # no fading rate within the bounds reaches the reference: nothing to diagnose
+        return {"rate_needed_per_K": None}
     return {"rate_needed_per_K": rates,
             "ratio_needed": [pad_fade.stop_ratio(car, conditions, fit.onset, r, low, high) for r in rates]}
 
