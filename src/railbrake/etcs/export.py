@@ -48,6 +48,7 @@ def to_json(m: BrakingModel) -> dict:
                       "step_allowance": m.step_allowance or None,
                       "coded": [step[i] for step in coded],
                       "deciding_state": [step[i] for step in m.deciding]} for i in levels],
+        "Kdry_rst_bound_method": m.bound_method,
         "Kwet_rst": {"value": m.kwet, "coded": m.kwet_coded(), "value_per_step": m.kwet_steps,
                      "coded_per_step": m.kwet_steps_coded(), "test_pairs": m.kwet_pairs,
                      "reduced_condition": m.spec.reduced_condition},

@@ -34,7 +34,7 @@ from railbrake import _core, config, simulation
 from railbrake.adhesion import load_condition
 from railbrake.simulation import response
 from railbrake.errors import InputError
-from railbrake.etcs import bound, confidence, effects, importance, mixture, runs
+from railbrake.etcs import bound, conditional, confidence, effects, importance, mixture, runs, scatter
 from railbrake.units import KMH
 
 
@@ -127,6 +127,7 @@ class BrakingModel:
     initial_speed_kmh: float = 0.0
     importance: list = field(default_factory=list)   # [M_NVEBCL]: railbrake.etcs.importance.ranking
     step_allowance: list = field(default_factory=list)   # per step: the runs' step's ratio error (step_allowance)
+    bound_method: str = ""                        # how the sampling bounds were found (_bound_method)
 
     def kdry_coded(self) -> list:
         """Each Kdry_rst on the coding grid from the conservative side of its bound, less the
@@ -213,8 +214,13 @@ def _deciding(states: list, x: float) -> int:
     return int(np.argmax([s.probability * s.cdf(x) for s in states]))
 
 
-def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int) -> tuple[list, list, list, list]:
-    """(kdry, bounds, deciding, carrying) per step and level from the states' samples."""
+def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int,
+              factors: list | None = None) -> tuple[list, list, list, list]:
+    """(kdry, bounds, deciding, carrying) per step and level from the states' samples: given the
+    runs' draws of the train's tolerance (`factors`, per state), by the regression on it
+    (railbrake.etcs.conditional), else by the bootstrap of the runs (railbrake.etcs.bound)."""
+    if factors is not None:
+        return _estimate_given(ctx, ratios, missing, factors)
     rng = np.random.default_rng([seed, 36])
     kdry, bounds, deciding, carrying = [], [], [], []
     for j in range(len(ctx.marks) + 1):
@@ -229,6 +235,28 @@ def _estimate(ctx: runs.Context, ratios: list, missing: float, seed: int) -> tup
         bounds.append(step_bounds)
         deciding.append([ctx.states[_deciding(states, v)].label if v > 0 else "states left out (no brake)"
                          for v in values])
+        carrying.append(step_carrying)
+    return kdry, bounds, deciding, carrying
+
+
+def _estimate_given(ctx: runs.Context, ratios: list, missing: float, factors: list) -> tuple[list, list, list, list]:
+    """_estimate by the regression on the train's tolerance (railbrake.etcs.conditional)."""
+    law = conditional.Law.of(scatter.train_tolerance(ctx.scatter)[1])
+    probabilities = [st.probability for st in ctx.states]
+    kdry, bounds, deciding, carrying = [], [], [], []
+    for j in range(len(ctx.marks) + 1):
+        fits = conditional.Fits.of(law, probabilities, [r[:, j] for r in ratios], factors)
+        values = [fits.quantile(1.0 - c, missing) for c in confidence.EBCL]
+        step_bounds, step_carrying, step_deciding = [], [], []
+        for c, v in zip(confidence.EBCL, values):
+            half, shares = fits.bound(1.0 - c, v) if v > 0 else (0.0, np.zeros(len(probabilities)))
+            step_bounds.append((half, half))
+            step_carrying.append({int(s): float(shares[s]) for s in np.flatnonzero(shares >= conditional.CARRY)})
+            step_deciding.append(ctx.states[int(np.argmax(fits.probability * fits.cdfs(v)))].label if v > 0
+                                 else "states left out (no brake)")
+        kdry.append([min(v, confidence.K_MAX) if v > 0 else 0.0 for v in values])
+        bounds.append(step_bounds)
+        deciding.append(step_deciding)
         carrying.append(step_carrying)
     return kdry, bounds, deciding, carrying
 
@@ -287,13 +315,15 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     allowance = step_allowance(ctx, t_be, nominal)
     missing = max(0.0, 1.0 - sum(st.probability for st in ctx.states))
     rows = runner.run(ctx.jobs())
+    given = scatter.train_tolerance(ctx.scatter)
     while True:
         per_state, samples = [[] for _ in ctx.states], [[] for _ in ctx.states]
         for (s, i), row in sorted(rows.items()):
             per_state[s].append(step_decelerations(ctx.v0, ctx.marks, stop_speed, row, t_be) / nominal)
             samples[s].append(i)
         ratios = [np.asarray(r) for r in per_state]
-        kdry, bounds, deciding, carrying = _estimate(ctx, ratios, missing, spec.seed)
+        factors = None if given is None else [ctx.train_draws(s, ii, given[0]) for s, ii in enumerate(samples)]
+        kdry, bounds, deciding, carrying = _estimate(ctx, ratios, missing, spec.seed, factors)
         more = _more_runs(ctx, [len(r) for r in ratios], bounds, carrying, spec.run_budget - len(rows))
         LOG.info("%d runs: worst bound %.4f, %d levels above %g; %d runs more", len(rows),
                  max(max(lh) for step in bounds for lh in step),
@@ -313,7 +343,14 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     return BrakingModel(spec.train, spec, steps, [float(a) for a in a_brake], t_be, kdry, k_wet, pairs,
                         summary, deciding, len(rows), [[np.sort(r[:, j]) for j in range(n_steps)] for r in ratios],
                         effects_, warnings_, missing, bounds, kwet_steps, ctx.v0 / KMH,
-                        importance.ranking(ctx, ratios, samples, missing), allowance)
+                        importance.ranking(ctx, ratios, samples, missing), allowance, _bound_method(given))
+
+
+def _bound_method(given: tuple | None) -> str:
+    if given is None:
+        return "bootstrap of each state's runs (railbrake.etcs.bound)"
+    return (f"regression of each state's runs on the train's tolerance {given[0]}, read through its own "
+            f"distribution; delta-method bound (railbrake.etcs.conditional)")
 
 
 def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, list]:

@@ -100,7 +100,7 @@ seed {m.spec.seed}</li></ul>
 <h2>Warnings</h2><ul>{warnings_}</ul>
 <h2>A_brake_emergency and Kdry_rst per speed step and M_NVEBCL</h2>
 <p>Coded (rounded down from the lower end of the 95 % sampling bound, less the step allowance), then the unrounded
-value and its bound. Step allowance per speed step (the runs' {m.spec.step_ms:g} ms step against 1 ms):
+value and its bound ({esc(m.bound_method)}). Step allowance per speed step (the runs' {m.spec.step_ms:g} ms step against 1 ms):
 {' '.join(f'{a:.5f}' for a in m.step_allowance) or 'none'}.</p>
 <table><tr><th>V from km/h</th><th>A m/s²</th>{names}</tr>{kdry}</table>
 <h2>Deceleration ratio per speed step</h2>{svg}

@@ -116,6 +116,11 @@ class Context:
                                                     state, sample // size)
         return self._blocks[key][sample % size]
 
+    def train_draws(self, state: int, samples: list, quantity: str) -> np.ndarray:
+        """A tolerance drawn per train: its factor in each of a state's samples (those its runs had)."""
+        q = scatter.QUANTITIES.index(quantity)
+        return np.array([self.draw(state, i)[q, 0] for i in samples])
+
     def prepared(self, state: int, sample: int) -> tuple:
         plant, bcu, wsp, scen = self.structs
         plant, bcu = scatter.apply(plant, bcu, self.draw(state, sample))

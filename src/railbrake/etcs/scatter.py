@@ -64,6 +64,14 @@ def per_car(values: np.ndarray, per: str, n_cars: int) -> np.ndarray:
     return values if per == "car" else np.repeat(values[:, :1], n_cars, axis=1)
 
 
+def train_tolerance(scatter: ScatterFile | None) -> tuple[str, Distribution] | None:
+    """(quantity, distribution) of the one tolerance drawn per train, if the file has exactly one
+    that scatters (railbrake.etcs.conditional reads the states given it); else None."""
+    given = [(q, d) for q, d in (scatter.quantities().items() if scatter is not None else [])
+             if d.per == "train" and (d.distribution == "uniform" or d.sd > 0.0)]
+    return given[0] if len(given) == 1 else None
+
+
 def block_draws(scatter: ScatterFile | None, n_cars: int, size: int, seed: int, state: int, block: int) -> np.ndarray:
     """Block `block` of failure state `state`'s draws: a Latin hypercube of `size` draws of its own
     (array (size, len(QUANTITIES), n_cars), as draws)."""

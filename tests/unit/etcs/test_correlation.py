@@ -69,5 +69,11 @@ def test_kdry_spread_goes_with_the_independent_draws(tmp_path):
         kdry[per] = np.array(m.kdry)
     assert spread["train"] / spread["car"] == pytest.approx(np.full_like(spread["car"], np.sqrt(2.0)), rel=0.15)
     assert spread["car"] / spread["unit"] == pytest.approx(np.full_like(spread["car"], 2.0), rel=0.15)
-    # the wider the spread, the lower Kdry_rst at every level above the median
-    assert np.all(kdry["train"][:, 1:] < kdry["car"][:, 1:]) and np.all(kdry["car"][:, 1:] < kdry["unit"][:, 1:])
+    # the wider the spread, the lower Kdry_rst at every level above the median that the runs
+    # themselves decide (up to 99.9 % from 512 runs); beyond, a tolerance drawn per train is read
+    # through its own law, bounds included (railbrake.etcs.conditional: the ratio never falls below
+    # what its lowest factor gives), the others through the normal tail of their runs, which runs
+    # on past those bounds (the safe side), so their order there is the estimators', not the draws'
+    decided = slice(1, 4)
+    assert np.all(kdry["train"][:, decided] < kdry["car"][:, decided])
+    assert np.all(kdry["car"][:, decided] < kdry["unit"][:, decided])
