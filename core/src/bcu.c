@@ -157,13 +157,17 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
         double gain = 0.0;
         double needed = car_force(p, c, emergency, service, speed, &gain);
         /* Blending: the ED brake is asked for the car's whole demand, also while the WSP acts (the
-           traction control's own slide control governs the motor torque, faster than the air); the
+           traction control's own slide control governs the motor torque, faster than the air). The
            friction brake gets what the ED brake cannot give (its curve, its response, its loss),
-           not what its slide control cut: on a sliding car that force would feed the slide, keep the
-           axle creeping above the slide control's release and so keep the ED force cut. */
+           less what the slide control cut: that cut says the car brakes beyond its adhesion, and
+           the friction brake gives way by as much, so the car brakes on the finely controlled ED
+           brake again. Handing the cut to the friction brake instead (the former blending on the
+           achieved force) fed the slide and kept the ED force cut. */
         int ed_allowed = p->motor[c] && ed_step;
         s->command.ed_demand[c] = ed_allowed ? needed : 0.0;
-        double ed = ed_allowed ? out->ed_available[c] : 0.0;
+        double available = ed_allowed ? out->ed_available[c] : 0.0;
+        double cut = ed_allowed && available > out->ed_force[c] ? available - out->ed_force[c] : 0.0;
+        double ed = available + cut;
         s->command.pressure_demand[c] = car_pressure(p, c, gain, needed - ed);
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;

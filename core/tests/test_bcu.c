@@ -16,8 +16,8 @@ static rb_wsp_inputs inputs(double t, double train, double axle0)
 }
 
 /* Blending under WSP: a motor car's ED demand is the car's whole demand, also while its WSP acts;
- * the friction brake's pressure is for the demand less the ED force available, whatever part of it
- * the traction's slide control cut (ed_force below ed_available). */
+ * the friction brake's pressure is for the demand less the ED force available, less again what the
+ * traction's slide control cut (ed_force below ed_available): the friction brake gives way. */
 static int wsp_acting;
 static void acting_wsp(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out)
 {
@@ -48,7 +48,10 @@ static void test_ed_blending_under_wsp(void)
     o.ed_force[0] = 5e3;   /* the slide control cut 15 kN */
     CYCLE(); CYCLE();      /* the WSP's activity is seen at the next cycle */
     CHECK_CLOSE(s.command.ed_demand[0], 50e3, 1e-12, 0.0);
-    CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 30e3, 1e-12, 0.0);   /* not 45 kN */
+    CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 15e3, 1e-12, 0.0);   /* 50 - 20 - 15 kN, not 45 kN */
+    o.ed_force[0] = 0.0;   /* all cut: the friction brake's 30 kN less 20 */
+    CYCLE();
+    CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 10e3, 1e-12, 0.0);
     o.ed_available[0] = 0.0; o.ed_force[0] = 0.0;   /* ED brake lost: the friction brake takes all */
     CYCLE();
     CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 50e3, 1e-12, 0.0);
