@@ -18,6 +18,7 @@ asserted.
 
 import argparse
 import json
+import logging
 import os
 import resource
 import shutil
@@ -103,6 +104,7 @@ def main() -> None:
     parser.add_argument("--compare", type=Path, default=None, help="a clean run's folder to compare with")
     parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     a = parser.parse_args()
+    logging.basicConfig(level=logging.INFO, format="%(asctime)s %(message)s")   # the analysis' rounds
     settings = {k: v for k, v in (("samples", a.samples), ("rare_samples", a.rare_samples),
                                   ("state_floor", a.state_floor)) if v is not None}
     if a.child:

@@ -160,6 +160,44 @@ def hs_wet_shape_free():
                   f"{'free' if free_k else 'wet set'}: A = {fit.x[1]:.2g}, worst residual {np.max(np.abs(fit.fun)):.3f}")
 
 
+def heavy_rain_lower_envelope_residual(x, mu0=None):
+    """Residuals of heavy-rain read with the design curve as what it is, a lower bound of wet-rail
+    measurements (not the train's mean): the car values fix level and conditioning, the fully
+    conditioned rail follows the curve's slope 13.6/(v+85) with its level free, through the
+    rolling-speed factor (A, B, kA, kS as the preset's); falling tails on every car. x = mu0, v_ref_kmh,
+    leading_factor, recovery_axles, or the last three with mu0 given."""
+    mu0, (v_ref, f0, n_rec) = (x[0], x[1:]) if mu0 is None else (mu0, x)
+    shape = load_condition("heavy-rain").params
+    p = with_rolling_factor(shape, mu0, v_ref)
+    r = [3.0 * (car_mean(p, f0, n_rec, 1, 300.0) / 0.02 - 1.0),
+         3.0 * (car_mean(p, f0, n_rec, 4, 300.0) / 0.05 - 1.0)]
+    r += [peak(p, v) / peak(p, 300.0) / (design(v) / design(300.0)) - 1.0 for v in (100.0, 150.0, 200.0, 250.0)]
+    return r + [3.0 * max(0.0, tail_ratio(conditioned(p, a, f0, n_rec), v) - 0.8)
+                for v in (50.0, 150.0, 300.0) for a in (0, 12, 60)]
+
+
+def heavy_rain_lower_envelope():
+    """The heavy-rain refit that removes the conflict behind fit.at_bound.leading_factor, and why the
+    preset does not take it: read as a lower bound, the design curve no longer pulls the train's mean
+    down, and the leading factor leaves its bound (about 0.12); but two car values at one speed and the
+    curve's slope do not fix the conditioned rail's level, the leading factor and the recovery length
+    together: with mu0 held anywhere from 0.4 to 0.7, the other three refit to the same residuals, the
+    leading factor from 0.001 to 0.12 and the recovery from 3 to 21 axles (the profile printed)."""
+    lo, hi = [0.01, 5.0, 1e-3, 0.5], [1.5, 2000.0, 1.0, 64.0]
+    fit = least_squares(heavy_rain_lower_envelope_residual, [0.3, 150.0, 0.3, 4.0], bounds=(lo, hi))
+    mu0, v_ref, f0, n_rec = fit.x
+    p = with_rolling_factor(load_condition("heavy-rain").params, mu0, v_ref)
+    means = [np.mean([car_mean(p, f0, n_rec, c, v) for c in range(1, 9)]) / design(v) - 1.0 for v in (100.0, 200.0, 300.0)]
+    print(f"heavy-rain, design curve as a lower bound: mu0 {mu0:.4f}, v_ref {v_ref:.1f} km/h, leading_factor "
+          f"{f0:.4f}, recovery_axles {n_rec:.2f}; residuals (car1, car4, slope at 100..250 km/h) "
+          f"{np.round(fit.fun[:6], 4)}; 8-car mean / design - 1 at 100/200/300 km/h {np.round(means, 3)}")
+    for held in (0.3, 0.4, 0.45, 0.55, 0.7):
+        prof = least_squares(lambda x: heavy_rain_lower_envelope_residual(x, held), [135.0, 0.12, 10.0],
+                             bounds=(lo[1:], hi[1:]))
+        print(f"  mu0 held at {held}: v_ref {prof.x[0]:.1f} km/h, leading_factor {prof.x[1]:.4f}, "
+              f"recovery_axles {prof.x[2]:.2f}, cost {prof.cost:.2e}")
+
+
 def hs_wet_check():
     """The data set not fitted: the Shinkansen heavy-rain measurement at 300 km/h, front car about
     0.02 to car 4 about 0.05 (validation case hs-wet-300-scatter)."""
@@ -211,8 +249,6 @@ LEAVES_RIG_CENTRE = 0.015
 
 def main():
     print("dry-medium:", calibrate_dry_medium())
-    contaminated = PolachParams(0.3, 0.40, 0.60, 0.50, 0.20)
-    print("dry-contaminated mu0 (0.15 at 30 km/h):", scale_mu0(contaminated, 30.0, 0.15))
     wet_shape = WET_SET
     print("oil-film mu0 (0.06 at 100 km/h):", scale_mu0(wet_shape, 100.0, 0.06))
     print("leaves mu0 (0.03 at 100 km/h, centre of the leaf-layer range 0.01-0.05):",
@@ -234,6 +270,8 @@ def main():
     print("heavy-rain with the rolling-speed factor:", base, "leading_factor:", f0, "recovery_axles:", n_rec)
     _, (f0, n_rec) = calibrate_heavy_rain(leading_factor_low=1e-3, rolling_factor=True)
     print("heavy-rain with the rolling-speed factor, leading factor's bound relaxed to 0.001:", f0, n_rec)
+    # the design curve read as the lower bound it is: the conflict goes, the fit is then undetermined
+    heavy_rain_lower_envelope()
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@ named there) with stops of the data file's dynamometer disc in the core (railbra
 and prints the cold table (the trailer's table shifted) and the fade the train files carry; they
 are written into src/railbrake/data/trains/*.yaml by hand. A calibration: the validation case
 pad-friction-stop-250-380 checks its consistency, pad-friction-stop-cross-pad a fit on other data.
+Last it prints how a fit on 250 km/h and a third stop of the same pad (350 km/h, none published
+that we found) would carry those two figures' scatter into its 380 km/h prediction.
 """
 
 from railbrake import pad_fade
@@ -27,6 +29,22 @@ def main() -> None:
         stop = dynamometer_stop(car, v * KMH, pad=pad, **conditions)
         print(f"{v} km/h: mean friction {stop.mean_friction:.4f}, surface peak "
               f"{stop.max_surface_temperature - ZERO_CELSIUS:.0f} °C, mean disc {stop.max_mean_temperature - ZERO_CELSIUS:.0f} °C")
+    third_stop(data, car, conditions, pad)
+
+
+def third_stop(data, car, conditions, pad) -> None:
+    """How far a fit on 250 km/h and a third stop (350 km/h, at the fitted law's own value) carries
+    the scatter of those two into the 380 km/h prediction: the tolerance a check of that fit needs
+    (pad-friction-stop-cross-pad)."""
+    figure = next(f for f in data["figures"] if f["id"] == data["fit"]["level"]["from"])
+    scatter, level = figure["stability"], data["fit"]["level"]
+    onset_speed = data["fit"]["onset"]["speed_kmh"] * KMH
+    third = dynamometer_stop(car, 350 * KMH, pad=pad, **conditions).mean_friction
+    for d250, d350 in ((scatter, 0.0), (-scatter, 0.0), (0.0, scatter), (0.0, -scatter)):
+        f = pad_fade.fit(car, conditions, onset_speed=onset_speed, level_speed=level["speed_kmh"] * KMH,
+                         level_mean=level["mean"] + d250, rate_speed=350 * KMH, rate_mean=third + d350)
+        stop = dynamometer_stop(car, 380 * KMH, pad=pad_fade.pad_with(car, f.shift, f.onset, f.rate), **conditions)
+        print(f"250 km/h {d250:+.4f}, 350 km/h {d350:+.4f}: 380 km/h predicted {stop.mean_friction:.4f}")
 
 
 if __name__ == "__main__":

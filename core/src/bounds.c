@@ -134,6 +134,7 @@ static const rb_bound bounds[] = {
     {"scenario.gradient", "1", -0.1, 0.1, "within +-100 permille (the steepest high-speed lines: 40 permille)"},
     {"scenario.fault_leak_area", "m2", 1e-8, 1e-3, "a leak of 0.01 mm2 up to a 36 mm port"},
     {"scenario.fault_noise", "m/s", 0.0, 10.0, "speed-sensor noise of up to 36 km/h rms"},
+    {"scenario.fault_pressure", "Pa", 0.0, 10e5, "a failed relay valve or limiter held at 0 (no output) to 10 bar gauge: the model's ideal gas holds below 10 bar"},
     {"adhesion.creep", "1", -1.0, 1.0, "creep = slip velocity / speed: 1 is a locked wheel (a fraction, not percent)"},
     {"adhesion.coefficient", "1", -1.0, 1.0, "F/Q of wheel on rail: dry rail reaches about 0.5"},
     {"adhesion.target_peak", "1", 0.005, 1.0, "a peak adhesion a train can brake on (EN 15595 extremely low: 0.02 to 0.05)"},

@@ -59,21 +59,36 @@ def fit(car: vehicle.Car, conditions: dict, *, onset_speed: float, level_speed: 
     """Fit the fading and the level (speeds in m/s; conditions: vehicle.dynamometer_stop's
     deceleration, ambient_temperature, dt)."""
     onset = vehicle.dynamometer_stop(car, onset_speed, pad=pad_with(car), **conditions).max_surface_temperature
-
-    def level(rate: float) -> float:
-        return brentq(lambda s: stop_mean(car, level_speed, pad_with(car, s, onset, rate), conditions) - level_mean,
-                      -0.2, 0.2, xtol=1e-7)
-
     if rate_ratio is not None:
         low, high = ratio_speeds
         def miss(rate):
-            pad = pad_with(car, 0.0, onset, rate)
-            return stop_mean(car, high, pad, conditions) / stop_mean(car, low, pad, conditions) - rate_ratio
+            return stop_ratio(car, conditions, onset, rate, low, high) - rate_ratio
+        rate = brentq(miss, 0.0, MAX_RATE, xtol=1e-9)
     else:
-        def miss(rate):
-            return stop_mean(car, rate_speed, pad_with(car, level(rate), onset, rate), conditions) - rate_mean
-    rate = brentq(miss, 0.0, MAX_RATE, xtol=1e-9)
-    return FadeFit(level(rate), onset, rate)
+        rate = rate_for(car, conditions, onset=onset, level_speed=level_speed, level_mean=level_mean,
+                        speed=rate_speed, mean=rate_mean)
+    return FadeFit(level_shift(car, conditions, onset, rate, level_speed, level_mean), onset, rate)
+
+
+def level_shift(car, conditions: dict, onset: float, rate: float, level_speed: float, level_mean: float) -> float:
+    """The shift of the cold table that makes the stop from level_speed average level_mean."""
+    return brentq(lambda s: stop_mean(car, level_speed, pad_with(car, s, onset, rate), conditions) - level_mean,
+                  -0.2, 0.2, xtol=1e-7)
+
+
+def rate_for(car, conditions: dict, *, onset: float, level_speed: float, level_mean: float, speed: float,
+             mean: float) -> float:
+    """The fading rate, the level refitted with it, that makes the stop from `speed` average `mean`."""
+    def miss(rate):
+        shift = level_shift(car, conditions, onset, rate, level_speed, level_mean)
+        return stop_mean(car, speed, pad_with(car, shift, onset, rate), conditions) - mean
+    return brentq(miss, 0.0, MAX_RATE, xtol=1e-9)
+
+
+def stop_ratio(car, conditions: dict, onset: float, rate: float, low: float, high: float) -> float:
+    """Stop average from `high` over the one from `low` (speeds in m/s) with the car's cold table."""
+    pad = pad_with(car, 0.0, onset, rate)
+    return stop_mean(car, high, pad, conditions) / stop_mean(car, low, pad, conditions)
 
 
 def load_data(name: str = "sintered-cu") -> dict:

@@ -101,6 +101,7 @@ Q_SCENARIO_GRADIENT = _quantity("gradient", "scenario.gradient")
 Q_SCENARIO_TRACK_POSITION = _quantity("length", "scenario.track_position")
 Q_INITIAL_SPEED = _quantity("speed", "initial_speed")
 Q_SCENARIO_FAULT_NOISE = _quantity("speed", "scenario.fault_noise")
+Q_SCENARIO_FAULT_PRESSURE = _quantity("pressure", "scenario.fault_pressure")
 Q_SCENARIO_STOP_SPEED = _quantity("speed", "scenario.stop_speed")
 Q_WSP_SPEED_THRESHOLD = _quantity("speed", "wsp.speed_threshold")
 Q_BCU_CYCLE = _quantity("time", "bcu.cycle")
@@ -235,7 +236,8 @@ CONTROLLER_KEYS = {
 
 FaultType = Literal["hold_stuck_open", "hold_stuck_closed", "vent_stuck_open", "vent_stuck_closed",
                     "sensor_lost", "sensor_noisy", "cylinder_leak", "ep_valve_failed", "ed_lost",
-                    "car_isolated", "compressor_off", "pipe_leak"]
+                    "car_isolated", "compressor_off", "pipe_leak", "emergency_valve_failed", "emergency_loop_lost",
+                    "relay_valve_failed", "pressure_limiter_failed", "axle_isolated"]
 
 
 class FaultSpec(_Strict):
@@ -245,33 +247,66 @@ class FaultSpec(_Strict):
     start: EventTime = 0.0
     noise: Q_SCENARIO_FAULT_NOISE | None = None         # sensor_noisy only
     leak_area: Q_SCENARIO_FAULT_LEAK_AREA | None = None  # cylinder_leak and pipe_leak only
+    # gauge, as the ETCS reliability file's pressure_bar: relay_valve_failed and pressure_limiter_failed only
+    pressure: Q_SCENARIO_FAULT_PRESSURE | None = None
 
 
 # the parameter each fault kind reads (rb_plant.h, rb_fault_kind); every other is refused
-FAULT_VALUE = {"sensor_noisy": "noise", "cylinder_leak": "leak_area", "pipe_leak": "leak_area"}
-# no axle; pipe_leak: the car's main-reservoir pipe (the train has no brake pipe)
-CAR_FAULTS = ("ep_valve_failed", "ed_lost", "car_isolated", "compressor_off", "pipe_leak")
+FAULT_VALUE = {"sensor_noisy": "noise", "cylinder_leak": "leak_area", "pipe_leak": "leak_area",
+               "relay_valve_failed": "pressure", "pressure_limiter_failed": "pressure"}
+# what each value means to its kind, its C bound and the unit its range is given in
+VALUE_MEANING = {
+    "sensor_noisy": "the standard deviation of the sensor's noise",
+    "cylinder_leak": "the leak's orifice area", "pipe_leak": "the leak's orifice area",
+    "relay_valve_failed": "the most the relay valve gives, gauge (0 bar: no output)",
+    "pressure_limiter_failed": "the gauge pressure the failed limiter holds the emergency control pressure at "
+                               "(below its setting: failed low; above: failed high)",
+}
+VALUE_RANGE = {"noise": ("scenario.fault_noise", "km/h"), "leak_area": ("scenario.fault_leak_area", "mm^2"),
+               "pressure": ("scenario.fault_pressure", "bar")}
+# no axle (as railbrake.etcs.inputs.CAR_KINDS); pipe_leak: the car's main-reservoir pipe (the train
+# has no brake pipe); the emergency path's valves are one per car
+CAR_FAULTS = ("ep_valve_failed", "ed_lost", "car_isolated", "compressor_off", "pipe_leak", "emergency_valve_failed",
+              "emergency_loop_lost", "relay_valve_failed", "pressure_limiter_failed")
+
+
+def fault_value(fault: FaultSpec) -> float:
+    """The value the plant's fault reads (rb_fault.value, SI): noise, leak area or gauge pressure."""
+    key = FAULT_VALUE.get(fault.type)
+    return 0.0 if key is None else getattr(fault, key)
+
+
+def _a(kind: str) -> str:
+    """'an axle_isolated', 'a car_isolated'."""
+    return f"{'an' if kind[0] in 'aeio' else 'a'} {kind}"
+
+
+def _needs(kind: str) -> str:
+    """': a relay_valve_failed fault needs pressure (...): it must lie in [0, 10] bar (...)'."""
+    key = FAULT_VALUE[kind]
+    bound, unit = VALUE_RANGE[key]
+    return f": {_a(kind)} fault needs {key}, {VALUE_MEANING[kind]}; it {config.range_text(bound, unit, _UNITS[unit][1])}"
 
 
 def fault_problem(fault: FaultSpec, needs_value: bool = True) -> tuple[str, str] | None:
     """(key, what is wrong after the key's location) for a fault whose fields do not fit its kind,
     else None. needs_value=False: the fault is named only (to be cleared), a value is refused."""
     needed = FAULT_VALUE.get(fault.type) if needs_value else None
-    for key in ("noise", "leak_area"):
+    for key in VALUE_RANGE:
         if getattr(fault, key) is not None and key != needed:
-            users = "a sensor_noisy" if key == "noise" else "a cylinder_leak or pipe_leak"
-            why = f"only {users} fault does" if needs_value else "a fault cleared is named by type, car and axle only"
-            return key, f": a {fault.type} fault does not use {key} ({why}): remove it"
+            users = " or ".join(kind for kind, k in FAULT_VALUE.items() if k == key)
+            why = f"only a {users} fault does" if needs_value else "a fault cleared is named by type, car and axle only"
+            return key, f": {_a(fault.type)} fault does not use {key} ({why}): remove it"
     if needed and getattr(fault, needed) is None:
-        return "type", f": a {fault.type} fault needs {needed}"
+        return "type", _needs(fault.type)
     if fault.type == "compressor_off":
         if fault.car is not None:
             return "car", (f" = {fault.car}: a compressor_off fault stops every compressor of the train (one "
                            "compressor failing alone is not modelled): remove car")
     elif fault.car is None:
-        return "type", f": a {fault.type} fault needs car (1-based)"
+        return "type", f": {_a(fault.type)} fault needs car (1-based)"
     if fault.axle is not None and fault.type in CAR_FAULTS:
-        return "axle", (f" = {fault.axle}: a {fault.type} fault acts on the whole car (or train), not on one "
+        return "axle", (f" = {fault.axle}: {_a(fault.type)} fault acts on the whole car (or train), not on one "
                         "axle: remove axle")
     return None
 

@@ -86,6 +86,29 @@ def test_cli_rejects_a_bad_file(tmp_path):
      r"faults\.0\.axle = 2: a car_isolated fault acts on the whole car", 8),
     ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: cylinder_leak, car: 3, leak_area: 1e12 mm^2}",
      r"faults\.0\.leak_area = '1e12 mm\^2': must lie in \[0\.01, 1000\] mm\^2", 8),
+    # the emergency path's kinds (issue 36): a pressure only where the kind reads one, in its range
+    ("start: 2 s}", "start: 2 s, pressure: 1 bar}",
+     r"faults\.0\.pressure: a vent_stuck_open fault does not use pressure \(only a relay_valve_failed or "
+     r"pressure_limiter_failed fault does\): remove it", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: relay_valve_failed, car: 3}",
+     r"faults\.0\.type: a relay_valve_failed fault needs pressure, the most the relay valve gives, gauge \(0 bar: "
+     r"no output\); it must lie in \[0, 10\] bar", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: pressure_limiter_failed, car: 3}",
+     r"faults\.0\.type: a pressure_limiter_failed fault needs pressure, .*; it must lie in \[0, 10\] bar", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: relay_valve_failed, car: 3, pressure: 12 bar}",
+     r"faults\.0\.pressure = '12 bar': must lie in \[0, 10\] bar", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: pressure_limiter_failed, car: 3, pressure: -5 kPa}",
+     r"faults\.0\.pressure = '-5 kPa': must lie in \[0, 1000\] kPa", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2, start: 2 s}", "{type: relay_valve_failed, car: 3, pressure: 1.5}",
+     r"faults\.0\.pressure = 1\.5: a unit is required \(pressure: bar, kPa, Pa\), e\.g\. '1\.5 bar'", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2,", "{type: emergency_valve_failed, car: 3, axle: 2,",
+     r"faults\.0\.axle = 2: an emergency_valve_failed fault acts on the whole car", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2,", "{type: relay_valve_failed, car: 3, axle: 2, pressure: 1 bar,",
+     r"faults\.0\.axle = 2: a relay_valve_failed fault acts on the whole car", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2,", "{type: axle_isolated, axle: 2,",
+     r"faults\.0\.type: an axle_isolated fault needs car", 8),
+    ("{type: vent_stuck_open, car: 3, axle: 2,", "{type: axle_isolated, car: 9, axle: 2,",
+     r"faults\.0\.car = 9: the train has cars 1\.\.8", 8),
     ("demand:", "wsp: {safety_time: 0 s}\ndemand:", r"wsp\.safety_time = '0 s': must lie in \[0\.5, 30\] s", 5),
     ("demand:", "wsp: {speed_threshold: -1 m/s}\ndemand:",
      r"wsp\.speed_threshold = '-1 m/s': must lie in \[0\.01, 10\] m/s", 5),
@@ -133,6 +156,18 @@ def test_a_train_slower_than_the_scenario_is_refused(tmp_path):
     with pytest.raises(InputError, match=r"good, line 4: initial_speed = 250 km/h: above the maximum speed of "
                                          r"train crh380a-8, 100 km/h"):
         scenario.parse(GOOD.replace("preset: crh380a-8", f"preset: {slow}"), "good")
+
+
+def test_every_fault_kind_of_the_plant_is_writable():
+    """The scenario's fault types are the plant's (rb_plant.h, rb_fault_kind), each with the units
+    of the ETCS reliability file (a car-level kind takes no axle; the same kinds read a value)."""
+    from typing import get_args
+
+    from railbrake import _core
+    from railbrake.etcs import inputs
+    assert sorted(get_args(scenario.FaultType)) == sorted(_core.FAULT_KINDS)
+    assert set(scenario.CAR_FAULTS) == set(inputs.CAR_KINDS) | set(inputs.TRAIN_KINDS)
+    assert set(scenario.FAULT_VALUE) == set(inputs.VALUE_KEYS)
 
 
 def test_every_bound_used_by_the_files_is_in_the_c_table():

@@ -23,7 +23,7 @@ from railbrake.scenario import _QUANTITY, _UNITS
 
 # the parts of the composite factors; a run gets one fault / one zone built from them
 COMPOSITES = {
-    "fault": ("type", "car", "axle", "start", "noise", "leak_area"),
+    "fault": ("type", "car", "axle", "start", "noise", "leak_area", "pressure"),
     "zone": ("start", "length", "condition"),
 }
 NO_FAULT = "none"   # fault.type level for the healthy train

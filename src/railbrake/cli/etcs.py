@@ -31,8 +31,9 @@ def braking_model(
                                           help="Scatter runs of each likely failure state (default: data/etcs/method.yaml)."),
     rare_samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs of each rare state."),
     run_budget: Optional[int] = typer.Option(None, min=0, max=10_000_000,
-                                             help="Runs the analysis may add until every Kdry_rst bound is at most "
-                                             "kdry_bound (default: data/etcs/method.yaml)."),
+                                             help="Runs in all (the first runs always run) up to which runs are added "
+                                             "until every Kdry_rst bound is at most kdry_bound (default: "
+                                             "data/etcs/method.yaml)."),
     seed: int = typer.Option(1, min=0, help="Seed of the Latin-hypercube blocks and the bootstrap."),
     out: Optional[Path] = typer.Option(None, help="Folder for the runs (a rerun resumes), the JSON, the "
                                        "OSRD export and the report (default: out/etcs/<train>)."),
@@ -91,8 +92,9 @@ def curves(
     samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs per likely state (model computed here)."),
     rare_samples: Optional[int] = typer.Option(None, min=2, max=100_000, help="Scatter runs per rare state (model "
                                                "computed here)."),
-    run_budget: Optional[int] = typer.Option(None, min=0, max=10_000_000, help="Runs the analysis may add for its "
-                                             "Kdry_rst bounds (model computed here; default: data/etcs/method.yaml)."),
+    run_budget: Optional[int] = typer.Option(None, min=0, max=10_000_000, help="Runs in all up to which runs are added "
+                                             "for the Kdry_rst bounds (model computed here; default: "
+                                             "data/etcs/method.yaml)."),
     force_conditions: bool = typer.Option(False, "--force-conditions", help="Run an adhesion condition outside its "
                                           "validity, recorded in the model's warnings (model computed here)."),
     workers: int = typer.Option(2, min=1, max=64, help="Local worker processes (model computed here)."),

@@ -21,6 +21,7 @@
 from __future__ import annotations
 
 import copy
+import logging
 import math
 from dataclasses import dataclass, field
 from importlib import resources
@@ -59,6 +60,7 @@ class Method(BaseModel):
 
 # the window the bootstrap reads a quantile in (+- this about the estimate): replicates beyond it
 # are taken at its edge, which the bound then shows as this large
+LOG = logging.getLogger(__name__)
 BOUND_WINDOW = 0.1
 # a round of added runs goes to the states holding this share of a level's variance (_more_runs):
 # doubling them takes the variance down by at least ALLOCATED / 2 a round
@@ -293,6 +295,9 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
         ratios = [np.asarray(r) for r in per_state]
         kdry, bounds, deciding, carrying = _estimate(ctx, ratios, missing, spec.seed)
         more = _more_runs(ctx, [len(r) for r in ratios], bounds, carrying, spec.run_budget - len(rows))
+        LOG.info("%d runs: worst bound %.4f, %d levels above %g; %d runs more", len(rows),
+                 max(max(lh) for step in bounds for lh in step),
+                 sum(max(lh) > spec.kdry_bound for step in bounds for lh in step), spec.kdry_bound, len(more))
         if not more:
             break
         rows.update(runner.run(more))

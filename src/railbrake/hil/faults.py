@@ -1,7 +1,7 @@
 """Faults injected and cleared while the HIL plant runs (docs/hil.md, faults at run time).
 
 A change is checked here in the scenario file's terms (the fault kinds, 1-based car and axle, the
-noise or leak area with their units), posted into the running C loop (rb_hil_runner_post_fault: a
+noise, leak area or pressure with their units), posted into the running C loop (rb_hil_runner_post_fault: a
 mailbox the loop reads once a step, never waiting) and answered by the loop with the plant step it
 took effect at, or why it was refused. Every change applied is kept with its time for the run's
 report and the recording's events."""
@@ -15,7 +15,7 @@ from dataclasses import asdict, dataclass
 
 from railbrake import _core, config
 from railbrake.errors import InputError
-from railbrake.scenario import FaultSpec, fault_problem
+from railbrake.scenario import FaultSpec, fault_problem, fault_value
 
 ACTIONS = {"inject": _core.HIL_FAULT_INJECT, "clear": _core.HIL_FAULT_CLEAR}
 ANSWER_TIMEOUT = 10.0   # s of wall time for the loop to answer (it looks every 1 ms step; between two
@@ -29,7 +29,7 @@ class FaultChange:
     time_s: float
     step: int
     action: str          # inject, clear
-    fault: dict          # type, car, axle (1-based; None: every axle / the train), noise, leak_area (SI)
+    fault: dict          # type, car, axle (1-based; None: every axle / the train), noise, leak_area, pressure (SI)
     text: str            # the loop's words, e.g. "vent_stuck_open on car 3, axle 2: injected"
     origin: str          # control, sequence, dashboard, api
 
@@ -38,8 +38,8 @@ class FaultChange:
 
 
 def parse_fault(data, action: str, n_cars: int, where: str) -> tuple[FaultSpec, _core.Fault]:
-    """A fault given as a mapping (type, car, axle, noise, leak_area as in a scenario file's
-    faults) -> its spec and C struct. InputError names `where`, the key, the value and what is allowed."""
+    """A fault given as a mapping (type, car, axle, noise, leak_area, pressure as in a scenario
+    file's faults) -> its spec and C struct. InputError names `where`, the key, the value and what is allowed."""
     if action not in ACTIONS:
         raise InputError(f"{where}: action = {action!r}: must be one of {', '.join(ACTIONS)}")
     if not isinstance(data, dict):
@@ -52,10 +52,9 @@ def parse_fault(data, action: str, n_cars: int, where: str) -> tuple[FaultSpec, 
         raise InputError(f"{where}: fault.{problem[0]}{problem[1]}")
     if spec.car is not None and spec.car > n_cars:
         raise InputError(f"{where}: fault.car = {spec.car}: the train has cars 1..{n_cars}")
-    value = (spec.noise if spec.type == "sensor_noisy" else
-             spec.leak_area if spec.type in ("cylinder_leak", "pipe_leak") else None)
+    value = fault_value(spec) if action == "inject" else 0.0
     fault = _core.Fault(_core.FAULT_KINDS.index(spec.type), 0 if spec.car is None else spec.car - 1,
-                        -1 if spec.axle is None else spec.axle - 1, 0.0, value or 0.0)
+                        -1 if spec.axle is None else spec.axle - 1, 0.0, value)
     return spec, fault
 
 

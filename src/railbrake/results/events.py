@@ -11,13 +11,19 @@ import re
 import numpy as np
 
 from railbrake.results.channel_info import STATES, WSP_TRIPPED
+from railbrake.scenario import _UNITS, VALUE_RANGE
 
 
 def fault_text(fault) -> str:
-    """'vent_stuck_open on car 3, axle 2' (a FaultSpec), as the HIL loop words a fault."""
-    where = "" if fault.car is None else f" on car {fault.car}" + ("" if fault.axle is None else f", axle {fault.axle}")
-    value = next((f", {k} {getattr(fault, k):g}" for k in ("noise", "leak_area") if getattr(fault, k) is not None), "")
-    return f"{fault.type}{where}{value}"
+    """'vent_stuck_open on car 3, axle 2' (a FaultSpec, or a run's meta fault: a mapping), as the HIL
+    loop words a fault; a value in the unit its range is given in ('relay_valve_failed on car 1,
+    pressure 1.5 bar')."""
+    field = fault.get if isinstance(fault, dict) else lambda key: getattr(fault, key, None)
+    car, axle = field("car"), field("axle")
+    where = "" if car is None else f" on car {car}" + ("" if axle is None else f", axle {axle}")
+    value = next((f", {k} {field(k) / _UNITS[unit][1]:g} {unit}" for k, (_, unit) in VALUE_RANGE.items()
+                  if field(k) is not None), "")
+    return f"{field('type')}{where}{value}"
 
 
 def scheduled_faults(scenario) -> list[tuple[float, str, str]]:

@@ -140,7 +140,9 @@ def _scenario_meta(sc) -> dict:
             "zones": [{"start": z.start, "end": z.end, "condition": display_name(z.condition)}
                       for z in spec.adhesion.zones],
             "demand": [{"time": d.time, "emergency": d.emergency, "service": d.service} for d in spec.demand],
-            "faults": [{"type": f.type, "car": f.car, "axle": f.axle, "start": f.start} for f in spec.faults]}
+            "faults": [{"type": f.type, "car": f.car, "axle": f.axle, "start": f.start,
+                        **f.model_dump(include={"noise", "leak_area", "pressure"}, exclude_none=True)}
+                       for f in spec.faults]}
 
 
 def _struct_dict(struct) -> dict:

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from railbrake import atomic
 from railbrake.results import kpis as kpi_info
+from railbrake.results.events import fault_text
 from railbrake.results.files import dumps
 from railbrake.results.record import RunRecord
 
@@ -53,8 +54,7 @@ def write_report(record: RunRecord, plots: list[Path], path: Path) -> Path:
     m = record.meta
     prov = m.get("provenance", {})
     warnings = kpi_info.warnings(record.kpis, m.get("healthy_cylinder_shortfall_s"))
-    faults = ", ".join(f"{f['type']} car {f['car']}{'' if f.get('axle') is None else ' axle ' + str(f['axle'])} "
-                       f"from {f['start']:g} s" for f in m.get("faults", [])) or "none"
+    faults = ", ".join(f"{fault_text(f)} from {f['start']:g} s" for f in m.get("faults", [])) or "none"
     zones = ", ".join(f"{z['start']:g}-{z['end']:g} m {z['condition']}" for z in m.get("zones", [])) or "none"
     scenario = [("scenario", m.get("scenario", "")), ("title", m.get("title", "")), ("kind", record.kind),
                 ("train", m.get("train", "")), ("cars", record.cars), ("WSP", "on" if record.wsp else "off"),

@@ -21,7 +21,7 @@ from railbrake.adhesion import AdhesionRangeWarning, load_condition
 from railbrake.contact import wheel_rail_contact
 from railbrake._args import instance, real, whole
 from railbrake.errors import InputError
-from railbrake.scenario import Scenario
+from railbrake.scenario import Scenario, fault_problem, fault_value
 from railbrake.simulation import traction
 from railbrake.units import KMH
 from railbrake.vehicle import axle_discs, load_train, with_cars
@@ -238,13 +238,11 @@ def plant_params(scenario: Scenario, n_cars: int, dt: float = DT, substeps: int 
     scenario.check_cars(n_cars)
     p.n_faults = len(spec.faults)
     for i, f in enumerate(spec.faults):
-        leaks = ("cylinder_leak", "pipe_leak")
-        value = f.noise if f.type == "sensor_noisy" else f.leak_area if f.type in leaks else None
-        if value is None and f.type in ("sensor_noisy", "cylinder_leak", "pipe_leak"):
-            key = "noise" if f.type == "sensor_noisy" else "leak_area"
-            raise InputError(f"{scenario.where('faults', i, 'type')}: a {f.type} fault needs {key}")
+        problem = fault_problem(f)   # a spec built in Python (with_) is checked as a file's
+        if problem is not None:
+            raise InputError(f"{scenario.where('faults', i, problem[0])}{problem[1]}")
         p.fault[i] = _core.Fault(_FAULT_INDEX[f.type], 0 if f.car is None else f.car - 1, -1 if f.axle is None else f.axle - 1,
-                                 f.start, value or 0.0)
+                                 f.start, fault_value(f))
     p.noise_seed = spec.seed
     _core.call(_core.rb_plant_check, ctypes.byref(p))
     return p

@@ -276,10 +276,29 @@ def dynamometer_cross_fit(inputs, x, case):
                        ratio_speeds=(units.kmh_to_ms(float(low)), units.kmh_to_ms(float(high))),
                        rate_ratio=float(_need(inputs, "ratio")))
     pad = pad_fade.pad_with(car, fit.shift, fit.onset, fit.rate)
-    means = [vehicle.dynamometer_stop(car, units.kmh_to_ms(v), pad=pad, **conditions).mean_friction
-             for v in _x(x, "speed, km/h")]
-    return ModelOutput(means, {"fade_onset_c": round(fit.onset - vehicle.ZERO_CELSIUS, 1), "fade_rate_per_K": fit.rate,
-                               "table_shift": fit.shift})
+    speeds = _x(x, "speed, km/h")
+    means = [vehicle.dynamometer_stop(car, units.kmh_to_ms(v), pad=pad, **conditions).mean_friction for v in speeds]
+    details = {"fade_onset_c": round(fit.onset - vehicle.ZERO_CELSIUS, 1), "fade_rate_per_K": fit.rate,
+               "table_shift": fit.shift}
+    return ModelOutput(means, details | _needed_fade(pad_fade, car, conditions, fit, inputs, speeds[-1], case))
+
+
+def _needed_fade(pad_fade, car, conditions, fit, inputs, speed_kmh, case) -> dict:
+    """What the fit would have had to find for the reference at speed_kmh within the case's tolerance
+    (the same onset and level): the fading rates and the ratio they give between inputs.ratio_kmh, to
+    set against the other pad's inputs.ratio. A diagnosis of a miss, not a fit on the reference."""
+    reference = float(case.data[case.columns["value"]][-1])
+    tol = case.tolerance.value * (abs(reference) / 100.0 if case.tolerance.unit == "%" else 1.0)
+    level = inputs["level"]
+    low, high = (units.kmh_to_ms(float(v)) for v in inputs["ratio_kmh"])
+    try:
+        rates = [pad_fade.rate_for(car, conditions, onset=fit.onset, level_speed=units.kmh_to_ms(float(level["speed_kmh"])),
+                                   level_mean=float(level["mean"]), speed=units.kmh_to_ms(float(speed_kmh)), mean=m)
+                 for m in (reference + tol, reference - tol)]
+    except ValueError:   # no fading rate within the bounds reaches the reference: nothing to diagnose
+        return {"rate_needed_per_K": None}
+    return {"rate_needed_per_K": rates,
+            "ratio_needed": [pad_fade.stop_ratio(car, conditions, fit.onset, r, low, high) for r in rates]}
 
 
 def disc_temperature(inputs, x, case):

@@ -20,7 +20,7 @@ from railbrake.units import kmh_to_ms
 
 conditions_module = sys.modules["railbrake.adhesion.conditions"]  # the module, not the function
 
-PRESETS = ["dry-high", "dry-medium", "dry-contaminated", "wet", "hs-wet", "heavy-rain", "oil-film", "leaves",
+PRESETS = ["dry-high", "dry-medium", "wet", "hs-wet", "heavy-rain", "oil-film", "leaves",
            "leaves-full-scale",
            "en15595-low"]
 

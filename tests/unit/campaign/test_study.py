@@ -108,6 +108,18 @@ def test_fault_and_zone_parts_become_one_fault_and_one_zone():
     assert runs[1].sets["adhesion.zones"] == [{"start": "100 m", "end": "150 m", "condition": "hs-wet"}]
 
 
+def test_a_failed_relay_valve_s_pressure_is_a_factor():
+    s = parse("factors:\n  fault.type: [relay_valve_failed]\n  fault.car: [1]\n"
+              "  fault.pressure: {low: 0 bar, high: 3 bar, levels: 4}\ndesign: {kind: grid}\n")
+    runs = plan.plan(s)
+    assert [r.sets["faults"][0]["pressure"] for r in runs] == ["0 bar", "1 bar", "2 bar", "3 bar"]
+    assert [r.factors["fault.pressure"] for r in runs] == pytest.approx([0.0, 1e5, 2e5, 3e5])   # SI: Pa
+    with pytest.raises(InputError, match=r"design point 0 .*fault\.pressure.* a vent_stuck_open fault does not use "
+                                         r"pressure"):
+        plan.plan(parse("factors:\n  fault.type: [vent_stuck_open]\n  fault.car: [1]\n"
+                        "  fault.pressure: [1 bar]\ndesign: {kind: grid}\n"))
+
+
 def test_a_fault_on_a_missing_car_fails_before_any_run():
     s = parse("factors:\n  fault.type: [vent_stuck_open]\n  fault.car: [2]\ndesign: {kind: grid}\n")
     with pytest.raises(InputError, match="design point 0 .*fault.car=2"):

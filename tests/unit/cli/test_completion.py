@@ -54,7 +54,7 @@ def complete_here(words: str) -> list[str]:
     ("railbrake campaign plan wsp", ["wsp-en15595"]),
     ("railbrake wsp tune wsp", ["wsp-en15595"]),
     ("railbrake size --profile emergency", ["emergency", "emergency-crh380a"]),
-    ("railbrake adhesion curves --condition dry-", ["dry-contaminated", "dry-high", "dry-medium"]),
+    ("railbrake adhesion curves --condition dry-", ["dry-high", "dry-medium"]),
     ("railbrake sequence run wsp", ["wsp-vent-stuck"]),
 ])
 def test_train_study_and_other_preset_arguments_complete(words, presets, tmp_path, monkeypatch):

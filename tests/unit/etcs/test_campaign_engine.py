@@ -9,17 +9,11 @@ fault kind and a common-cause group, few samples, and a run budget that adds one
 for the bounds, so that the rounds are compared too."""
 
 import json
-import socket
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
 from railbrake import jsonio
 from railbrake.etcs import export, model
-
-BIN = Path(sys.executable).parent
 
 RELIABILITY = """schema: railbrake.reliability/1
 name: engine-test
@@ -30,12 +24,6 @@ failures:
 common_cause:
   - {name: both emergency valves, kind: emergency_valve_failed, cars: [1, 2], per_demand: 1.0e-3, source: test}
 """
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 @pytest.fixture(scope="module")
@@ -49,22 +37,11 @@ def spec(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def external():
+def external(dask_cli):
     """`dask scheduler` and a `dask worker` of two single-threaded processes, started here as a
     user starts them and stopped at the end of the module; yields the scheduler's address."""
-    address = f"tcp://127.0.0.1:{free_port()}"
-    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
-    processes = [subprocess.Popen([str(BIN / "dask"), "scheduler", "--host", "127.0.0.1",
-                                   "--port", address.rsplit(":", 1)[1], "--no-dashboard"], **quiet)]
-    try:
-        processes.append(subprocess.Popen([str(BIN / "dask"), "worker", address, "--nthreads", "1",
-                                           "--nworkers", "2", "--no-dashboard"], **quiet))
+    with dask_cli(2) as address:
         yield address
-    finally:
-        for p in reversed(processes):
-            p.terminate()
-        for p in reversed(processes):
-            p.wait(timeout=30)
 
 
 def as_json(m) -> str:

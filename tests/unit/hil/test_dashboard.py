@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from conftest import run_with_dashboard
+from railbrake import _core
 from railbrake.hil.dashboard import Dashboard
 
 
@@ -57,6 +58,7 @@ def test_dashboard_api_during_a_paced_run(tmp_path):
             while snapshot is None or snapshot["time"] < 0.5:
                 snapshot = json.loads(get(f"{base}/api/snapshot?token={token}")[1])["snapshot"]
             seen["snapshot"] = snapshot
+            seen["info"] = json.loads(get(f"{base}/api/info?token={token}")[1])
             fault = {"type": "vent_stuck_open", "car": 1, "axle": 3}
             seen["nokey"] = post(base + "/api/fault", {"command": "inject", "fault": fault})
             seen["bodykey"] = post(base + "/api/fault", {"token": token, "command": "inject", "fault": fault})
@@ -78,6 +80,10 @@ def test_dashboard_api_during_a_paced_run(tmp_path):
     assert seen["bodykey"][0] == 401    # a token in the body only: the body is not read before the token
     assert seen["bad"][0] == 400 and "cars 1..1" in seen["bad"][1]["error"]
     assert seen["inject"][0] == 200 and seen["stop"][0] == 200
+    # every kind of the plant offered, with the value it reads (the page's value field)
+    assert seen["info"]["fault_kinds"] == list(_core.FAULT_KINDS)
+    assert seen["info"]["fault_values"]["relay_valve_failed"] == "pressure"
+    assert "axle_isolated" not in seen["info"]["fault_values"]
     assert result.interrupted and result.time[-1] < 60.0          # the page stopped the run
     # the live speed is the recorded one at that plant time (recorded every 20 ms: interpolated)
     s = seen["snapshot"]

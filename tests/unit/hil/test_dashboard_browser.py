@@ -43,6 +43,15 @@ def drive(board, seen, errors):
             page.click("#inject")
             page.wait_for_function("document.getElementById('fault-answer').dataset.ok === 'true'", timeout=30000)
             seen["fault_time"] = float(page.eval_on_selector("#fault-answer", "e => e.dataset.time"))
+            # a kind that reads a value: the page's value field, named after the key, with its unit
+            page.select_option("#fault-type", "relay_valve_failed")
+            seen["value_key"] = page.eval_on_selector("#fault-value-key", "e => e.textContent")
+            page.fill("#fault-axle", "")
+            page.fill("#fault-value", "1.5 bar")
+            page.click("#inject")
+            page.wait_for_function("document.getElementById('fault-answer').dataset.time > "
+                                   f"{seen['fault_time']}", timeout=30000)
+            seen["relay_answer"] = page.eval_on_selector("#fault-answer", "e => [e.dataset.ok, e.textContent]")
             page.wait_for_function(f"Number(document.getElementById('time').textContent) > {seen['fault_time'] + 0.5}",
                                    timeout=60000)
             page.click("#stop")
@@ -68,6 +77,9 @@ def test_dashboard_in_headless_chromium():
     assert change.origin == "dashboard" and change.time_s == pytest.approx(seen["fault_time"])
     vent = result.outputs["vent_c1a3"]
     assert not vent[result.time <= change.time_s].any() and vent[result.time > change.time_s + 0.01].all()
+    assert seen["value_key"] == "pressure" and seen["relay_answer"][0] == "true", seen["relay_answer"]
+    relay = result.fault_changes[1]
+    assert relay.fault["type"] == "relay_valve_failed" and relay.fault["pressure"] == pytest.approx(1.5e5)
 
 
 def read_layout(board, seen, errors):

@@ -40,7 +40,23 @@ BAD = [  # command, words the refusal must hold
     ({"command": "inject", "fault": {"type": "sensor_noisy", "car": 1, "axle": 1}}, "needs noise"),
     ({"command": "clear", "fault": {"type": "hold_stuck_open", "car": 1, "axle": 1}}, "not present"),
     ({"command": "inject", "fault": {"type": "ed_lost", "car": 1, "axle": 1}}, "remove axle"),
+    ({"command": "inject", "fault": {"type": "relay_valve_failed", "car": 1}}, "must lie in [0, 10] bar"),
+    ({"command": "inject", "fault": {"type": "axle_isolated", "car": 1, "pressure": "1 bar"}}, "does not use pressure"),
+    ({"command": "clear", "fault": {"type": "pressure_limiter_failed", "car": 1, "pressure": "2 bar"}},
+     "named by type, car and axle only"),
 ]
+
+
+def test_a_fault_s_pressure_reaches_the_plant_in_si():
+    """The emergency path's kinds as a scenario file writes them: a gauge pressure in its unit,
+    rb_fault.value in Pa; a car-level kind on every axle (-1)."""
+    from railbrake import _core
+    from railbrake.hil.faults import parse_fault
+    spec, fault = parse_fault({"type": "pressure_limiter_failed", "car": 2, "pressure": "80 kPa"}, "inject", 2, "api")
+    assert (fault.kind, fault.car, fault.axle) == (_core.FAULT_KINDS.index("pressure_limiter_failed"), 1, -1)
+    assert fault.value == pytest.approx(0.8e5) and spec.pressure == pytest.approx(0.8e5)
+    _, cleared = parse_fault({"type": "pressure_limiter_failed", "car": 2}, "clear", 2, "api")
+    assert (cleared.kind, cleared.car, cleared.axle) == (fault.kind, fault.car, fault.axle)
 
 
 def drive(server, outcome):

@@ -113,3 +113,32 @@ def test_every_integer_channel_of_run_and_hil_has_its_states():
     for name, unit in list(run_channels(2)) + list(hil_channels(2)):
         if unit == "1" and channel_info.base_name(name) not in numbers:
             assert channel_info.conversion(name) is not None, name
+
+
+def test_a_fault_event_gives_the_fault_s_value_in_the_unit_its_range_is_given_in():
+    """The value a fault kind reads (a gauge pressure, a leak's area, a sensor's noise) as the
+    scenario's error messages give its range: bar, mm^2, km/h; in what was run (SI) too."""
+    from railbrake.results.events import scheduled_faults
+    from railbrake.results.record import _scenario_meta
+    sc = scenarios.parse("""schema: railbrake.scenario/1
+name: t
+train: {preset: crh380a-8}
+initial_speed: 250 km/h
+demand: [{time: 0 s, emergency: true}]
+faults:
+  - {type: relay_valve_failed, car: 1, start: 1 s, pressure: 150 kPa}
+  - {type: cylinder_leak, car: 2, axle: 3, leak_area: 1 mm^2}
+  - {type: sensor_noisy, car: 3, axle: 1, noise: 0.5 m/s}
+  - {type: emergency_valve_failed, car: 4}
+""", "t.yaml")
+    assert [comment for _, _, comment in scheduled_faults(sc)] == [
+        "relay_valve_failed on car 1, pressure 1.5 bar (scheduled by the scenario)",
+        "cylinder_leak on car 2, axle 3, leak_area 1 mm^2 (scheduled by the scenario)",
+        "sensor_noisy on car 3, axle 1, noise 1.8 km/h (scheduled by the scenario)",
+        "emergency_valve_failed on car 4 (scheduled by the scenario)"]
+    faults = _scenario_meta(sc)["faults"]
+    assert faults[0] == {"type": "relay_valve_failed", "car": 1, "axle": None, "start": 1.0, "pressure": 1.5e5}
+    assert faults[3] == {"type": "emergency_valve_failed", "car": 4, "axle": None, "start": 0.0}
+    # the run's report words them from what was run as the events do
+    from railbrake.results.events import fault_text
+    assert [fault_text(f) for f in faults] == [fault_text(f) for f in sc.spec.faults]

@@ -86,6 +86,11 @@ tests:
     (("      - wait: 1 s", "      - inject: {type: vent_on_fire, car: 1}"), ["line 9", "fault.type"]),
     (("      - wait: 1 s", "      - inject: {type: vent_stuck_open, car: 2}"), ["line 9", "cars 1..1"]),
     (("      - wait: 1 s", "      - clear: {type: sensor_noisy, car: 1, noise: 1 m/s}"), ["line 9", "noise"]),
+    (("      - wait: 1 s", "      - inject: {type: relay_valve_failed, car: 1}"),
+     ["line 9", "needs pressure", "must lie in [0, 10] bar"]),
+    (("      - wait: 1 s", "      - inject: {type: pressure_limiter_failed, car: 1, pressure: 20 bar}"),
+     ["line 9", "fault.pressure", "'20 bar'", "must lie in [0, 10] bar"]),
+    (("      - wait: 1 s", "      - inject: {type: emergency_loop_lost, car: 1, axle: 2}"), ["line 9", "remove axle"]),
     (("      - wait: 1 s", "      - wait: {until: {signal: speed, below: 1 m/s}}"), ["line 9", "timeout"]),
     (("      - wait: 1 s", "      - set_adhesion: marmalade"), ["line 9", "marmalade"]),
     (("      - wait: 1 s", "      - teleport: 3 km"), ["line 9", "teleport"]),
@@ -99,3 +104,26 @@ def test_bad_sequence_files_are_refused_with_file_line_and_key(tmp_path, change,
         engine.check(sequence.load(path), engine.resolve("emergency-250-dry", 1))
     message = str(caught.value)
     assert str(path) in message and all(w in message for w in words), message
+
+
+def test_a_relay_valve_failed_at_a_pressure_holds_the_cylinders_there(tmp_path):
+    """A fault of the emergency path injected by a test step with its pressure (gauge, as in a
+    scenario file): the emergency fills the cylinders to that pressure and no further; cleared, the
+    relay follows its control chamber (filled meanwhile) again."""
+    path = tmp_path / "relay.yaml"
+    path.write_text(GOOD.replace("      - set_demand: {emergency: true}\n      - wait: 1 s\n", """\
+      - inject: {type: relay_valve_failed, car: 1, pressure: 1.2 bar}
+      - set_demand: {emergency: true}
+      - expect: {signal: "cylinder_c1a*", at_most: 1.22 bar, during: 4 s}
+      - expect: {signal: "cylinder_c1a*", at_least: 1.18 bar}
+      - kpi: {name: stuck, signal: cylinder_c1a1, stat: final}
+      - clear: {type: relay_valve_failed, car: 1}
+      - wait: 3 s
+      - kpi: {name: cylinder, signal: cylinder_c1a1, stat: final}
+      - kpi: {name: pilot, signal: pilot_c1, stat: final}
+"""))
+    result = engine.run(sequence.load(path))[0]
+    assert [step.verdict for step in result.steps if step.action == "expect"] == ["pass"] * 2, result.steps
+    kpis = result.kpis   # Pa
+    assert kpis["pilot"] > kpis["stuck"] + 0.2e5   # the control chamber filled above the stuck output
+    assert kpis["cylinder"] == pytest.approx(kpis["pilot"], abs=0.02e5)

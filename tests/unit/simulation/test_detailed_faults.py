@@ -171,3 +171,13 @@ def test_an_mr_pipe_leak_drains_the_line_but_not_the_supply_reservoirs(runs):
     assert det.outputs["main_reservoir"][-1] < sound.outputs["main_reservoir"][-1] - 2.0 * BAR
     assert det.kpis["air_consumed_kg"] > sound.kpis["air_consumed_kg"] + 0.5
     assert det.kpis["stopping_distance_m"] == pytest.approx(sound.kpis["stopping_distance_m"], rel=1e-3)
+
+
+@pytest.mark.parametrize("fault", [{"type": "relay_valve_failed", "car": 1, "pressure": "1.2 bar"},
+                                   {"type": "pressure_limiter_failed", "car": 1, "pressure": "120 kPa"}])
+def test_a_scenario_file_s_emergency_path_fault_reaches_the_detailed_model(train, fault):
+    # written as in a scenario file (gauge pressure with its unit): the car's cylinders end at it
+    det = run_detailed(resolve(train.scenario.with_(faults=[fault]), train.cars))
+    for axle in range(1, 5):
+        assert gauge(det, f"cylinder_c1a{axle}")[-1] == pytest.approx(1.2, abs=0.05)
+    assert gauge(det, "cylinder_c2a1")[-1] > 2.0

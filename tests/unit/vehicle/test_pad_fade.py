@@ -73,6 +73,20 @@ def test_fit_recovers_the_fading_that_made_its_data(car):
     assert fit.shift == pytest.approx(0.01, abs=1e-6)
 
 
+def test_ratio_fit_and_rate_for_recover_the_fading_that_made_their_data(car):
+    # a ratio of two stop averages (another pad's figures, pad-friction-stop-cross-pad) and a single
+    # stop average with the level refitted (the diagnosis of that case) both find the law's rate
+    onset = vehicle.dynamometer_stop(car, 300 * KMH, pad=pad_fade.pad_with(car), **CONDITIONS).max_surface_temperature
+    truth = pad_fade.pad_with(car, 0.0, onset, 0.002)
+    made = {v: vehicle.dynamometer_stop(car, v * KMH, pad=truth, **CONDITIONS).mean_friction for v in (200, 250, 350, 380)}
+    fit = pad_fade.fit(car, CONDITIONS, onset_speed=300 * KMH, level_speed=250 * KMH, level_mean=made[250],
+                       ratio_speeds=(200 * KMH, 350 * KMH), rate_ratio=made[350] / made[200])
+    assert fit.rate == pytest.approx(0.002, rel=1e-4)
+    rate = pad_fade.rate_for(car, CONDITIONS, onset=onset, level_speed=250 * KMH, level_mean=made[250],
+                             speed=380 * KMH, mean=made[380])
+    assert rate == pytest.approx(0.002, rel=1e-4)
+
+
 def test_dynamometer_refuses_a_stop_it_cannot_make(car):
     with pytest.raises(InputError, match=r"^initial_speed = 0"):
         vehicle.dynamometer_stop(car, 0.0, **CONDITIONS)

@@ -16,6 +16,7 @@ from railbrake.errors import InputError
 from railbrake.hil import control, guard
 from railbrake.hil.faults import FaultSwitch
 from railbrake.hil.live import LiveView
+from railbrake.scenario import FAULT_VALUE
 
 STATIC = {"/": ("index.html", "text/html; charset=utf-8"),
           "/dashboard.js": ("dashboard.js", "text/javascript; charset=utf-8"),
@@ -62,7 +63,9 @@ class Dashboard:
         return self._stop.is_set()
 
     def info(self) -> dict:
+        # fault_values: the key of the value a kind reads (a quantity with its unit, e.g. "1.5 bar")
         return {"cars": self.cars, "axles_per_car": _core.AXLES_PER_CAR, "fault_kinds": list(_core.FAULT_KINDS),
+                "fault_values": dict(FAULT_VALUE),
                 "atmosphere": None if self.view is None else self.view.atmosphere}
 
     def authorised(self, token) -> bool:

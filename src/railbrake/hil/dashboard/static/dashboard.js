@@ -143,6 +143,8 @@ async function poll() {
 async function changeFault(command) {
   const fault = {type: $("fault-type").value, car: Number($("fault-car").value)};
   if ($("fault-axle").value) fault.axle = Number($("fault-axle").value);
+  const key = info.fault_values[fault.type];   // noise, leak_area or pressure, e.g. "1.5 bar"
+  if (key && command === "inject" && $("fault-value").value) fault[key] = $("fault-value").value;
   const reply = await postJSON("/api/fault", {command: command, fault: fault});
   $("fault-answer").textContent = reply.ok ? reply.text + " at t = " + reply.time_s.toFixed(3) + " s" : reply.error;
   $("fault-answer").dataset.ok = reply.ok;
@@ -158,6 +160,12 @@ async function start() {
   atmosphere = info.atmosphere;
   for (let c = 1; c <= info.cars; ++c) $("car").add(new Option("car " + c, String(c)));
   info.fault_kinds.forEach((k) => $("fault-type").add(new Option(k, k)));
+  $("fault-type").onchange = () => {
+    const key = info.fault_values[$("fault-type").value];
+    $("fault-value-key").textContent = key || "value";
+    $("fault-value").disabled = !key;
+  };
+  $("fault-type").onchange();
   $("fault-car").max = info.cars;
   $("inject").onclick = () => changeFault("inject");
   $("clear").onclick = () => changeFault("clear");
