@@ -15,8 +15,6 @@ rb_status rb_bcu_check(const rb_bcu_params *p, rb_error *err)
     if ((s = rb_check_range(err, "bcu.service_decel", p->service_decel, 0.0, 3.0))) return s;
     if ((s = rb_check_range(err, "bcu.emergency_decel", p->emergency_decel, 0.0, 3.0))) return s;
     if ((s = rb_check_range(err, "bcu.service_jerk", p->service_jerk, 0.0, 20.0))) return s;
-    if ((s = rb_check_range(err, "bcu.ed_restore_rate", p->ed_restore_rate, 0.0, 1e3))) return s;
-    if ((s = rb_check_range(err, "bcu.ed_restore_delay", p->ed_restore_delay, 0.0, 60.0))) return s;
     for (int c = 0; c < p->n_cars; ++c) {
         if ((s = rb_check_positive(err, "bcu.car_mass", p->car_mass[c]))) return s;
         if ((s = rb_check_nonnegative(err, "bcu.pressure_gain", p->pressure_gain[c]))) return s;
@@ -47,11 +45,7 @@ rb_status rb_bcu_init(const rb_bcu_params *p, const rb_wsp_params *wsp, rb_bcu_s
     rb_wsp_params defaults;
     rb_wsp_default_params(&defaults);
     rb_wsp_default_reset(&s->wsp_default, wsp ? wsp : &defaults);
-    for (int c = 0; c < RB_PLANT_MAX_CARS; ++c) {
-        s->command.pressure_demand[c] = p->atmosphere;
-        s->ed_share[c] = 1.0;
-        s->wsp_quiet[c] = 1e9;   /* (no WSP activity before the run) */
-    }
+    for (int c = 0; c < RB_PLANT_MAX_CARS; ++c) s->command.pressure_demand[c] = p->atmosphere;
     return RB_OK;
 }
 
@@ -160,17 +154,20 @@ static void run_cycle(const rb_bcu_params *p, rb_bcu_state *s, const rb_brake_de
     w->body_decel = out->deceleration;
     double service = jerk_limited_service(p, s, d->service, speed, w->cycle);
     for (int c = 0; c < p->n_cars; ++c) {
-        int wsp_active = 0;
-        for (int k = 0; k < RB_AXLES_PER_CAR; ++k) wsp_active |= s->wsp.active[c * RB_AXLES_PER_CAR + k];
         double gain = 0.0;
         double needed = car_force(p, c, emergency, service, speed, &gain);
-        s->wsp_quiet[c] = wsp_active ? 0.0 : s->wsp_quiet[c] + w->cycle;
-        double share = s->ed_share[c] + (p->ed_restore_rate > 0.0 ? p->ed_restore_rate * w->cycle : 1.0);
-        int quiet = s->wsp_quiet[c] >= p->ed_restore_delay;
-        s->ed_share[c] = wsp_active ? 0.0 : (!quiet ? s->ed_share[c] : (share < 1.0 ? share : 1.0));
-        int ed_allowed = p->motor[c] && ed_step && !wsp_active;
-        s->command.ed_demand[c] = ed_allowed ? s->ed_share[c] * needed : 0.0;
-        double ed = ed_allowed ? out->ed_force[c] : 0.0;
+        /* Blending: the ED brake is asked for the car's whole demand, also while the WSP acts (the
+           traction control's own slide control governs the motor torque, faster than the air). The
+           friction brake gets what the ED brake cannot give (its curve, its response, its loss),
+           less what the slide control cut: that cut says the car brakes beyond its adhesion, and
+           the friction brake gives way by as much, so the car brakes on the finely controlled ED
+           brake again. Handing the cut to the friction brake instead (the former blending on the
+           achieved force) fed the slide and kept the ED force cut. */
+        int ed_allowed = p->motor[c] && ed_step;
+        s->command.ed_demand[c] = ed_allowed ? needed : 0.0;
+        double available = ed_allowed ? out->ed_available[c] : 0.0;
+        double cut = ed_allowed && available > out->ed_force[c] ? available - out->ed_force[c] : 0.0;
+        double ed = available + cut;
         s->command.pressure_demand[c] = car_pressure(p, c, gain, needed - ed);
         for (int k = 0; k < RB_AXLES_PER_CAR; ++k) {
             int a = c * RB_AXLES_PER_CAR + k;

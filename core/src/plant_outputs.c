@@ -68,6 +68,7 @@ static void other_outputs(const rb_plant_params *p, const rb_plant_state *s, rb_
         out->pilot[c] = s->m_pilot[c] * rb_plant_pilot_stiffness(s, c);
         out->relay[c] = s->m_relay[c] * rt / p->car[c].relay_volume;
         out->ed_force[c] = s->ed_force[c];
+        out->ed_available[c] = s->ed_asked[c];
     }
     for (int a = 0; a < n; ++a)
         out->wheel_speed_measured[a] = s->sensor_lost[a] ? -1.0 : out->wheel_speed[a] + s->noise[a];

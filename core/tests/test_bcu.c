@@ -15,9 +15,9 @@ static rb_wsp_inputs inputs(double t, double train, double axle0)
     return in;
 }
 
-/* Blending under WSP: a motor car's ED demand is the car's whole demand; while its WSP acts it is
- * withdrawn, stays so for ed_restore_delay after the WSP is at rest, then comes back by
- * ed_restore_rate of the demand per second. */
+/* Blending under WSP: a motor car's ED demand is the car's whole demand, also while its WSP acts;
+ * the friction brake's pressure is for the demand less the ED force available, less again what the
+ * traction's slide control cut (ed_force below ed_available): the friction brake gives way. */
 static int wsp_acting;
 static void acting_wsp(void *context, const rb_wsp_inputs *in, rb_wsp_commands *out)
 {
@@ -35,27 +35,27 @@ static void test_ed_blending_under_wsp(void)
     b.n_cars = 1; b.cycle = 0.01; b.atmosphere = 1e5; b.emergency_decel = 1.0; b.ed_in_emergency = 1;
     b.car_mass[0] = 50e3; b.pressure_gain[0] = 10.0; b.pressure_max[0] = 5e5; b.motor[0] = 1;
     b.wsp_enabled = 1; b.wsp = acting_wsp;
-    b.ed_restore_rate = 0.5; b.ed_restore_delay = 1.0;
     CHECK(rb_bcu_init(&b, NULL, &s, NULL) == RB_OK);
     rb_brake_demand d = {1.0, 0.0};
     double t = 0.0;
     for (int a = 0; a < 4; ++a) o.wheel_speed_measured[a] = 50.0;
+    o.ed_available[0] = 20e3; o.ed_force[0] = 20e3;
     #define CYCLE() do { o.time = t; rb_bcu_update(&b, &s, &d, &o); t += b.cycle; } while (0)
     CYCLE();
     CHECK_CLOSE(s.command.ed_demand[0], 50e3, 1e-12, 0.0);
+    CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 30e3, 1e-12, 0.0);   /* the 30 kN the ED lacks */
     wsp_acting = 1;
-    CYCLE(); CYCLE();   /* the WSP's activity is seen at the next cycle */
-    CHECK(s.command.ed_demand[0] == 0.0);
-    wsp_acting = 0;
-    for (int i = 0; i < 99; ++i) CYCLE();   /* 0.99 s at rest: still withdrawn */
-    CHECK(s.command.ed_demand[0] == 0.0);
-    for (int i = 0; i < 11; ++i) CYCLE();
-    CHECK(s.command.ed_demand[0] > 0.0 && s.command.ed_demand[0] < 0.1 * 50e3);
-    for (int i = 0; i < 200; ++i) CYCLE();   /* 2 s at 0.5 per s */
+    o.ed_force[0] = 5e3;   /* the slide control cut 15 kN */
+    CYCLE(); CYCLE();      /* the WSP's activity is seen at the next cycle */
     CHECK_CLOSE(s.command.ed_demand[0], 50e3, 1e-12, 0.0);
+    CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 15e3, 1e-12, 0.0);   /* 50 - 20 - 15 kN, not 45 kN */
+    o.ed_force[0] = 0.0;   /* all cut: the friction brake's 30 kN less 20 */
+    CYCLE();
+    CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 10e3, 1e-12, 0.0);
+    o.ed_available[0] = 0.0; o.ed_force[0] = 0.0;   /* ED brake lost: the friction brake takes all */
+    CYCLE();
+    CHECK_CLOSE(s.command.pressure_demand[0], 10.0 * 50e3, 1e-12, 0.0);
     #undef CYCLE
-    b.ed_restore_delay = -1.0;
-    CHECK(rb_bcu_check(&b, NULL) != RB_OK);
 }
 
 static void test_slide_cycle(void)

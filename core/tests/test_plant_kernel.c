@@ -333,7 +333,7 @@ static void test_ed_force(void)
 /* The traction control's slide control of the ED brake: an axle of the motor car sliding deeper
  * than ed_slide_slip cuts the fraction of the asked force let through by ed_cut_rate per second;
  * with every axle rolling again it comes back by ed_restore_rate per second; the force achieved
- * is that fraction of the asked (lagged) force. A trailer's ED stays untouched. */
+ * is that fraction of the asked (lagged) force; the outputs report both. A trailer's ED stays untouched. */
 static void test_ed_slide_control(void)
 {
     static rb_plant_params p;
@@ -356,6 +356,9 @@ static void test_ed_slide_control(void)
     rb_plant_step(&p, &s, &in);
     CHECK_CLOSE(s.ed_slide_factor[0], 1.0 - 50.0 * 1e-3, 1e-12, 0.0);
     CHECK_CLOSE(s.ed_force[0], s.ed_slide_factor[0] * s.ed_asked[0], 1e-12, 0.0);
+    static rb_plant_outputs out;   /* the BCU is told both: achieved, and available before the cut */
+    rb_plant_update_outputs(&p, &s, &out);
+    CHECK(out.ed_force[0] == s.ed_force[0] && out.ed_available[0] == s.ed_asked[0] && out.ed_available[0] > out.ed_force[0]);
     for (int k = 0; k < RB_AXLES_PER_CAR; ++k) s.omega[k] = s.v[0] / r;   /* rolling */
     double cut = s.ed_slide_factor[0];
     rb_plant_step(&p, &s, &in);

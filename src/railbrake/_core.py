@@ -384,8 +384,7 @@ class BcuParams(Structure):
                 + [(n, SpeedTable * PLANT_MAX_CARS) for n in ("emergency_force", "service_force",
                                                              "pressure_per_newton")]
                 + [("emergency_profile", SpeedTable), ("service_profile", SpeedTable)]
-                + [("service_jerk", c_double)]
-                + _doubles("ed_restore_rate", "ed_restore_delay"))
+                + [("service_jerk", c_double)])
 
 
 class Scenario(Structure):

@@ -167,11 +167,6 @@ typedef struct {
      * since its previous cycle) / (full service deceleration at the BCU's speed), applying and
      * releasing. The emergency demand is never limited. */
     double service_jerk;
-    /* blending under WSP: while the WSP acts on an axle of a motor car its ED demand is withdrawn
-       (the friction brake, which the WSP controls, takes the car's whole demand); once it is at
-       rest the ED demand comes back at this fraction of the car's demand per s (0: at once) */
-    double ed_restore_rate;               /* 1/s */
-    double ed_restore_delay;              /* s the WSP stays at rest before the ED demand comes back */
 } rb_bcu_params;
 
 typedef struct {
@@ -187,8 +182,6 @@ typedef struct {
     rb_wsp_commands wsp;
     rb_wsp_default wsp_default;
     double service_applied;               /* 0..1, the service demand after the jerk limit */
-    double ed_share[RB_PLANT_MAX_CARS];   /* fraction of its demand asked of each car's ED brake */
-    double wsp_quiet[RB_PLANT_MAX_CARS];  /* s since the WSP last acted on the car */
 } rb_bcu_state;
 
 size_t rb_bcu_params_size(void);

@@ -280,6 +280,8 @@ typedef struct {
     uint8_t hold[RB_PLANT_MAX_AXLES], vent[RB_PLANT_MAX_AXLES]; /* actual valve states */
     double supply[RB_PLANT_MAX_CARS], pilot[RB_PLANT_MAX_CARS], relay[RB_PLANT_MAX_CARS]; /* Pa */
     double ed_force[RB_PLANT_MAX_CARS];        /* N, achieved */
+    double ed_available[RB_PLANT_MAX_CARS];    /* N, the force the ED brake could give, before its slide
+                                                  control's cut (the traction control's report to the BCU) */
     double car_speed[RB_PLANT_MAX_CARS];
     double air_in_system;         /* kg in every volume */
     double air_vented;            /* kg to the atmosphere since t = 0 */

@@ -324,7 +324,6 @@ def bcu_params(plant: _core.PlantParams, scenario: Scenario, wsp: bool, train=No
     b.service_jerk = train.brake_step("service").jerk_limit_m_s3 or 0.0   # 0: no limit
     b.wsp_enabled = int(wsp and scenario.spec.wsp.enabled)
     b.wsp_per_bogie = int(scenario.spec.wsp.per_bogie)
-    traction.set_bcu(b)
     return b
 
 

@@ -1,5 +1,5 @@
-"""The traction side of the ED brake in a run: its slide control (in the plant, per motor car) and
-the BCU's blending under WSP, from data/traction/ed_slide_control.yaml (values and sources)."""
+"""The traction side of the ED brake in a run: its slide control (in the plant, per motor car), from
+data/traction/ed_slide_control.yaml (values and sources)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from railbrake import _core
 
 @cache
 def slide_control() -> dict:
-    """The slide control's and the blending's parameters (data/traction/ed_slide_control.yaml)."""
+    """The slide control's parameters (data/traction/ed_slide_control.yaml)."""
     return yaml.safe_load((resources.files("railbrake") / "data" / "traction" / "ed_slide_control.yaml").read_text())
 
 
@@ -24,8 +24,3 @@ def set_car(car: _core.PlantCar, motor: bool) -> None:
         car.ed_slide_slip, car.ed_slide_release = s["slide_slip"], s["release_slip"]
         car.ed_cut_rate, car.ed_restore_rate = s["cut_rate_per_s"], s["restore_rate_per_s"]
 
-
-def set_bcu(bcu: _core.BcuParams) -> None:
-    """The BCU's return of the ED demand after its WSP has acted."""
-    s = slide_control()
-    bcu.ed_restore_rate, bcu.ed_restore_delay = s["blending_restore_rate_per_s"], s["blending_restore_delay_s"]
