@@ -96,7 +96,8 @@ test-long: install
 # left out: they run FMU binaries gcc builds from the exported sources, not this core library, and
 # build their own ASan/UBSan FMUs for the fuzz and memory tests in the plain pass. The docs tests
 # (Sphinx over the pages), the sequences (Python steps over the run API the simulation tests
-# cover), the command line and the campaigns (processes and Dask workers over the same run API)
+# cover), the command line, the campaigns (processes and Dask workers over the same run API) and
+# the ETCS analyses (statistics in Python over the batches of runs the simulation tests cover)
 # add time here, not coverage of the core; so do the slow tests (processes killed mid-write,
 # thousands of Python refusals: each says why it is slow).
 pytest-sanitize: install ctest-sanitize
@@ -105,7 +106,7 @@ pytest-sanitize: install ctest-sanitize
 	RAILBRAKE_CORE_LIBRARY=$(CURDIR)/$(BUILD)/core-sanitize/librailbrake_core_sanitize.so \
 	$(PY) -m pytest -q $(PYTEST_PARALLEL) -m "not slow and not long" -p no:cacheprovider --durations=15 \
 	    --ignore=tests/unit/fmu --ignore=tests/unit/docs --ignore=tests/unit/sequence \
-	    --ignore=tests/unit/cli --ignore=tests/unit/campaign
+	    --ignore=tests/unit/cli --ignore=tests/unit/campaign --ignore=tests/unit/etcs
 
 # Every verification and validation case (docs/validation-cases.md): the HTML report into out/,
 # the Markdown summary into docs/validation.md. Failing validation cases are findings, so only a

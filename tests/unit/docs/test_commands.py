@@ -53,17 +53,18 @@ SHORTEN = [
     (r"(railbrake hil(?=\s)[^\n#&]*?)(\s*(#|$))", r"\1 --duration 2\2", "hil: 2 s of the paced stop"),
     (r"--budget \d+", "--budget 2", "wsp tune: the default WSP and one trial"),
     (r"(railbrake etcs braking-model\b[^\n#&]*?)(\s*(#|$))",
-     r"\1 --cars 4 --speed 40 --samples 2 --rare-samples 2 --run-budget 0 --force-conditions --workers 1\2",
-     "etcs: 4 cars (the shipped common causes span 4) from 40 km/h (one speed step), 2 scatter runs per failure "
-     "state, no runs added for the bounds, in the command's process (the test's workers fill the cores); the "
+     r"\1 --cars 4 --speed 40 --samples 4 --rare-samples 4 --run-budget 0 --force-conditions --workers 1\2",
+     "etcs: 4 cars (the shipped common causes span 4) from 40 km/h (one speed step), 4 scatter runs per failure "
+     "state (the fewest from which a state's regression on the pad friction leaves a bound below 1: "
+     "railbrake.etcs.conditional), no runs added for the bounds, in the command's process (the test's workers fill the cores); the "
      "EN 15595 test condition forced below its 120 km/h (recorded in the warnings)"),
     (r"(railbrake etcs curves [^\n#&]*?)(\s*(#|$))", r"\1 --national short-nv.yaml\2",
      "etcs curves at M_NVEBCL 8 (the last --national given counts): the shortened 4-car models have no "
      "Kdry_rst at level 9 (see short_nv)"),
     (r"(railbrake etcs curves (?!out/)[^\n#&]*?)(\s*(#|$))",
-     r"\1 --cars 4 --speed 80 --samples 2 --rare-samples 2 --run-budget 0 --workers 1 --force-conditions\2",
+     r"\1 --cars 4 --speed 80 --samples 4 --rare-samples 4 --run-budget 0 --workers 1 --force-conditions\2",
      "etcs curves of a train (its braking model made on the fly): 4 cars from 80 km/h (the last --speed given "
-     "counts; the EN 15595 condition forced below 120 km/h), 2 scatter runs per failure state, no runs added for "
+     "counts; the EN 15595 condition forced below 120 km/h), 4 scatter runs per failure state, no runs added for "
      "the bounds, in the command's process"),
     (r"\bwsp-en15595\b", "short-en15595.yaml", "the EN 15595 study: a copy with fewer levels (short_study)"),
 ]
