@@ -59,16 +59,11 @@ def _cases(ctx) -> list[tuple[dict, list]]:
     return out
 
 
-def _ratios(ctx, prepared: list, ratio_of) -> list[np.ndarray]:
-    return [ratio_of(row) for row in simulation.run_structs(prepared)]
-
-
-def screen(ctx, ratio_of, no_effect: float) -> tuple[list[dict], list[str]]:
-    """(effects, warnings): each single failure's and common-cause group's ratio per step (lowest
-    first), the drop against its unit's share, and a warning for each failure or scatter factor
-    that moves no step's ratio by `no_effect` or more."""
-    edges = [0.0, *sorted(ctx.marks), ctx.v0]
-    shares = _shares(ctx, edges)
+def alone(ctx, ratio_of) -> tuple[list, list, list]:
+    """(cases, ratios of the cases, ratios of the scatter ends): every single failure and common-
+    cause group (_cases) and every scatter factor at each of its ends on every car (_scatter_end_structs),
+    each run on its own, all in one batch of the C core; ratio_of turns a run's KPIs into its
+    ratio per step."""
     cases = _cases(ctx)
     plant, bcu, wsp, scen = ctx.structs
     prepared = []
@@ -76,8 +71,20 @@ def screen(ctx, ratio_of, no_effect: float) -> tuple[list[dict], list[str]]:
         p = type(plant).from_buffer_copy(plant)
         failures.set_faults(p, failures.plant_faults(faults))
         prepared.append((p, bcu, wsp, scen))
+    names, ends = _scatter_end_structs(ctx)
+    ratios = [ratio_of(row) for row in simulation.run_structs(prepared + ends)]
+    return cases, ratios[:len(cases)], list(zip(names, ratios[len(cases):]))
+
+
+def screen(ctx, ratio_of, no_effect: float, found: tuple | None = None) -> tuple[list[dict], list[str]]:
+    """(effects, warnings): each single failure's and common-cause group's ratio per step (lowest
+    first), the drop against its unit's share, and a warning for each failure or scatter factor
+    that moves no step's ratio by `no_effect` or more. found: alone's result, if already run."""
+    edges = [0.0, *sorted(ctx.marks), ctx.v0]
+    shares = _shares(ctx, edges)
+    cases, case_ratios, end_ratios = found if found is not None else alone(ctx, ratio_of)
     effects, warnings = [], []
-    for (desc, _), ratio in zip(cases, _ratios(ctx, prepared, ratio_of)):
+    for (desc, _), ratio in zip(cases, case_ratios):
         drop = 1.0 - ratio
         row = {**desc, "ratio": [float(r) for r in ratio]}
         span = SPAN.get(desc["unit"])
@@ -92,7 +99,7 @@ def screen(ctx, ratio_of, no_effect: float) -> tuple[list[dict], list[str]]:
             warnings.append(f"failure {what} ({desc['unit']}{where}): no effect on this brake (the ratio moves "
                             f"by less than {no_effect:g} at every speed step from {ctx.v0 / KMH:.0f} km/h)")
         effects.append(row)
-    warnings += _scatter_warnings(ctx, ratio_of, no_effect)
+    warnings += _scatter_warnings(ctx, end_ratios, no_effect)
     return effects, warnings
 
 
@@ -102,8 +109,8 @@ def _ends(d) -> tuple[float, float]:
     return d.mean - END_SIGMAS * d.sd, d.mean + END_SIGMAS * d.sd
 
 
-def scatter_ends(ctx, ratio_of) -> tuple[list[str], list[np.ndarray]]:
-    """(quantity, ratio per step) of each scatter factor at each of its ends on every car."""
+def _scatter_end_structs(ctx) -> tuple[list[str], list]:
+    """(quantity, C structs) of each scatter factor at each of its ends on every car."""
     if ctx.scatter is None:
         return [], []
     n_cars = len(ctx.train.cars)
@@ -116,15 +123,14 @@ def scatter_ends(ctx, ratio_of) -> tuple[list[str], list[np.ndarray]]:
             p, b = scatter.apply(plant, bcu, factors)
             prepared.append((p, b, wsp, scen))
             names.append(q)
-    return names, _ratios(ctx, prepared, ratio_of)
+    return names, prepared
 
 
-def _scatter_warnings(ctx, ratio_of, no_effect: float) -> list[str]:
-    names, ratios = scatter_ends(ctx, ratio_of)
+def _scatter_warnings(ctx, end_ratios: list, no_effect: float) -> list[str]:
     given = ctx.scatter.quantities() if ctx.scatter is not None else {}
     out = []
     for q in given:
-        moved = max(float(np.max(np.abs(1.0 - r))) for n, r in zip(names, ratios) if n == q)
+        moved = max(float(np.max(np.abs(1.0 - r))) for n, r in end_ratios if n == q)
         if moved < no_effect:
             out.append(f"scatter {q}: no effect on this brake (at its ends {_ends(given[q])[0]:g} and "
                        f"{_ends(given[q])[1]:g} on every car the ratio moves by {moved:.2g} at most)")

@@ -310,9 +310,10 @@ def _braking_model(spec: runs.Spec, runner: runs.Runner) -> BrakingModel:
     stop_speed = ctx.structs[3].stop_speed
     nominal = nominal_decelerations(ctx, t_be, stop_speed)   # at the runs' step: the ratios' denominator
     a_brake = nominal_decelerations(ctx, t_be, stop_speed, ctx.stop(ctx.v0, spec.dry_condition))   # at 1 ms
-    effects_, screened = screen(ctx, t_be, nominal)
+    found = effects.alone(ctx, _ratio_of(ctx, t_be, nominal))   # each failure and tolerance end alone
+    effects_, screened = screen(ctx, t_be, nominal, found)
     warnings_ += screened
-    allowance = step_allowance(ctx, t_be, nominal)
+    allowance = step_allowance(ctx, t_be, nominal, found)
     missing = max(0.0, 1.0 - sum(st.probability for st in ctx.states))
     rows = runner.run(ctx.jobs())
     given = scatter.train_tolerance(ctx.scatter)
@@ -353,31 +354,34 @@ def _bound_method(given: tuple | None) -> str:
             f"distribution; delta-method bound (railbrake.etcs.conditional)")
 
 
-def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> tuple[list, list]:
-    """Each failure and scatter factor run on its own (railbrake.etcs.effects.screen)."""
+def _ratio_of(ctx: runs.Context, t_be: float, denominator: np.ndarray):
     stop_speed = ctx.structs[3].stop_speed
-    return effects.screen(ctx, lambda kpis: step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(kpis), t_be)
-                          / nominal, method().no_effect_ratio)
+    return lambda kpis: step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(kpis), t_be) / denominator
 
 
-def step_allowance(ctx: runs.Context, t_be: float, nominal: np.ndarray) -> list[float]:
+def screen(ctx: runs.Context, t_be: float, nominal: np.ndarray, found: tuple | None = None) -> tuple[list, list]:
+    """Each failure and scatter factor run on its own (railbrake.etcs.effects.screen; found: their
+    runs at the analysis' step, effects.alone, if already made)."""
+    return effects.screen(ctx, _ratio_of(ctx, t_be, nominal), method().no_effect_ratio, found)
+
+
+def step_allowance(ctx: runs.Context, t_be: float, nominal: np.ndarray, found: tuple | None = None) -> list[float]:
     """Per speed step (lowest first), the largest change of the ratio between the runs' step and
     the plant's nominal 1 ms over the failures run alone and the tolerances at their ends
-    (railbrake.etcs.effects' cases): the coded Kdry_rst takes it off too (the safe side). 0 at 1 ms."""
+    (railbrake.etcs.effects.alone; found: those at the runs' step, if already made): the coded
+    Kdry_rst takes it off too (the safe side). 0 at 1 ms."""
     n_steps = len(ctx.marks) + 1
     if ctx.spec.step_ms * 1e-3 == simulation.DT:
         return [0.0] * n_steps
     fine = copy.copy(ctx)
     fine.structs = ctx.stop(ctx.v0, ctx.spec.dry_condition)
     fine.structs[3].max_time = ctx.structs[3].max_time
-    stop_speed = ctx.structs[3].stop_speed
-    change = np.zeros(n_steps)
-    for c, denominator in ((ctx, nominal), (fine, nominal_decelerations(fine, t_be, stop_speed))):
-        def ratio_of(kpis, d=denominator):
-            return step_decelerations(ctx.v0, ctx.marks, stop_speed, runs._row(kpis), t_be) / d
-        found, _ = effects.screen(c, ratio_of, method().no_effect_ratio)
-        ratios = np.array([e["ratio"] for e in found] + [list(r) for r in effects.scatter_ends(c, ratio_of)[1]])
-        change = ratios if c is ctx else np.abs(change - ratios)
+    coarse = found if found is not None else effects.alone(ctx, _ratio_of(ctx, t_be, nominal))
+    fine_nominal = nominal_decelerations(fine, t_be, ctx.structs[3].stop_speed)
+    at_1ms = effects.alone(fine, _ratio_of(fine, t_be, fine_nominal))
+    def table(found_):
+        return np.array(list(found_[1]) + [r for _, r in found_[2]])
+    change = np.abs(table(coarse) - table(at_1ms))
     return [float(x) for x in np.max(change, axis=0, initial=0.0)] if len(change) else [0.0] * n_steps
 
 

@@ -8,6 +8,7 @@ half the method's Kdry_rst bound, and the coded Kdry_rst takes it off."""
 import numpy as np
 import pytest
 
+from railbrake import simulation
 from railbrake.etcs import confidence, effects, model, runs, scatter
 from railbrake.etcs.inputs import QUANTITIES
 
@@ -33,7 +34,7 @@ def ratios(step_ms: float) -> np.ndarray:
             factors = np.ones((len(QUANTITIES), len(ctx.train.cars)))
             factors[QUANTITIES.index(q), :] = end
             ends.append((*scatter.apply(plant, bcu, factors), wsp, scen))
-    return np.array([e["ratio"] for e in found] + [list(r) for r in effects._ratios(ctx, ends, ratio_of)])
+    return np.array([e["ratio"] for e in found] + [list(ratio_of(k)) for k in simulation.run_structs(ends)])
 
 
 @pytest.mark.slow   # every failure and tolerance end run at 1 and 2 ms: 100 s under the sanitizers
