@@ -58,9 +58,9 @@ class Method(BaseModel):
     step_ms: float = Field(gt=0.0, le=2.0)   # one plant step, no sub-steps (simulation.MAX_SUBSTEP)
 
 
+LOG = logging.getLogger(__name__)
 # the window the bootstrap reads a quantile in (+- this about the estimate): replicates beyond it
 # are taken at its edge, which the bound then shows as this large
-LOG = logging.getLogger(__name__)
 BOUND_WINDOW = 0.1
 # a round of added runs goes to the states holding this share of a level's variance (_more_runs):
 # doubling them takes the variance down by at least ALLOCATED / 2 a round
